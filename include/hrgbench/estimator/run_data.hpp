@@ -1,0 +1,31 @@
+#pragma once
+// One free run as the estimators see it: time stamps, the four demodulated channels, and the angular
+// rate Ω about the sensitive axis during the run (table rate plus the Earth-rate component).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hrgbench::estimator {
+
+struct RunData {
+  int id = 0;                   // run number as recorded in the session (1-based), for messages
+  double omega_rad_s = 0.0;     // Ω, rad/s
+  std::vector<double> t_s;      // sample times, s, strictly increasing; need not be uniform
+  Eigen::Matrix4Xd y;           // y(:, k) = (y1, y2, y3, y4) at t_s[k]
+
+  Eigen::Index size() const { return y.cols(); }
+};
+
+// Truth and design of a simulated run.
+struct RunPlan {
+  double omega_rad_s = 0.0;
+  double a = 1.0;               // orbit at release (t = 0), see Orbit in model.hpp
+  double b = 0.0;
+  double theta_rad = 0.0;
+  double phi_rad = 0.0;
+  double sample_rate_hz = 100.0;
+  double duration_s = 10.0;     // samples at t = 0, 1/fs, … while t ≤ duration_s (+1e-9 s slack)
+};
+
+}  // namespace hrgbench::estimator

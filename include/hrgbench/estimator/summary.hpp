@@ -1,0 +1,69 @@
+#pragma once
+// What every estimator returns: Options in, Summary out. A default-constructed summary says the
+// estimator was not called; every estimator fills in all fields, including on failure.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hrgbench/estimator/parameters.hpp"
+
+namespace hrgbench::estimator {
+
+enum class Termination {
+  kNotRun,            // the estimator was not called
+  kConverged,         // a convergence tolerance was met (or a direct method solved its system)
+  kMaxIterations,     // stopped at max_iterations; the estimate is the best one found
+  kNoProgress,        // the damped step could not reduce the cost further above rounding level
+  kInvalidInput,      // options or data rejected before any computation; see message
+  kNotIdentifiable,   // the run plan cannot determine the requested parameters and the policy
+                      // says refuse; see message and warnings
+  kNumericalFailure,  // a singular system or a non-finite value appeared; see message
+};
+
+const char* ToString(Termination termination) noexcept;
+
+struct EstimateSummary {
+  std::string method = "none";
+  Termination termination = Termination::kNotRun;
+  std::string message = "Estimate was not called";
+
+  // The estimate. Components held fixed carry the value they were held at, and NaN std.
+  Delta delta = Delta::Constant(kNaN);
+  Delta delta_std = Delta::Constant(kNaN);
+  std::array<bool, 6> delta_estimated = {false, false, false, false, false, false};
+  Xi xi = Xi::Constant(kNaN);
+  Xi xi_std = Xi::Constant(kNaN);
+  XiMask xi_estimated = kNoXi;
+
+  // Covariance of the estimated components, ordered as δ (estimated ones, in index order) then ξ
+  // (estimated ones). For maximum likelihood: σ̂²·(JᵀJ)⁻¹ with the initial states eliminated.
+  Eigen::MatrixXd covariance;
+
+  // Initial state x(0) of each run (output-error methods only; empty otherwise).
+  std::vector<Eigen::Vector4d> initial_states;
+
+  // Residual RMS. Output-error methods: of y, per channel and sample (same unit as y).
+  // Equation-error methods: of the equation (dz/dt or the integral form), a diagnostic only.
+  std::vector<double> residual_rms_per_run;
+  double residual_rms = kNaN;
+  double noise_sigma = kNaN;  // σ̂ from the residuals, corrected for the degrees of freedom
+
+  int iterations = 0;
+  std::size_t samples_used = 0;
+  std::vector<std::string> warnings;
+
+  bool IsUsable() const {
+    return termination == Termination::kConverged || termination == Termination::kMaxIterations ||
+           termination == Termination::kNoProgress;
+  }
+  bool Converged() const { return termination == Termination::kConverged; }
+
+  // A readable multi-line report: method, termination, every parameter with ± one std, residuals
+  // and warnings.
+  std::string Report() const;
+};
+
+}  // namespace hrgbench::estimator

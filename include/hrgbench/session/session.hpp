@@ -1,0 +1,103 @@
+#pragma once
+// The session directory: the interface between capture (the bench) and estimation.
+//
+//   <session>/session.json            {"format": "hrgbench-session", "version": 1, ...}
+//   <session>/runs/run-001.csv, ...   header containing at least t_s,y1,y2,y3,y4 (any order, other
+//                                     columns allowed), one line per sample, t_s strictly increasing,
+//                                     values with round-trip precision (%.17g)
+//
+// session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
+// omega_rad_s, status}. Every other key (station, config hashes, temperature, "simulation" truth...)
+// is kept verbatim in `document` and written back unchanged. Runs whose status is not "complete" are
+// skipped with a warning. Every error names the file, the line (1-based, 0 when not applicable) and
+// the field.
+//
+// Writing is atomic per file (temporary file in the same directory, fsync, rename, fsync of the
+// directory), so a crash leaves either the old or the new file, never half of one.
+
+#include <cstddef>
+#include <expected>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "hrgbench/estimator/run_data.hpp"
+
+namespace hrgbench::session {
+
+inline constexpr const char* kFormatName = "hrgbench-session";
+inline constexpr int kFormatVersion = 1;
+
+struct SessionError {
+  std::filesystem::path file;  // the file at fault
+  std::size_t line = 0;        // 1-based line in that file; 0 when the error is not about a line
+  std::string field;           // JSON key path ("runs[2].omega_rad_s") or CSV column ("t_s")
+  std::string message;         // what is wrong, with the offending value
+
+  // "<file>:<line>: field '<field>': <message>" (line and field omitted when not applicable).
+  std::string ToString() const;
+};
+
+// One run's samples as stored in its CSV.
+struct RunSamples {
+  std::vector<double> t_s;
+  Eigen::Matrix4Xd y;  // y(:, k) = (y1..y4) at t_s[k]
+  // Further columns (seq, omega_meas_rad_s, temp_c, ...), by header name, same length as t_s.
+  std::map<std::string, std::vector<double>> extra_columns;
+
+  std::size_t size() const { return t_s.size(); }
+};
+
+// One entry of session.json "runs".
+struct RunEntry {
+  int id = 0;
+  std::string file;           // relative to the session directory, e.g. "runs/run-001.csv"
+  double omega_rad_s = 0.0;
+  std::string status = "complete";
+};
+
+struct Session {
+  std::string serial;                 // unit.serial
+  double sample_rate_hz = 0.0;
+  std::vector<RunEntry> runs;         // every run listed, whatever its status
+  nlohmann::json document;            // the whole session.json, unknown keys included
+
+  // Samples of the runs that were loaded (status "complete"), parallel to `loaded_run_ids`.
+  std::vector<int> loaded_run_ids;
+  std::vector<RunSamples> loaded_samples;
+  std::vector<std::string> warnings;  // e.g. "run 3 skipped: status 'aborted'"
+};
+
+struct ReadOptions {
+  // Runs with fewer samples are an error (the estimator's need: 2 for ML, the derivative window
+  // for the paper's method).
+  std::size_t min_samples_per_run = 2;
+  // Load the CSV data (false: session.json only).
+  bool load_samples = true;
+};
+
+std::expected<Session, SessionError> ReadSession(const std::filesystem::path& dir,
+                                                 const ReadOptions& options = {});
+
+// The loaded runs as the estimator sees them (id, Ω from session.json, t_s, y).
+std::vector<estimator::RunData> ToRunData(const Session& session);
+
+// Writes one run CSV atomically: header "t_s,y1,y2,y3,y4" followed by the extra columns in name
+// order, values with %.17g.
+std::expected<void, SessionError> WriteRunCsv(const std::filesystem::path& path,
+                                              const RunSamples& samples);
+
+// Writes session.json atomically from `session.document` after setting format, version,
+// unit.serial, sample_rate_hz and runs from the typed fields.
+std::expected<void, SessionError> WriteSessionJson(const std::filesystem::path& dir,
+                                                   const Session& session);
+
+// Atomic write of any small text file (temporary, fsync, rename, fsync directory).
+std::expected<void, SessionError> WriteFileAtomic(const std::filesystem::path& path,
+                                                  const std::string& contents);
+
+}  // namespace hrgbench::session

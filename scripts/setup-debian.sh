@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs what hrgbench needs from Debian 12's own packages. Idempotent: only missing packages are
+# installed, so a second run costs one dpkg query. Nothing is downloaded from anywhere but Debian.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libeigen3-dev            # estimator
+  libspdlog-dev libfmt-dev # logs in the tools
+  libcli11-dev             # command lines
+  nlohmann-json3-dev       # session.json, --json output
+  libtomlplusplus-dev      # config files
+  libgtest-dev libgmock-dev googletest
+  libbenchmark-dev
+  libmodbus-dev            # rate table driver
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get -o DPkg::Lock::Timeout=600 update -qq
+  $sudo apt-get -o DPkg::Lock::Timeout=600 install -y --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all packages present"
+fi
