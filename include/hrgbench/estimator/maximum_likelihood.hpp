@@ -53,6 +53,10 @@ struct MlOptions {
   double cost_tolerance = 1e-15;
   double initial_damping = 1e-6;  // λ of Marquardt, relative to the scaled diagonal
 
+  // Threads for the passes over the data (runs are spread over them): 0 = every hardware thread,
+  // 1 = single-threaded, no thread created (embedded targets). Small problems run single-threaded.
+  int num_threads = 0;
+
   // Optional starting point; when not set the integral equation error supplies it.
   bool use_initial_guess = false;
   Delta initial_delta = Delta::Zero();

@@ -1,0 +1,105 @@
+// The integral equation-error estimator: the starting point of maximum likelihood, and a method of
+// its own. Integrating dz/dt = 2·Mδ(Ω, z)·δ from the first sample gives
+//   r(t_k) − r(t_0) = 2·Mδ(Ω, ∫ r dt)·δ,
+// linear in δ with no numerical derivative (the trapezoid integral smooths the noise instead of
+// amplifying it). The distortion ξ enters to first order as Ω-proportional anisotropies,
+// (δ3, δ4, δ5, δ6)_eff = (δ3 − 4Ωδ2ξ4, δ4 + 4Ωδ2ξ1, δ5 + 4Ωδ2ξ3, δ6 − 4Ωδ2ξ2), so one extra column
+// Ω·Mδ[:, j] per estimated ξ gives ξ from its coefficient. ξ held fixed is removed exactly first.
+#include <cmath>
+
+#include "hrgbench/estimator/maximum_likelihood.hpp"
+#include "hrgbench/estimator/model.hpp"
+#include "integral_equation_error.hpp"
+#include "least_squares_util.hpp"
+
+namespace hrgbench::estimator {
+namespace internal {
+namespace {
+
+// The Mδ column each ξ shows up in, and the sign of 4Ωδ2ξ in it.
+constexpr std::array<int, 4> kXiColumn = {kDampingAnisotropySin, kFrequencyAnisotropySin,
+                                          kFrequencyAnisotropyCos, kDampingAnisotropyCos};
+constexpr std::array<double, 4> kXiSign = {+1.0, -1.0, +1.0, -1.0};
+
+}  // namespace
+
+// Calls visit(lhs, m) for every equation lhs = r(t_k) − r(t_0) = m·δ (m = 2·Mδ(Ω, ∫r dt)) of a run.
+template <typename Visit>
+void ForEachEquation(const RunData& run, const Xi& xi_removed, Visit visit) {
+  const Forms r0 = QuadraticForms(UndistortExact(xi_removed, run.y.col(0)));
+  Forms previous = r0;
+  Forms integral = Forms::Zero();
+  for (Eigen::Index k = 1; k < run.size(); ++k) {
+    const Forms rk = QuadraticForms(UndistortExact(xi_removed, run.y.col(k)));
+    integral += 0.5 * (run.t_s[k] - run.t_s[k - 1]) * (rk + previous);
+    previous = rk;
+    visit(Forms(rk - r0), Matrix46(2.0 * FormsRegressor(run.omega_rad_s, integral)));
+  }
+}
+
+bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
+                           const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
+                           IntegralEquationResult* out) {
+  // Unknowns: the free δ, then δ2·ξk for each free ξ (linear, unlike ξ itself).
+  std::vector<int> columns;  // 0..5 δ, 6..9 ξ
+  for (int j = 0; j < 6; ++j)
+    if (delta_free[j]) columns.push_back(j);
+  for (int k = 0; k < 4; ++k)
+    if (xi_free[k]) columns.push_back(6 + k);
+  const auto n = static_cast<Eigen::Index>(columns.size());
+  Xi xi_removed = xi_fixed;
+  for (int k = 0; k < 4; ++k)
+    if (xi_free[k]) xi_removed[k] = 0.0;
+
+  Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
+  const auto fill = [&](double omega, const Matrix46& m, Forms* lhs) {
+    for (int j = 0; j < 6; ++j)
+      if (!delta_free[j]) *lhs -= m.col(j) * delta_fixed[j];
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const auto which = static_cast<std::size_t>(columns[static_cast<std::size_t>(c)]);
+      row_block.col(c) = which < 6 ? Forms(m.col(static_cast<Eigen::Index>(which)))
+                                   : Forms(m.col(kXiColumn[which - 6]) *
+                                           (4.0 * omega * kXiSign[which - 6]));
+    }
+  };
+
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  out->equations = 0;
+  for (const RunData& run : runs) {
+    ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
+      fill(run.omega_rad_s, m, &lhs);
+      normal.noalias() += row_block.transpose() * row_block;
+      rhs.noalias() += row_block.transpose() * lhs;
+      ++out->equations;
+    });
+  }
+  Eigen::VectorXd solution = Eigen::VectorXd::Zero(n);
+  if (n > 0 && !SolveScaledSpd(normal, rhs, &solution)) return false;
+
+  out->sse = 0.0;
+  for (const RunData& run : runs) {
+    ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
+      fill(run.omega_rad_s, m, &lhs);
+      out->sse += (lhs - row_block * solution).squaredNorm();
+    });
+  }
+  out->delta = delta_fixed;
+  out->xi = xi_fixed;
+  Xi xi_products = Xi::Zero();  // δ2·ξk
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const int which = columns[static_cast<std::size_t>(c)];
+    if (which < 6)
+      out->delta[which] = solution[c];
+    else
+      xi_products[which - 6] = solution[c];
+  }
+  const double delta2 = out->delta[kScaleFactor];
+  for (int k = 0; k < 4; ++k)
+    if (xi_free[k]) out->xi[k] = std::abs(delta2) > 1e-12 ? xi_products[k] / delta2 : 0.0;
+  out->normal = normal;
+  return true;
+}
+
+}  // namespace internal
+}  // namespace hrgbench::estimator

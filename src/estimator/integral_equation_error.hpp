@@ -1,0 +1,27 @@
+#pragma once
+// Internal entry point of the integral equation-error estimator (see integral_equation_error.cpp).
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hrgbench/estimator/parameters.hpp"
+#include "hrgbench/estimator/run_data.hpp"
+
+namespace hrgbench::estimator::internal {
+
+struct IntegralEquationResult {
+  Delta delta = Delta::Zero();
+  Xi xi = Xi::Zero();
+  Eigen::MatrixXd normal;  // normal matrix of the free unknowns (δ free, then δ2·ξ free)
+  double sse = 0.0;        // Σ of squared equation residuals
+  std::size_t equations = 0;
+};
+
+// False when the regression is singular.
+bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
+                           const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
+                           IntegralEquationResult* out);
+
+}  // namespace hrgbench::estimator::internal

@@ -1,0 +1,64 @@
+#include "hrgbench/estimator/summary.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace hrgbench::estimator {
+
+const char* ToString(Termination termination) noexcept {
+  switch (termination) {
+    case Termination::kNotRun: return "not run";
+    case Termination::kConverged: return "converged";
+    case Termination::kMaxIterations: return "max iterations";
+    case Termination::kNoProgress: return "no progress";
+    case Termination::kInvalidInput: return "invalid input";
+    case Termination::kNotIdentifiable: return "not identifiable";
+    case Termination::kNumericalFailure: return "numerical failure";
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::string Line(std::string_view name, std::string_view meaning, double value, double std_dev,
+                 bool estimated) {
+  char buffer[160];
+  if (estimated && std::isfinite(std_dev)) {
+    std::snprintf(buffer, sizeof buffer, "  %-7.*s %+.10e ± %.3e   %.*s\n",
+                  static_cast<int>(name.size()), name.data(), value, std_dev,
+                  static_cast<int>(meaning.size()), meaning.data());
+  } else {
+    std::snprintf(buffer, sizeof buffer, "  %-7.*s %+.10e %-11s   %.*s\n",
+                  static_cast<int>(name.size()), name.data(), value,
+                  estimated ? " (no std)" : " (held)", static_cast<int>(meaning.size()),
+                  meaning.data());
+  }
+  return buffer;
+}
+
+}  // namespace
+
+std::string EstimateSummary::Report() const {
+  std::string out;
+  char buffer[200];
+  std::snprintf(buffer, sizeof buffer, "method %s: %s after %d iterations, %zu samples\n",
+                method.c_str(), ToString(termination), iterations, samples_used);
+  out += buffer;
+  if (!message.empty()) out += "  " + message + "\n";
+  for (int j = 0; j < 6; ++j)
+    out += Line(kDeltaNames[j], kDeltaMeanings[j], delta[j], delta_std[j], delta_estimated[j]);
+  for (int k = 0; k < 4; ++k)
+    out += Line(kXiNames[k], kXiMeanings[k], xi[k], xi_std[k], xi_estimated[k]);
+  std::snprintf(buffer, sizeof buffer, "  residual RMS %.4e (noise sigma estimate %.4e)\n",
+                residual_rms, noise_sigma);
+  out += buffer;
+  for (std::size_t r = 0; r < residual_rms_per_run.size(); ++r) {
+    std::snprintf(buffer, sizeof buffer, "    run %zu: residual RMS %.4e\n", r + 1,
+                  residual_rms_per_run[r]);
+    out += buffer;
+  }
+  for (const std::string& w : warnings) out += "  warning: " + w + "\n";
+  return out;
+}
+
+}  // namespace hrgbench::estimator
