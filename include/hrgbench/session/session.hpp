@@ -4,7 +4,15 @@
 //   <session>/session.json            {"format": "hrgbench-session", "version": 1, ...}
 //   <session>/runs/run-001.csv, ...   header containing at least t_s,y1,y2,y3,y4 (any order, other
 //                                     columns allowed), one line per sample, t_s strictly increasing,
-//                                     values with round-trip precision (%.17g)
+//                                     values with round-trip precision
+//
+// Run CSV, exactly: comma-separated, no quoting, no spaces around fields; line 1 is the header
+// (non-empty, unique column names; a UTF-8 BOM is ignored); every further line is one sample with
+// exactly as many fields as the header; every field is a finite decimal number as accepted by
+// std::from_chars (so no leading '+' or blanks; "nan", "inf" are rejected). Lines end in "\n" or
+// "\r\n"; the final line ending is optional; an empty line is an error. Values are written in the
+// shortest form that reads back to the identical double (std::to_chars without precision, like
+// Python's repr), which round-trips exactly just as %.17g does but keeps "0.01" as "0.01".
 //
 // session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
 // omega_rad_s, status}. Every other key (station, config hashes, temperature, "simulation" truth...)
@@ -35,7 +43,8 @@ inline constexpr int kFormatVersion = 1;
 struct SessionError {
   std::filesystem::path file;  // the file at fault
   std::size_t line = 0;        // 1-based line in that file; 0 when the error is not about a line
-  std::string field;           // JSON key path ("runs[2].omega_rad_s") or CSV column ("t_s")
+  std::string field;           // JSON key path ("runs[2].omega_rad_s", array indices 0-based as in
+                               // jq) or CSV column ("t_s"; "column 6" past the header's end)
   std::string message;         // what is wrong, with the offending value
 
   // "<file>:<line>: field '<field>': <message>" (line and field omitted when not applicable).
@@ -80,23 +89,47 @@ struct ReadOptions {
   bool load_samples = true;
 };
 
+// Reads `dir`/session.json, validates every key this reader uses, then (options.load_samples) the
+// CSV of every run whose status is "complete". The whole session is loaded or an error returned;
+// never throws (except std::bad_alloc). Run files must stay inside `dir` lexically ("runs/x.csv",
+// not "../x.csv" or an absolute path); symbolic links are not resolved. Thread-safe (no shared
+// state). A read concurrent with a write sees each file either old or new, never half-written, but
+// session.json and the CSVs need not be from the same write then.
 std::expected<Session, SessionError> ReadSession(const std::filesystem::path& dir,
                                                  const ReadOptions& options = {});
 
-// The loaded runs as the estimator sees them (id, Ω from session.json, t_s, y).
+// Reads one run CSV (format above), the whole file at once with std::from_chars: 14-20 ms for
+// 100 000 lines of six columns (9 MB) on the development machine. Fewer than `min_samples_per_run`
+// samples is an error (line 0, field "t_s"). Never throws (except std::bad_alloc).
+std::expected<RunSamples, SessionError> ReadRunCsv(const std::filesystem::path& path,
+                                                   std::size_t min_samples_per_run = 2);
+
+// The loaded runs as the estimator sees them (id, Ω from session.json, t_s, y), in load order.
+// Ω is looked up by id in `runs`; a loaded id missing there (only possible in a hand-built Session)
+// gets Ω = 0.
 std::vector<estimator::RunData> ToRunData(const Session& session);
 
 // Writes one run CSV atomically: header "t_s,y1,y2,y3,y4" followed by the extra columns in name
-// order, values with %.17g.
+// order, values in shortest round-trip form (see above). Creates the parent directories. Refuses
+// (SessionError, nothing written) what ReadRunCsv would reject: sizes that differ from t_s.size(),
+// non-finite values, t_s not strictly increasing, extra column names that are empty, contain ',',
+// '\r' or '\n', or repeat t_s/y1..y4. Zero samples is allowed (the minimum is the reader's choice).
 std::expected<void, SessionError> WriteRunCsv(const std::filesystem::path& path,
                                               const RunSamples& samples);
 
 // Writes session.json atomically from `session.document` after setting format, version,
-// unit.serial, sample_rate_hz and runs from the typed fields.
+// unit.serial, sample_rate_hz and runs from the typed fields. Unknown keys are kept, also inside a
+// run entry (matched to `session.runs` by id). Keys come out in alphabetical order (nlohmann::json
+// is a sorted map), 2-space indent. Creates `dir`. Refuses what ReadSession would reject: a
+// document that is neither null nor an object, sample_rate_hz not finite and > 0, run id < 1 or
+// repeated, a non-finite omega_rad_s, a run file outside `dir`.
 std::expected<void, SessionError> WriteSessionJson(const std::filesystem::path& dir,
                                                    const Session& session);
 
-// Atomic write of any small text file (temporary, fsync, rename, fsync directory).
+// Atomic write of any small text file (temporary, fsync, rename, fsync directory). The parent
+// directory must exist. The temporary (".<name>.tmp.<pid>.<n>") is removed on failure.
+// Thread-safe; with concurrent writers of one path the last rename wins. Blocks on fsync (tens of
+// ms on a busy disk): not for a real-time thread.
 std::expected<void, SessionError> WriteFileAtomic(const std::filesystem::path& path,
                                                   const std::string& contents);
 

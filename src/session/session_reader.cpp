@@ -1,0 +1,234 @@
+// session.json reader. All keys are checked before any CSV is opened, so a bad session.json is
+// reported as such even when run files are missing too.
+
+#include <climits>
+#include <cmath>
+#include <map>
+#include <string>
+#include <string_view>
+
+#include "hrgbench/session/session.hpp"
+#include "json_lines.hpp"
+#include "run_file_path.hpp"
+#include "whole_file.hpp"
+
+namespace hrgbench::session {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr std::size_t kMaxShown = 60;
+
+std::string Join(std::string_view parent, std::string_view key) {
+  return parent.empty() ? std::string(key) : std::string(parent) + "." + std::string(key);
+}
+
+// "string \"abc\"", "number 1.5", ... for messages.
+std::string Describe(const json& value) {
+  if (value.is_null()) return "null";
+  std::string text = value.dump();
+  if (text.size() > kMaxShown) text = text.substr(0, kMaxShown) + "...";
+  return std::string(value.type_name()) + " " + text;
+}
+
+// Validates the parsed document against the text it came from, so every error can carry a line.
+class Checker {
+ public:
+  Checker(std::string_view text, fs::path file) : text_(text), file_(std::move(file)) {}
+
+  // Error about the value at `path`; when it does not exist, at the line of `fallback_path`.
+  std::unexpected<SessionError> Fail(const std::string& path, std::string message,
+                                     const std::string& fallback_path = "") const {
+    std::size_t line = internal::JsonValueLine(text_, path);
+    if (line == 0) line = internal::JsonValueLine(text_, fallback_path);
+    return std::unexpected(SessionError{file_, line, path, std::move(message)});
+  }
+
+  std::expected<const json*, SessionError> Get(const json& object, const std::string& object_path,
+                                               const char* key) const {
+    const auto it = object.find(key);
+    if (it == object.end()) {
+      return Fail(Join(object_path, key), std::string("missing key '") + key + "'", object_path);
+    }
+    return &*it;
+  }
+
+  std::expected<const json*, SessionError> GetObject(const json& object,
+                                                     const std::string& object_path,
+                                                     const char* key) const {
+    auto value = Get(object, object_path, key);
+    if (value && !(*value)->is_object()) {
+      return Fail(Join(object_path, key), "expected an object, got " + Describe(**value));
+    }
+    return value;
+  }
+
+  std::expected<std::string, SessionError> GetString(const json& object,
+                                                     const std::string& object_path,
+                                                     const char* key) const {
+    auto value = Get(object, object_path, key);
+    if (!value) return std::unexpected(value.error());
+    if (!(*value)->is_string()) {
+      return Fail(Join(object_path, key), "expected a string, got " + Describe(**value));
+    }
+    return (*value)->get<std::string>();
+  }
+
+  std::expected<int, SessionError> GetInt(const json& object, const std::string& object_path,
+                                          const char* key) const {
+    auto value = Get(object, object_path, key);
+    if (!value) return std::unexpected(value.error());
+    const json& v = **value;
+    const std::string path = Join(object_path, key);
+    if (!v.is_number_integer()) return Fail(path, "expected an integer, got " + Describe(v));
+    const bool in_range =
+        v.is_number_unsigned()
+            ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT_MAX)
+            : v.get<std::int64_t>() >= INT_MIN && v.get<std::int64_t>() <= INT_MAX;
+    if (!in_range) return Fail(path, "integer out of range: " + v.dump());
+    return v.get<int>();
+  }
+
+  std::expected<double, SessionError> GetFinite(const json& object, const std::string& object_path,
+                                                const char* key) const {
+    auto value = Get(object, object_path, key);
+    if (!value) return std::unexpected(value.error());
+    const json& v = **value;
+    const std::string path = Join(object_path, key);
+    if (!v.is_number()) return Fail(path, "expected a number, got " + Describe(v));
+    const double number = v.get<double>();
+    // nlohmann turns an overflowing literal such as 1e999 into infinity.
+    if (!std::isfinite(number)) return Fail(path, "non-finite number " + v.dump());
+    return number;
+  }
+
+ private:
+  std::string_view text_;
+  fs::path file_;
+};
+
+std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
+                                                     const fs::path& file) {
+  Session session;
+  try {
+    session.document = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte is 1-based and points at the character that broke the parse.
+    std::string message = e.what();
+    if (const auto bracket = message.find("] "); bracket != std::string::npos) {
+      message = message.substr(bracket + 2);
+    }
+    return std::unexpected(
+        SessionError{file, internal::LineOfOffset(text, e.byte > 0 ? e.byte - 1 : 0), "", message});
+  } catch (const json::out_of_range& e) {
+    // A number literal too large for a double ("1e999"): the message quotes it, but has no
+    // position.
+    std::string message = e.what();
+    if (const auto bracket = message.find("] "); bracket != std::string::npos) {
+      message = message.substr(bracket + 2);
+    }
+    SessionError error{file, 0, "", message};
+    const auto quote = message.find('\'');
+    if (quote != std::string::npos && message.back() == '\'') {
+      const std::string token = message.substr(quote + 1, message.size() - quote - 2);
+      if (const auto hit = internal::FindJsonScalar(text, token)) {
+        error.line = hit->line;
+        error.field = hit->path;
+      }
+    }
+    return std::unexpected(std::move(error));
+  }
+  const json& doc = session.document;
+  const Checker check(text, file);
+  if (!doc.is_object()) return check.Fail("", "expected an object, got " + Describe(doc));
+
+  const auto format = check.GetString(doc, "", "format");
+  if (!format) return std::unexpected(format.error());
+  if (*format != kFormatName) {
+    return check.Fail(
+        "format", "unknown format '" + *format + "' (expected '" + std::string(kFormatName) + "')");
+  }
+  const auto version = check.GetInt(doc, "", "version");
+  if (!version) return std::unexpected(version.error());
+  if (*version != kFormatVersion) {
+    return check.Fail("version", "unsupported version " + std::to_string(*version) +
+                                     " (this reader reads version " +
+                                     std::to_string(kFormatVersion) + ")");
+  }
+  const auto unit = check.GetObject(doc, "", "unit");
+  if (!unit) return std::unexpected(unit.error());
+  const auto serial = check.GetString(**unit, "unit", "serial");
+  if (!serial) return std::unexpected(serial.error());
+  session.serial = *serial;
+  const auto rate = check.GetFinite(doc, "", "sample_rate_hz");
+  if (!rate) return std::unexpected(rate.error());
+  if (!(*rate > 0.0)) {
+    return check.Fail("sample_rate_hz", "must be positive, got " + doc["sample_rate_hz"].dump());
+  }
+  session.sample_rate_hz = *rate;
+
+  const auto runs = check.Get(doc, "", "runs");
+  if (!runs) return std::unexpected(runs.error());
+  if (!(*runs)->is_array()) return check.Fail("runs", "expected an array, got " + Describe(**runs));
+  std::map<int, std::size_t> index_of_id;
+  for (std::size_t i = 0; i < (*runs)->size(); ++i) {
+    const json& item = (**runs)[i];
+    const std::string path = "runs[" + std::to_string(i) + "]";
+    if (!item.is_object()) return check.Fail(path, "expected an object, got " + Describe(item));
+    RunEntry entry;
+    const auto id = check.GetInt(item, path, "id");
+    if (!id) return std::unexpected(id.error());
+    if (*id < 1) return check.Fail(path + ".id", "run id must be >= 1, got " + std::to_string(*id));
+    if (const auto [it, inserted] = index_of_id.emplace(*id, i); !inserted) {
+      return check.Fail(path + ".id", "duplicate run id " + std::to_string(*id) + " (also runs[" +
+                                          std::to_string(it->second) + "].id)");
+    }
+    entry.id = *id;
+    const auto run_file = check.GetString(item, path, "file");
+    if (!run_file) return std::unexpected(run_file.error());
+    if (const auto problem = internal::RunFilePathProblem(*run_file)) {
+      return check.Fail(path + ".file", *problem);
+    }
+    entry.file = *run_file;
+    const auto omega = check.GetFinite(item, path, "omega_rad_s");
+    if (!omega) return std::unexpected(omega.error());
+    entry.omega_rad_s = *omega;
+    const auto status = check.GetString(item, path, "status");
+    if (!status) return std::unexpected(status.error());
+    entry.status = *status;
+    session.runs.push_back(std::move(entry));
+  }
+  return session;
+}
+
+}  // namespace
+
+std::expected<Session, SessionError> ReadSession(const fs::path& dir, const ReadOptions& options) {
+  const fs::path json_file = dir / "session.json";
+  try {
+    const auto text = internal::ReadWholeFile(json_file);
+    if (!text) return std::unexpected(text.error());
+    auto session = ReadSessionJson(*text, json_file);
+    if (!session) return session;
+
+    for (const RunEntry& entry : session->runs) {
+      if (entry.status != "complete") {
+        session->warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
+                                    entry.status + "'");
+        continue;
+      }
+      if (!options.load_samples) continue;
+      auto samples = ReadRunCsv(dir / entry.file, options.min_samples_per_run);
+      if (!samples) return std::unexpected(samples.error());
+      session->loaded_run_ids.push_back(entry.id);
+      session->loaded_samples.push_back(std::move(*samples));
+    }
+    return session;
+  } catch (const json::exception& e) {
+    // Not expected after the checks above; kept so that no exception crosses the API.
+    return std::unexpected(SessionError{json_file, 0, "", e.what()});
+  }
+}
+
+}  // namespace hrgbench::session

@@ -1,0 +1,197 @@
+// Every way session.json can be wrong: the error names the file, the 1-based line, the key path
+// and the offending value.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "hrgbench/session/session.hpp"
+#include "session_test_util.hpp"
+
+namespace hrgbench::session {
+namespace {
+
+using testing::ExpectError;
+using testing::ReadText;
+using testing::ReferenceDir;
+using testing::TempDir;
+using testing::WriteText;
+
+// One key per line so each case knows its line number.
+constexpr const char* kValidJson = R"({
+  "format": "hrgbench-session",
+  "version": 1,
+  "unit": {"serial": "SN-1"},
+  "sample_rate_hz": 100.0,
+  "runs": [
+    {"id": 1, "file": "runs/run-001.csv", "omega_rad_s": -1e-4, "status": "complete"},
+    {"id": 2, "file": "runs/run-002.csv", "omega_rad_s": 1e-4, "status": "complete"}
+  ],
+  "station": {"name": "bench-2"}
+}
+)";
+
+constexpr const char* kCsv = "t_s,y1,y2,y3,y4\n0,1,0,0,0\n0.01,1,0,0,0\n";
+
+class SessionErrorsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    WriteText(dir_ / "runs/run-001.csv", kCsv);
+    WriteText(dir_ / "runs/run-002.csv", kCsv);
+  }
+
+  // Writes kValidJson with `from` replaced by `to` (which must occur) and reads the session.
+  SessionError ReadWith(const std::string& from, const std::string& to,
+                        const ReadOptions& options = {}) {
+    std::string text = kValidJson;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    WriteText(json_file(), text);
+    const auto session = ReadSession(dir_.path(), options);
+    EXPECT_FALSE(session) << "accepted:\n" << text;
+    return session ? SessionError{} : session.error();
+  }
+
+  std::filesystem::path json_file() const { return dir_ / "session.json"; }
+
+  TempDir dir_;
+};
+
+TEST_F(SessionErrorsTest, TheValidSessionReads) {
+  WriteText(json_file(), kValidJson);
+  const auto session = ReadSession(dir_.path());
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->loaded_run_ids.size(), 2u);
+  EXPECT_EQ(session->document["station"]["name"], "bench-2");
+}
+
+TEST_F(SessionErrorsTest, MissingSessionJson) {
+  const auto session = ReadSession(dir_.path());
+  ASSERT_FALSE(session);
+  ExpectError(session.error(), json_file(), 0, "", "cannot open: No such file or directory");
+}
+
+TEST_F(SessionErrorsTest, SyntaxErrorGivesTheLine) {
+  // The missing comma is noticed at the next token, on line 6.
+  ExpectError(ReadWith("\"sample_rate_hz\": 100.0,", "\"sample_rate_hz\": 100.0"), json_file(), 6,
+              "", "parse error at line 6");
+  ExpectError(ReadWith("\"version\": 1,", "\"version\": 1,,"), json_file(), 3, "", "syntax error");
+  WriteText(json_file(), "");
+  ExpectError(ReadSession(dir_.path()).error(), json_file(), 1, "", "unexpected end of input");
+}
+
+TEST_F(SessionErrorsTest, TopLevelNotAnObject) {
+  WriteText(json_file(), "\n[1, 2]\n");
+  ExpectError(ReadSession(dir_.path()).error(), json_file(), 2, "",
+              "expected an object, got array [1,2]");
+}
+
+TEST_F(SessionErrorsTest, UnknownFormatOrVersion) {
+  ExpectError(ReadWith("\"hrgbench-session\"", "\"hrgbench-sesion\""), json_file(), 2, "format",
+              "unknown format 'hrgbench-sesion'");
+  ExpectError(ReadWith("\"format\": \"hrgbench-session\",", ""), json_file(), 1, "format",
+              "missing key 'format'");
+  ExpectError(ReadWith("\"version\": 1", "\"version\": 2"), json_file(), 3, "version",
+              "unsupported version 2");
+  ExpectError(ReadWith("\"version\": 1", "\"version\": \"1\""), json_file(), 3, "version",
+              "expected an integer, got string \"1\"");
+  ExpectError(ReadWith("\"version\": 1", "\"version\": 1.0"), json_file(), 3, "version",
+              "expected an integer, got number 1.0");
+  ExpectError(ReadWith("\"version\": 1", "\"version\": 99999999999"), json_file(), 3, "version",
+              "integer out of range: 99999999999");
+}
+
+TEST_F(SessionErrorsTest, UnitAndSampleRate) {
+  ExpectError(ReadWith("{\"serial\": \"SN-1\"}", "{}"), json_file(), 4, "unit.serial",
+              "missing key 'serial'");
+  ExpectError(ReadWith("{\"serial\": \"SN-1\"}", "{\"serial\": 42}"), json_file(), 4, "unit.serial",
+              "expected a string, got number 42");
+  ExpectError(ReadWith("{\"serial\": \"SN-1\"}", "\"SN-1\""), json_file(), 4, "unit",
+              "expected an object, got string \"SN-1\"");
+  ExpectError(ReadWith("100.0", "-100.0"), json_file(), 5, "sample_rate_hz",
+              "must be positive, got -100.0");
+  ExpectError(ReadWith("100.0", "null"), json_file(), 5, "sample_rate_hz",
+              "expected a number, got null");
+  ExpectError(ReadWith("100.0", "1e999"), json_file(), 5, "sample_rate_hz",
+              "number overflow parsing '1e999'");
+  ExpectError(ReadWith("-1e-4", "-1e-4, \"extra\": [\"1e999\", -1e999]"), json_file(), 7,
+              "runs[0].extra[1]", "number overflow parsing '-1e999'");
+}
+
+TEST_F(SessionErrorsTest, RunsArrayAndEntries) {
+  ExpectError(ReadWith("\"runs\": [", "\"runz\": ["), json_file(), 1, "runs", "missing key 'runs'");
+  ExpectError(ReadWith("\"runs\": [", "\"runs\": 5, \"x\": ["), json_file(), 6, "runs",
+              "expected an array, got number 5");
+  ExpectError(ReadWith("{\"id\": 2, \"file\": \"runs/run-002.csv\", \"omega_rad_s\": 1e-4, "
+                       "\"status\": \"complete\"}",
+                       "\"run 2\""),
+              json_file(), 8, "runs[1]", "expected an object, got string \"run 2\"");
+  ExpectError(ReadWith("\"omega_rad_s\": 1e-4", "\"omega_rad_s\": \"fast\""), json_file(), 8,
+              "runs[1].omega_rad_s", "expected a number, got string \"fast\"");
+  ExpectError(ReadWith("\"omega_rad_s\": -1e-4, ", ""), json_file(), 7, "runs[0].omega_rad_s",
+              "missing key 'omega_rad_s'");
+  ExpectError(ReadWith("\"id\": 2", "\"id\": 1"), json_file(), 8, "runs[1].id",
+              "duplicate run id 1 (also runs[0].id)");
+  ExpectError(ReadWith("\"id\": 2", "\"id\": 2.5"), json_file(), 8, "runs[1].id",
+              "expected an integer, got number 2.5");
+  ExpectError(ReadWith("\"id\": 2", "\"id\": -3"), json_file(), 8, "runs[1].id",
+              "must be >= 1, got -3");
+  ExpectError(ReadWith("\"status\": \"complete\"}\n  ]", "\"status\": true}\n  ]"), json_file(), 8,
+              "runs[1].status", "expected a string, got boolean true");
+  ExpectError(ReadWith("\"file\": \"runs/run-001.csv\"", "\"file\": [\"runs\"]"), json_file(), 7,
+              "runs[0].file", "expected a string, got array [\"runs\"]");
+}
+
+TEST_F(SessionErrorsTest, RunFileEscapingTheDirectory) {
+  ExpectError(ReadWith("runs/run-002.csv", "../run-002.csv"), json_file(), 8, "runs[1].file",
+              "'../run-002.csv' is outside the session directory");
+  ExpectError(ReadWith("runs/run-002.csv", "runs/../../x/run-002.csv"), json_file(), 8,
+              "runs[1].file", "'runs/../../x/run-002.csv' is outside");
+  ExpectError(ReadWith("runs/run-001.csv", "/etc/passwd"), json_file(), 7, "runs[0].file",
+              "absolute path '/etc/passwd'");
+  ExpectError(ReadWith("runs/run-001.csv", ""), json_file(), 7, "runs[0].file", "empty file name");
+  ExpectError(ReadWith("runs/run-001.csv", "runs/"), json_file(), 7, "runs[0].file",
+              "names a directory");
+}
+
+TEST_F(SessionErrorsTest, CsvErrorsNameTheRunFile) {
+  WriteText(dir_ / "runs/run-002.csv", "t_s,y1,y2,y3,y4\n0,1,0,0,0\n0.01,1,zero,0,0\n");
+  ExpectError(ReadWith("SN-1", "SN-1"), dir_ / "runs/run-002.csv", 3, "y2", "not a number 'zero'");
+  std::filesystem::remove(dir_ / "runs/run-002.csv");
+  ExpectError(ReadWith("SN-1", "SN-1"), dir_ / "runs/run-002.csv", 0, "",
+              "cannot open: No such file or directory");
+}
+
+TEST_F(SessionErrorsTest, TooFewSamplesForTheOption) {
+  ReadOptions options;
+  options.min_samples_per_run = 3;
+  ExpectError(ReadWith("SN-1", "SN-1", options), dir_ / "runs/run-001.csv", 0, "t_s",
+              "2 sample(s), at least 3 required");
+}
+
+// A pretty-printed file as the prototype writes it: the line found is the value's own line.
+TEST_F(SessionErrorsTest, LineOfAValueInAnIndentedReferenceFile) {
+  const auto reference = ReferenceDir("paper-noisefree");
+  std::string text = ReadText(reference / "session.json");
+  const std::string from = "\"omega_rad_s\": 0.0,";
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), "\"omega_rad_s\": \"zero\",");
+  const std::size_t line =
+      1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + at, '\n'));
+  WriteText(json_file(), text);
+  ExpectError(ReadSession(dir_.path()).error(), json_file(), line, "runs[2].omega_rad_s",
+              "expected a number, got string \"zero\"");
+}
+
+TEST(SessionErrorTest, ToStringFormats) {
+  EXPECT_EQ((SessionError{"s/session.json", 7, "runs[1].id", "duplicate"}).ToString(),
+            "s/session.json:7: field 'runs[1].id': duplicate");
+  EXPECT_EQ((SessionError{"s/runs/r.csv", 0, "", "cannot open"}).ToString(),
+            "s/runs/r.csv: cannot open");
+}
+
+}  // namespace
+}  // namespace hrgbench::session
