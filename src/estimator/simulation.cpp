@@ -1,5 +1,6 @@
 #include "hrgbench/estimator/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -101,8 +102,10 @@ std::vector<RunData> SimulateRuns(const std::vector<RunPlan>& plans, const Simul
     const internal::FreeRunPropagator propagator(plan.omega_rad_s, options.delta);
     const internal::CVector2 u0 = internal::ToComplex(
         OrbitToState(Orbit{plan.a, plan.b, plan.theta_rad, plan.phi_rad}));
-    // Samples at k/fs for k = 0..n−1 with (n−1)/fs ≤ duration (1e-9 slack for rounding).
-    const auto n = static_cast<Eigen::Index>(std::floor(plan.duration_s * plan.sample_rate_hz + 1e-9)) + 1;
+    // Samples at k/fs for k = 0..n−1, n = round(duration·fs): a 10 s run at 100 Hz has 1000 samples
+    // ending at 9.99 s, as the reference data and a capture of `duration` seconds have.
+    const auto n = std::max<Eigen::Index>(
+        1, static_cast<Eigen::Index>(std::llround(plan.duration_s * plan.sample_rate_hz)));
     RunData run;
     run.id = static_cast<int>(r + 1);
     run.omega_rad_s = plan.omega_rad_s;

@@ -25,7 +25,7 @@ struct RunPlan {
   double theta_rad = 0.0;
   double phi_rad = 0.0;
   double sample_rate_hz = 100.0;
-  double duration_s = 10.0;     // samples at t = 0, 1/fs, … while t ≤ duration_s (+1e-9 s slack)
+  double duration_s = 10.0;     // n = round(duration_s·fs) samples at t = k/fs, k = 0 … n−1
 };
 
 }  // namespace hrgbench::estimator
