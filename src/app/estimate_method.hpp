@@ -1,0 +1,52 @@
+#pragma once
+// Choosing and running an estimator for a session: the policy shared by hrg-estimate and
+// hrg-compare, so both answer the same question the same way.
+//
+// Default ξ set for maximum likelihood: all four when the plan's rates make them identifiable
+// (CheckRatePlan), else the largest identifiable subset, said in a warning. An explicit request is
+// passed through unchanged: the estimator's kFix policy then holds what the plan cannot determine,
+// and warns.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrgbench/estimator/parameters.hpp"
+#include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/summary.hpp"
+
+namespace hrgbench::app {
+
+enum class Method { kMl, kPaper, kPaperXiGrid };
+
+std::optional<Method> ParseMethod(std::string_view name);  // "ml", "paper", "paper-xi-grid"
+std::string_view MethodName(Method method);
+
+// "none", "xi1", "all".
+std::optional<estimator::XiMask> ParseXiSet(std::string_view name);
+
+// Samples per run the method needs (the session reader's min_samples_per_run).
+std::size_t MinimumSamples(Method method);
+
+struct MethodRequest {
+  Method method = Method::kMl;
+  // The ξ to estimate; nullopt = the method's default (ML: the identifiable set; paper: none;
+  // paper-xi-grid: ξ1). The paper methods accept only their own set.
+  std::optional<estimator::XiMask> xi;
+};
+
+// Empty when the request is consistent; else a one-line reason (bad input).
+std::string CheckRequest(const MethodRequest& request);
+
+struct MethodResult {
+  estimator::EstimateSummary summary;
+  // Warnings of the selection itself (before the estimator's own, which are in summary.warnings).
+  std::vector<std::string> selection_warnings;
+  double seconds = 0.0;  // wall time of the estimator call
+};
+
+// Runs the requested method on `runs` (CheckRequest must have passed).
+MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const MethodRequest& request);
+
+}  // namespace hrgbench::app

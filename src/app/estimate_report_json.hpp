@@ -1,0 +1,57 @@
+#pragma once
+// The --json output of hrg-estimate: ONE object, stable keys, for scripts and the comparison tool.
+//
+//   method               string   "ml" | "paper" | "paper-xi-grid"
+//   delta                [6]      estimate (held components: the value held)
+//   delta_std            [6]      one std; null where not estimated
+//   xi                   [4]      estimate; null where the method has no value for it
+//   xi_std               [4]      one std; null where not estimated
+//   residual_rms         number   (null if not computed)
+//   converged            bool
+//   warnings             [string] selection, session and estimator warnings, in that order
+//   termination          string   estimator::ToString(Termination)
+//   message              string   the estimator's one-line message
+//   iterations           int
+//   samples_used         int
+//   residual_rms_per_run [number]
+//   noise_sigma          number   σ̂ from the residuals (null if not computed)
+//   truth                object   only when the session has "simulation": {delta, xi, sigma, seed}
+//
+// JSON has no NaN: every non-finite number is written as null.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrgbench/estimator/summary.hpp"
+
+namespace hrgbench::app {
+
+// The keys every report has ("truth" is optional and not listed).
+inline constexpr std::string_view kReportKeys[] = {"method",
+                                                   "delta",
+                                                   "delta_std",
+                                                   "xi",
+                                                   "xi_std",
+                                                   "residual_rms",
+                                                   "converged",
+                                                   "warnings",
+                                                   "termination",
+                                                   "message",
+                                                   "iterations",
+                                                   "samples_used",
+                                                   "residual_rms_per_run",
+                                                   "noise_sigma"};
+
+// `warnings` are the caller's (method selection, session reading), put before the estimator's.
+// `session_document` is the whole session.json; its "simulation" block, if any, gives "truth".
+nlohmann::json EstimateReportJson(std::string_view method,
+                                  const estimator::EstimateSummary& summary,
+                                  const std::vector<std::string>& warnings,
+                                  const nlohmann::json& session_document);
+
+// A number, or null when not finite.
+nlohmann::json NumberOrNull(double value);
+
+}  // namespace hrgbench::app
