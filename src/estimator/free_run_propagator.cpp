@@ -20,6 +20,10 @@ FreeRunPropagator::FreeRunPropagator(double omega_rad_s, const Delta& d) noexcep
   beta_z_ = Complex(d[kDampingAnisotropyCos], d[kFrequencyAnisotropyCos]);
   mu2_ = beta_x_ * beta_x_ + beta_y_ * beta_y_ + beta_z_ * beta_z_;
   mu_ = std::sqrt(mu2_);
+  if (mu2_ != Complex(0.0)) {
+    mu_inv_ = 1.0 / mu_;
+    half_mu2_inv_ = 0.5 / mu2_;
+  }
   b_ << beta_z_, beta_x_ - i * beta_y_, beta_x_ + i * beta_y_, -beta_z_;
 
   coefficient_[kScaleFactor] = i * (2.0 * omega_rad_s);

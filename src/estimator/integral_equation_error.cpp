@@ -11,6 +11,7 @@
 #include "hrgbench/estimator/model.hpp"
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
+#include "parallel_for.hpp"
 
 namespace hrgbench::estimator {
 namespace internal {
@@ -37,9 +38,35 @@ void ForEachEquation(const RunData& run, const Xi& xi_removed, Visit visit) {
   }
 }
 
+// Unpacks the solution: δ directly, ξ from the products δ2·ξ.
+bool FinishSolution(const std::vector<int>& columns, const Eigen::VectorXd& solution,
+                    const Delta& delta_fixed, const Xi& xi_fixed, const Eigen::MatrixXd& normal,
+                    IntegralEquationResult* out) {
+  out->delta = delta_fixed;
+  out->xi = xi_fixed;
+  Xi xi_products = Xi::Zero();  // δ2·ξk
+  XiMask xi_free = kNoXi;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const int which = columns[c];
+    const auto i = static_cast<Eigen::Index>(c);
+    if (which < 6) {
+      out->delta[which] = solution[i];
+    } else {
+      xi_products[which - 6] = solution[i];
+      xi_free[static_cast<std::size_t>(which - 6)] = true;
+    }
+  }
+  const double delta2 = out->delta[kScaleFactor];
+  for (int k = 0; k < 4; ++k)
+    if (xi_free[static_cast<std::size_t>(k)])
+      out->xi[k] = std::abs(delta2) > 1e-12 ? xi_products[k] / delta2 : 0.0;
+  out->normal = normal;
+  return true;
+}
+
 bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
-                           IntegralEquationResult* out) {
+                           IntegralEquationResult* out, int threads) {
   // Unknowns: the free δ, then δ2·ξk for each free ξ (linear, unlike ξ itself).
   std::vector<int> columns;  // 0..5 δ, 6..9 ξ
   for (int j = 0; j < 6; ++j)
@@ -51,54 +78,51 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   for (int k = 0; k < 4; ++k)
     if (xi_free[k]) xi_removed[k] = 0.0;
 
-  Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
-  const auto fill = [&](double omega, const Matrix46& m, Forms* lhs) {
+  const auto fill = [&](double omega, const Matrix46& m, Forms* lhs,
+                        Eigen::Matrix<double, 4, Eigen::Dynamic>* row_block) {
     for (int j = 0; j < 6; ++j)
       if (!delta_free[j]) *lhs -= m.col(j) * delta_fixed[j];
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto which = static_cast<std::size_t>(columns[static_cast<std::size_t>(c)]);
-      row_block.col(c) = which < 6 ? Forms(m.col(static_cast<Eigen::Index>(which)))
-                                   : Forms(m.col(kXiColumn[which - 6]) *
-                                           (4.0 * omega * kXiSign[which - 6]));
+      row_block->col(c) = which < 6 ? Forms(m.col(static_cast<Eigen::Index>(which)))
+                                    : Forms(m.col(kXiColumn[which - 6]) *
+                                            (4.0 * omega * kXiSign[which - 6]));
     }
   };
 
+  // Runs are independent: one normal system per run, summed after.
+  std::vector<Eigen::MatrixXd> normals(runs.size(), Eigen::MatrixXd::Zero(n, n));
+  std::vector<Eigen::VectorXd> rhss(runs.size(), Eigen::VectorXd::Zero(n));
+  ParallelFor(runs.size(), threads, [&](std::size_t r) {
+    Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
+    ForEachEquation(runs[r], xi_removed, [&](Forms lhs, const Matrix46& m) {
+      fill(runs[r].omega_rad_s, m, &lhs, &row_block);
+      normals[r].noalias() += row_block.transpose() * row_block;
+      rhss[r].noalias() += row_block.transpose() * lhs;
+    });
+  });
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
   out->equations = 0;
-  for (const RunData& run : runs) {
-    ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
-      fill(run.omega_rad_s, m, &lhs);
-      normal.noalias() += row_block.transpose() * row_block;
-      rhs.noalias() += row_block.transpose() * lhs;
-      ++out->equations;
-    });
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    normal += normals[r];
+    rhs += rhss[r];
+    out->equations += static_cast<std::size_t>(std::max<Eigen::Index>(0, runs[r].size() - 1));
   }
   Eigen::VectorXd solution = Eigen::VectorXd::Zero(n);
   if (n > 0 && !SolveScaledSpd(normal, rhs, &solution)) return false;
 
+  out->sse = kNaN;
+  if (!out->want_sse) return FinishSolution(columns, solution, delta_fixed, xi_fixed, normal, out);
   out->sse = 0.0;
+  Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
   for (const RunData& run : runs) {
     ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
-      fill(run.omega_rad_s, m, &lhs);
+      fill(run.omega_rad_s, m, &lhs, &row_block);
       out->sse += (lhs - row_block * solution).squaredNorm();
     });
   }
-  out->delta = delta_fixed;
-  out->xi = xi_fixed;
-  Xi xi_products = Xi::Zero();  // δ2·ξk
-  for (Eigen::Index c = 0; c < n; ++c) {
-    const int which = columns[static_cast<std::size_t>(c)];
-    if (which < 6)
-      out->delta[which] = solution[c];
-    else
-      xi_products[which - 6] = solution[c];
-  }
-  const double delta2 = out->delta[kScaleFactor];
-  for (int k = 0; k < 4; ++k)
-    if (xi_free[k]) out->xi[k] = std::abs(delta2) > 1e-12 ? xi_products[k] / delta2 : 0.0;
-  out->normal = normal;
-  return true;
+  return FinishSolution(columns, solution, delta_fixed, xi_fixed, normal, out);
 }
 
 }  // namespace internal

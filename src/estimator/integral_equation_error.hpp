@@ -15,13 +15,14 @@ struct IntegralEquationResult {
   Delta delta = Delta::Zero();
   Xi xi = Xi::Zero();
   Eigen::MatrixXd normal;  // normal matrix of the free unknowns (δ free, then δ2·ξ free)
-  double sse = 0.0;        // Σ of squared equation residuals
+  bool want_sse = false;   // in: compute sse (one more pass over the data)
+  double sse = 0.0;        // Σ of squared equation residuals (NaN unless want_sse)
   std::size_t equations = 0;
 };
 
-// False when the regression is singular.
+// False when the regression is singular. `threads` as in OutputErrorProblem (resolved already).
 bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
-                           IntegralEquationResult* out);
+                           IntegralEquationResult* out, int threads = 1);
 
 }  // namespace hrgbench::estimator::internal

@@ -127,6 +127,7 @@ EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
   FreeSet free;
   if (!Prepare(runs, options, &s, &free)) return s;
   internal::IntegralEquationResult iee;
+  iee.want_sse = true;
   if (!internal::IntegralEquationError(runs, free.delta, free.delta_fixed, free.xi, free.xi_fixed,
                                        &iee)) {
     s.termination = Termination::kNumericalFailure;
@@ -172,7 +173,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     for (const XiMask& xi_in_start : {free.xi, kNoXi}) {
       internal::IntegralEquationResult iee;
       if (!internal::IntegralEquationError(runs, free.delta, free.delta_fixed, xi_in_start,
-                                           free.xi_fixed, &iee))
+                                           free.xi_fixed, &iee, start_problem.Threads()))
         continue;
       const FullParameters candidate = internal::Pack(iee.delta, iee.xi);
       if (!start_problem.SolveInitialStates(candidate, &w0)) continue;

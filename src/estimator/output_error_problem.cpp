@@ -42,10 +42,10 @@ double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<Eigen
     const FreeRunPropagator propagator(run.omega_rad_s, DeltaOf(p));
     const CVector2 u0 = gain_inv * ToComplex(w0[r]);
     double sum = 0.0;
-    for (Eigen::Index k = 0; k < run.size(); ++k) {
-      const CVector2 y = gain * propagator.Propagate(propagator.Scalars(run.t_s[k]), u0);
-      sum += (run.y.col(k) - ToReal(y)).squaredNorm();
-    }
+    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+      const CVector2 y = gain * propagator.Propagate(s, u0);
+      sum += (run.y.col(static_cast<Eigen::Index>(k)) - ToReal(y)).squaredNorm();
+    });
     sums[r] = sum;
   });
   double total = 0.0;
@@ -87,23 +87,23 @@ void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
   Coefficients projected;
   for (CVector2& e : projected) e.setZero();
   double sum = 0.0;
-  for (Eigen::Index k = 0; k < run.size(); ++k) {
-    const double t = run.t_s[static_cast<std::size_t>(k)];
-    const PropagatorScalars s = propagator.Scalars(t);
+  propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+    const double t = run.t_s[k];
     Complex c[kBasis];
     c[0] = s.decay * s.f0;
     c[1] = s.decay * s.f1;
     c[2] = t * c[0];
     c[3] = t * c[1];
     c[4] = s.decay * s.df1_dmu2;
-    const CVector2 e = ToComplex(run.y.col(k)) - (c[0] * g_u0 + c[1] * g_bu0);
+    const CVector2 e =
+        ToComplex(run.y.col(static_cast<Eigen::Index>(k))) - (c[0] * g_u0 + c[1] * g_bu0);
     sum += std::norm(e[0]) + std::norm(e[1]);
     for (int m = 0; m < kBasis; ++m) {
       const Complex cm = std::conj(c[m]);
       projected[static_cast<std::size_t>(m)] += cm * e;
       for (int n = m; n < kBasis; ++n) gram(m, n) += cm * c[n];
     }
-  }
+  });
   for (int m = 0; m < kBasis; ++m)
     for (int n = 0; n < m; ++n) gram(m, n) = std::conj(gram(n, m));
 
@@ -202,11 +202,11 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     // The model is complex-linear in u0, so the normal equations are complex 2×2.
     CMatrix2 normal = CMatrix2::Zero();
     CVector2 rhs = CVector2::Zero();
-    for (Eigen::Index k = 0; k < run.size(); ++k) {
-      const CMatrix2 gphi = gain * propagator.Transition(propagator.Scalars(run.t_s[k]));
+    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+      const CMatrix2 gphi = gain * propagator.Transition(s);
       normal.noalias() += gphi.adjoint() * gphi;
-      rhs.noalias() += gphi.adjoint() * ToComplex(run.y.col(k));
-    }
+      rhs.noalias() += gphi.adjoint() * ToComplex(run.y.col(static_cast<Eigen::Index>(k)));
+    });
     if (!(std::abs(normal.determinant()) > 0.0)) return;
     const CVector2 u0 = normal.inverse() * rhs;
     if (!u0.allFinite()) return;

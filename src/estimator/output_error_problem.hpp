@@ -49,6 +49,7 @@ class OutputErrorProblem {
   OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free, int threads = 1);
 
   int NumFree() const { return static_cast<int>(free_.size()); }
+  int Threads() const { return threads_; }
   const std::vector<int>& Free() const { return free_; }
   std::size_t NumRuns() const { return runs_.size(); }
   std::size_t NumObservations() const { return 4 * samples_; }
