@@ -1,13 +1,13 @@
 #include "output_error_problem.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
-
 #include "free_run_propagator.hpp"
 #include "least_squares_util.hpp"
+#include "no_allocation_scope.hpp"
 #include "parallel_for.hpp"
 
 namespace hrgbench::estimator::internal {
@@ -42,6 +42,7 @@ double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<Eigen
     const FreeRunPropagator propagator(run.omega_rad_s, DeltaOf(p));
     const CVector2 u0 = gain_inv * ToComplex(w0[r]);
     double sum = 0.0;
+    const NoAllocationScope no_allocation;
     propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
       const CVector2 y = gain * propagator.Propagate(s, u0);
       sum += (run.y.col(static_cast<Eigen::Index>(k)) - ToReal(y)).squaredNorm();
@@ -87,23 +88,26 @@ void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
   Coefficients projected;
   for (CVector2& e : projected) e.setZero();
   double sum = 0.0;
-  propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
-    const double t = run.t_s[k];
-    Complex c[kBasis];
-    c[0] = s.decay * s.f0;
-    c[1] = s.decay * s.f1;
-    c[2] = t * c[0];
-    c[3] = t * c[1];
-    c[4] = s.decay * s.df1_dmu2;
-    const CVector2 e =
-        ToComplex(run.y.col(static_cast<Eigen::Index>(k))) - (c[0] * g_u0 + c[1] * g_bu0);
-    sum += std::norm(e[0]) + std::norm(e[1]);
-    for (int m = 0; m < kBasis; ++m) {
-      const Complex cm = std::conj(c[m]);
-      projected[static_cast<std::size_t>(m)] += cm * e;
-      for (int n = m; n < kBasis; ++n) gram(m, n) += cm * c[n];
-    }
-  });
+  {
+    const NoAllocationScope no_allocation;
+    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+      const double t = run.t_s[k];
+      Complex c[kBasis];
+      c[0] = s.decay * s.f0;
+      c[1] = s.decay * s.f1;
+      c[2] = t * c[0];
+      c[3] = t * c[1];
+      c[4] = s.decay * s.df1_dmu2;
+      const CVector2 e =
+          ToComplex(run.y.col(static_cast<Eigen::Index>(k))) - (c[0] * g_u0 + c[1] * g_bu0);
+      sum += std::norm(e[0]) + std::norm(e[1]);
+      for (int m = 0; m < kBasis; ++m) {
+        const Complex cm = std::conj(c[m]);
+        projected[static_cast<std::size_t>(m)] += cm * e;
+        for (int n = m; n < kBasis; ++n) gram(m, n) += cm * c[n];
+      }
+    });
+  }
   for (int m = 0; m < kBasis; ++m)
     for (int n = 0; n < m; ++n) gram(m, n) = std::conj(gram(n, m));
 
@@ -150,7 +154,8 @@ void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
   for (int a = 0; a < cols; ++a) {
     const Coefficients& va = v[static_cast<std::size_t>(a)];
     Complex ga = 0.0;
-    for (int m = 0; m < kBasis; ++m) ga += va[static_cast<std::size_t>(m)].dot(projected[static_cast<std::size_t>(m)]);
+    for (int m = 0; m < kBasis; ++m)
+      ga += va[static_cast<std::size_t>(m)].dot(projected[static_cast<std::size_t>(m)]);
     (*g)[a] = ga.real();
     for (int bb = 0; bb <= a; ++bb) {
       const Coefficients& vb = v[static_cast<std::size_t>(bb)];
@@ -202,6 +207,7 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     // The model is complex-linear in u0, so the normal equations are complex 2×2.
     CMatrix2 normal = CMatrix2::Zero();
     CVector2 rhs = CVector2::Zero();
+    const NoAllocationScope no_allocation;
     propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
       const CMatrix2 gphi = gain * propagator.Transition(s);
       normal.noalias() += gphi.adjoint() * gphi;
@@ -219,8 +225,8 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
 namespace {
 
 // Applies Marquardt damping to a copy of the blocks and eliminates x0.
-bool Reduce(const NormalEquations& ne, double lambda, Eigen::MatrixXd* h_red, Eigen::VectorXd* g_red,
-            std::vector<Eigen::Matrix4d>* h_xx_inv) {
+bool Reduce(const NormalEquations& ne, double lambda, Eigen::MatrixXd* h_red,
+            Eigen::VectorXd* g_red, std::vector<Eigen::Matrix4d>* h_xx_inv) {
   const Eigen::Index nf = ne.h_pp.rows();
   *h_red = ne.h_pp;
   h_red->diagonal() *= (1.0 + lambda);
