@@ -269,12 +269,14 @@ std::expected<RunPlan, ConfigError> ReadRun(const toml::table& table, std::size_
       return std::unexpected(error);
     }
   }
-  const double samples = std::floor(plan.duration_s * plan.sample_rate_hz) + 1.0;
-  if (samples > kMaxSamplesPerRun) {
+  // run_data.hpp: a run has round(duration_s · fs) samples at t = k/fs.
+  const double samples = std::round(plan.duration_s * plan.sample_rate_hz);
+  if (samples > kMaxSamplesPerRun || samples < 2.0) {
     return std::unexpected(reader.Error(
         *duration_node, "duration_s",
-        "out of range: duration_s * sample_rate_hz gives " + std::to_string(samples) +
-            " samples, more than the limit of 1e7 per run (a typo in a rate or a length?)"));
+        "out of range: duration_s * sample_rate_hz gives " +
+            std::to_string(static_cast<long long>(samples)) +
+            " samples; a run needs at least 2 and at most 1e7 (a typo in a rate or a length?)"));
   }
   if (auto unknown = reader.Unknown(kRunKeysText)) return std::unexpected(*unknown);
   return plan;
