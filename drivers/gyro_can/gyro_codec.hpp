@@ -1,0 +1,126 @@
+#pragma once
+// GyroCodec: the pure codec of the HRG CAN protocol v1 (gyro_protocol.hpp, README.md,
+// hrg_gyro_v1.dbc). No sockets, no clocks, no allocation; every function is noexcept and
+// real-time safe. Encoders take values already validated by the caller and saturate anything out
+// of the field's range (the command encoders' callers range-check first, so saturation never
+// changes a command silently); decoders check identifier, frame kind, length, CRC and enumerated
+// values, and report the first problem as a DecodeStatus.
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "gyro_can/gyro_protocol.hpp"
+#include "hrgbench/hw/can_frame.hpp"
+
+namespace hrgbench::gyro_can {
+
+enum class DecodeStatus : std::uint8_t {
+  kOk,
+  kWrongId,        // not this message's identifier (or an extended id)
+  kWrongKind,      // remote, error, FD where classic is specified, or the reverse
+  kWrongLength,    // length differs from the specified DLC
+  kBadChecksum,    // CRC-8 mismatch
+  kBadValue,       // an enumerated field holds an undefined value, or a reserved field is set
+};
+
+constexpr std::string_view ToString(DecodeStatus status) noexcept {
+  switch (status) {
+    case DecodeStatus::kOk: return "ok";
+    case DecodeStatus::kWrongId: return "wrong id";
+    case DecodeStatus::kWrongKind: return "wrong frame kind";
+    case DecodeStatus::kWrongLength: return "wrong length";
+    case DecodeStatus::kBadChecksum: return "bad checksum";
+    case DecodeStatus::kBadValue: return "bad value";
+  }
+  return "?";
+}
+
+struct ConfigureCommand {
+  std::uint8_t token = 0;  // echoed in the Ack; a repeat with the same token is a retry
+  std::uint16_t sample_rate_hz = 1000;
+  FrameFormat format = FrameFormat::kClassic;
+  std::uint8_t status_rate_hz = kDefaultStatusRateHz;  // 0: status only on request
+};
+
+struct ExciteCommand {
+  std::uint8_t token = 0;
+  // Wire fields: a = a_raw·1e-4, b = b_raw·1e-4, θ = theta_raw·1e-4 rad.
+  std::uint16_t a_raw = 10000;
+  std::int16_t b_raw = 0;
+  std::int16_t theta_raw = 0;
+};
+
+// Release, stop and status request carry only a token.
+struct SimpleCommand {
+  Command command = Command::kStatusRequest;
+  std::uint8_t token = 0;
+};
+
+struct Ack {
+  Command command = Command::kStatusRequest;  // which command this answers
+  std::uint8_t token = 0;                     // the command's token
+  AckResult result = AckResult::kOk;
+  hw::GyroMode mode = hw::GyroMode::kIdle;    // the electronics' mode after the command
+  // Command-specific, 24 bits: Configure: the accepted sample rate (Hz); Release: µs elapsed
+  // between the release instant and this Ack's transmission (0 on the first Ack; larger on a
+  // repeated Ack after a lost one) — the host subtracts it from the Ack's receive stamp.
+  std::uint32_t arg = 0;
+};
+
+struct StatusMessage {
+  hw::GyroMode mode = hw::GyroMode::kIdle;
+  bool pll_lock = false;
+  bool ready = false;
+  std::uint8_t fault_bits = 0;
+  std::uint32_t frequency_mhz = 0;      // 24 bits: resonant frequency in mHz (≤ 16 777.215 Hz)
+  std::int16_t temperature_centi_c = 0; // 0.01 °C
+};
+
+// One half of a sample on classic CAN: half 0 (id 0x100) carries y1, y2; half 1 (0x101) y3, y4.
+struct SampleHalf {
+  std::uint8_t half = 0;
+  std::uint8_t seq = 0;                // sample number modulo 256
+  std::array<std::int32_t, 2> y_raw{};  // int24 values
+};
+
+// Up to five consecutive samples in one CAN FD frame.
+struct SampleFdBlock {
+  std::uint16_t seq = 0;  // number of the first sample, modulo 65536
+  std::uint8_t count = 0; // 1 … kSamplesPerFdFrame; the unused sample slots are zero
+  std::array<std::array<std::int32_t, 4>, kSamplesPerFdFrame> y_raw{};
+};
+
+// CRC-8 SAE J1850 over the identifier (2 bytes LE) and bytes [0, n) of `data`.
+std::uint8_t Crc8(std::uint32_t id, const std::uint8_t* data, std::size_t n) noexcept;
+
+// y (amplitude units) ↔ int24 raw, rounding to nearest and saturating at ±full scale.
+std::int32_t QuantiseY(double y) noexcept;
+constexpr double DequantiseY(std::int32_t raw) noexcept { return raw * kSampleLsb; }
+
+hw::CanFrame EncodeConfigure(const ConfigureCommand& command) noexcept;
+hw::CanFrame EncodeExcite(const ExciteCommand& command) noexcept;
+hw::CanFrame EncodeSimpleCommand(const SimpleCommand& command) noexcept;
+hw::CanFrame EncodeAck(const Ack& ack) noexcept;
+hw::CanFrame EncodeStatus(const StatusMessage& status) noexcept;
+hw::CanFrame EncodeSampleHalf(const SampleHalf& half) noexcept;
+hw::CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept;  // FD with BRS
+
+DecodeStatus DecodeConfigure(const hw::CanFrame& frame, ConfigureCommand* out) noexcept;
+DecodeStatus DecodeExcite(const hw::CanFrame& frame, ExciteCommand* out) noexcept;
+DecodeStatus DecodeSimpleCommand(const hw::CanFrame& frame, SimpleCommand* out) noexcept;
+DecodeStatus DecodeAck(const hw::CanFrame& frame, Ack* out) noexcept;
+DecodeStatus DecodeStatusMessage(const hw::CanFrame& frame, StatusMessage* out) noexcept;
+DecodeStatus DecodeSampleHalf(const hw::CanFrame& frame, SampleHalf* out) noexcept;
+DecodeStatus DecodeSampleFd(const hw::CanFrame& frame, SampleFdBlock* out) noexcept;
+
+// True for the identifiers this protocol defines in the given direction.
+constexpr bool IsCommandId(std::uint32_t id) noexcept {
+  return id >= can_id::kConfigure && id <= can_id::kStatusRequest;
+}
+constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
+  return id == can_id::kAck || id == can_id::kStatus || id == can_id::kSampleA ||
+         id == can_id::kSampleB || id == can_id::kSampleFd;
+}
+
+}  // namespace hrgbench::gyro_can

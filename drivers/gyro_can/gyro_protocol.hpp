@@ -1,0 +1,88 @@
+#pragma once
+// The HRG electronics' CAN protocol, version 1: identifiers, lengths, enumerations and scalings.
+// The human-readable specification is README.md in this folder and the machine-readable one is
+// hrg_gyro_v1.dbc; tests/unit/gyro_can/dbc_consistency_test.cpp parses the DBC and checks it
+// against these constants, so the three cannot drift apart.
+//
+// Conventions: standard 11-bit identifiers; every multi-byte field little-endian (Intel, DBC @1);
+// the last payload byte of every frame is a CRC-8 (SAE J1850: poly 0x1D, init 0xFF, xor-out 0xFF,
+// as AUTOSAR E2E profile 1) over the identifier (2 bytes, little-endian) and the preceding payload
+// bytes. CAN's own CRC protects the wire; this one catches what it cannot: a gateway or driver
+// that mangles a payload, a firmware writing a stale buffer, or injected corruption in tests.
+
+#include <cstdint>
+
+#include "hrgbench/hw/gyro_electronics.hpp"
+
+namespace hrgbench::gyro_can {
+
+inline constexpr std::uint8_t kProtocolVersion = 1;
+
+// Identifiers. Lower id wins arbitration: commands, then their answers, then the sample stream.
+namespace can_id {
+inline constexpr std::uint32_t kConfigure = 0x040;      // host → electronics
+inline constexpr std::uint32_t kExcite = 0x041;         // host → electronics
+inline constexpr std::uint32_t kRelease = 0x042;        // host → electronics
+inline constexpr std::uint32_t kStop = 0x043;           // host → electronics
+inline constexpr std::uint32_t kStatusRequest = 0x044;  // host → electronics
+inline constexpr std::uint32_t kAck = 0x050;            // electronics → host, one per command
+inline constexpr std::uint32_t kStatus = 0x051;         // electronics → host, periodic + requested
+inline constexpr std::uint32_t kSampleA = 0x100;        // electronics → host: seq, y1, y2
+inline constexpr std::uint32_t kSampleB = 0x101;        // electronics → host: seq, y3, y4
+inline constexpr std::uint32_t kSampleFd = 0x102;       // electronics → host (CAN FD): 5 samples
+}  // namespace can_id
+
+// Payload lengths (DLC). Every frame has exactly this length; any other is a bad frame.
+namespace length {
+inline constexpr std::uint8_t kConfigure = 8;
+inline constexpr std::uint8_t kExcite = 8;
+inline constexpr std::uint8_t kSimpleCommand = 2;  // release, stop, status request
+inline constexpr std::uint8_t kAck = 8;
+inline constexpr std::uint8_t kStatus = 8;
+inline constexpr std::uint8_t kSample = 8;
+inline constexpr std::uint8_t kSampleFd = 64;
+}  // namespace length
+
+// The command a frame carries, by its identifier's low byte (also echoed in the Ack).
+enum class Command : std::uint8_t {
+  kConfigure = 0x40,
+  kExcite = 0x41,
+  kRelease = 0x42,
+  kStop = 0x43,
+  kStatusRequest = 0x44,
+};
+
+enum class AckResult : std::uint8_t {
+  kOk = 0,
+  kBadState = 1,     // not allowed in the electronics' current mode
+  kBadArgument = 2,  // a value out of range
+  kFaulted = 3,      // a fault is latched: only Stop is accepted
+};
+
+enum class FrameFormat : std::uint8_t {
+  kClassic = 0,  // two 8-byte frames per sample (0x100, 0x101)
+  kFd = 1,       // one 64-byte CAN FD frame per 5 samples (0x102)
+};
+
+// y on the wire: signed 24-bit, LSB = 2^-22 amplitude units, full scale ±2.0 (saturating).
+inline constexpr double kSampleLsb = 1.0 / 4194304.0;
+inline constexpr std::int32_t kSampleRawMax = (1 << 23) - 1;
+inline constexpr std::int32_t kSampleRawMin = -(1 << 23);
+// Excitation fields a (uint16), b and θ (int16): LSB 1e-4 (amplitude units, rad).
+inline constexpr double kExciteLsb = 1e-4;
+// Status: resonant frequency uint24 in mHz, temperature int16 in 0.01 °C.
+inline constexpr double kFrequencyLsbHz = 1e-3;
+inline constexpr double kTemperatureLsbC = 0.01;
+
+inline constexpr int kSamplesPerFdFrame = 5;
+// Highest sample rates the electronics accept: classic CAN at 1 Mbit/s carries two 8-byte frames
+// per sample at ≤ 135 bits each (worst-case stuffing), so 2 kHz is 54 % bus load (README).
+inline constexpr std::uint16_t kMaxClassicSampleRateHz = 2000;
+inline constexpr std::uint16_t kMaxFdSampleRateHz = 10000;
+inline constexpr std::uint8_t kDefaultStatusRateHz = 10;
+
+// The electronics' sample counter on the wire: 8 bits on classic frames, 16 bits on FD frames.
+inline constexpr std::uint32_t kClassicSeqModulo = 256;
+inline constexpr std::uint32_t kFdSeqModulo = 65536;
+
+}  // namespace hrgbench::gyro_can

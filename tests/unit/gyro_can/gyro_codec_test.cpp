@@ -1,0 +1,202 @@
+// Golden frames of the HRG CAN protocol v1 in can-utils notation. The expected texts were written
+// from the README's message table with an independent CRC-8 implementation (Python, checked
+// against the catalogue value CRC-8/SAE-J1850("123456789") = 0x4B), not produced by this codec.
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "gyro_can/can_frame_text.hpp"
+#include "gyro_can/gyro_codec.hpp"
+
+namespace hrgbench::gyro_can {
+namespace {
+
+hw::CanFrame Frame(const char* text) {
+  const std::optional<hw::CanFrame> frame = ParseCanFrame(text);
+  EXPECT_TRUE(frame.has_value()) << text;
+  return frame.value_or(hw::CanFrame{});
+}
+
+TEST(GyroCodecTest, CrcMatchesTheCatalogueCheckValue) {
+  // The id bytes are fed first (little-endian): id 0x3231 contributes "1", "2".
+  const std::uint8_t rest[] = {'3', '4', '5', '6', '7', '8', '9'};
+  EXPECT_EQ(Crc8(0x3231, rest, sizeof rest), 0x4B);
+}
+
+TEST(GyroCodecTest, ConfigureGolden) {
+  ConfigureCommand command;
+  command.token = 0x07;
+  command.sample_rate_hz = 1000;
+  command.format = FrameFormat::kClassic;
+  command.status_rate_hz = 10;
+  EXPECT_EQ(CanFrameToString(EncodeConfigure(command)), "040#07E803000A0000E9");
+  ConfigureCommand fd{.token = 0x21, .sample_rate_hz = 5000, .format = FrameFormat::kFd,
+                      .status_rate_hz = 0};
+  EXPECT_EQ(CanFrameToString(EncodeConfigure(fd)), "040#2188130100000051");
+
+  ConfigureCommand decoded;
+  ASSERT_EQ(DecodeConfigure(Frame("040#2188130100000051"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.token, 0x21);
+  EXPECT_EQ(decoded.sample_rate_hz, 5000);
+  EXPECT_EQ(decoded.format, FrameFormat::kFd);
+  EXPECT_EQ(decoded.status_rate_hz, 0);
+}
+
+TEST(GyroCodecTest, ExciteGolden) {
+  // a = 1, b = -0.4, θ = π/7 (the paper's run 2 design) in 1e-4 units.
+  ExciteCommand command{.token = 0x08, .a_raw = 10000, .b_raw = -4000, .theta_raw = 4488};
+  EXPECT_EQ(CanFrameToString(EncodeExcite(command)), "041#08102760F0881178");
+  ExciteCommand decoded;
+  ASSERT_EQ(DecodeExcite(Frame("041#08102760F0881178"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.a_raw, 10000);
+  EXPECT_EQ(decoded.b_raw, -4000);
+  EXPECT_EQ(decoded.theta_raw, 4488);
+  EXPECT_NEAR(decoded.theta_raw * kExciteLsb, std::numbers::pi / 7, kExciteLsb / 2);
+}
+
+TEST(GyroCodecTest, SimpleCommandsGolden) {
+  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kRelease, 0x09})), "042#0967");
+  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kStop, 0x0A})), "043#0ACF");
+  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kStatusRequest, 0x0B})), "044#0B58");
+  SimpleCommand decoded;
+  ASSERT_EQ(DecodeSimpleCommand(Frame("043#0ACF"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.command, Command::kStop);
+  EXPECT_EQ(decoded.token, 0x0A);
+  EXPECT_EQ(DecodeSimpleCommand(Frame("041#0ACF"), &decoded), DecodeStatus::kWrongId);
+}
+
+TEST(GyroCodecTest, AckGolden) {
+  const Ack release{Command::kRelease, 0x09, AckResult::kOk, hw::GyroMode::kFreeRun, 0};
+  EXPECT_EQ(CanFrameToString(EncodeAck(release)), "050#420900040000007C");
+  const Ack configure{Command::kConfigure, 0x07, AckResult::kOk, hw::GyroMode::kConfigured, 1000};
+  EXPECT_EQ(CanFrameToString(EncodeAck(configure)), "050#40070001E80300DE");
+  Ack decoded;
+  ASSERT_EQ(DecodeAck(Frame("050#41080100000000F9"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.command, Command::kExcite);
+  EXPECT_EQ(decoded.token, 0x08);
+  EXPECT_EQ(decoded.result, AckResult::kBadState);
+  EXPECT_EQ(decoded.mode, hw::GyroMode::kIdle);
+}
+
+TEST(GyroCodecTest, StatusGolden) {
+  const StatusMessage status{.mode = hw::GyroMode::kReady, .pll_lock = true, .ready = true,
+                             .fault_bits = 0, .frequency_mhz = 5123456,
+                             .temperature_centi_c = 2537};
+  EXPECT_EQ(CanFrameToString(EncodeStatus(status)), "051#3300802D4EE909B4");
+  StatusMessage decoded;
+  ASSERT_EQ(DecodeStatusMessage(Frame("051#060558474C1EFB08"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.mode, hw::GyroMode::kFaulted);
+  EXPECT_FALSE(decoded.pll_lock);
+  EXPECT_EQ(decoded.fault_bits, hw::gyro_fault::kPllUnlock | hw::gyro_fault::kExciteTimeout);
+  EXPECT_EQ(decoded.frequency_mhz, 4999000u);
+  EXPECT_EQ(decoded.temperature_centi_c, -1250);
+}
+
+TEST(GyroCodecTest, SampleHalvesGolden) {
+  SampleHalf a{.half = 0, .seq = 0x2A, .y_raw = {QuantiseY(1.0), QuantiseY(-0.5)}};
+  SampleHalf b{.half = 1, .seq = 0x2A, .y_raw = {QuantiseY(0.25), QuantiseY(-kSampleLsb)}};
+  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(a)), "100#2A0000400000E002");
+  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(b)), "101#2A000010FFFFFFEF");
+  // Saturation at ±full scale.
+  SampleHalf sat{.half = 0, .seq = 0xFF, .y_raw = {QuantiseY(5.0), QuantiseY(-5.0)}};
+  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(sat)), "100#FFFFFF7F00008085");
+
+  SampleHalf decoded;
+  ASSERT_EQ(DecodeSampleHalf(Frame("101#2A000010FFFFFFEF"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.half, 1);
+  EXPECT_EQ(decoded.seq, 0x2A);
+  EXPECT_EQ(DequantiseY(decoded.y_raw[0]), 0.25);
+  EXPECT_EQ(DequantiseY(decoded.y_raw[1]), -kSampleLsb);
+}
+
+SampleFdBlock Pattern(std::uint16_t seq, std::uint8_t count) {
+  SampleFdBlock block{.seq = seq, .count = count, .y_raw = {}};
+  for (int s = 0; s < count; ++s) {
+    for (int c = 0; c < 4; ++c) {
+      block.y_raw[static_cast<std::size_t>(s)][static_cast<std::size_t>(c)] =
+          (s * 4 + c + 1) * 1000 * (c % 2 == 1 ? -1 : 1);
+    }
+  }
+  return block;
+}
+
+TEST(GyroCodecTest, SampleFdGolden) {
+  const char* full =
+      "102##1341205E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF282300F0D8FFF82A0020D1FFC83200"
+      "50C9FF983A0080C1FF684200B0B9FF384A00E0B1FFA6";
+  const char* partial =
+      "102##1FFFF02E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF00000000000000000000000000000000"
+      "0000000000000000000000000000000000000000E0";
+  EXPECT_EQ(CanFrameToString(EncodeSampleFd(Pattern(0x1234, 5))), full);
+  EXPECT_EQ(CanFrameToString(EncodeSampleFd(Pattern(0xFFFF, 2))), partial);
+  SampleFdBlock decoded;
+  ASSERT_EQ(DecodeSampleFd(Frame(partial), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.seq, 0xFFFF);
+  EXPECT_EQ(decoded.count, 2);
+  EXPECT_EQ(decoded.y_raw, Pattern(0xFFFF, 2).y_raw);
+}
+
+TEST(GyroCodecTest, RoundTripsEveryMessage) {
+  for (int token = 0; token < 256; token += 51) {
+    const auto t = static_cast<std::uint8_t>(token);
+    ConfigureCommand configure{.token = t, .sample_rate_hz = static_cast<std::uint16_t>(token * 37),
+                               .format = FrameFormat::kFd, .status_rate_hz = 3};
+    ConfigureCommand c2;
+    ASSERT_EQ(DecodeConfigure(EncodeConfigure(configure), &c2), DecodeStatus::kOk);
+    EXPECT_EQ(c2.sample_rate_hz, configure.sample_rate_hz);
+    const ExciteCommand excite{.token = t, .a_raw = 65535, .b_raw = -32768, .theta_raw = 32767};
+    ExciteCommand e2;
+    ASSERT_EQ(DecodeExcite(EncodeExcite(excite), &e2), DecodeStatus::kOk);
+    EXPECT_EQ(e2.a_raw, 65535);
+    EXPECT_EQ(e2.b_raw, -32768);
+    EXPECT_EQ(e2.theta_raw, 32767);
+    const Ack ack{Command::kStop, t, AckResult::kFaulted, hw::GyroMode::kStopped, 0xABCDEF};
+    Ack a2;
+    ASSERT_EQ(DecodeAck(EncodeAck(ack), &a2), DecodeStatus::kOk);
+    EXPECT_EQ(a2.arg, 0xABCDEFu);
+    EXPECT_EQ(a2.result, AckResult::kFaulted);
+  }
+  for (double y = -2.5; y <= 2.5; y += 0.0137) {
+    const SampleHalf half{.half = 1, .seq = 200, .y_raw = {QuantiseY(y), QuantiseY(-y)}};
+    SampleHalf h2;
+    ASSERT_EQ(DecodeSampleHalf(EncodeSampleHalf(half), &h2), DecodeStatus::kOk);
+    if (std::abs(y) < 2.0 - kSampleLsb) {
+      EXPECT_LE(std::abs(DequantiseY(h2.y_raw[0]) - y), kSampleLsb / 2);
+      EXPECT_LE(std::abs(DequantiseY(h2.y_raw[1]) + y), kSampleLsb / 2);
+    }
+  }
+}
+
+TEST(GyroCodecTest, RejectsEveryKindOfBadFrame) {
+  SampleHalf half;
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E003"), &half), DecodeStatus::kBadChecksum);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E0"), &half), DecodeStatus::kWrongLength);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#R"), &half), DecodeStatus::kWrongKind);
+  EXPECT_EQ(DecodeSampleHalf(Frame("00000100#2A0000400000E002"), &half), DecodeStatus::kWrongId);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100##02A0000400000E002"), &half), DecodeStatus::kWrongKind);
+  // Every single-bit flip of a sample frame is caught (CRC-8 has Hamming distance ≥ 2).
+  const hw::CanFrame good = Frame("100#2A0000400000E002");
+  for (int bit = 0; bit < 64; ++bit) {
+    hw::CanFrame bad = good;
+    bad.data[static_cast<std::size_t>(bit / 8)] ^= static_cast<std::uint8_t>(1u << (bit % 8));
+    EXPECT_EQ(DecodeSampleHalf(bad, &half), DecodeStatus::kBadChecksum) << "bit " << bit;
+  }
+  // Undefined enumerated values with a valid CRC: a result of 7.
+  Ack ack_in{Command::kStop, 1, AckResult::kOk, hw::GyroMode::kStopped, 0};
+  hw::CanFrame bad_ack = EncodeAck(ack_in);
+  bad_ack.data[2] = 7;
+  bad_ack.data[7] = Crc8(bad_ack.id, bad_ack.data.data(), 7);
+  Ack ack;
+  EXPECT_EQ(DecodeAck(bad_ack, &ack), DecodeStatus::kBadValue);
+  SampleFdBlock block = Pattern(1, 5);
+  hw::CanFrame bad_count = EncodeSampleFd(block);
+  bad_count.data[2] = 6;
+  bad_count.data[63] = Crc8(bad_count.id, bad_count.data.data(), 63);
+  EXPECT_EQ(DecodeSampleFd(bad_count, &block), DecodeStatus::kBadValue);
+}
+
+}  // namespace
+}  // namespace hrgbench::gyro_can
