@@ -35,6 +35,8 @@ struct CanBusPair {
 struct CanBusConformanceParam {
   std::string name;
   std::function<std::expected<CanBusPair, std::string>()> make_pair;
+  // True where the transport must exist (inside the kernel test VM): unavailable is then a failure.
+  bool required = false;
 };
 
 inline void PrintTo(const CanBusConformanceParam& param, std::ostream* os) { *os << param.name; }
@@ -51,6 +53,10 @@ class CanBusConformanceTest : public ::testing::TestWithParam<CanBusConformanceP
 
   void SetUp() override {
     auto pair = GetParam().make_pair();
+    if (!pair && GetParam().required) {
+      GTEST_FAIL() << "CanBus '" << GetParam().name
+                   << "' required but unavailable: " << pair.error();
+    }
     if (!pair) GTEST_SKIP() << "CanBus '" << GetParam().name << "' unavailable: " << pair.error();
     pair_ = std::move(*pair);
   }

@@ -23,7 +23,8 @@ std::expected<CanBusPair, std::string> MakeSocketCanPair() {
 }
 
 INSTANTIATE_TEST_SUITE_P(SocketCan, CanBusConformanceTest,
-                         ::testing::Values(CanBusConformanceParam{"vcan", &MakeSocketCanPair}),
+                         ::testing::Values(CanBusConformanceParam{"vcan", &MakeSocketCanPair,
+                                                                  VcanRequired()}),
                          CanBusConformanceName);
 
 }  // namespace

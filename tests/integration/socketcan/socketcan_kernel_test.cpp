@@ -21,9 +21,10 @@ std::unique_ptr<SocketCanBus> OpenOrNull(const SocketCanOptions& options, std::s
   return std::move(*bus);
 }
 
-#define OPEN_OR_SKIP(var, options)            \
-  std::string var##_why;                      \
-  auto var = OpenOrNull(options, &var##_why); \
+#define OPEN_OR_SKIP(var, options)                                                \
+  std::string var##_why;                                                          \
+  auto var = OpenOrNull(options, &var##_why);                                     \
+  if (!var && testing::VcanRequired()) GTEST_FAIL() << "required: " << var##_why; \
   if (!var) GTEST_SKIP() << "SocketCAN unavailable: " << var##_why
 
 TEST(SocketCanKernel, SocketQueueOverflowIsCountedAndReportedWithTheNextFrame) {
