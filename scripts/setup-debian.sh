@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev googletest
   libbenchmark-dev
   libmodbus-dev            # rate table driver
+  socat                    # RTU tests: a pty pair between driver and simulated table
 )
 
 missing=()

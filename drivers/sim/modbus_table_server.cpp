@@ -1,0 +1,317 @@
+#include "sim/modbus_table_server.hpp"
+
+#include <modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "modbus_rate_table/register_map.hpp"
+
+namespace hrgbench::table_sim {
+
+namespace {
+namespace holding = modbus_table::holding;
+namespace input = modbus_table::input;
+
+constexpr std::uint8_t kFnReadHolding = 0x03;
+constexpr std::uint8_t kFnReadInput = 0x04;
+constexpr std::uint8_t kFnWriteSingle = 0x06;
+constexpr std::uint8_t kFnWriteMultiple = 0x10;
+
+// Big-endian 16-bit field of a Modbus PDU (libmodbus' macros trip -Wconversion).
+int GetU16(const std::uint8_t* bytes, int index) { return (bytes[index] << 8) | bytes[index + 1]; }
+void SetU16(std::uint8_t* bytes, int index, int value) {
+  bytes[index] = static_cast<std::uint8_t>((value >> 8) & 0xFF);
+  bytes[index + 1] = static_cast<std::uint8_t>(value & 0xFF);
+}
+std::string ErrnoText(const char* what) {
+  return std::string(what) + ": " + modbus_strerror(errno);
+}
+}  // namespace
+
+ModbusTableServer::ModbusTableServer(TablePhysics& physics, TableServerOptions options)
+    : physics_(physics), options_(std::move(options)) {}
+
+ModbusTableServer::~ModbusTableServer() { CloseAll(); }
+
+std::expected<void, std::string> ModbusTableServer::Open() {
+  CloseAll();
+  const bool tcp = options_.transport == TableServerOptions::Transport::kTcp;
+  ctx_ = tcp ? modbus_new_tcp(options_.host.c_str(), options_.port)
+             : modbus_new_rtu(options_.serial_device.c_str(), options_.baud, options_.parity, 8, 1);
+  if (ctx_ == nullptr) return std::unexpected(ErrnoText("modbus_new"));
+  modbus_set_debug(ctx_, options_.debug ? 1 : 0);
+  if (modbus_set_slave(ctx_, options_.unit_id) == -1) {
+    auto error = ErrnoText("modbus_set_slave");
+    CloseAll();
+    return std::unexpected(error);
+  }
+  if (tcp) {
+    listen_fd_ = modbus_tcp_listen(ctx_, 8);
+    if (listen_fd_ == -1) {
+      auto error =
+          ErrnoText(("listen on " + options_.host + ":" + std::to_string(options_.port)).c_str());
+      CloseAll();
+      return std::unexpected(error);
+    }
+  } else if (modbus_connect(ctx_) == -1) {
+    auto error = ErrnoText(("open " + options_.serial_device).c_str());
+    CloseAll();
+    return std::unexpected(error);
+  }
+  mapping_ = modbus_mapping_new(0, 0, holding::kCount, input::kCount);
+  if (mapping_ == nullptr) {
+    CloseAll();
+    return std::unexpected("modbus_mapping_new failed");
+  }
+  const auto accel = modbus_table::EncodeFloat32(static_cast<float>(physics_.accel_limit_rad_s2()));
+  mapping_->tab_registers[holding::kAccelLimit] = accel[0];
+  mapping_->tab_registers[holding::kAccelLimit + 1] = accel[1];
+  mapping_->tab_registers[holding::kWatchdogMs] = physics_.watchdog_ms();
+  RefreshInputRegisters();
+  return {};
+}
+
+void ModbusTableServer::CloseAll() noexcept {
+  for (int fd : clients_) ::close(fd);
+  clients_.clear();
+  if (listen_fd_ != -1) ::close(listen_fd_);
+  listen_fd_ = -1;
+  if (ctx_ != nullptr) {
+    if (options_.transport == TableServerOptions::Transport::kTcp) {
+      modbus_set_socket(ctx_, -1);  // its socket was one of clients_, closed above
+    } else {
+      modbus_close(ctx_);  // restores the serial line settings
+    }
+    modbus_free(ctx_);
+    ctx_ = nullptr;
+  }
+  if (mapping_ != nullptr) modbus_mapping_free(mapping_);
+  mapping_ = nullptr;
+}
+
+void ModbusTableServer::RequestStop() noexcept {
+  stop_.store(true);
+  try {
+    std::lock_guard lock(mutex_);
+  } catch (...) {
+  }
+  stop_cv_.notify_all();
+}
+
+void ModbusTableServer::SleepUnlessStopped(int ms) {
+  std::unique_lock lock(mutex_);
+  stop_cv_.wait_for(lock, std::chrono::milliseconds(ms), [this] { return stop_.load(); });
+}
+
+void ModbusTableServer::AddFault(const FaultRule& rule) {
+  std::lock_guard lock(mutex_);
+  faults_.push_back(rule);
+}
+
+void ModbusTableServer::ClearFaults() {
+  std::lock_guard lock(mutex_);
+  faults_.clear();
+}
+
+TableServerCounters ModbusTableServer::counters() const {
+  std::lock_guard lock(mutex_);
+  return counters_;
+}
+
+bool ModbusTableServer::TakeFault(RegisterTable table, int address, int count, FaultRule* fault) {
+  std::lock_guard lock(mutex_);
+  ++counters_.requests;
+  for (auto& rule : faults_) {
+    if (rule.table != table || rule.address < address || rule.address >= address + count ||
+        rule.count == 0) {
+      continue;
+    }
+    if (rule.count > 0) --rule.count;
+    *fault = rule;
+    switch (rule.kind) {
+      case FaultKind::kException:
+        ++counters_.injected_exceptions;
+        break;
+      case FaultKind::kLateReply:
+        ++counters_.injected_late_replies;
+        break;
+      case FaultKind::kWrongLength:
+        ++counters_.injected_wrong_lengths;
+        break;
+    }
+    return true;
+  }
+  return false;
+}
+
+void ModbusTableServer::RefreshInputRegisters() {
+  const auto block = modbus_table::EncodeStatusBlock(physics_.Status());
+  std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
+}
+
+bool ModbusTableServer::WriteIsValid(const std::uint8_t* query, int function, int address,
+                                     int count) const {
+  if (address + count > holding::kCount) return true;  // modbus_reply answers ILLEGAL ADDRESS
+  std::array<std::uint16_t, holding::kCount> regs{};
+  std::copy_n(mapping_->tab_registers, holding::kCount, regs.begin());
+  const int hl = modbus_get_header_length(ctx_);
+  for (int i = 0; i < count; ++i) {
+    const int offset = function == kFnWriteSingle ? hl + 3 : hl + 6 + 2 * i;
+    regs[static_cast<std::size_t>(address + i)] = static_cast<std::uint16_t>(GetU16(query, offset));
+  }
+  const auto& o = physics_.options();
+  const double rate =
+      modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]);
+  const double accel =
+      modbus_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]);
+  return regs[holding::kMode] <= 1 && std::isfinite(rate) && std::abs(rate) <= o.max_rate_rad_s &&
+         std::isfinite(accel) && accel > 0.0 && accel <= o.max_accel_rad_s2 &&
+         regs[holding::kWatchdogMs] >= modbus_table::kMinWatchdogMs &&
+         regs[holding::kWatchdogMs] <= modbus_table::kMaxWatchdogMs;
+}
+
+void ModbusTableServer::ApplyWrite(int address, int count) {
+  if (address + count > holding::kCount) return;
+  const auto covers = [&](int reg) { return reg >= address && reg < address + count; };
+  std::uint16_t* regs = mapping_->tab_registers;
+  if (covers(holding::kAccelLimit) || covers(holding::kAccelLimit + 1)) {
+    physics_.SetAccelLimit(
+        modbus_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]));
+  }
+  if (covers(holding::kWatchdogMs)) physics_.SetWatchdogMs(regs[holding::kWatchdogMs]);
+  if (covers(holding::kHeartbeat)) {
+    physics_.Heartbeat(regs[holding::kHeartbeat]);
+    std::lock_guard lock(mutex_);
+    ++counters_.heartbeats;
+  }
+  if (covers(holding::kMode) || covers(holding::kRateCommand) ||
+      covers(holding::kRateCommand + 1)) {
+    physics_.Command(
+        static_cast<hw::RateTableMode>(regs[holding::kMode]),
+        modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]));
+  }
+  if (covers(holding::kFaultReset) && regs[holding::kFaultReset] == 1) {
+    physics_.ResetFault();
+    regs[holding::kFaultReset] = 0;  // a command, not a setting: reads 0
+  }
+}
+
+void ModbusTableServer::Serve(std::uint8_t* query, int length) {
+  const int hl = modbus_get_header_length(ctx_);
+  const int function = query[hl];
+  const int address = GetU16(query, hl + 1);
+  RegisterTable table = RegisterTable::kHolding;
+  int count = 1;
+  switch (function) {
+    case kFnReadInput:
+      table = RegisterTable::kInput;
+      count = GetU16(query, hl + 3);
+      break;
+    case kFnReadHolding:
+    case kFnWriteMultiple:
+      count = GetU16(query, hl + 3);
+      break;
+    case kFnWriteSingle:
+      break;
+    default:
+      modbus_reply(ctx_, query, length, mapping_);
+      return;  // libmodbus' exceptions
+  }
+  FaultRule fault;
+  if (TakeFault(table, address, count, &fault)) {
+    switch (fault.kind) {
+      case FaultKind::kException:
+        modbus_reply_exception(ctx_, query, fault.exception_code);
+        return;
+      case FaultKind::kLateReply:
+        SleepUnlessStopped(options_.late_reply_ms);
+        if (stop_.load()) return;
+        break;
+      case FaultKind::kWrongLength:
+        // As libmodbus' unit-test-server: answer for a different quantity than was asked.
+        if (function == kFnReadHolding || function == kFnReadInput) {
+          SetU16(query, hl + 3, count > 1 ? count - 1 : count + 1);
+        }
+        break;
+    }
+  }
+  const bool write = function == kFnWriteSingle || function == kFnWriteMultiple;
+  if (write && !WriteIsValid(query, function, address, count)) {
+    {
+      std::lock_guard lock(mutex_);
+      ++counters_.rejected_writes;
+    }
+    modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+    return;
+  }
+  if (function == kFnReadInput) RefreshInputRegisters();
+  if (modbus_reply(ctx_, query, length, mapping_) == -1) return;  // the client went away
+  if (write) ApplyWrite(address, count);
+}
+
+std::expected<void, std::string> ModbusTableServer::Run() {
+  if (ctx_ == nullptr) return std::unexpected("Run() before a successful Open()");
+  std::array<std::uint8_t, MODBUS_TCP_MAX_ADU_LENGTH> query{};
+  const bool tcp = options_.transport == TableServerOptions::Transport::kTcp;
+  std::vector<pollfd> fds;
+  while (!stop_.load()) {
+    fds.clear();
+    if (tcp) {
+      fds.push_back({listen_fd_, POLLIN, 0});
+      for (int fd : clients_) fds.push_back({fd, POLLIN, 0});
+    } else {
+      fds.push_back({modbus_get_socket(ctx_), POLLIN, 0});
+    }
+    const int n = ::poll(fds.data(), fds.size(), options_.poll_ms);
+    if (n < 0 && errno != EINTR) return std::unexpected(ErrnoText("poll"));
+    if (n <= 0) continue;
+    if (!tcp) {
+      if ((fds[0].revents & (POLLERR | POLLNVAL)) != 0) {
+        return std::unexpected("serial device " + options_.serial_device + " failed");
+      }
+      const int rc = modbus_receive(ctx_, query.data());
+      if (rc > 0) Serve(query.data(), rc);
+      if (rc == -1) {
+        if (errno == EBADF || errno == EIO) {
+          return std::unexpected(ErrnoText(("read " + options_.serial_device).c_str()));
+        }
+        modbus_flush(ctx_);  // CRC or framing error: drop the rest, as a real slave does
+      }
+      continue;
+    }
+    if ((fds[0].revents & POLLIN) != 0) {
+      const int fd = ::accept(listen_fd_, nullptr, nullptr);
+      if (fd >= 0) {
+        const int one = 1;
+        ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
+        clients_.push_back(fd);
+        std::lock_guard lock(mutex_);
+        ++counters_.clients_accepted;
+      }
+    }
+    for (std::size_t i = 1; i < fds.size(); ++i) {
+      if ((fds[i].revents & (POLLIN | POLLHUP | POLLERR)) == 0) continue;
+      modbus_set_socket(ctx_, fds[i].fd);
+      const int rc = modbus_receive(ctx_, query.data());
+      if (rc > 0) Serve(query.data(), rc);
+      if (rc == -1) {  // closed by the client, or garbage: drop this client only
+        ::close(fds[i].fd);
+        std::erase(clients_, fds[i].fd);
+      }
+    }
+    modbus_set_socket(ctx_, -1);
+  }
+  return {};
+}
+
+}  // namespace hrgbench::table_sim
