@@ -255,8 +255,17 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
     return;
   }
   if (function == kFnReadInput) RefreshInputRegisters();
-  if (modbus_reply(ctx_, query, length, mapping_) == -1) return;  // the client went away
-  if (write) ApplyWrite(address, count);
+  // A write takes effect before it is acknowledged, as on a real controller: a client that reads
+  // the table right after the reply must see it (the reply-then-apply order raced under load).
+  if (write && address + count <= holding::kCount) {
+    const int offset0 = function == kFnWriteSingle ? hl + 3 : hl + 6;
+    for (int i = 0; i < count; ++i)
+      mapping_->tab_registers[address + i] = static_cast<std::uint16_t>(GetU16(query, offset0 + 2 * i));
+    ApplyWrite(address, count);
+  }
+  modbus_reply(ctx_, query, length, mapping_);  // -1: the client went away; nothing to undo
+  // The reply copied the written values into the map again; fault reset is a command and reads 0.
+  if (write) mapping_->tab_registers[holding::kFaultReset] = 0;
 }
 
 std::expected<void, std::string> ModbusTableServer::Run() {
