@@ -35,8 +35,8 @@ std::size_t FormatCanFrame(const hw::CanFrame& frame, std::span<char> out) noexc
   } else {
     put_hex(frame.id, frame.extended ? 8 : 3);
     buffer[n++] = '#';
-    const std::uint8_t max_length = frame.fd ? hw::CanFrame::kMaxFdLength
-                                             : hw::CanFrame::kMaxClassicLength;
+    const std::uint8_t max_length =
+        frame.fd ? hw::CanFrame::kMaxFdLength : hw::CanFrame::kMaxClassicLength;
     const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
     if (frame.remote) {
       buffer[n++] = 'R';
@@ -71,8 +71,8 @@ std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept {
     if (v < 0) return std::nullopt;
     frame.id = (frame.id << 4) | static_cast<std::uint32_t>(v);
   }
-  if ((frame.id & ~(frame.extended ? hw::CanFrame::kExtendedIdMask
-                                   : hw::CanFrame::kStandardIdMask)) != 0) {
+  if ((frame.id &
+       ~(frame.extended ? hw::CanFrame::kExtendedIdMask : hw::CanFrame::kStandardIdMask)) != 0) {
     return std::nullopt;
   }
   std::string_view rest = text.substr(hash + 1);

@@ -17,7 +17,8 @@ void PutUnsigned(CanFrame& frame, int offset, int bytes, std::uint32_t value) no
 std::uint32_t GetUnsigned(const CanFrame& frame, int offset, int bytes) noexcept {
   std::uint32_t value = 0;
   for (int i = 0; i < bytes; ++i) {
-    value |= static_cast<std::uint32_t>(frame.data[static_cast<std::size_t>(offset + i)]) << (8 * i);
+    value |= static_cast<std::uint32_t>(frame.data[static_cast<std::size_t>(offset + i)])
+             << (8 * i);
   }
   return value;
 }
@@ -52,7 +53,8 @@ DecodeStatus Check(const CanFrame& frame, std::uint32_t id, std::uint8_t length,
   if (frame.remote || frame.error || frame.fd != fd) return DecodeStatus::kWrongKind;
   if (frame.length != length) return DecodeStatus::kWrongLength;
   const std::size_t last = length - 1u;
-  if (frame.data[last] != Crc8(frame.id, frame.data.data(), last)) return DecodeStatus::kBadChecksum;
+  if (frame.data[last] != Crc8(frame.id, frame.data.data(), last))
+    return DecodeStatus::kBadChecksum;
   return DecodeStatus::kOk;
 }
 
@@ -151,7 +153,8 @@ CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept {
   frame.data[2] = static_cast<std::uint8_t>(count);
   for (int s = 0; s < count; ++s) {
     for (int c = 0; c < 4; ++c) {
-      PutSigned(frame, 3 + 12 * s + 3 * c, 3, block.y_raw[static_cast<std::size_t>(s)][static_cast<std::size_t>(c)]);
+      PutSigned(frame, 3 + 12 * s + 3 * c, 3,
+                block.y_raw[static_cast<std::size_t>(s)][static_cast<std::size_t>(c)]);
     }
   }
   return Seal(frame);
@@ -196,8 +199,8 @@ DecodeStatus DecodeSimpleCommand(const CanFrame& frame, SimpleCommand* out) noex
 DecodeStatus DecodeAck(const CanFrame& frame, Ack* out) noexcept {
   const DecodeStatus status = Check(frame, can_id::kAck, length::kAck, false);
   if (status != DecodeStatus::kOk) return status;
-  if (!IsCommand(frame.data[0]) ||
-      frame.data[2] > static_cast<std::uint8_t>(AckResult::kFaulted) || !IsMode(frame.data[3])) {
+  if (!IsCommand(frame.data[0]) || frame.data[2] > static_cast<std::uint8_t>(AckResult::kFaulted) ||
+      !IsMode(frame.data[3])) {
     return DecodeStatus::kBadValue;
   }
   out->command = static_cast<Command>(frame.data[0]);

@@ -17,21 +17,27 @@ namespace hrgbench::gyro_can {
 
 enum class DecodeStatus : std::uint8_t {
   kOk,
-  kWrongId,        // not this message's identifier (or an extended id)
-  kWrongKind,      // remote, error, FD where classic is specified, or the reverse
-  kWrongLength,    // length differs from the specified DLC
-  kBadChecksum,    // CRC-8 mismatch
-  kBadValue,       // an enumerated field holds an undefined value, or a reserved field is set
+  kWrongId,      // not this message's identifier (or an extended id)
+  kWrongKind,    // remote, error, FD where classic is specified, or the reverse
+  kWrongLength,  // length differs from the specified DLC
+  kBadChecksum,  // CRC-8 mismatch
+  kBadValue,     // an enumerated field holds an undefined value, or a reserved field is set
 };
 
 constexpr std::string_view ToString(DecodeStatus status) noexcept {
   switch (status) {
-    case DecodeStatus::kOk: return "ok";
-    case DecodeStatus::kWrongId: return "wrong id";
-    case DecodeStatus::kWrongKind: return "wrong frame kind";
-    case DecodeStatus::kWrongLength: return "wrong length";
-    case DecodeStatus::kBadChecksum: return "bad checksum";
-    case DecodeStatus::kBadValue: return "bad value";
+    case DecodeStatus::kOk:
+      return "ok";
+    case DecodeStatus::kWrongId:
+      return "wrong id";
+    case DecodeStatus::kWrongKind:
+      return "wrong frame kind";
+    case DecodeStatus::kWrongLength:
+      return "wrong length";
+    case DecodeStatus::kBadChecksum:
+      return "bad checksum";
+    case DecodeStatus::kBadValue:
+      return "bad value";
   }
   return "?";
 }
@@ -61,7 +67,7 @@ struct Ack {
   Command command = Command::kStatusRequest;  // which command this answers
   std::uint8_t token = 0;                     // the command's token
   AckResult result = AckResult::kOk;
-  hw::GyroMode mode = hw::GyroMode::kIdle;    // the electronics' mode after the command
+  hw::GyroMode mode = hw::GyroMode::kIdle;  // the electronics' mode after the command
   // Command-specific, 24 bits: Configure: the accepted sample rate (Hz); Release: µs elapsed
   // between the release instant and this Ack's transmission (0 on the first Ack; larger on a
   // repeated Ack after a lost one) — the host subtracts it from the Ack's receive stamp.
@@ -73,21 +79,21 @@ struct StatusMessage {
   bool pll_lock = false;
   bool ready = false;
   std::uint8_t fault_bits = 0;
-  std::uint32_t frequency_mhz = 0;      // 24 bits: resonant frequency in mHz (≤ 16 777.215 Hz)
-  std::int16_t temperature_centi_c = 0; // 0.01 °C
+  std::uint32_t frequency_mhz = 0;       // 24 bits: resonant frequency in mHz (≤ 16 777.215 Hz)
+  std::int16_t temperature_centi_c = 0;  // 0.01 °C
 };
 
 // One half of a sample on classic CAN: half 0 (id 0x100) carries y1, y2; half 1 (0x101) y3, y4.
 struct SampleHalf {
   std::uint8_t half = 0;
-  std::uint8_t seq = 0;                // sample number modulo 256
+  std::uint8_t seq = 0;                 // sample number modulo 256
   std::array<std::int32_t, 2> y_raw{};  // int24 values
 };
 
 // Up to five consecutive samples in one CAN FD frame.
 struct SampleFdBlock {
-  std::uint16_t seq = 0;  // number of the first sample, modulo 65536
-  std::uint8_t count = 0; // 1 … kSamplesPerFdFrame; the unused sample slots are zero
+  std::uint16_t seq = 0;   // number of the first sample, modulo 65536
+  std::uint8_t count = 0;  // 1 … kSamplesPerFdFrame; the unused sample slots are zero
   std::array<std::array<std::int32_t, 4>, kSamplesPerFdFrame> y_raw{};
 };
 

@@ -26,10 +26,10 @@ inline constexpr std::uint32_t kRelease = 0x042;        // host → electronics
 inline constexpr std::uint32_t kStop = 0x043;           // host → electronics
 inline constexpr std::uint32_t kStatusRequest = 0x044;  // host → electronics
 inline constexpr std::uint32_t kAck = 0x050;            // electronics → host, one per command
-inline constexpr std::uint32_t kStatus = 0x051;         // electronics → host, periodic + requested
-inline constexpr std::uint32_t kSampleA = 0x100;        // electronics → host: seq, y1, y2
-inline constexpr std::uint32_t kSampleB = 0x101;        // electronics → host: seq, y3, y4
-inline constexpr std::uint32_t kSampleFd = 0x102;       // electronics → host (CAN FD): 5 samples
+inline constexpr std::uint32_t kStatus = 0x051;    // electronics → host, periodic + requested
+inline constexpr std::uint32_t kSampleA = 0x100;   // electronics → host: seq, y1, y2
+inline constexpr std::uint32_t kSampleB = 0x101;   // electronics → host: seq, y3, y4
+inline constexpr std::uint32_t kSampleFd = 0x102;  // electronics → host (CAN FD): 5 samples
 }  // namespace can_id
 
 // Payload lengths (DLC). Every frame has exactly this length; any other is a bad frame.

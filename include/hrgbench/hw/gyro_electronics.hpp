@@ -42,37 +42,44 @@ enum class GyroMode : std::uint8_t {
 
 constexpr std::string_view ToString(GyroMode mode) noexcept {
   switch (mode) {
-    case GyroMode::kIdle: return "idle";
-    case GyroMode::kConfigured: return "configured";
-    case GyroMode::kExciting: return "exciting";
-    case GyroMode::kReady: return "ready";
-    case GyroMode::kFreeRun: return "free-run";
-    case GyroMode::kStopped: return "stopped";
-    case GyroMode::kFaulted: return "faulted";
+    case GyroMode::kIdle:
+      return "idle";
+    case GyroMode::kConfigured:
+      return "configured";
+    case GyroMode::kExciting:
+      return "exciting";
+    case GyroMode::kReady:
+      return "ready";
+    case GyroMode::kFreeRun:
+      return "free-run";
+    case GyroMode::kStopped:
+      return "stopped";
+    case GyroMode::kFaulted:
+      return "faulted";
   }
   return "?";
 }
 
 // Fault bits of GyroStatus::fault_bits (wire values, hrg_gyro_v1.dbc Fault* signals).
 namespace gyro_fault {
-inline constexpr std::uint8_t kPllUnlock = 1u << 0;         // drive PLL lost the resonance
-inline constexpr std::uint8_t kOverTemperature = 1u << 1;   // resonator housing above its limit
-inline constexpr std::uint8_t kExciteTimeout = 1u << 2;     // wave did not reach its target
-inline constexpr std::uint8_t kDriveSaturation = 1u << 3;   // drive amplifier at its rail
-inline constexpr std::uint8_t kSampleOverrun = 1u << 4;     // samples lost at the source (TX full)
-inline constexpr std::uint8_t kBusError = 1u << 5;          // the node saw CAN errors / recovered
-inline constexpr std::uint8_t kConfigRejected = 1u << 6;    // last configure was out of range
-inline constexpr std::uint8_t kInternal = 1u << 7;          // watchdog reset, memory error
+inline constexpr std::uint8_t kPllUnlock = 1u << 0;        // drive PLL lost the resonance
+inline constexpr std::uint8_t kOverTemperature = 1u << 1;  // resonator housing above its limit
+inline constexpr std::uint8_t kExciteTimeout = 1u << 2;    // wave did not reach its target
+inline constexpr std::uint8_t kDriveSaturation = 1u << 3;  // drive amplifier at its rail
+inline constexpr std::uint8_t kSampleOverrun = 1u << 4;    // samples lost at the source (TX full)
+inline constexpr std::uint8_t kBusError = 1u << 5;         // the node saw CAN errors / recovered
+inline constexpr std::uint8_t kConfigRejected = 1u << 6;   // last configure was out of range
+inline constexpr std::uint8_t kInternal = 1u << 7;         // watchdog reset, memory error
 }  // namespace gyro_fault
 
 struct GyroStatus {
-  std::int64_t t_ns = 0;              // receive stamp of the status frame (0: none received yet)
-  GyroMode mode = GyroMode::kIdle;    // the electronics' own mode
-  std::uint8_t fault_bits = 0;        // gyro_fault bits, 0 = healthy
-  bool pll_lock = false;              // drive PLL locked on the resonance
-  bool ready = false;                 // wave at the commanded state (mode kReady)
-  double resonant_frequency_hz = 0.0; // the PLL's frequency, Hz (resolution 1 mHz)
-  double temperature_c = 0.0;         // resonator housing, °C (resolution 0.01 °C)
+  std::int64_t t_ns = 0;               // receive stamp of the status frame (0: none received yet)
+  GyroMode mode = GyroMode::kIdle;     // the electronics' own mode
+  std::uint8_t fault_bits = 0;         // gyro_fault bits, 0 = healthy
+  bool pll_lock = false;               // drive PLL locked on the resonance
+  bool ready = false;                  // wave at the commanded state (mode kReady)
+  double resonant_frequency_hz = 0.0;  // the PLL's frequency, Hz (resolution 1 mHz)
+  double temperature_c = 0.0;          // resonator housing, °C (resolution 0.01 °C)
 };
 
 // The standing wave's state to excite (orbit elements at release, see estimator/model.hpp Orbit;
@@ -98,42 +105,50 @@ struct GyroSample {
 
 // One counter per failure kind (STYLE rule 5), cumulative since construction, never reset.
 struct GyroCounters {
-  std::uint64_t frames_received = 0;   // every frame Receive returned
-  std::uint64_t samples_decoded = 0;   // complete samples delivered to the sample buffer
-  std::uint64_t bad_frames = 0;        // wrong length, checksum, or field value: discarded
-  std::uint64_t sequence_gaps = 0;     // breaks in the sample sequence (events)
-  std::uint64_t samples_lost = 0;      // samples missing in those gaps
-  std::uint64_t timeouts = 0;          // command attempts without an ack + sample reads that
-                                       // timed out
-  std::uint64_t kernel_drops = 0;      // frames the transport dropped (socket queue overflow)
-  std::uint64_t buffer_overruns = 0;   // samples discarded because the host buffer was full
-  std::uint64_t command_retries = 0;   // command attempts after the first
-  std::uint64_t nacks = 0;             // commands the electronics refused
-  std::uint64_t bus_errors = 0;        // bus-off or transport errors seen
-  std::uint64_t unexpected_frames = 0; // valid frames not expected now (stale acks, stray ids)
+  std::uint64_t frames_received = 0;    // every frame Receive returned
+  std::uint64_t samples_decoded = 0;    // complete samples delivered to the sample buffer
+  std::uint64_t bad_frames = 0;         // wrong length, checksum, or field value: discarded
+  std::uint64_t sequence_gaps = 0;      // breaks in the sample sequence (events)
+  std::uint64_t samples_lost = 0;       // samples missing in those gaps
+  std::uint64_t timeouts = 0;           // command attempts without an ack + sample reads that
+                                        // timed out
+  std::uint64_t kernel_drops = 0;       // frames the transport dropped (socket queue overflow)
+  std::uint64_t buffer_overruns = 0;    // samples discarded because the host buffer was full
+  std::uint64_t command_retries = 0;    // command attempts after the first
+  std::uint64_t nacks = 0;              // commands the electronics refused
+  std::uint64_t bus_errors = 0;         // bus-off or transport errors seen
+  std::uint64_t unexpected_frames = 0;  // valid frames not expected now (stale acks, stray ids)
 };
 
 enum class GyroErrorCode : std::uint8_t {
-  kInvalidArgument,  // a value out of its documented range: nothing sent
-  kInvalidState,     // not allowed in the current State(): nothing sent
-  kTimeout,          // no acknowledgement after every attempt / not ready in time
-  kRejected,         // the electronics answered with a negative acknowledgement
-  kBusOff,           // the transport is bus-off: State() is kFaulted
-  kTransport,        // any other transport failure
-  kFaulted,          // the electronics report a fault (see the message and LastStatus())
-  kReadBackMismatch, // the acknowledged value differs from the commanded one
+  kInvalidArgument,   // a value out of its documented range: nothing sent
+  kInvalidState,      // not allowed in the current State(): nothing sent
+  kTimeout,           // no acknowledgement after every attempt / not ready in time
+  kRejected,          // the electronics answered with a negative acknowledgement
+  kBusOff,            // the transport is bus-off: State() is kFaulted
+  kTransport,         // any other transport failure
+  kFaulted,           // the electronics report a fault (see the message and LastStatus())
+  kReadBackMismatch,  // the acknowledged value differs from the commanded one
 };
 
 constexpr std::string_view ToString(GyroErrorCode code) noexcept {
   switch (code) {
-    case GyroErrorCode::kInvalidArgument: return "invalid argument";
-    case GyroErrorCode::kInvalidState: return "invalid state";
-    case GyroErrorCode::kTimeout: return "timeout";
-    case GyroErrorCode::kRejected: return "rejected";
-    case GyroErrorCode::kBusOff: return "bus-off";
-    case GyroErrorCode::kTransport: return "transport";
-    case GyroErrorCode::kFaulted: return "faulted";
-    case GyroErrorCode::kReadBackMismatch: return "read-back mismatch";
+    case GyroErrorCode::kInvalidArgument:
+      return "invalid argument";
+    case GyroErrorCode::kInvalidState:
+      return "invalid state";
+    case GyroErrorCode::kTimeout:
+      return "timeout";
+    case GyroErrorCode::kRejected:
+      return "rejected";
+    case GyroErrorCode::kBusOff:
+      return "bus-off";
+    case GyroErrorCode::kTransport:
+      return "transport";
+    case GyroErrorCode::kFaulted:
+      return "faulted";
+    case GyroErrorCode::kReadBackMismatch:
+      return "read-back mismatch";
   }
   return "?";
 }
@@ -198,7 +213,8 @@ class GyroElectronics {
   // Samples are in seq order; gaps are counted, never filled. Real-time safe: no allocation, no
   // lock beyond the transport's; noexcept. Frames that are not samples (status, stale acks) are
   // consumed and accounted for. Failure: see GyroReadStatus.
-  virtual GyroReadResult ReadSamples(std::span<GyroSample> out, std::int64_t timeout_ns) noexcept = 0;
+  virtual GyroReadResult ReadSamples(std::span<GyroSample> out,
+                                     std::int64_t timeout_ns) noexcept = 0;
 
   // The host's state machine (mirrors the electronics' mode). Any thread; real-time safe.
   virtual GyroMode State() const noexcept = 0;

@@ -1,15 +1,16 @@
-#include <string>
+#include "gyro_can/can_frame_text.hpp"
 
 #include <gtest/gtest.h>
 
-#include "gyro_can/can_frame_text.hpp"
+#include <string>
 
 namespace hrgbench::gyro_can {
 namespace {
 
 TEST(CanFrameTextTest, RoundTripsTheNotation) {
-  for (const char* text : {"123#DEADBEEF", "123#", "7FF#0011223344556677", "1ABCDEF0#00",
-                           "123#R", "123#R4", "123##1DEADBEEF", "123##0", "000##1" 
+  for (const char* text : {"123#DEADBEEF", "123#", "7FF#0011223344556677", "1ABCDEF0#00", "123#R",
+                           "123#R4", "123##1DEADBEEF", "123##0",
+                           "000##1"
                            "000102030405060708090A0B0C0D0E0F101112131415161718191A1B1C1D1E1F"
                            "202122232425262728292A2B2C2D2E2F303132333435363738393A3B3C3D3E3F"}) {
     const std::optional<hw::CanFrame> frame = ParseCanFrame(text);
@@ -34,9 +35,9 @@ TEST(CanFrameTextTest, ParsesFields) {
 }
 
 TEST(CanFrameTextTest, RejectsMalformedText) {
-  for (const char* text : {"", "123", "12#00", "800#00", "20000000#00", "123#0", "123#GG",
-                           "123#001122334455667788", "123##", "123##1001122334455667788",
-                           "123#R9", "123#RX"}) {
+  for (const char* text :
+       {"", "123", "12#00", "800#00", "20000000#00", "123#0", "123#GG", "123#001122334455667788",
+        "123##", "123##1001122334455667788", "123#R9", "123#RX"}) {
     EXPECT_FALSE(ParseCanFrame(text).has_value()) << text;
   }
 }

@@ -4,6 +4,8 @@
 // decoded generically from codec-encoded frames with the DBC's start bit, length, byte order,
 // signedness and factor, gives back the value the codec was given.
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -12,8 +14,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "gyro_can/gyro_codec.hpp"
 
@@ -46,7 +46,7 @@ struct DbcMessage {
 
 struct Dbc {
   std::map<std::uint32_t, DbcMessage> messages;
-  std::map<std::string, std::string> attributes;                 // global BA_
+  std::map<std::string, std::string> attributes;  // global BA_
   std::map<std::pair<std::uint32_t, std::string>, std::string> message_attributes;
   std::map<std::pair<std::uint32_t, std::string>, std::map<long, std::string>> value_tables;
 };
@@ -75,8 +75,8 @@ Dbc ReadDbc(const std::string& path) {
     } else if (std::regex_match(line, m, sg)) {
       EXPECT_NE(current, nullptr) << line;
       if (current == nullptr) continue;
-      current->signals.push_back({m[1], std::stoi(m[2]), std::stoi(m[3]), m[4] == "1",
-                                  m[5] == "-", std::stod(m[6]), std::stod(m[7]), m[8]});
+      current->signals.push_back({m[1], std::stoi(m[2]), std::stoi(m[3]), m[4] == "1", m[5] == "-",
+                                  std::stod(m[6]), std::stod(m[7]), m[8]});
     } else if (std::regex_match(line, m, ba_message)) {
       dbc.message_attributes[{static_cast<std::uint32_t>(std::stoul(m[2])), m[1]}] = m[3];
     } else if (std::regex_match(line, m, ba_global)) {
@@ -105,7 +105,8 @@ double Physical(const DbcSignal& signal, const hw::CanFrame& frame) {
   std::uint64_t raw = 0;
   for (int i = 0; i < signal.length; ++i) {
     const int bit = signal.start + i;
-    raw |= static_cast<std::uint64_t>((frame.data[static_cast<std::size_t>(bit / 8)] >> (bit % 8)) & 1u)
+    raw |= static_cast<std::uint64_t>((frame.data[static_cast<std::size_t>(bit / 8)] >> (bit % 8)) &
+                                      1u)
            << i;
   }
   double value = static_cast<double>(raw);
@@ -130,12 +131,16 @@ double Signal(std::uint32_t id, const char* name, const hw::CanFrame& frame) {
 }
 
 TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
-  const std::map<std::uint32_t, int> expected = {
-      {can_id::kConfigure, length::kConfigure},   {can_id::kExcite, length::kExcite},
-      {can_id::kRelease, length::kSimpleCommand}, {can_id::kStop, length::kSimpleCommand},
-      {can_id::kStatusRequest, length::kSimpleCommand}, {can_id::kAck, length::kAck},
-      {can_id::kStatus, length::kStatus},         {can_id::kSampleA, length::kSample},
-      {can_id::kSampleB, length::kSample},        {can_id::kSampleFd, length::kSampleFd}};
+  const std::map<std::uint32_t, int> expected = {{can_id::kConfigure, length::kConfigure},
+                                                 {can_id::kExcite, length::kExcite},
+                                                 {can_id::kRelease, length::kSimpleCommand},
+                                                 {can_id::kStop, length::kSimpleCommand},
+                                                 {can_id::kStatusRequest, length::kSimpleCommand},
+                                                 {can_id::kAck, length::kAck},
+                                                 {can_id::kStatus, length::kStatus},
+                                                 {can_id::kSampleA, length::kSample},
+                                                 {can_id::kSampleB, length::kSample},
+                                                 {can_id::kSampleFd, length::kSampleFd}};
   ASSERT_EQ(TheDbc().messages.size(), expected.size());
   for (const auto& [id, len] : expected) {
     const auto it = TheDbc().messages.find(id);
@@ -207,10 +212,13 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kAck, "Arg", ack), 123456);
   EXPECT_EQ(Signal(can_id::kAck, "Crc", ack), ack.data[7]);
 
-  const hw::CanFrame status = EncodeStatus(
-      {.mode = hw::GyroMode::kFreeRun, .pll_lock = true, .ready = false,
-       .fault_bits = hw::gyro_fault::kSampleOverrun | hw::gyro_fault::kInternal,
-       .frequency_mhz = 5123456, .temperature_centi_c = -1234});
+  const hw::CanFrame status =
+      EncodeStatus({.mode = hw::GyroMode::kFreeRun,
+                    .pll_lock = true,
+                    .ready = false,
+                    .fault_bits = hw::gyro_fault::kSampleOverrun | hw::gyro_fault::kInternal,
+                    .frequency_mhz = 5123456,
+                    .temperature_centi_c = -1234});
   EXPECT_EQ(Signal(can_id::kStatus, "Mode", status), 4);
   EXPECT_EQ(Signal(can_id::kStatus, "PllLock", status), 1);
   EXPECT_EQ(Signal(can_id::kStatus, "Ready", status), 0);

@@ -2,14 +2,15 @@
 // from the README's message table with an independent CRC-8 implementation (Python, checked
 // against the catalogue value CRC-8/SAE-J1850("123456789") = 0x4B), not produced by this codec.
 
+#include "gyro_can/gyro_codec.hpp"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <string>
 
-#include <gtest/gtest.h>
-
 #include "gyro_can/can_frame_text.hpp"
-#include "gyro_can/gyro_codec.hpp"
 
 namespace hrgbench::gyro_can {
 namespace {
@@ -33,8 +34,8 @@ TEST(GyroCodecTest, ConfigureGolden) {
   command.format = FrameFormat::kClassic;
   command.status_rate_hz = 10;
   EXPECT_EQ(CanFrameToString(EncodeConfigure(command)), "040#07E803000A0000E9");
-  ConfigureCommand fd{.token = 0x21, .sample_rate_hz = 5000, .format = FrameFormat::kFd,
-                      .status_rate_hz = 0};
+  ConfigureCommand fd{
+      .token = 0x21, .sample_rate_hz = 5000, .format = FrameFormat::kFd, .status_rate_hz = 0};
   EXPECT_EQ(CanFrameToString(EncodeConfigure(fd)), "040#2188130100000051");
 
   ConfigureCommand decoded;
@@ -82,8 +83,11 @@ TEST(GyroCodecTest, AckGolden) {
 }
 
 TEST(GyroCodecTest, StatusGolden) {
-  const StatusMessage status{.mode = hw::GyroMode::kReady, .pll_lock = true, .ready = true,
-                             .fault_bits = 0, .frequency_mhz = 5123456,
+  const StatusMessage status{.mode = hw::GyroMode::kReady,
+                             .pll_lock = true,
+                             .ready = true,
+                             .fault_bits = 0,
+                             .frequency_mhz = 5123456,
                              .temperature_centi_c = 2537};
   EXPECT_EQ(CanFrameToString(EncodeStatus(status)), "051#3300802D4EE909B4");
   StatusMessage decoded;
@@ -142,8 +146,10 @@ TEST(GyroCodecTest, SampleFdGolden) {
 TEST(GyroCodecTest, RoundTripsEveryMessage) {
   for (int token = 0; token < 256; token += 51) {
     const auto t = static_cast<std::uint8_t>(token);
-    ConfigureCommand configure{.token = t, .sample_rate_hz = static_cast<std::uint16_t>(token * 37),
-                               .format = FrameFormat::kFd, .status_rate_hz = 3};
+    ConfigureCommand configure{.token = t,
+                               .sample_rate_hz = static_cast<std::uint16_t>(token * 37),
+                               .format = FrameFormat::kFd,
+                               .status_rate_hz = 3};
     ConfigureCommand c2;
     ASSERT_EQ(DecodeConfigure(EncodeConfigure(configure), &c2), DecodeStatus::kOk);
     EXPECT_EQ(c2.sample_rate_hz, configure.sample_rate_hz);

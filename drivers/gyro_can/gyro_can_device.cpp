@@ -1,0 +1,506 @@
+#include "gyro_can/gyro_can_device.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+namespace hrgbench::gyro_can {
+namespace {
+
+using hw::CanStatus;
+using hw::GyroError;
+using hw::GyroErrorCode;
+using hw::GyroMode;
+
+template <typename... Args>
+std::string Str(const Args&... args) {
+  std::ostringstream os;
+  (os << ... << args);
+  return os.str();
+}
+
+std::string Hex2(unsigned value) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  return {kHex[(value >> 4) & 0xFu], kHex[value & 0xFu]};
+}
+
+std::unexpected<GyroError> Fail(GyroErrorCode code, std::string message) {
+  return std::unexpected(GyroError{code, std::move(message)});
+}
+
+const char* CommandName(Command command) {
+  switch (command) {
+    case Command::kConfigure:
+      return "configure";
+    case Command::kExcite:
+      return "excite";
+    case Command::kRelease:
+      return "release";
+    case Command::kStop:
+      return "stop";
+    case Command::kStatusRequest:
+      return "status request";
+  }
+  return "?";
+}
+
+const char* ResultName(AckResult result) {
+  switch (result) {
+    case AckResult::kOk:
+      return "ok";
+    case AckResult::kBadState:
+      return "bad state";
+    case AckResult::kBadArgument:
+      return "bad argument";
+    case AckResult::kFaulted:
+      return "faulted";
+  }
+  return "?";
+}
+
+hw::GyroStatus ToGyroStatus(const StatusMessage& message, std::int64_t t_ns) {
+  hw::GyroStatus status;
+  status.t_ns = t_ns;
+  status.mode = message.mode;
+  status.fault_bits = message.fault_bits;
+  status.pll_lock = message.pll_lock;
+  status.ready = message.ready;
+  status.resonant_frequency_hz = message.frequency_mhz * kFrequencyLsbHz;
+  status.temperature_c = message.temperature_centi_c * kTemperatureLsbC;
+  return status;
+}
+
+}  // namespace
+
+bool GyroCanDeviceConfig::IsValid(std::string* why) const {
+  const auto fail = [why](std::string message) {
+    if (why != nullptr) *why = std::move(message);
+    return false;
+  };
+  if (clock == nullptr) return fail("clock must be set (the transport's time base)");
+  if (ack_timeout_ns <= 0) return fail(Str("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
+  if (command_attempts < 1 || command_attempts > 10) {
+    return fail(Str("command_attempts must be in 1..10, got ", command_attempts));
+  }
+  if (status_poll_ns <= 0) return fail(Str("status_poll_ns must be > 0, got ", status_poll_ns));
+  if (sample_buffer_capacity < kSamplesPerFdFrame) {
+    return fail(Str("sample_buffer_capacity must be >= ", kSamplesPerFdFrame, ", got ",
+                    sample_buffer_capacity));
+  }
+  return true;
+}
+
+std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
+    hw::CanBus& bus, const GyroCanDeviceConfig& config) {
+  std::string why;
+  if (!config.IsValid(&why)) return Fail(GyroErrorCode::kInvalidArgument, why);
+  // 0x050/0x051 (Ack, Status) and 0x100..0x103 (samples; 0x103 is unused and counted unexpected).
+  const std::array<hw::CanFilter, 2> filters = {hw::CanFilter{can_id::kAck, 0x7FE, false},
+                                                hw::CanFilter{can_id::kSampleA, 0x7FC, false}};
+  if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
+    return Fail(GyroErrorCode::kTransport,
+                Str("setting CAN filters failed: ", hw::ToString(status)));
+  }
+  return std::unique_ptr<GyroCanDevice>(new GyroCanDevice(bus, config));
+}
+
+GyroCanDevice::GyroCanDevice(hw::CanBus& bus, const GyroCanDeviceConfig& config)
+    : bus_(bus), config_(config), clock_(*config.clock), decoder_(config.sample_buffer_capacity) {}
+
+std::expected<void, GyroError> GyroCanDevice::RequireState(std::initializer_list<GyroMode> allowed,
+                                                           const char* what) const {
+  const GyroMode now = State();
+  if (std::find(allowed.begin(), allowed.end(), now) != allowed.end()) return {};
+  return Fail(GyroErrorCode::kInvalidState,
+              Str(what, " is not allowed in state ", hw::ToString(now)));
+}
+
+void GyroCanDevice::OnBusOff() noexcept {
+  counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
+  streaming_ = false;
+  SetState(GyroMode::kFaulted);
+}
+
+void GyroCanDevice::SyncDecoderCounters() noexcept {
+  const SampleStreamCounters& c = decoder_.counters();
+  counters_.samples_decoded.store(c.samples_decoded, std::memory_order_relaxed);
+  counters_.sequence_gaps.store(c.sequence_gaps, std::memory_order_relaxed);
+  counters_.samples_lost.store(c.samples_lost, std::memory_order_relaxed);
+  counters_.buffer_overruns.store(c.buffer_overruns, std::memory_order_relaxed);
+}
+
+void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept {
+  counters_.frames_received.fetch_add(1, std::memory_order_relaxed);
+  if (info.dropped_frames != 0) {
+    counters_.kernel_drops.fetch_add(info.dropped_frames, std::memory_order_relaxed);
+  }
+  DecodeStatus status = DecodeStatus::kWrongId;
+  if (frame.id == can_id::kSampleA || frame.id == can_id::kSampleB) {
+    SampleHalf half;
+    status = DecodeSampleHalf(frame, &half);
+    if (status == DecodeStatus::kOk) {
+      if (!streaming_ || format_ != FrameFormat::kClassic) {
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+        return;
+      }
+      decoder_.OnSampleHalf(half, info.timestamp_ns);
+      SyncDecoderCounters();
+      return;
+    }
+  } else if (frame.id == can_id::kSampleFd) {
+    SampleFdBlock block;
+    status = DecodeSampleFd(frame, &block);
+    if (status == DecodeStatus::kOk) {
+      if (!streaming_ || format_ != FrameFormat::kFd) {
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+        return;
+      }
+      decoder_.OnSampleFd(block, info.timestamp_ns);
+      SyncDecoderCounters();
+      return;
+    }
+  } else if (frame.id == can_id::kAck) {
+    Ack ack;
+    status = DecodeAck(frame, &ack);
+    if (status == DecodeStatus::kOk) {
+      if (awaiting_ack_ && !ack_received_ && ack.command == awaited_command_ &&
+          ack.token == awaited_token_) {
+        ack_ = ack;
+        ack_stamp_ns_ = info.timestamp_ns;
+        ack_received_ = true;
+      } else {
+        // A repeated Ack of an earlier attempt, or an answer to someone else's command.
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+      }
+      return;
+    }
+  } else if (frame.id == can_id::kStatus) {
+    StatusMessage message;
+    status = DecodeStatusMessage(frame, &message);
+    if (status == DecodeStatus::kOk) {
+      {
+        const std::lock_guard lock(status_mutex_);
+        last_status_ = ToGyroStatus(message, info.timestamp_ns);
+      }
+      ++status_frames_;
+      if (message.mode == GyroMode::kFaulted && State() != GyroMode::kStopped) {
+        streaming_ = false;
+        SetState(GyroMode::kFaulted);
+      }
+      return;
+    }
+  } else {
+    counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  counters_.bad_frames.fetch_add(1, std::memory_order_relaxed);
+}
+
+template <typename Done>
+CanStatus GyroCanDevice::PumpUntil(std::int64_t deadline_ns, Done done) noexcept {
+  hw::CanFrame frame;
+  hw::ReceiveInfo info;
+  while (!done()) {
+    // Past the deadline, still take what has already arrived (a wait may end at the deadline
+    // with the awaited frame queued behind others): only an empty queue is a timeout.
+    const std::int64_t remaining = std::max<std::int64_t>(deadline_ns - clock_.NowNs(), 0);
+    const CanStatus status = bus_.Receive(&frame, remaining, &info);
+    if (status == CanStatus::kOk) {
+      ProcessFrame(frame, info);
+    } else if (status != CanStatus::kTimeout) {
+      return status;
+    } else if (remaining == 0 || clock_.NowNs() >= deadline_ns) {
+      return CanStatus::kTimeout;
+    }
+  }
+  return CanStatus::kOk;
+}
+
+template <typename Encode>
+std::expected<Ack, GyroError> GyroCanDevice::Transact(Command command, Encode encode) {
+  const std::uint8_t token = next_token_++;
+  const hw::CanFrame frame = encode(token);
+  awaited_command_ = command;
+  awaited_token_ = token;
+  ack_received_ = false;
+  awaiting_ack_ = true;
+  struct Reset {
+    bool* flag;
+    ~Reset() { *flag = false; }
+  } reset{&awaiting_ack_};
+
+  for (int attempt = 1; attempt <= config_.command_attempts; ++attempt) {
+    if (attempt > 1) counters_.command_retries.fetch_add(1, std::memory_order_relaxed);
+    const CanStatus sent = bus_.Send(frame, config_.ack_timeout_ns);
+    if (sent == CanStatus::kBusOff) {
+      OnBusOff();
+      return Fail(GyroErrorCode::kBusOff, Str(CommandName(command), ": bus-off on send"));
+    }
+    if (sent != CanStatus::kOk && sent != CanStatus::kBufferFull) {
+      counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
+      return Fail(GyroErrorCode::kTransport,
+                  Str(CommandName(command), ": send failed: ", hw::ToString(sent)));
+    }
+    const CanStatus waited =
+        PumpUntil(clock_.NowNs() + config_.ack_timeout_ns, [this] { return ack_received_; });
+    if (waited == CanStatus::kOk) break;
+    if (waited == CanStatus::kBusOff) {
+      OnBusOff();
+      return Fail(GyroErrorCode::kBusOff,
+                  Str(CommandName(command), ": bus-off while waiting for the ack"));
+    }
+    if (waited != CanStatus::kTimeout) {
+      counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
+      return Fail(GyroErrorCode::kTransport,
+                  Str(CommandName(command), ": receive failed: ", hw::ToString(waited)));
+    }
+    counters_.timeouts.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (!ack_received_) {
+    return Fail(
+        GyroErrorCode::kTimeout,
+        Str(CommandName(command), " (token ", static_cast<int>(token), "): no ack after ",
+            config_.command_attempts, " attempts of ", config_.ack_timeout_ns / 1'000'000, " ms"));
+  }
+  if (ack_.result != AckResult::kOk) {
+    counters_.nacks.fetch_add(1, std::memory_order_relaxed);
+    if (ack_.result == AckResult::kFaulted) {
+      SetState(GyroMode::kFaulted);
+      return Fail(GyroErrorCode::kFaulted, Str(CommandName(command), ": electronics faulted (mode ",
+                                               hw::ToString(ack_.mode), ")"));
+    }
+    return Fail(GyroErrorCode::kRejected,
+                Str(CommandName(command), ": rejected (", ResultName(ack_.result),
+                    ") in electronics mode ", hw::ToString(ack_.mode)));
+  }
+  return ack_;
+}
+
+std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& config) {
+  if (auto ok =
+          RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped}, "configure");
+      !ok) {
+    return ok;
+  }
+  const FrameFormat format =
+      config_.prefer_fd && bus_.SupportsFd() ? FrameFormat::kFd : FrameFormat::kClassic;
+  const std::uint32_t max_rate =
+      format == FrameFormat::kFd ? kMaxFdSampleRateHz : kMaxClassicSampleRateHz;
+  if (config.sample_rate_hz < 1 || config.sample_rate_hz > max_rate) {
+    return Fail(
+        GyroErrorCode::kInvalidArgument,
+        Str("sample_rate_hz must be in 1..", max_rate, " on ",
+            format == FrameFormat::kFd ? "FD" : "classic", " CAN, got ", config.sample_rate_hz));
+  }
+  const ConfigureCommand command{
+      .token = 0,
+      .sample_rate_hz = static_cast<std::uint16_t>(config.sample_rate_hz),
+      .format = format,
+      .status_rate_hz = config_.status_rate_hz};
+  auto ack = Transact(Command::kConfigure, [&](std::uint8_t token) {
+    ConfigureCommand c = command;
+    c.token = token;
+    return EncodeConfigure(c);
+  });
+  if (!ack) return std::unexpected(ack.error());
+  if (ack->arg != config.sample_rate_hz || ack->mode != GyroMode::kConfigured) {
+    return Fail(GyroErrorCode::kReadBackMismatch,
+                Str("configure: asked ", config.sample_rate_hz, " Hz, electronics acknowledged ",
+                    ack->arg, " Hz in mode ", hw::ToString(ack->mode)));
+  }
+  format_ = format;
+  sample_rate_hz_ = config.sample_rate_hz;
+  SetState(GyroMode::kConfigured);
+  return {};
+}
+
+std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target) {
+  if (auto ok = RequireState({GyroMode::kConfigured, GyroMode::kReady}, "excite"); !ok) return ok;
+  const double a_max = 65535 * kExciteLsb;
+  const double bt_max = 32767 * kExciteLsb;
+  if (!std::isfinite(target.a) || !std::isfinite(target.b) || !std::isfinite(target.theta_rad) ||
+      target.a <= 0 || target.a > a_max || std::abs(target.b) >= target.a ||
+      std::abs(target.b) > bt_max || std::abs(target.theta_rad) > bt_max) {
+    return Fail(GyroErrorCode::kInvalidArgument,
+                Str("excite: need 0 < a <= ", a_max, ", |b| < a, |b|, |theta| <= ", bt_max,
+                    "; got a=", target.a, " b=", target.b, " theta_rad=", target.theta_rad));
+  }
+  ExciteCommand command;
+  command.a_raw = static_cast<std::uint16_t>(std::lround(target.a / kExciteLsb));
+  command.b_raw = static_cast<std::int16_t>(std::lround(target.b / kExciteLsb));
+  command.theta_raw = static_cast<std::int16_t>(std::lround(target.theta_rad / kExciteLsb));
+  auto ack = Transact(Command::kExcite, [&](std::uint8_t token) {
+    ExciteCommand c = command;
+    c.token = token;
+    return EncodeExcite(c);
+  });
+  if (!ack) return std::unexpected(ack.error());
+  if (ack->mode != GyroMode::kExciting && ack->mode != GyroMode::kReady) {
+    return Fail(GyroErrorCode::kReadBackMismatch,
+                Str("excite: acknowledged in mode ", hw::ToString(ack->mode)));
+  }
+  SetState(GyroMode::kExciting);
+  return {};
+}
+
+std::expected<hw::GyroStatus, GyroError> GyroCanDevice::RequestStatus() {
+  if (State() == GyroMode::kFaulted && bus_.State() == hw::CanBusState::kBusOff) {
+    return Fail(GyroErrorCode::kBusOff, "status request: the bus is off");
+  }
+  const std::uint64_t seen = status_frames_;
+  auto ack = Transact(Command::kStatusRequest, [](std::uint8_t token) {
+    return EncodeSimpleCommand({Command::kStatusRequest, token});
+  });
+  if (!ack) return std::unexpected(ack.error());
+  const CanStatus waited = PumpUntil(clock_.NowNs() + config_.ack_timeout_ns,
+                                     [this, seen] { return status_frames_ != seen; });
+  if (waited == CanStatus::kBusOff) {
+    OnBusOff();
+    return Fail(GyroErrorCode::kBusOff, "status request: bus-off while waiting for the status");
+  }
+  if (waited != CanStatus::kOk) {
+    counters_.timeouts.fetch_add(1, std::memory_order_relaxed);
+    return Fail(GyroErrorCode::kTimeout,
+                "status request acknowledged but no status frame followed");
+  }
+  return LastStatus();
+}
+
+std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t timeout_ns) {
+  if (auto ok = RequireState({GyroMode::kExciting, GyroMode::kReady}, "wait ready"); !ok) {
+    return std::unexpected(ok.error());
+  }
+  const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
+  for (;;) {
+    auto status = RequestStatus();
+    if (!status) return status;
+    if (status->mode == GyroMode::kFaulted || status->fault_bits != 0) {
+      SetState(GyroMode::kFaulted);
+      return Fail(GyroErrorCode::kFaulted,
+                  Str("wait ready: electronics report mode ", hw::ToString(status->mode),
+                      " with fault bits 0x", Hex2(status->fault_bits)));
+    }
+    if (status->mode == GyroMode::kReady && status->ready) {
+      SetState(GyroMode::kReady);
+      return status;
+    }
+    const std::int64_t now = clock_.NowNs();
+    if (now >= deadline_ns) {
+      return Fail(GyroErrorCode::kTimeout,
+                  Str("wait ready: not ready after ", timeout_ns / 1'000'000, " ms (mode ",
+                      hw::ToString(status->mode), ")"));
+    }
+    // Keep consuming frames (periodic status) while waiting for the next poll.
+    const CanStatus waited =
+        PumpUntil(std::min(deadline_ns, now + config_.status_poll_ns), [] { return false; });
+    if (waited == CanStatus::kBusOff) {
+      OnBusOff();
+      return Fail(GyroErrorCode::kBusOff, "wait ready: bus-off");
+    }
+  }
+}
+
+std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
+  if (auto ok = RequireState({GyroMode::kReady}, "release"); !ok)
+    return std::unexpected(ok.error());
+  // Samples may follow the Ack immediately (or precede a repeated Ack): be ready for them first.
+  decoder_.Start(format_, sample_rate_hz_);
+  streaming_ = true;
+  auto ack = Transact(Command::kRelease, [](std::uint8_t token) {
+    return EncodeSimpleCommand({Command::kRelease, token});
+  });
+  if (!ack) {
+    streaming_ = false;
+    return std::unexpected(ack.error());
+  }
+  if (ack->mode != GyroMode::kFreeRun) {
+    streaming_ = false;
+    return Fail(GyroErrorCode::kReadBackMismatch,
+                Str("release: acknowledged in mode ", hw::ToString(ack->mode)));
+  }
+  const std::int64_t t0_ns = ack_stamp_ns_ - static_cast<std::int64_t>(ack->arg) * 1000;
+  decoder_.SetReleaseTime(t0_ns);
+  SetState(GyroMode::kFreeRun);
+  return t0_ns;
+}
+
+std::expected<void, GyroError> GyroCanDevice::Stop() {
+  auto ack = Transact(Command::kStop, [](std::uint8_t token) {
+    return EncodeSimpleCommand({Command::kStop, token});
+  });
+  streaming_ = false;
+  if (!ack) {
+    SetState(GyroMode::kFaulted);
+    return std::unexpected(ack.error());
+  }
+  if (ack->mode != GyroMode::kStopped) {
+    SetState(GyroMode::kFaulted);
+    return Fail(GyroErrorCode::kReadBackMismatch,
+                Str("stop: acknowledged in mode ", hw::ToString(ack->mode)));
+  }
+  SetState(GyroMode::kStopped);
+  return {};
+}
+
+hw::GyroReadResult GyroCanDevice::ReadSamples(std::span<hw::GyroSample> out,
+                                              std::int64_t timeout_ns) noexcept {
+  std::size_t n = decoder_.Pop(out);
+  if (n == out.size()) return {n, hw::GyroReadStatus::kOk};
+  if (!streaming_) return {n, n > 0 ? hw::GyroReadStatus::kOk : hw::GyroReadStatus::kNotRunning};
+  const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
+  hw::CanFrame frame;
+  hw::ReceiveInfo info;
+  for (;;) {
+    // Once something is in hand, only drain what has already arrived.
+    const std::int64_t wait_ns =
+        n > 0 ? 0 : std::max<std::int64_t>(deadline_ns - clock_.NowNs(), 0);
+    const CanStatus status = bus_.Receive(&frame, wait_ns, &info);
+    if (status == CanStatus::kOk) {
+      ProcessFrame(frame, info);
+      n += decoder_.Pop(out.subspan(n));
+      if (n == out.size()) return {n, hw::GyroReadStatus::kOk};
+      if (!streaming_ && n == 0) return {0, hw::GyroReadStatus::kNotRunning};
+      continue;
+    }
+    if (status == CanStatus::kTimeout) {
+      if (n > 0) return {n, hw::GyroReadStatus::kOk};
+      if (clock_.NowNs() < deadline_ns) continue;  // a transport may return early
+      counters_.timeouts.fetch_add(1, std::memory_order_relaxed);
+      return {0, hw::GyroReadStatus::kTimeout};
+    }
+    if (status == CanStatus::kBusOff) {
+      OnBusOff();
+      return {n, hw::GyroReadStatus::kBusOff};
+    }
+    counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
+    return {n, hw::GyroReadStatus::kError};
+  }
+}
+
+hw::GyroStatus GyroCanDevice::LastStatus() const noexcept {
+  const std::lock_guard lock(status_mutex_);
+  return last_status_;
+}
+
+hw::GyroCounters GyroCanDevice::Counters() const noexcept {
+  const auto get = [](const std::atomic<std::uint64_t>& c) {
+    return c.load(std::memory_order_relaxed);
+  };
+  hw::GyroCounters c;
+  c.frames_received = get(counters_.frames_received);
+  c.samples_decoded = get(counters_.samples_decoded);
+  c.bad_frames = get(counters_.bad_frames);
+  c.sequence_gaps = get(counters_.sequence_gaps);
+  c.samples_lost = get(counters_.samples_lost);
+  c.timeouts = get(counters_.timeouts);
+  c.kernel_drops = get(counters_.kernel_drops);
+  c.buffer_overruns = get(counters_.buffer_overruns);
+  c.command_retries = get(counters_.command_retries);
+  c.nacks = get(counters_.nacks);
+  c.bus_errors = get(counters_.bus_errors);
+  c.unexpected_frames = get(counters_.unexpected_frames);
+  return c;
+}
+
+}  // namespace hrgbench::gyro_can

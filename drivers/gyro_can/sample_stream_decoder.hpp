@@ -1,0 +1,74 @@
+#pragma once
+// SampleStreamDecoder: turns the decoded sample frames of one free run (classic halves or FD
+// blocks, see README.md "Sequence counter") into whole GyroSamples in a ring allocated once, and
+// accounts for every frame that is missing. Pure logic: no bus, no clock (receive stamps are
+// passed in), so it is unit-testable on its own.
+//
+// Threads: one thread (the capture thread). Real-time safety: every method except the constructor
+// is noexcept and allocation-free.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gyro_can/gyro_codec.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
+
+namespace hrgbench::gyro_can {
+
+struct SampleStreamCounters {
+  std::uint64_t samples_decoded = 0;  // whole samples put into the ring
+  std::uint64_t sequence_gaps = 0;    // breaks in the frame sequence (events)
+  std::uint64_t samples_lost = 0;     // sample numbers skipped (incomplete or never seen)
+  std::uint64_t buffer_overruns = 0;  // whole samples discarded because the ring was full
+};
+
+class SampleStreamDecoder {
+ public:
+  // Allocates the ring (`capacity` samples, ≥ 1).
+  explicit SampleStreamDecoder(std::size_t capacity);
+
+  // Starts a run: empties the ring and resets the sequence to sample 0. The release time is
+  // unknown until SetReleaseTime (samples may arrive before the release Ack when it was lost).
+  void Start(FrameFormat format, std::uint32_t sample_rate_hz) noexcept;
+  // t0 of the run (ns, receive time base); enables unwrapping the 8-bit seq against time.
+  void SetReleaseTime(std::int64_t t0_ns) noexcept;
+
+  void OnSampleHalf(const SampleHalf& half, std::int64_t stamp_ns) noexcept;
+  void OnSampleFd(const SampleFdBlock& block, std::int64_t stamp_ns) noexcept;
+
+  // Moves up to out.size() samples out of the ring, oldest first, stamping each with
+  // t0 + seq·1e9/fs. Returns how many.
+  std::size_t Pop(std::span<hw::GyroSample> out) noexcept;
+  std::size_t Buffered() const noexcept { return size_; }
+  const SampleStreamCounters& counters() const noexcept { return counters_; }
+
+ private:
+  struct Pending {
+    std::uint64_t sample = 0;
+    std::int32_t y1 = 0;
+    std::int32_t y2 = 0;
+    bool valid = false;
+  };
+  // Extends a wrapped counter value to the full index nearest after `expected` (and after the
+  // receive-time estimate when t0 is known). `scale` converts samples to counter units.
+  std::uint64_t Unwrap(std::uint64_t expected, std::uint64_t wire_value, std::uint64_t modulo,
+                       std::uint64_t scale, std::uint64_t offset,
+                       std::int64_t stamp_ns) const noexcept;
+  void Emit(std::uint64_t sample, const std::int32_t (&y_raw)[4]) noexcept;
+
+  std::vector<hw::GyroSample> ring_;
+  std::size_t head_ = 0;  // oldest
+  std::size_t size_ = 0;
+  FrameFormat format_ = FrameFormat::kClassic;
+  std::uint32_t sample_rate_hz_ = 1000;
+  std::int64_t t0_ns_ = 0;
+  bool t0_known_ = false;
+  std::uint64_t next_frame_ = 0;   // classic: expected 2·sample + half; FD: expected sample
+  std::uint64_t next_sample_ = 0;  // next sample number not yet delivered or counted lost
+  Pending pending_;
+  SampleStreamCounters counters_;
+};
+
+}  // namespace hrgbench::gyro_can

@@ -1,0 +1,304 @@
+#include "sim/gyro_sim_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hrgbench::gyro_sim {
+namespace {
+
+using gyro_can::Ack;
+using gyro_can::AckResult;
+using gyro_can::Command;
+using gyro_can::FrameFormat;
+using hw::GyroMode;
+
+constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+
+}  // namespace
+
+GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimOptions& options,
+                         OmegaSource omega, std::function<void()> short_bus)
+    : bus_(bus),
+      clock_(clock),
+      options_(options),
+      omega_(std::move(omega)),
+      short_bus_(std::move(short_bus)),
+      distortion_(estimator::Matrix4::Identity() + estimator::DistortionMatrix(options.xi)) {
+  const std::int64_t now = clock_.NowNs();
+  next_poll_ns_ = now;
+  next_status_ns_ = now;
+}
+
+std::int64_t GyroSimNode::SampleDueNs(std::uint64_t k) const noexcept {
+  return release_ns_ + static_cast<std::int64_t>(k * 1'000'000'000ull /
+                                                 std::max<std::uint16_t>(sample_rate_hz_, 1));
+}
+
+std::int64_t GyroSimNode::StatusPeriodNs() const noexcept {
+  return status_rate_hz_ == 0 ? kNever : 1'000'000'000 / status_rate_hz_;
+}
+
+std::int64_t GyroSimNode::NextTimedEventNs() const noexcept {
+  std::int64_t next = status_rate_hz_ == 0 ? kNever : next_status_ns_;
+  const bool stalled =
+      options_.faults.stall_after_samples >= 0 &&
+      next_sample_ >= static_cast<std::uint64_t>(options_.faults.stall_after_samples);
+  if (mode_ == GyroMode::kFreeRun && !stalled) next = std::min(next, SampleDueNs(next_sample_));
+  if (mode_ == GyroMode::kExciting) next = std::min(next, excite_done_ns_);
+  return next;
+}
+
+std::int64_t GyroSimNode::NextEventNs() const noexcept {
+  return std::min(next_poll_ns_, NextTimedEventNs());
+}
+
+bool GyroSimNode::Service(std::int64_t now_ns) noexcept {
+  const std::uint64_t sent_before = statistics_.frames_sent + statistics_.send_failures;
+  hw::CanFrame frame;
+  while (bus_.Receive(&frame, 0, nullptr) == hw::CanStatus::kOk) HandleFrame(frame, now_ns);
+  Advance(now_ns);
+  next_poll_ns_ = now_ns + options_.poll_period_ns;
+  return statistics_.frames_sent + statistics_.send_failures != sent_before;
+}
+
+void GyroSimNode::Run(const std::atomic<bool>& stop) noexcept {
+  hw::CanFrame frame;
+  while (!stop.load(std::memory_order_acquire)) {
+    Advance(clock_.NowNs());
+    // Frames wake Receive at once; otherwise wait for the next sample or status, at most 50 ms so
+    // `stop` is seen promptly.
+    const std::int64_t now = clock_.NowNs();
+    const std::int64_t wait_ns = std::clamp<std::int64_t>(NextTimedEventNs() - now, 0, 50'000'000);
+    if (bus_.Receive(&frame, wait_ns, nullptr) == hw::CanStatus::kOk) {
+      HandleFrame(frame, clock_.NowNs());
+    }
+  }
+}
+
+void GyroSimNode::Send(const hw::CanFrame& frame) noexcept {
+  if (bus_.Send(frame, 0) == hw::CanStatus::kOk) {
+    ++statistics_.frames_sent;
+  } else {
+    ++statistics_.send_failures;
+  }
+}
+
+void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept {
+  if (!gyro_can::IsCommandId(frame.id) || frame.extended) return;  // not addressed to us
+  Command command = Command::kStatusRequest;
+  std::uint8_t token = 0;
+  gyro_can::DecodeStatus status = gyro_can::DecodeStatus::kWrongId;
+  if (frame.id == gyro_can::can_id::kConfigure) {
+    gyro_can::ConfigureCommand c;
+    status = gyro_can::DecodeConfigure(frame, &c);
+    command = Command::kConfigure;
+    token = c.token;
+  } else if (frame.id == gyro_can::can_id::kExcite) {
+    gyro_can::ExciteCommand c;
+    status = gyro_can::DecodeExcite(frame, &c);
+    command = Command::kExcite;
+    token = c.token;
+  } else {
+    gyro_can::SimpleCommand c;
+    status = gyro_can::DecodeSimpleCommand(frame, &c);
+    command = c.command;
+    token = c.token;
+  }
+  if (status != gyro_can::DecodeStatus::kOk) {
+    ++statistics_.bad_frames;  // a real node ignores it; the host's retry recovers
+    return;
+  }
+  ++statistics_.commands;
+  if (options_.faults.no_reply) return;
+  if (options_.faults.ignore_commands > 0) {
+    --options_.faults.ignore_commands;
+    return;
+  }
+  if (have_last_ && command == last_command_ && token == last_token_) {
+    // A retry: the Ack was lost. Answer again, do not execute again.
+    Ack ack = last_ack_;
+    if (command == Command::kRelease && ack.result == AckResult::kOk) {
+      ack.arg = static_cast<std::uint32_t>((now_ns - release_ns_) / 1000);
+    }
+    Send(gyro_can::EncodeAck(ack));
+    if (command == Command::kStatusRequest) SendStatus();
+    return;
+  }
+  Execute(command, token, frame, now_ns);
+}
+
+void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFrame& frame,
+                          std::int64_t now_ns) noexcept {
+  Ack ack{command, token, AckResult::kOk, mode_, 0};
+  const bool faulted = mode_ == GyroMode::kFaulted;
+  switch (command) {
+    case Command::kConfigure: {
+      gyro_can::ConfigureCommand c;
+      gyro_can::DecodeConfigure(frame, &c);
+      const bool fd_ok = options_.supports_fd && bus_.SupportsFd();
+      const std::uint16_t max_rate = c.format == FrameFormat::kFd
+                                         ? gyro_can::kMaxFdSampleRateHz
+                                         : gyro_can::kMaxClassicSampleRateHz;
+      if (faulted) {
+        ack.result = AckResult::kFaulted;
+      } else if (mode_ != GyroMode::kIdle && mode_ != GyroMode::kConfigured &&
+                 mode_ != GyroMode::kStopped) {
+        ack.result = AckResult::kBadState;
+      } else if (c.sample_rate_hz < 1 || c.sample_rate_hz > max_rate ||
+                 (c.format == FrameFormat::kFd && !fd_ok)) {
+        ack.result = AckResult::kBadArgument;
+      } else {
+        sample_rate_hz_ = c.sample_rate_hz;
+        format_ = c.format;
+        status_rate_hz_ = c.status_rate_hz;
+        next_status_ns_ = now_ns;
+        mode_ = GyroMode::kConfigured;
+        ack.arg = c.sample_rate_hz;
+      }
+      break;
+    }
+    case Command::kExcite: {
+      gyro_can::ExciteCommand c;
+      gyro_can::DecodeExcite(frame, &c);
+      if (faulted) {
+        ack.result = AckResult::kFaulted;
+      } else if (mode_ != GyroMode::kConfigured && mode_ != GyroMode::kReady) {
+        ack.result = AckResult::kBadState;
+      } else if (c.a_raw == 0 || std::abs(static_cast<int>(c.b_raw)) >= c.a_raw) {
+        ack.result = AckResult::kBadArgument;
+      } else {
+        orbit_ = {c.a_raw * gyro_can::kExciteLsb, c.b_raw * gyro_can::kExciteLsb,
+                  c.theta_raw * gyro_can::kExciteLsb, 0.0};
+        mode_ = GyroMode::kExciting;
+        excite_done_ns_ = now_ns + static_cast<std::int64_t>(options_.excite_time_s * 1e9);
+      }
+      break;
+    }
+    case Command::kRelease:
+      if (faulted) {
+        ack.result = AckResult::kFaulted;
+      } else if (mode_ != GyroMode::kReady) {
+        ack.result = AckResult::kBadState;
+      } else {
+        // The release instant is now: sample 0 is x0 itself, sent right after this Ack.
+        mode_ = GyroMode::kFreeRun;
+        release_ns_ = now_ns;
+        next_sample_ = 0;
+        sample_frames_ = 0;
+        fd_block_ = {};
+        anchor_x_ = estimator::OrbitToState(orbit_);
+        anchor_ns_ = now_ns;
+        anchor_omega_ = omega_ ? omega_() : 0.0;
+        noise_.emplace(options_.seed + statistics_.runs);
+        ++statistics_.runs;
+      }
+      break;
+    case Command::kStop:
+      mode_ = GyroMode::kStopped;
+      fault_bits_ = 0;
+      break;
+    case Command::kStatusRequest:
+      break;
+  }
+  ack.mode = mode_;
+  last_ack_ = ack;
+  last_command_ = command;
+  last_token_ = token;
+  have_last_ = true;
+  Send(gyro_can::EncodeAck(ack));
+  if (command == Command::kStatusRequest) SendStatus();
+  Advance(now_ns);
+}
+
+void GyroSimNode::Advance(std::int64_t now_ns) noexcept {
+  GyroSimFaults& faults = options_.faults;
+  if (faults.fault_bits != 0) {  // one-shot injection, latched until Stop
+    fault_bits_ |= faults.fault_bits;
+    faults.fault_bits = 0;
+    mode_ = GyroMode::kFaulted;
+  }
+  if (mode_ == GyroMode::kExciting && now_ns >= excite_done_ns_) mode_ = GyroMode::kReady;
+  while (mode_ == GyroMode::kFreeRun && SampleDueNs(next_sample_) <= now_ns) {
+    if (faults.stall_after_samples >= 0 &&
+        next_sample_ >= static_cast<std::uint64_t>(faults.stall_after_samples)) {
+      break;
+    }
+    if (faults.bus_off_after_samples >= 0 && !bus_shorted_ &&
+        next_sample_ >= static_cast<std::uint64_t>(faults.bus_off_after_samples)) {
+      bus_shorted_ = true;
+      if (short_bus_) short_bus_();
+    }
+    EmitSample(SampleDueNs(next_sample_));
+  }
+  if (status_rate_hz_ != 0 && now_ns >= next_status_ns_) {
+    SendStatus();
+    next_status_ns_ = now_ns + StatusPeriodNs();
+  }
+}
+
+void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
+  const double omega = omega_ ? omega_() : 0.0;
+  if (omega != anchor_omega_) {
+    // Ω changed: carry the state to now under the old Ω, continue from here under the new one.
+    anchor_x_ = estimator::PropagateExact(anchor_omega_, options_.delta, anchor_x_,
+                                          static_cast<double>(t_ns - anchor_ns_) * 1e-9);
+    anchor_ns_ = t_ns;
+    anchor_omega_ = omega;
+  }
+  const estimator::State x = estimator::PropagateExact(
+      anchor_omega_, options_.delta, anchor_x_, static_cast<double>(t_ns - anchor_ns_) * 1e-9);
+  estimator::Observation y = distortion_ * x;
+  std::int32_t raw[4];
+  for (int c = 0; c < 4; ++c) {
+    const double noise = options_.sigma > 0 ? options_.sigma * noise_->Next() : 0.0;
+    raw[c] = gyro_can::QuantiseY(y(c) + noise);
+  }
+  const std::uint64_t k = next_sample_++;
+  ++statistics_.samples;
+  if (format_ == FrameFormat::kClassic) {
+    const auto seq = static_cast<std::uint8_t>(k & 0xFFu);
+    SendSampleFrame(gyro_can::EncodeSampleHalf({0, seq, {raw[0], raw[1]}}));
+    SendSampleFrame(gyro_can::EncodeSampleHalf({1, seq, {raw[2], raw[3]}}));
+    return;
+  }
+  if (fd_block_.count == 0) fd_block_.seq = static_cast<std::uint16_t>(k & 0xFFFFu);
+  fd_block_.y_raw[fd_block_.count] = {raw[0], raw[1], raw[2], raw[3]};
+  if (++fd_block_.count == gyro_can::kSamplesPerFdFrame) {
+    SendSampleFrame(gyro_can::EncodeSampleFd(fd_block_));
+    fd_block_ = {};
+  }
+}
+
+void GyroSimNode::SendSampleFrame(hw::CanFrame frame) noexcept {
+  GyroSimFaults& faults = options_.faults;
+  ++sample_frames_;
+  if (faults.drop_sample_frames > 0 ||
+      (faults.drop_every_nth_frame > 0 && sample_frames_ % faults.drop_every_nth_frame == 0)) {
+    if (faults.drop_sample_frames > 0) --faults.drop_sample_frames;
+    ++statistics_.frames_dropped;
+    return;
+  }
+  if (faults.corrupt_sample_frames > 0) {
+    --faults.corrupt_sample_frames;
+    frame.data[1] ^= 0x01;  // after the CRC: the host's CRC check must catch it
+    ++statistics_.frames_corrupted;
+  }
+  Send(frame);
+}
+
+void GyroSimNode::SendStatus() noexcept {
+  gyro_can::StatusMessage status;
+  status.mode = mode_;
+  status.fault_bits = fault_bits_;
+  status.pll_lock =
+      (mode_ == GyroMode::kExciting || mode_ == GyroMode::kReady || mode_ == GyroMode::kFreeRun) &&
+      (fault_bits_ & hw::gyro_fault::kPllUnlock) == 0;
+  status.ready = mode_ == GyroMode::kReady;
+  status.frequency_mhz =
+      static_cast<std::uint32_t>(std::lround(options_.resonant_frequency_hz * 1e3));
+  status.temperature_centi_c = static_cast<std::int16_t>(std::lround(options_.temperature_c * 100));
+  Send(gyro_can::EncodeStatus(status));
+}
+
+}  // namespace hrgbench::gyro_sim

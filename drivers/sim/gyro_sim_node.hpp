@@ -1,0 +1,120 @@
+#pragma once
+// GyroSimNode: simulated HRG electronics, a CAN node on any hw::CanBus speaking protocol v1
+// (drivers/gyro_can/README.md): it answers every command with its Ack (re-acknowledging a
+// repeated token without re-executing), sends Status at the configured rate, excites to the
+// commanded wave state, and in free run streams y = (I + C(ξ))·x(t) + σ·n with x(t) from the
+// exact closed-form propagation of the model (estimator::PropagateExact from
+// OrbitToState(a, b, θ, φ = 0) at the release instant). Ω is read from an injected source at every
+// sample; when it changes, the state is re-anchored (exact for piecewise-constant Ω).
+//
+// Time: everything runs on the injected Clock. Two ways to drive it:
+//   - Service(now) / NextEventNs() (SimulationParticipant): a SimulationClock calls them, so a
+//     test runs faster than real time in one thread;
+//   - Run(stop): a real-time loop for the hrg-gyro-sim program (SteadyClock, SocketCAN).
+// Sample k of a run is due at release + k·1e9/fs ns and is sent when the node is served at or
+// after that time.
+//
+// Failure modes: GyroSimOptions::faults, settable at any time via faults() from the thread that
+// drives the node.
+//
+// Threads: one thread drives the node (Service or Run) and calls every other method; only `stop`
+// may be set from another thread.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "gyro_can/gyro_codec.hpp"
+#include "hrgbench/estimator/simulation.hpp"
+#include "hrgbench/hw/can_bus.hpp"
+#include "hrgbench/hw/clock.hpp"
+#include "sim/gyro_sim_options.hpp"
+#include "sim/simulation_clock.hpp"
+
+namespace hrgbench::gyro_sim {
+
+// Ω about the sensitive axis in rad/s (rate table + Earth-rate component), read at every sample.
+using OmegaSource = std::function<double()>;
+
+struct GyroSimStatistics {
+  std::uint64_t commands = 0;    // valid commands received
+  std::uint64_t bad_frames = 0;  // command-id frames that failed to decode
+  std::uint64_t samples = 0;     // samples generated (sent or not)
+  std::uint64_t frames_sent = 0;
+  std::uint64_t frames_dropped = 0;    // by the drop failure mode
+  std::uint64_t frames_corrupted = 0;  // by the corrupt failure mode
+  std::uint64_t send_failures = 0;     // Send() did not return kOk
+  std::uint64_t runs = 0;              // releases
+};
+
+class GyroSimNode final : public SimulationParticipant {
+ public:
+  // `bus`, `clock` must outlive the node. `short_bus` (optional) is called once by the bus-off
+  // failure mode: in-process it takes every node off the bus (VirtualCanBus::SetBusOff); a real
+  // adapter cannot do that from software, so the program leaves it empty.
+  GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimOptions& options,
+              OmegaSource omega, std::function<void()> short_bus = {});
+
+  std::int64_t NextEventNs() const noexcept override;
+  bool Service(std::int64_t now_ns) noexcept override;  // true when it sent a frame
+  // Real-time loop until `stop` becomes true: waits in Receive until the next event.
+  void Run(const std::atomic<bool>& stop) noexcept;
+
+  GyroSimFaults& faults() noexcept { return options_.faults; }
+  hw::GyroMode mode() const noexcept { return mode_; }
+  GyroSimStatistics Statistics() const noexcept { return statistics_; }
+  // The wave state commanded by the last Excite (quantised as on the wire).
+  estimator::Orbit commanded_orbit() const noexcept { return orbit_; }
+
+ private:
+  void HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept;
+  void Execute(gyro_can::Command command, std::uint8_t token, const hw::CanFrame& frame,
+               std::int64_t now_ns) noexcept;
+  void Advance(std::int64_t now_ns) noexcept;
+  void EmitSample(std::int64_t t_ns) noexcept;
+  void SendSampleFrame(hw::CanFrame frame) noexcept;
+  void SendStatus() noexcept;
+  void Send(const hw::CanFrame& frame) noexcept;
+  std::int64_t NextTimedEventNs() const noexcept;  // samples and status, without the poll tick
+  std::int64_t SampleDueNs(std::uint64_t k) const noexcept;
+  std::int64_t StatusPeriodNs() const noexcept;
+
+  hw::CanBus& bus_;
+  const hw::Clock& clock_;
+  GyroSimOptions options_;
+  OmegaSource omega_;
+  std::function<void()> short_bus_;
+  estimator::Matrix4 distortion_;  // I + C(ξ)
+
+  hw::GyroMode mode_ = hw::GyroMode::kIdle;
+  std::uint8_t fault_bits_ = 0;
+  std::uint16_t sample_rate_hz_ = 0;
+  gyro_can::FrameFormat format_ = gyro_can::FrameFormat::kClassic;
+  std::uint8_t status_rate_hz_ = gyro_can::kDefaultStatusRateHz;
+  estimator::Orbit orbit_;
+  std::int64_t excite_done_ns_ = 0;
+
+  // Free run.
+  std::int64_t release_ns_ = 0;
+  std::uint64_t next_sample_ = 0;
+  estimator::State anchor_x_ = estimator::State::Zero();
+  std::int64_t anchor_ns_ = 0;
+  double anchor_omega_ = 0.0;
+  std::optional<estimator::NormalGenerator> noise_;
+  gyro_can::SampleFdBlock fd_block_;
+  std::uint64_t sample_frames_ = 0;  // sample frames produced this run (for drop_every_nth)
+
+  // Retry detection: the last command and its Ack.
+  bool have_last_ = false;
+  gyro_can::Command last_command_ = gyro_can::Command::kStatusRequest;
+  std::uint8_t last_token_ = 0;
+  gyro_can::Ack last_ack_;
+
+  std::int64_t next_status_ns_ = 0;
+  std::int64_t next_poll_ns_ = 0;
+  bool bus_shorted_ = false;
+  GyroSimStatistics statistics_;
+};
+
+}  // namespace hrgbench::gyro_sim

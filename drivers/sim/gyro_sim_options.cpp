@@ -1,0 +1,38 @@
+#include "sim/gyro_sim_options.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace hrgbench::gyro_sim {
+
+bool GyroSimOptions::IsValid(std::string* why) const {
+  const auto fail = [why](const std::string& message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  if (!delta.allFinite()) return fail("delta must be finite");
+  if (!xi.allFinite() || xi.cwiseAbs().maxCoeff() >= 0.25) {
+    return fail("xi must be finite with |xi_i| < 0.25 (the distortion is a small perturbation)");
+  }
+  if (!std::isfinite(sigma) || sigma < 0) {
+    std::ostringstream os;
+    os << "sigma must be finite and >= 0, got " << sigma;
+    return fail(os.str());
+  }
+  if (!std::isfinite(excite_time_s) || excite_time_s < 0 || excite_time_s > 600) {
+    return fail("excite_time_s must be in [0, 600]");
+  }
+  if (!std::isfinite(resonant_frequency_hz) || resonant_frequency_hz <= 0 ||
+      resonant_frequency_hz > 16777.215) {
+    return fail("resonant_frequency_hz must be in (0, 16777.215] (the status field's range)");
+  }
+  if (!std::isfinite(temperature_c) || std::abs(temperature_c) > 327.67) {
+    return fail("temperature_c must be within +-327.67");
+  }
+  if (poll_period_ns <= 0 || poll_period_ns > 10'000'000) {
+    return fail("poll_period_ns must be in (0, 10 ms]");
+  }
+  return true;
+}
+
+}  // namespace hrgbench::gyro_sim

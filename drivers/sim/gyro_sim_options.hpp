@@ -1,0 +1,46 @@
+#pragma once
+// Options of the simulated HRG electronics (GyroSimNode): the resonator model (δ, ξ, σ, seed; see
+// ../shared/MODEL.md and estimator/simulation.hpp), the electronics' behaviour, and explicit
+// failure modes (STYLE rule 6). Plain data with in-class defaults; the program reads it from TOML
+// (gyro_sim_config.hpp).
+
+#include <cstdint>
+#include <string>
+
+#include "hrgbench/estimator/parameters.hpp"
+
+namespace hrgbench::gyro_sim {
+
+// Failure modes, each off by default. Counts are "the next N"; they decrement as they fire.
+struct GyroSimFaults {
+  std::uint32_t drop_sample_frames = 0;     // do not send the next N sample frames (seq advances)
+  std::uint32_t drop_every_nth_frame = 0;   // additionally drop every Nth sample frame (0 = off)
+  std::uint32_t corrupt_sample_frames = 0;  // send the next N sample frames with one bit flipped
+                                            // after the CRC was computed
+  std::int64_t stall_after_samples = -1;    // the stream stops after N samples (acks continue)
+  std::uint32_t ignore_commands = 0;        // no reply (and no action) to the next N commands
+  bool no_reply = false;                    // no reply to any command, ever
+  std::int64_t bus_off_after_samples = -1;  // after N samples, short the bus (bus-off hook)
+  std::uint8_t fault_bits = 0;              // when ≠ 0: latch these gyro_fault bits, mode Faulted
+};
+
+struct GyroSimOptions {
+  // The resonator. δ defaults to the paper's experiment (MODEL.md): δ1 = −0.001 1/s, δ2 = 0.3.
+  estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
+  estimator::Xi xi = estimator::Xi::Zero();
+  double sigma = 0.0;      // noise std per channel of y (amplitude units); the paper's 1e-4
+  std::uint64_t seed = 1;  // run r (0-based, per release) uses NormalGenerator(seed + r)
+
+  // The electronics.
+  double excite_time_s = 0.2;             // from Excite to "ready" (control loops settling)
+  double resonant_frequency_hz = 5000.0;  // reported by the PLL
+  double temperature_c = 25.0;            // reported housing temperature
+  bool supports_fd = true;                // accept FrameFormat::kFd (when the bus is FD too)
+  std::int64_t poll_period_ns = 200'000;  // firmware loop: commands are answered within this
+
+  GyroSimFaults faults;
+
+  bool IsValid(std::string* why) const;
+};
+
+}  // namespace hrgbench::gyro_sim

@@ -1,0 +1,118 @@
+// hrg-gyro-sim: the simulated HRG electronics as a CAN node (protocol v1,
+// drivers/gyro_can/README.md) on a SocketCAN interface, so the real GyroCanDevice can be tested
+// against it as a separate process (in the QEMU kernel harness on vcan0, or on a bench's second CAN
+// adapter). Runs until SIGINT/SIGTERM.
+//
+//   hrg-gyro-sim --can vcan0 --config drivers/sim/gyro_sim.example.toml
+//   hrg-gyro-sim --can vcan0 --omega-rad-s 0.3            (defaults for everything else)
+//   hrg-gyro-sim --can vcan0 --config sim.toml --table 127.0.0.1:1502   (Ω from hrg-table-sim)
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "hrgbench/hw/clock.hpp"
+#include "sim/gyro_sim_config.hpp"
+#include "sim/gyro_sim_node.hpp"
+#include "sim/modbus_omega_source.hpp"
+#ifdef HRGBENCH_HAVE_SOCKETCAN
+#include "socketcan/socket_can_bus.hpp"
+#endif
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop.store(true); }
+
+bool ParseHostPort(const std::string& text, std::string* host, int* port) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos) return false;
+  *host = text.substr(0, colon);
+  try {
+    *port = std::stoi(text.substr(colon + 1));
+  } catch (...) {
+    return false;
+  }
+  return !host->empty() && *port > 0 && *port < 65536;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace hrgbench;
+  try {
+    CLI::App app{"Simulated HRG electronics on a CAN interface (hrg_gyro_v1 protocol)"};
+    std::string interface_name, config_path, table;
+    std::optional<double> omega_override;
+    app.add_option("--can", interface_name, "SocketCAN interface, e.g. vcan0")->required();
+    app.add_option("--config", config_path, "TOML config (drivers/sim/gyro_sim.example.toml)");
+    app.add_option("--omega-rad-s", omega_override, "Constant Omega, rad/s (overrides [omega])");
+    app.add_option("--table", table, "Read Omega from a Modbus rate table at HOST:PORT");
+    CLI11_PARSE(app, argc, argv);
+
+    gyro_sim::GyroSimFileConfig config;
+    if (!config_path.empty()) {
+      auto loaded = gyro_sim::LoadGyroSimConfig(config_path);
+      if (!loaded) {
+        std::cerr << "hrg-gyro-sim: " << loaded.error() << "\n";
+        return 2;
+      }
+      config = *loaded;
+    }
+    if (!table.empty()) {
+      if (!ParseHostPort(table, &config.omega.modbus_host, &config.omega.modbus_port)) {
+        std::cerr << "hrg-gyro-sim: --table wants HOST:PORT, got '" << table << "'\n";
+        return 2;
+      }
+      config.omega.source = gyro_sim::OmegaConfig::Source::kModbus;
+    }
+    if (omega_override) {
+      config.omega.source = gyro_sim::OmegaConfig::Source::kConstant;
+      config.omega.omega_rad_s = *omega_override;
+    }
+
+#ifdef HRGBENCH_HAVE_SOCKETCAN
+    auto bus = drivers::socketcan::SocketCanBus::Open(interface_name, {});
+    if (!bus) {
+      std::cerr << "hrg-gyro-sim: " << bus.error() << "\n";
+      return 1;
+    }
+    std::unique_ptr<gyro_sim::ModbusOmegaSource> modbus;
+    gyro_sim::OmegaSource omega;
+    if (config.omega.source == gyro_sim::OmegaConfig::Source::kModbus) {
+      modbus = std::make_unique<gyro_sim::ModbusOmegaSource>(
+          config.omega.modbus_host, config.omega.modbus_port, config.omega.earth_rate_rad_s,
+          config.omega.poll_period_ms);
+      omega = [source = modbus.get()] { return source->OmegaRadS(); };
+    } else {
+      omega = [w = config.omega.omega_rad_s] { return w; };
+    }
+    hw::SteadyClock clock;
+    gyro_sim::GyroSimNode node(**bus, clock, config.options, omega);
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    std::cout << "hrg-gyro-sim: on " << interface_name << (bus.value()->SupportsFd() ? " (FD)" : "")
+              << ", omega from "
+              << (modbus ? "modbus " + config.omega.modbus_host + ":" +
+                               std::to_string(config.omega.modbus_port)
+                         : "constant " + std::to_string(config.omega.omega_rad_s) + " rad/s")
+              << std::endl;
+    node.Run(g_stop);
+    const gyro_sim::GyroSimStatistics s = node.Statistics();
+    std::cout << "hrg-gyro-sim: " << s.commands << " commands, " << s.runs << " runs, " << s.samples
+              << " samples, " << s.frames_sent << " frames sent, " << s.send_failures
+              << " send failures" << std::endl;
+    return 0;
+#else
+    std::cerr << "hrg-gyro-sim: built without the SocketCAN transport (drivers/socketcan)\n";
+    return 1;
+#endif
+  } catch (const std::exception& e) {
+    std::cerr << "hrg-gyro-sim: " << e.what() << "\n";
+    return 1;
+  }
+}
