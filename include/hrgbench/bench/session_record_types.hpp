@@ -1,0 +1,123 @@
+#pragma once
+// The data a SessionRecorder takes in: what is planned (SessionHeader, PlannedRun), what happened
+// at a run's release (RunStart), each sample (GyroSampleRecord), how a run ended (RunEnd), and its
+// errors (RecordError). Plain values; see session_recorder.hpp for the files they end up in.
+//
+// Units are in the names (STYLE rule 11). Non-finite metadata (a temperature that was not
+// measured) is written as JSON null; non-finite *sample* values are refused, because the run CSV
+// format rejects them.
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace hrgbench::bench {
+
+enum class RecordErrorKind {
+  kInvalidArgument,    // a value the record cannot hold (bad run id, non-finite sample, ...)
+  kWrongState,         // call out of order: BeginRun while a run is open, EndRun without one, ...
+  kDirectoryNotEmpty,  // Create() on a directory that already holds something
+  kBadSession,         // OpenForResume(): no session.json, or not one this recorder wrote
+  kIo,                 // the file system refused: disk full (ENOSPC, EFBIG), read-only, EIO, ...
+};
+
+struct RecordError {
+  RecordErrorKind kind = RecordErrorKind::kIo;
+  std::filesystem::path file;  // the file or directory at fault (may be empty)
+  std::string message;         // what went wrong, with the system's reason for kIo
+  // "<file>: <message>"
+  std::string ToString() const;
+};
+
+// One run as the sequence file plans it.
+struct PlannedRun {
+  int id = 0;                         // 1-based, unique in the session; names runs/run-NNN.csv
+  double commanded_omega_rad_s = 0.0;  // table rate to command
+  double a = 1.0;                     // wave state to excite (model.hpp's Orbit at release)
+  double b = 0.0;
+  double theta_rad = 0.0;
+  double free_run_s = 0.0;            // capture length after release, > 0
+  double sample_rate_hz = 0.0;        // > 0
+};
+
+struct ConfigHashes {
+  std::string station_sha256;   // lower-case hex SHA-256 of each file's bytes, as loaded
+  std::string sequence_sha256;
+  std::string limits_sha256;    // empty when no limits file was given (JSON null)
+};
+
+struct SessionHeader {
+  std::string unit_serial;        // required, non-empty
+  std::string station_name;       // required, non-empty
+  std::string software_version;   // git describe of the build (HRGBENCH_GIT_DESCRIBE)
+  ConfigHashes config_sha256;
+  // As the capture set it up, e.g. "SCHED_FIFO 80 granted, mlockall granted" or
+  // "not permitted: running without SCHED_FIFO (EPERM)".
+  std::string realtime_status;
+  std::vector<PlannedRun> runs;   // at least one; session.json lists them in this order
+  // Simulated station: the simulator's truth (parameters, seed), recorded as "simulation".
+  std::optional<nlohmann::json> simulation;
+  // Interface name written into every candump log line ("can0", "vcan0", "sim0").
+  std::string can_interface = "can0";
+};
+
+// Conditions at the release of a run (t = 0).
+struct RunStart {
+  double commanded_omega_rad_s = 0.0;
+  double measured_omega_rad_s = std::numeric_limits<double>::quiet_NaN();  // table, settled
+  double earth_rate_rad_s = 0.0;      // Earth-rate component on the sensitive axis
+  double temperature_c = std::numeric_limits<double>::quiet_NaN();
+  double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t release_t_ns = 0;      // acknowledged release stamp, receive time base
+  // Optional per-sample columns of this run's CSV; when set, every sample must carry a finite
+  // value for it.
+  bool with_measured_omega = false;   // column omega_meas_rad_s
+  bool with_temperature = false;      // column temp_c
+};
+
+// One sample as the run CSV stores it.
+struct GyroSampleRecord {
+  std::uint32_t seq = 0;              // electronics' sample number since release (column seq)
+  double t_s = 0.0;                   // s since release; strictly increasing within a run
+  double y[4] = {0.0, 0.0, 0.0, 0.0};
+  double measured_omega_rad_s = std::numeric_limits<double>::quiet_NaN();  // if with_measured_omega
+  double temperature_c = std::numeric_limits<double>::quiet_NaN();         // if with_temperature
+};
+
+// Run status strings in session.json. Only kRunComplete runs are read by the estimator.
+inline constexpr const char* kRunPlanned = "planned";
+inline constexpr const char* kRunRunning = "running";          // open, or the process died
+inline constexpr const char* kRunComplete = "complete";
+inline constexpr const char* kRunAborted = "aborted";          // stopped early (fault, Ctrl-C)
+inline constexpr const char* kRunRejected = "rejected";        // captured, but unfit (drift, drops)
+inline constexpr const char* kRunInterrupted = "interrupted";  // was running when the process died
+
+struct RunEnd {
+  std::string status = kRunComplete;  // kRunComplete, kRunAborted or kRunRejected
+  std::string reason;                 // required unless complete
+  // Ω for the estimator: mean measured table rate over the capture + Earth-rate component.
+  // Must be finite for a complete run; otherwise NaN means "commanded Ω" in session.json.
+  double omega_rad_s = std::numeric_limits<double>::quiet_NaN();
+  double temperature_start_c = std::numeric_limits<double>::quiet_NaN();
+  double temperature_end_c = std::numeric_limits<double>::quiet_NaN();
+  double frequency_start_hz = std::numeric_limits<double>::quiet_NaN();
+  double frequency_end_hz = std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t sequence_gaps = 0;
+  std::uint64_t kernel_drops = 0;
+  std::uint64_t bad_frames = 0;
+};
+
+// A run as the record holds it now (for resume and the progress display).
+struct RecordedRun {
+  PlannedRun plan;
+  std::string status;    // one of the kRun* strings
+  std::string file;      // "runs/run-003.csv"
+  int attempts = 0;      // earlier attempts kept aside (interrupted, aborted, rejected)
+};
+
+}  // namespace hrgbench::bench
