@@ -115,18 +115,6 @@ int main(int argc, char** argv) {
   std::string dir;
   bool quiet = false;
   cli.add_option("dir", dir, "session directory")->required();
-  cli.add_flag("-q,--quiet", quiet, "log warnings and errors only");
-  cli.set_version_flag("--version", HRGBENCH_SOFTWARE_VERSION);
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return hrgbench::app::ExitForParseError(cli, error);
-  }
-  hrgbench::app::SetUpStderrLogging("hrg-compare", quiet ? -1 : 0);
-  try {
-    return Run(dir);
-  } catch (const std::exception& error) {
-    spdlog::critical("unexpected failure: {}", error.what());
-    return hrgbench::app::kExitNotUsable;
-  }
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-compare", quiet, [&] { return Run(dir); });
 }

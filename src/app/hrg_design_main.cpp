@@ -199,18 +199,6 @@ int main(int argc, char** argv) {
   cli.add_option("--sigma", sigma, "noise std per channel of y (overrides the plan's)")
       ->check(CLI::PositiveNumber);
   cli.add_flag("--json", json, "print one JSON object instead of the table");
-  cli.add_flag("-q,--quiet", quiet, "log warnings and errors only");
-  cli.set_version_flag("--version", HRGBENCH_SOFTWARE_VERSION);
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return hrgbench::app::ExitForParseError(cli, error);
-  }
-  hrgbench::app::SetUpStderrLogging("hrg-design", quiet ? -1 : 0);
-  try {
-    return Run(plan_path, sigma, json);
-  } catch (const std::exception& error) {
-    spdlog::critical("unexpected failure: {}", error.what());
-    return hrgbench::app::kExitNotUsable;
-  }
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-design", quiet, [&] { return Run(plan_path, sigma, json); });
 }

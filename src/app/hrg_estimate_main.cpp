@@ -89,18 +89,6 @@ int main(int argc, char** argv) {
   cli.add_option("--xi", args.xi, "which xi to estimate: none | xi1 | all")
       ->check(CLI::IsMember({"none", "xi1", "all"}));
   cli.add_flag("--json", args.json, "print one JSON object on stdout instead of the report");
-  cli.add_flag("-q,--quiet", quiet, "log warnings and errors only");
-  cli.set_version_flag("--version", HRGBENCH_SOFTWARE_VERSION);
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return hrgbench::app::ExitForParseError(cli, error);
-  }
-  hrgbench::app::SetUpStderrLogging("hrg-estimate", quiet ? -1 : 0);
-  try {
-    return Run(args);
-  } catch (const std::exception& error) {
-    spdlog::critical("unexpected failure: {}", error.what());
-    return hrgbench::app::kExitNotUsable;
-  }
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-estimate", quiet, [&] { return Run(args); });
 }

@@ -9,9 +9,9 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
-#include "app/sha256.hpp"
 #include "app/sim_session.hpp"
 #include "app/sim_spec.hpp"
+#include "bench/config/sha256.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 
 namespace {
@@ -24,7 +24,7 @@ int Run(const std::filesystem::path& spec_path, const std::filesystem::path& out
     spdlog::error("{}", spec.error().ToString());
     return app::kExitBadInput;
   }
-  auto sha = app::Sha256FileHex(spec_path);
+  auto sha = bench::Sha256FileHex(spec_path);
   if (!sha) {
     spdlog::error("{}", sha.error());
     return app::kExitBadInput;
@@ -81,18 +81,6 @@ int main(int argc, char** argv) {
   cli.add_option("spec", spec_path, "simulation spec (TOML)")->required();
   cli.add_option("-o,--output", out_dir, "session directory to write")->required();
   cli.add_flag("--force", force, "write into a non-empty directory (replaces an earlier session)");
-  cli.add_flag("-q,--quiet", quiet, "log warnings and errors only");
-  cli.set_version_flag("--version", HRGBENCH_SOFTWARE_VERSION);
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return hrgbench::app::ExitForParseError(cli, error);
-  }
-  hrgbench::app::SetUpStderrLogging("hrg-sim", quiet ? -1 : 0);
-  try {
-    return Run(spec_path, out_dir, force);
-  } catch (const std::exception& error) {
-    spdlog::critical("unexpected failure: {}", error.what());
-    return hrgbench::app::kExitNotUsable;
-  }
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-sim", quiet, [&] { return Run(spec_path, out_dir, force); });
 }
