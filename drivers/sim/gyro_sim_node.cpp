@@ -45,7 +45,9 @@ std::int64_t GyroSimNode::NextTimedEventNs() const noexcept {
       options_.faults.stall_after_samples >= 0 &&
       next_sample_ >= static_cast<std::uint64_t>(options_.faults.stall_after_samples);
   if (mode_ == GyroMode::kFreeRun && !stalled) next = std::min(next, SampleDueNs(next_sample_));
-  if (mode_ == GyroMode::kExciting) next = std::min(next, excite_done_ns_);
+  if (mode_ == GyroMode::kExciting && !options_.faults.never_ready) {
+    next = std::min(next, excite_done_ns_);
+  }
   return next;
 }
 
@@ -218,7 +220,9 @@ void GyroSimNode::Advance(std::int64_t now_ns) noexcept {
     faults.fault_bits = 0;
     mode_ = GyroMode::kFaulted;
   }
-  if (mode_ == GyroMode::kExciting && now_ns >= excite_done_ns_) mode_ = GyroMode::kReady;
+  if (mode_ == GyroMode::kExciting && now_ns >= excite_done_ns_ && !faults.never_ready) {
+    mode_ = GyroMode::kReady;
+  }
   while (mode_ == GyroMode::kFreeRun && SampleDueNs(next_sample_) <= now_ns) {
     if (faults.stall_after_samples >= 0 &&
         next_sample_ >= static_cast<std::uint64_t>(faults.stall_after_samples)) {

@@ -22,6 +22,8 @@ struct GyroSimFaults {
   bool no_reply = false;                    // no reply to any command, ever
   std::int64_t bus_off_after_samples = -1;  // after N samples, short the bus (bus-off hook)
   std::uint8_t fault_bits = 0;              // when ≠ 0: latch these gyro_fault bits, mode Faulted
+  bool never_ready = false;                 // Excite is acknowledged but the wave never reaches
+                                            // its target (mode stays Exciting, ready never set)
 };
 
 struct GyroSimOptions {

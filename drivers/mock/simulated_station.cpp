@@ -1,0 +1,109 @@
+#include "mock/simulated_station.hpp"
+
+namespace hrgbench::mock {
+
+namespace can_virtual = drivers::can_virtual;
+
+std::expected<std::unique_ptr<SimulatedStation>, std::string> SimulatedStation::Create(
+    const SimulatedStationOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) return std::unexpected("simulated station: " + why);
+  std::unique_ptr<SimulatedStation> station(new SimulatedStation(options));
+  if (auto built = station->Build(); !built) return std::unexpected(built.error());
+  return station;
+}
+
+SimulatedStation::SimulatedStation(const SimulatedStationOptions& options) : options_(options) {}
+
+std::expected<void, std::string> SimulatedStation::Build() {
+  const bool real_time = !options_.faster_than_real_time && options_.time_scale == 1.0;
+  if (real_time) {
+    clock_ = &steady_clock_;
+  } else {
+    VirtualTimeClockOptions clock_options;
+    clock_options.time_scale = options_.faster_than_real_time ? 0.0 : options_.time_scale;
+    clock_options.park_after_wall_ns = options_.park_after_wall_ns;
+    virtual_clock_ = std::make_unique<VirtualTimeClock>(clock_options);
+    clock_ = virtual_clock_.get();
+  }
+
+  physics_ = std::make_unique<table_sim::TablePhysics>(options_.table_physics, *clock_);
+  table_ = std::make_unique<InProcessRateTable>(options_.table, *physics_, *clock_);
+
+  can_virtual::VirtualCanBusOptions bus_options;
+  bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
+  bus_options.fd = options_.can_fd;
+  bus_options.data_bit_rate_bps = options_.can_fd ? 5'000'000 : 0;
+  // Real time: nullptr = the bus's own steady clock with condition-variable wake-ups (the same
+  // time base as steady_clock_). Virtual time: the station's clock, for stamps and bit timing.
+  bus_options.clock = virtual_clock_.get();
+  auto bus = can_virtual::VirtualCanBus::Create(bus_options);
+  if (!bus) return std::unexpected("simulated station: " + bus.error());
+  bus_ = std::move(*bus);
+  host_endpoint_ = bus_->CreateEndpoint({.queue_capacity = options_.host_queue_frames});
+  node_endpoint_ = bus_->CreateEndpoint();
+  monitor_endpoint_ = bus_->CreateEndpoint({.queue_capacity = options_.monitor_queue_frames});
+  if (virtual_clock_) {
+    host_clocked_ = std::make_unique<ClockedCanEndpoint>(*bus_, *host_endpoint_, *virtual_clock_);
+    monitor_clocked_ =
+        std::make_unique<ClockedCanEndpoint>(*bus_, *monitor_endpoint_, *virtual_clock_);
+    host_bus_ = host_clocked_.get();
+    monitor_bus_ = monitor_clocked_.get();
+  } else {
+    host_bus_ = host_endpoint_.get();
+    monitor_bus_ = monitor_endpoint_.get();
+  }
+
+  InProcessRateTable* table = table_.get();
+  const double earth_rate_rad_s = options_.earth_rate_rad_s;
+  can_virtual::VirtualCanBus* shorted_bus = bus_.get();
+  node_ = std::make_unique<gyro_sim::GyroSimNode>(
+      *node_endpoint_, *clock_, options_.gyro,
+      [table, earth_rate_rad_s] { return table->SenseTrueRateRadS() + earth_rate_rad_s; },
+      [shorted_bus] { shorted_bus->SetBusOff(true); });
+
+  gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
+  link.clock = clock_;
+  auto device = gyro_can::GyroCanDevice::Create(*host_bus_, link);
+  if (!device) return std::unexpected("simulated station: gyro driver: " + device.error().ToString());
+  device_ = std::move(*device);
+
+  if (virtual_clock_) {
+    virtual_clock_->AddParticipant(node_.get());
+  } else {
+    node_thread_ = std::thread([this] { node_->Run(stop_node_); });
+  }
+  return {};
+}
+
+SimulatedStation::~SimulatedStation() {
+  if (node_thread_.joinable()) {
+    stop_node_.store(true, std::memory_order_release);
+    node_thread_.join();  // Run sees `stop` within 50 ms
+  }
+  if (virtual_clock_ && node_) virtual_clock_->RemoveParticipant(node_.get());
+}
+
+SimulatedTruth SimulatedStation::truth() const {
+  return {options_.gyro.delta, options_.gyro.xi, options_.gyro.sigma, options_.gyro.seed,
+          options_.earth_rate_rad_s};
+}
+
+gyro_sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
+  gyro_sim::GyroSimStatistics statistics;
+  if (virtual_clock_) {
+    virtual_clock_->WithParticipantsLocked([&] { statistics = node_->Statistics(); });
+  } else {
+    statistics = node_->Statistics();
+  }
+  return statistics;
+}
+
+bool SimulatedStation::InjectGyroFaults(
+    const std::function<void(gyro_sim::GyroSimFaults&)>& change) {
+  if (!virtual_clock_) return false;
+  virtual_clock_->WithParticipantsLocked([&] { change(node_->faults()); });
+  return true;
+}
+
+}  // namespace hrgbench::mock

@@ -1,0 +1,109 @@
+#pragma once
+// SimulatedStation: a whole bench station in one process, no hardware and no other program, built
+// from the real protocol peers where they exist:
+//
+//   RateTable  = InProcessRateTable on a TablePhysics (the table simulator's physics)
+//   Gyro       = GyroCanDevice (the real gyro driver) --VirtualCanBus--> GyroSimNode (the
+//                simulated electronics, protocol v1), whose Ω is the table physics' true rate
+//                plus the Earth-rate component
+//   Monitor    = a third node on the same bus that receives every frame, both directions: the
+//                raw-frame tap the bench records (candump log)
+//   Clock      = one clock for all of them (see SimulatedStationOptions for the three modes)
+//
+// Faster than real time (VirtualTimeClock, see virtual_time_clock.hpp): the bench's threads block
+// in the drivers' waits as usual; simulated time advances when all of them wait, the gyro node is
+// stepped by the clock at its own events, and receivers are woken by every frame. 100 s of 1 kHz
+// samples cost the CPU time of producing and decoding them, a few hundred ms.
+// Real time: SteadyClock, the gyro node runs in its own thread (GyroSimNode::Run), the bus wakes
+// receivers with condition variables: the same code paths as the cross-process station.
+//
+// Ownership: the station owns everything; the references it hands out live as long as it does.
+// Destroying it stops the gyro node's thread; it commands nothing (call SafeStop first).
+// Threads: table() belongs to one thread (the sequencer), gyro() to one (the capture thread),
+// monitor() to one reader; clock() is shared. See each interface's header.
+// Failure modes: the options' gyro.faults and table.faults; bus() for bus-level injection
+// (DropNext, CorruptNext, SetBusOff); InjectGyroFaults at run time.
+
+#include <atomic>
+#include <expected>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "can_virtual/virtual_can_bus.hpp"
+#include "gyro_can/gyro_can_device.hpp"
+#include "hrgbench/hw/can_bus.hpp"
+#include "hrgbench/hw/clock.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/rate_table.hpp"
+#include "mock/clocked_can_endpoint.hpp"
+#include "mock/in_process_rate_table.hpp"
+#include "mock/simulated_station_options.hpp"
+#include "mock/virtual_time_clock.hpp"
+#include "sim/gyro_sim_node.hpp"
+#include "sim/table_physics.hpp"
+
+namespace hrgbench::mock {
+
+class SimulatedStation {
+ public:
+  // Validates the options (the message names the field), builds the parts, and in real time
+  // starts the gyro node's thread. The table is not connected yet (RateTable::Connect).
+  static std::expected<std::unique_ptr<SimulatedStation>, std::string> Create(
+      const SimulatedStationOptions& options);
+  ~SimulatedStation();
+  SimulatedStation(const SimulatedStation&) = delete;
+  SimulatedStation& operator=(const SimulatedStation&) = delete;
+
+  hw::RateTable& table() noexcept { return *table_; }
+  hw::GyroElectronics& gyro() noexcept { return *device_; }
+  hw::Clock& clock() noexcept { return *clock_; }
+  // The raw-frame tap: every frame on the bus, from both nodes, in bus order, stamped on the
+  // station's clock. One reader thread. Frames not read pile up to monitor_queue_frames.
+  hw::CanBus& monitor() noexcept { return *monitor_bus_; }
+
+  SimulatedTruth truth() const;
+  const SimulatedStationOptions& options() const noexcept { return options_; }
+  bool faster_than_real_time() const noexcept { return virtual_clock_ != nullptr; }
+
+  // The concrete parts, for tests and the app's diagnostics.
+  InProcessRateTable& in_process_table() noexcept { return *table_; }
+  gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
+  drivers::can_virtual::VirtualCanBus& bus() noexcept { return *bus_; }
+  VirtualTimeClock* virtual_clock() noexcept { return virtual_clock_.get(); }  // null: real time
+  // The simulated electronics' counters. In real time they are read racily (diagnostics only).
+  gyro_sim::GyroSimStatistics gyro_sim_statistics() const;
+
+  // Changes the simulated electronics' failure modes while running, safely with respect to the
+  // thread that drives the node. False in real time (the node's thread owns them; set them in
+  // the options instead).
+  bool InjectGyroFaults(const std::function<void(gyro_sim::GyroSimFaults&)>& change);
+
+ private:
+  explicit SimulatedStation(const SimulatedStationOptions& options);
+  std::expected<void, std::string> Build();
+
+  SimulatedStationOptions options_;
+  // Declaration order is construction order; destruction runs backwards (the node thread is
+  // stopped in the destructor's body first).
+  std::unique_ptr<VirtualTimeClock> virtual_clock_;
+  hw::SteadyClock steady_clock_;
+  hw::Clock* clock_ = nullptr;
+  std::unique_ptr<table_sim::TablePhysics> physics_;
+  std::unique_ptr<InProcessRateTable> table_;
+  std::unique_ptr<drivers::can_virtual::VirtualCanBus> bus_;
+  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> host_endpoint_;
+  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> node_endpoint_;
+  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> monitor_endpoint_;
+  std::unique_ptr<ClockedCanEndpoint> host_clocked_;     // faster than real time only
+  std::unique_ptr<ClockedCanEndpoint> monitor_clocked_;  // faster than real time only
+  hw::CanBus* host_bus_ = nullptr;
+  hw::CanBus* monitor_bus_ = nullptr;
+  std::unique_ptr<gyro_sim::GyroSimNode> node_;
+  std::unique_ptr<gyro_can::GyroCanDevice> device_;
+  std::atomic<bool> stop_node_{false};
+  std::thread node_thread_;  // real time only
+};
+
+}  // namespace hrgbench::mock

@@ -1,0 +1,68 @@
+#pragma once
+// Options of the in-process simulated station (SimulatedStation): how time runs, the truth the
+// simulated gyro follows, the table's physics and driver settings, the CAN bus, and the failure
+// modes of gyro and table. Plain data with in-class defaults, independent of the bench's config
+// files: src/app maps bench::SimulatedStationConfig ([station] kind = "simulated") onto it.
+//
+// Time modes (the two flags map one to one onto the station config's keys):
+//   faster_than_real_time = true          VirtualTimeClock, as fast as the CPU allows (CI)
+//   faster_than_real_time = false, time_scale = 1
+//                                         real time: SteadyClock, the gyro node in its own thread,
+//                                         waits woken by condition variables (the real-time paths)
+//   faster_than_real_time = false, time_scale = s != 1
+//                                         VirtualTimeClock paced at s simulated s per wall s
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "gyro_can/gyro_can_device.hpp"
+#include "mock/in_process_rate_table.hpp"
+#include "sim/gyro_sim_options.hpp"
+#include "sim/table_physics.hpp"
+
+namespace hrgbench::mock {
+
+struct SimulatedStationOptions {
+  bool faster_than_real_time = true;
+  double time_scale = 1.0;  // used only when !faster_than_real_time; > 0
+  // VirtualTimeClock: a thread not waiting on the clock this long (wall) stops holding time back.
+  std::int64_t park_after_wall_ns = 200'000'000;
+
+  // The simulated electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes
+  // (gyro.faults). Defaults: the paper's experiment, noise-free; set sigma for realism.
+  gyro_sim::GyroSimOptions gyro;
+  // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
+  // axis (bench::EarthRateOnAxisRadS of the station's site), rad/s.
+  double earth_rate_rad_s = 0.0;
+
+  // The rate table: its physics (drivers/sim) and the in-process driver (limits, heartbeat,
+  // watchdog, failure modes in table.faults).
+  table_sim::TablePhysicsOptions table_physics;
+  InProcessRateTableConfig table;
+
+  // The host side of the gyro link (GyroCanDevice); its clock is the station's (ignored here).
+  gyro_can::GyroCanDeviceConfig gyro_link;
+
+  // The in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
+  std::int64_t can_bit_rate_bps = 1'000'000;
+  bool can_fd = false;                        // FD bus (5 Mbit/s data phase); gyro_link.prefer_fd
+  std::size_t host_queue_frames = 4096;       // the gyro driver's receive queue (2 s at 1 kHz)
+  // The raw-frame tap's queue: 64 Ki frames is 32 s of a 1 kHz classic stream, so a recorder
+  // that writes in bursts does not lose frames. Oldest dropped when full (counted).
+  std::size_t monitor_queue_frames = 65536;
+
+  // False, with the field and value, when anything is out of range (delegates to the parts).
+  bool IsValid(std::string* why) const;
+};
+
+// What the simulated gyro follows, for comparing estimates with the truth.
+struct SimulatedTruth {
+  estimator::Delta delta = estimator::Delta::Zero();
+  estimator::Xi xi = estimator::Xi::Zero();
+  double sigma = 0.0;      // noise std per channel of y (before quantisation to the wire's LSB)
+  std::uint64_t seed = 0;  // run r (0-based, per release) uses NormalGenerator(seed + r)
+  double earth_rate_rad_s = 0.0;
+};
+
+}  // namespace hrgbench::mock

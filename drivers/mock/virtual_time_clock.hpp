@@ -1,0 +1,122 @@
+#pragma once
+// VirtualTimeClock: simulated time shared by SEVERAL threads, advanced as fast as the CPU allows
+// (or paced at a chosen multiple of real time), for the in-process simulated station in CI.
+//
+// Why not SimulationClock (drivers/sim): that one is single-threaded: whoever sleeps moves time.
+// The bench blocks in two threads at once (the sequencer in RateTable::WaitUntilStable, the
+// capture thread in GyroElectronics::ReadSamples, perhaps a frame recorder), and time must not
+// run ahead of a thread that is still working, or a capture thread would find its queue
+// overflowed and a sequencer its table's watchdog expired.
+//
+// Design: a conservative discrete-event clock.
+//   - A thread ATTACHES by its first wait (SleepForNs / WaitForOutput) and detaches when it exits
+//     (or DetachCurrentThread); AttachCurrentThread attaches at once. NowNs() alone does not.
+//   - Time advances only when every attached thread is waiting. Then the last thread to wait
+//     advances it to the earliest of: the waiters' deadlines and the participants' next events
+//     (SimulationParticipant, e.g. GyroSimNode), serves the participants due at that instant
+//     (under the clock's mutex, so they need no locking of their own), and wakes the waiters whose
+//     deadline has come, or, for WaitForOutput waiters, when a participant produced output or a
+//     thread called NotifyOutput (a frame was sent). Woken threads count as running at once, so
+//     time cannot slip past them before they are scheduled.
+//   - A thread that blocks on something other than this clock (join, a mutex, a condition
+//     variable, slow file I/O) would stall time for ever; after park_after_wall_ns of wall time
+//     without waiting on the clock it is PARKED (counted in Statistics().parks) and time goes on
+//     without it until its next wait. Parks are normal around a join; a park while a thread was
+//     merely busy means the simulation was not exactly conservative for that moment.
+//   - Pacing (time_scale > 0): before each advance, wait until the wall clock catches up:
+//     simulated elapsed = time_scale × wall elapsed. time_scale = 0: as fast as possible.
+//
+// Contract for users: in faster-than-real-time mode every timed wait must be on this clock
+// (SleepForNs, or a driver call that waits on it); a std::this_thread::sleep_for or a condition
+// variable with a timeout measures wall time, which here is meaningless.
+//
+// Limits: one mutex serialises every wait and every participant service (fine for a handful of
+// threads); participants must not wait on this clock or call NotifyOutput from Service; a thread
+// that is descheduled for longer than park_after_wall_ns is parked too.
+//
+// Threads: every method from any thread. NowNs() is real-time safe (an atomic load); the waits
+// are not (mutex, condition variable; the first wait of a thread allocates its record).
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "hrgbench/hw/clock.hpp"
+#include "sim/simulation_clock.hpp"
+
+namespace hrgbench::mock {
+
+struct VirtualTimeClockOptions {
+  std::int64_t start_ns = 0;
+  // Simulated seconds per wall-clock second; 0 = as fast as possible.
+  double time_scale = 0.0;
+  // A thread not waiting on the clock for this long (wall time) while the others wait is parked.
+  // 200 ms is far above the microseconds a capture loop spends between waits, and short enough
+  // that a join costs little.
+  std::int64_t park_after_wall_ns = 200'000'000;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct VirtualTimeClockStatistics {
+  std::uint64_t advances = 0;   // time jumps
+  std::uint64_t services = 0;   // participant Service calls
+  std::uint64_t outputs = 0;    // output notifications (participant output or NotifyOutput)
+  std::uint64_t parks = 0;      // threads parked after park_after_wall_ns
+  std::uint64_t attached_threads = 0;  // threads attached now
+};
+
+class VirtualTimeClock final : public hw::Clock {
+ public:
+  explicit VirtualTimeClock(const VirtualTimeClockOptions& options = {});
+  ~VirtualTimeClock() override;
+  VirtualTimeClock(const VirtualTimeClock&) = delete;
+  VirtualTimeClock& operator=(const VirtualTimeClock&) = delete;
+
+  std::int64_t NowNs() const noexcept override;
+  // Returns once the clock has advanced by `duration_ns` (at once for <= 0).
+  void SleepForNs(std::int64_t duration_ns) override;
+  // Returns once the clock reaches `deadline_ns` OR OutputEpoch() differs from `seen_epoch`
+  // (read it before checking for output, so nothing is missed). For receivers of frames.
+  void WaitForOutput(std::int64_t deadline_ns, std::uint64_t seen_epoch);
+  std::uint64_t OutputEpoch() const noexcept;
+  // Something a WaitForOutput waiter may want was produced (a frame sent): wake them.
+  void NotifyOutput();
+
+  // Participants are not owned; they are served under the clock's mutex. Remove before
+  // destroying them.
+  void AddParticipant(gyro_sim::SimulationParticipant* participant);
+  void RemoveParticipant(gyro_sim::SimulationParticipant* participant);
+  // Runs `f` under the clock's mutex: the participants are not being served meanwhile (e.g. to
+  // change a GyroSimNode's faults from a test).
+  void WithParticipantsLocked(const std::function<void()>& f);
+
+  // Holds time back for the calling thread from now on, as its first wait would. A thread is
+  // otherwise unknown until it first waits: time may move on while a new thread starts (as a
+  // slow-starting thread on real hardware would find; frames wait in the queues). Call it first
+  // thing in a thread whose first moments matter.
+  void AttachCurrentThread();
+  // The calling thread no longer holds time back (until its next wait).
+  void DetachCurrentThread();
+
+  VirtualTimeClockStatistics Statistics() const;
+  const VirtualTimeClockOptions& options() const noexcept { return options_; }
+
+  struct Core;  // shared with the per-thread records, so a thread may outlive the clock
+
+ private:
+  void Wait(std::int64_t deadline_ns, bool wake_on_output, std::uint64_t seen_epoch);
+
+  VirtualTimeClockOptions options_;
+  std::shared_ptr<Core> core_;
+};
+
+}  // namespace hrgbench::mock
