@@ -12,7 +12,7 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
-#include "app/estimate_method.hpp"
+#include "hrgbench/bench/estimate_method.hpp"
 #include "app/logging.hpp"
 #include "hrgbench/session/session.hpp"
 
@@ -47,8 +47,8 @@ std::string Number(double value, const char* format) {
 int Run(const std::string& dir) {
   session::ReadOptions read_options;
   read_options.min_samples_per_run =
-      std::max({app::MinimumSamples(app::Method::kMl), app::MinimumSamples(app::Method::kPaper),
-                app::MinimumSamples(app::Method::kPaperXiGrid)});
+      std::max({bench::MinimumSamples(bench::Method::kMl), bench::MinimumSamples(bench::Method::kPaper),
+                bench::MinimumSamples(bench::Method::kPaperXiGrid)});
   auto session = session::ReadSession(dir, read_options);
   if (!session) {
     std::cerr << session.error().ToString() << '\n';
@@ -64,11 +64,11 @@ int Run(const std::string& dir) {
 
   struct Row {
     const char* label;
-    app::MethodRequest request;
+    bench::MethodRequest request;
   };
-  const Row rows[] = {{"paper (no xi)", {app::Method::kPaper, std::nullopt}},
-                      {"paper xi1 grid", {app::Method::kPaperXiGrid, std::nullopt}},
-                      {"ML (all xi)", {app::Method::kMl, estimator::kAllXi}}};
+  const Row rows[] = {{"paper (no xi)", {bench::Method::kPaper, std::nullopt}},
+                      {"paper xi1 grid", {bench::Method::kPaperXiGrid, std::nullopt}},
+                      {"ML (all xi)", {bench::Method::kMl, estimator::kAllXi}}};
 
   std::printf("session: %s (%zu runs)\n", dir.c_str(), runs.size());
   if (truth) {
@@ -81,7 +81,7 @@ int Run(const std::string& dir) {
   std::vector<std::string> warnings;
   for (const Row& row : rows) {
     spdlog::info("running {}", row.label);
-    const app::MethodResult result = app::RunMethod(runs, row.request);
+    const bench::MethodResult result = bench::RunMethod(runs, row.request);
     const estimator::EstimateSummary& s = result.summary;
     all_usable = all_usable && s.IsUsable();
     const double deviation =

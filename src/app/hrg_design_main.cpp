@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "app/cli_exit.hpp"
-#include "app/estimate_report_json.hpp"
+#include "hrgbench/bench/estimate_report_json.hpp"
 #include "app/logging.hpp"
 #include "app/sim_spec.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
@@ -47,9 +47,9 @@ std::string Cell(double value) {
 nlohmann::json CaseJson(const estimator::CrlbResult& result, const estimator::XiMask& xi_unknown) {
   nlohmann::json delta_std = nlohmann::json::array();
   nlohmann::json xi_std = nlohmann::json::array();
-  for (int i = 0; i < 6; ++i) delta_std.push_back(app::NumberOrNull(result.delta_std(i)));
+  for (int i = 0; i < 6; ++i) delta_std.push_back(bench::NumberOrNull(result.delta_std(i)));
   for (int i = 0; i < 4; ++i) {
-    xi_std.push_back(xi_unknown[static_cast<std::size_t>(i)] ? app::NumberOrNull(result.xi_std(i))
+    xi_std.push_back(xi_unknown[static_cast<std::size_t>(i)] ? bench::NumberOrNull(result.xi_std(i))
                                                              : nlohmann::json());
   }
   const auto& id = result.identifiability;
@@ -58,7 +58,7 @@ nlohmann::json CaseJson(const estimator::CrlbResult& result, const estimator::Xi
           {"samples", result.samples},
           {"delta_std", delta_std},
           {"xi_std", xi_std},
-          {"condition_number", app::NumberOrNull(id.condition_number)},
+          {"condition_number", bench::NumberOrNull(id.condition_number)},
           {"delta_identifiable", id.delta_identifiable},
           {"xi_identifiable", id.xi_identifiable},
           {"reasons", id.reasons}};

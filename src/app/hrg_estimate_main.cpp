@@ -7,8 +7,8 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
-#include "app/estimate_method.hpp"
-#include "app/estimate_report_json.hpp"
+#include "hrgbench/bench/estimate_method.hpp"
+#include "hrgbench/bench/estimate_report_json.hpp"
 #include "app/logging.hpp"
 #include "hrgbench/session/session.hpp"
 
@@ -24,16 +24,16 @@ struct Arguments {
 };
 
 int Run(const Arguments& args) {
-  app::MethodRequest request;
-  request.method = *app::ParseMethod(args.method);  // CLI11 checked membership
-  if (!args.xi.empty()) request.xi = app::ParseXiSet(args.xi);
-  if (const std::string problem = app::CheckRequest(request); !problem.empty()) {
+  bench::MethodRequest request;
+  request.method = *bench::ParseMethod(args.method);  // CLI11 checked membership
+  if (!args.xi.empty()) request.xi = bench::ParseXiSet(args.xi);
+  if (const std::string problem = bench::CheckRequest(request); !problem.empty()) {
     spdlog::error("{}", problem);
     return app::kExitBadInput;
   }
 
   session::ReadOptions read_options;
-  read_options.min_samples_per_run = app::MinimumSamples(request.method);
+  read_options.min_samples_per_run = bench::MinimumSamples(request.method);
   auto session = session::ReadSession(args.dir, read_options);
   if (!session) {
     // The message alone on stderr, unadorned, so scripts can match it (it names the file).
@@ -47,13 +47,13 @@ int Run(const Arguments& args) {
   }
   spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
 
-  app::MethodResult result = app::RunMethod(runs, request);
+  bench::MethodResult result = bench::RunMethod(runs, request);
   std::vector<std::string> warnings = result.selection_warnings;
   warnings.insert(warnings.end(), session->warnings.begin(), session->warnings.end());
 
   if (args.json) {
     std::cout
-        << app::EstimateReportJson(args.method, result.summary, warnings, session->document).dump(1)
+        << bench::EstimateReportJson(args.method, result.summary, warnings, session->document).dump(1)
         << '\n';
   } else {
     std::cout << "session: " << args.dir << " (" << runs.size() << " runs)\n";

@@ -16,7 +16,7 @@
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 
 enum class Method { kMl, kPaper, kPaperXiGrid };
 
@@ -49,4 +49,4 @@ struct MethodResult {
 // Runs the requested method on `runs` (CheckRequest must have passed).
 MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const MethodRequest& request);
 
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench

@@ -26,7 +26,7 @@
 
 #include "hrgbench/estimator/summary.hpp"
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 
 // The keys every report has ("truth" is optional and not listed).
 inline constexpr std::string_view kReportKeys[] = {"method",
@@ -54,4 +54,4 @@ nlohmann::json EstimateReportJson(std::string_view method,
 // A number, or null when not finite.
 nlohmann::json NumberOrNull(double value);
 
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench

@@ -1,4 +1,4 @@
-#include "app/estimate_method.hpp"
+#include "hrgbench/bench/estimate_method.hpp"
 
 #include <chrono>
 
@@ -6,7 +6,7 @@
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/paper_method.hpp"
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 namespace {
 
 using estimator::XiMask;
@@ -104,4 +104,4 @@ MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const Method
   return result;
 }
 
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench

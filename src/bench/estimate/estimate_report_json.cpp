@@ -1,8 +1,8 @@
-#include "app/estimate_report_json.hpp"
+#include "hrgbench/bench/estimate_report_json.hpp"
 
 #include <cmath>
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 namespace {
 
 template <typename Vector>
@@ -70,4 +70,4 @@ nlohmann::json EstimateReportJson(std::string_view method,
   return report;
 }
 
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench

@@ -1,11 +1,11 @@
-#include "app/estimate_report_json.hpp"
+#include "hrgbench/bench/estimate_report_json.hpp"
 
 #include <gtest/gtest.h>
 
 #include <set>
 #include <string>
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 namespace {
 
 using estimator::EstimateSummary;
@@ -118,4 +118,4 @@ TEST(EstimateReportJson, TruthFromTheSessionsSimulationBlock) {
 }
 
 }  // namespace
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench
