@@ -23,6 +23,7 @@ std::expected<void, std::string> SimulatedStation::Build() {
     VirtualTimeClockOptions clock_options;
     clock_options.time_scale = options_.faster_than_real_time ? 0.0 : options_.time_scale;
     clock_options.park_after_wall_ns = options_.park_after_wall_ns;
+    clock_options.output_lookahead_ns = options_.output_lookahead_ns;
     virtual_clock_ = std::make_unique<VirtualTimeClock>(clock_options);
     clock_ = virtual_clock_.get();
   }

@@ -13,6 +13,7 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
     return fail("time_scale must be finite and > 0, got " + std::to_string(time_scale));
   }
   if (park_after_wall_ns <= 0) return fail("park_after_wall_ns must be > 0");
+  if (output_lookahead_ns < 0) return fail("output_lookahead_ns must be >= 0");
   if (!std::isfinite(earth_rate_rad_s) || std::abs(earth_rate_rad_s) > 1e-3) {
     return fail("earth_rate_rad_s must be finite and within +-1e-3 rad/s, got " +
                 std::to_string(earth_rate_rad_s));

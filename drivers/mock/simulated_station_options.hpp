@@ -28,6 +28,9 @@ struct SimulatedStationOptions {
   double time_scale = 1.0;  // used only when !faster_than_real_time; > 0
   // VirtualTimeClock: a thread not waiting on the clock this long (wall) stops holding time back.
   std::int64_t park_after_wall_ns = 200'000'000;
+  // VirtualTimeClock: how far time may run on past a frame before the thread it woke has handled
+  // it (batching; see VirtualTimeClockOptions::output_lookahead_ns). 0: strictly conservative.
+  std::int64_t output_lookahead_ns = 20'000'000;
 
   // The simulated electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes
   // (gyro.faults). Defaults: the paper's experiment, noise-free; set sigma for realism.

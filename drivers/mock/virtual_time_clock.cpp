@@ -17,6 +17,9 @@ struct ThreadRecord {
   bool wake_on_output = false;
   std::uint64_t seen_epoch = 0;
   WallClock::time_point running_since = WallClock::now();
+  // Running because output woke it (not a deadline): time may go on up to the lookahead.
+  bool woken_by_output = false;
+  std::int64_t woken_at_ns = 0;
 };
 }  // namespace
 
@@ -31,9 +34,12 @@ struct VirtualTimeClock::Core {
     }
     cv.notify_all();  // the remaining threads may all be waiting now
   }
-  bool AllWaiting() const {
-    return std::none_of(threads.begin(), threads.end(), [](const auto& entry) {
-      return entry.second.state == ThreadRecord::State::kRunning;
+  // True when no running thread forbids moving time to `next_ns`.
+  bool MayAdvanceTo(std::int64_t next_ns) const {
+    return std::none_of(threads.begin(), threads.end(), [&](const auto& entry) {
+      const ThreadRecord& r = entry.second;
+      return r.state == ThreadRecord::State::kRunning &&
+             (!r.woken_by_output || next_ns > r.woken_at_ns + options.output_lookahead_ns);
     });
   }
   // Marks the waiters that may go as running; true if any. Requires mutex.
@@ -42,18 +48,20 @@ struct VirtualTimeClock::Core {
     bool woke = false;
     for (auto& [id, record] : threads) {
       if (record.state != ThreadRecord::State::kWaiting) continue;
-      if (record.deadline_ns <= now ||
-          (record.wake_on_output && record.seen_epoch != current_epoch)) {
+      const bool deadline = record.deadline_ns <= now;
+      if (deadline || (record.wake_on_output && record.seen_epoch != current_epoch)) {
         record.state = ThreadRecord::State::kRunning;
         record.running_since = WallClock::now();
+        record.woken_by_output = !deadline;
+        record.woken_at_ns = now;
         woke = true;
       }
     }
     return woke;
   }
-  // One step: to the next event, serving the participants due then. Requires mutex (held by
-  // `lock`); may release it while pacing.
-  void AdvanceOnce(std::unique_lock<std::mutex>& lock);
+  // One step: to the next event, serving the participants due then. False (nothing done) when a
+  // running thread forbids it. Requires mutex (held by `lock`); may release it while pacing.
+  bool AdvanceOnce(std::unique_lock<std::mutex>& lock);
 
   const VirtualTimeClockOptions options;
   std::mutex mutex;
@@ -82,7 +90,7 @@ struct ThreadAttachments {
 thread_local ThreadAttachments t_attachments;
 }  // namespace
 
-void VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
+bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   const std::int64_t now = now_ns.load(std::memory_order_relaxed);
   std::int64_t next = kNever;
   for (const auto& [id, record] : threads) {
@@ -91,7 +99,7 @@ void VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   for (gyro_sim::SimulationParticipant* p : participants) {
     next = std::min(next, std::max(p->NextEventNs(), now));
   }
-  if (next == kNever) return;  // nothing to wait for (cannot happen: the caller waits)
+  if (next == kNever || !MayAdvanceTo(next)) return false;
   if (options.time_scale > 0.0 && next > now) {
     const auto wall_target =
         wall_start + std::chrono::nanoseconds(static_cast<std::int64_t>(
@@ -100,7 +108,7 @@ void VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
       pacing = true;
       cv.wait_until(lock, wall_target);
       pacing = false;
-      return;  // the caller re-evaluates: someone may have come or gone meanwhile
+      return true;  // the caller re-evaluates: someone may have come or gone meanwhile
     }
   }
   now_ns.store(next, std::memory_order_release);
@@ -116,11 +124,16 @@ void VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
     ++statistics.outputs;
   }
   if (WakeDue(epoch.load(std::memory_order_acquire))) cv.notify_all();
+  return true;
 }
 
 bool VirtualTimeClockOptions::IsValid(std::string* why) const {
   if (!std::isfinite(time_scale) || time_scale < 0.0) {
     if (why != nullptr) *why = "time_scale must be finite and >= 0 (0: as fast as possible)";
+    return false;
+  }
+  if (output_lookahead_ns < 0) {
+    if (why != nullptr) *why = "output_lookahead_ns must be >= 0";
     return false;
   }
   if (park_after_wall_ns <= 0) {
@@ -176,6 +189,7 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
       (wake_on_output && core.epoch.load(std::memory_order_acquire) != seen_epoch)) {
     self.state = ThreadRecord::State::kRunning;
     self.running_since = WallClock::now();
+    self.woken_by_output = false;
     return;
   }
   self.state = ThreadRecord::State::kWaiting;
@@ -184,10 +198,7 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
   self.seen_epoch = seen_epoch;
   const auto park_after = std::chrono::nanoseconds(options_.park_after_wall_ns);
   while (self.state == ThreadRecord::State::kWaiting) {
-    if (!core.pacing && core.AllWaiting()) {
-      core.AdvanceOnce(lock);
-      continue;
-    }
+    if (!core.pacing && core.AdvanceOnce(lock)) continue;
     if (core.pacing) {
       core.cv.wait(lock);
       continue;
@@ -234,6 +245,7 @@ void VirtualTimeClock::AttachCurrentThread() {
   if (inserted) t_attachments.cores.push_back(core_);
   it->second.state = ThreadRecord::State::kRunning;
   it->second.running_since = WallClock::now();
+  it->second.woken_by_output = false;
 }
 
 void VirtualTimeClock::DetachCurrentThread() { core_->Detach(std::this_thread::get_id()); }
