@@ -15,21 +15,15 @@
 #include <string_view>
 #include <vector>
 
+#include "hrgbench/bench/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 
 namespace hrgbench::app {
 
-struct ConfigError {
-  std::filesystem::path file;
-  std::size_t line = 0;  // 1-based; 0 when not about a line (file unreadable)
-  std::string key;       // dotted path; empty when not about a key (TOML syntax error)
-  std::string value;     // the offending value as written in TOML; empty when missing
-  std::string message;   // what is wrong and what is expected
-
-  // "<file>:<line>: key '<key>' = <value>: <message>" (parts omitted when empty or 0).
-  std::string ToString() const;
-};
+// The project's config error (file, line, key, value, message); see
+// hrgbench/bench/config_error.hpp.
+using ConfigError = bench::ConfigError;
 
 struct SimSpec {
   std::filesystem::path file;  // where it was loaded from (for messages and provenance)

@@ -1,7 +1,8 @@
 #pragma once
-// SHA-256 (FIPS 180-4), small and self-contained: the tools record the hash of the config file that
-// produced a session ("spec_sha256") so a session can be traced back to the exact bytes of its
-// spec. Not constant-time and not meant for secrets; it only fingerprints files.
+// SHA-256 (FIPS 180-4), small and self-contained: sessions record the hash of every config file
+// that produced them (hrg-sim "spec_sha256", hrg-bench the station, sequence and limits hashes) so
+// a session can be traced back to the exact bytes of its configs. Not constant-time and not meant
+// for secrets; it only fingerprints files.
 
 #include <array>
 #include <cstddef>
@@ -11,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace hrgbench::app {
+namespace hrgbench::bench {
 
 class Sha256 {
  public:
@@ -41,4 +42,4 @@ std::string Sha256Hex(std::string_view bytes);
 // Hex SHA-256 of a file's bytes; the error says which file could not be read and why.
 std::expected<std::string, std::string> Sha256FileHex(const std::filesystem::path& path);
 
-}  // namespace hrgbench::app
+}  // namespace hrgbench::bench

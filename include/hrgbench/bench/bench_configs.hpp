@@ -1,0 +1,42 @@
+#pragma once
+// The three files of a bench session, loaded and checked together: what `hrg-bench check S Q L`
+// validates and what `hrg-bench run` starts from.
+//
+// Besides each file's own checks, the combination is checked (each error names the file and line
+// where the fix belongs):
+//   - every run's |Ω| is within the station's table.max_rate_rad_s (sequence file, the run's line);
+//   - every run's sample rate fits the gyro link: classic CAN carries at most
+//     kMaxClassicCanSampleRateHz; more needs gyro.fd = true (sequence file);
+//   - every limited parameter can be determined by the sequence's rates, Earth rate included
+//     (δ2 needs Ω ≠ 0, ξ two distinct Ω; estimator/identifiability.hpp) (limits file, its line).
+//
+// Not thread-safe; not for real-time use; never throws (except std::bad_alloc).
+
+#include <expected>
+#include <filesystem>
+
+#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/bench/limits_config.hpp"
+#include "hrgbench/bench/sequence_config.hpp"
+#include "hrgbench/bench/station_config.hpp"
+
+namespace hrgbench::bench {
+
+// hw/gyro_electronics.hpp GyroConfig: the classic-CAN sample stream's ceiling.
+inline constexpr std::uint32_t kMaxClassicCanSampleRateHz = 2000;
+
+struct BenchConfigs {
+  StationConfig station;
+  SequenceConfig sequence;
+  LimitsConfig limits;  // empty (no file, no limits) when loaded without a limits file
+};
+
+// `limits_path` empty: no limits file (`hrg-bench run` without --limits; nothing is judged).
+std::expected<BenchConfigs, ConfigError> LoadBenchConfigs(
+    const std::filesystem::path& station_path, const std::filesystem::path& sequence_path,
+    const std::filesystem::path& limits_path);
+
+// The cross-file checks alone, on configs already loaded (for configs parsed from memory).
+std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs);
+
+}  // namespace hrgbench::bench

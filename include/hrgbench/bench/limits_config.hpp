@@ -1,0 +1,65 @@
+#pragma once
+// LimitsConfig: the product's acceptance limits (bench_configs/limits-*.toml): an allowed range
+// [min, max] for any of the estimated parameters δ1…δ6, ξ1…ξ4, and for the fit's residual RMS and
+// noise σ̂. A quantity without a limit is not judged. The verdict (verdict.hpp) applies them to an
+// estimate: outside its range is a FAIL of the unit (STYLE rule 9).
+//
+// Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
+// for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
+
+#include <array>
+#include <cstddef>
+#include <expected>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrgbench/bench/config_error.hpp"
+
+namespace hrgbench::bench {
+
+// What a limit can be put on; the names are the keys in the file and in the verdict.
+enum class LimitedQuantity {
+  kDelta1,
+  kDelta2,
+  kDelta3,
+  kDelta4,
+  kDelta5,
+  kDelta6,
+  kXi1,
+  kXi2,
+  kXi3,
+  kXi4,
+  kResidualRms,
+  kNoiseSigma,
+};
+inline constexpr std::size_t kLimitedQuantityCount = 12;
+inline constexpr std::array<std::string_view, kLimitedQuantityCount> kLimitedQuantityNames = {
+    "delta1", "delta2", "delta3", "delta4", "delta5",       "delta6",
+    "xi1",    "xi2",    "xi3",    "xi4",    "residual_rms", "noise_sigma"};
+
+std::string_view ToString(LimitedQuantity quantity) noexcept;
+
+struct ParameterLimit {
+  LimitedQuantity quantity = LimitedQuantity::kDelta1;
+  double min = 0.0;      // inclusive; same unit as the parameter (bench_configs/README.md)
+  double max = 0.0;      // inclusive; min <= max
+  std::size_t line = 0;  // where the limit was written
+};
+
+struct LimitsConfig {
+  std::filesystem::path file;  // where it was loaded from; empty: no limits file
+  std::string sha256_hex;      // SHA-256 of the file's bytes; empty: no limits file
+
+  std::string name;  // [limits] name (required in a file)
+  std::string description;
+  std::vector<ParameterLimit>
+      limits;  // in the order of LimitedQuantity; each quantity at most once
+};
+
+std::expected<LimitsConfig, ConfigError> LoadLimitsConfig(const std::filesystem::path& file);
+std::expected<LimitsConfig, ConfigError> ParseLimitsConfig(std::string_view toml_text,
+                                                           const std::filesystem::path& file);
+
+}  // namespace hrgbench::bench

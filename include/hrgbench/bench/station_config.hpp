@@ -1,0 +1,157 @@
+#pragma once
+// StationConfig: the facts of one bench station (bench_configs/station-*.toml): which hardware it
+// has (simulated in-process, or a real gyro on a CAN interface and a rate table over Modbus), where
+// it stands (latitude, orientation of the table axis, for the Earth-rate part of Ω) and how the
+// capture thread may be scheduled. Plain data; every key, unit and default is documented in
+// bench_configs/README.md, and the in-class defaults below are the documented ones.
+//
+// Loading is strict (STYLE rule 10): unknown keys, wrong types, out-of-range values, missing
+// required keys, bad enum strings and keys that do not apply to the station's kind are errors
+// naming the file, the line, the key and the value. The loader does not touch any hardware.
+//
+// Not thread-safe; no real-time use (allocates). Loaders return std::expected, never throw
+// (except std::bad_alloc).
+
+#include <array>
+#include <cstdint>
+#include <expected>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/estimator/parameters.hpp"
+
+namespace hrgbench::bench {
+
+enum class StationKind { kSimulated, kReal };
+std::string_view ToString(StationKind kind) noexcept;  // "simulated", "real"
+
+enum class TableTransport { kTcp, kRtu };
+std::string_view ToString(TableTransport transport) noexcept;  // "tcp", "rtu"
+
+// Earth's sidereal rotation rate (WGS-84 / IERS value), rad/s.
+inline constexpr double kEarthRateRadS = 7.2921150e-5;
+
+// Where the station stands and how its sensitive axis points. The gyro's sensitive axis is the
+// table's rotation axis (that is what makes the table rate Ω), fixed in the local level frame, so
+// the Earth-rate component on it is a constant per station.
+struct SiteConfig {
+  double latitude_deg = 0.0;  // geodetic latitude φ, [-90, 90], north positive
+  // Unit vector of the sensitive axis in the local level frame (east, north, up); normalised by
+  // the loader. Default: the axis points up (a table with a vertical axis).
+  std::array<double, 3> axis_enu = {0.0, 0.0, 1.0};
+};
+
+// [gyro]: the gyro electronics' link. Timeouts apply to the simulated station too (its simulated
+// electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
+struct GyroLinkConfig {
+  std::string can_interface;         // real: SocketCAN interface name ("can0", "vcan0")
+  std::int64_t bitrate = 1'000'000;  // real: nominal bit rate, bit/s (set by `ip link`; checked)
+  bool fd = false;                   // ask for the CAN FD sample stream when the interface has FD
+  std::int64_t data_bitrate = 2'000'000;  // real, fd only: FD data-phase bit rate, bit/s
+  std::int64_t ack_timeout_ms = 50;       // per command attempt; the electronics answer in < 5 ms
+  std::int64_t command_attempts = 3;      // attempts per command (a lost frame costs one retry)
+  std::int64_t status_poll_ms = 20;       // status request period while waiting for "ready"
+  std::int64_t sample_timeout_ms = 100;   // no sample for this long in a free run: "gyro stopped"
+};
+
+// [table]: the rate table. The software limits and the acceleration apply to both kinds; the
+// Modbus link keys only to kind = "real" (the simulated table is in-process, no link).
+struct TableLinkConfig {
+  TableTransport transport = TableTransport::kTcp;
+  std::string host;                        // tcp: controller address (required)
+  std::int64_t port = 502;                 // tcp
+  std::string device;                      // rtu: serial device (required)
+  std::int64_t baud = 115200;              // rtu
+  char parity = 'N';                       // rtu: 'N', 'E', 'O'
+  std::int64_t data_bits = 8;              // rtu
+  std::int64_t stop_bits = 1;              // rtu
+  std::int64_t unit_id = 1;                // Modbus unit id 1..247
+  std::int64_t response_timeout_ms = 200;  // per transaction attempt
+  std::int64_t byte_timeout_ms = 50;       // rtu: gap allowed inside one reply
+  std::int64_t transaction_attempts = 2;
+  std::int64_t connect_attempts = 3;
+  std::int64_t reconnect_backoff_ms = 100;
+  std::int64_t heartbeat_period_ms = 200;  // <= watchdog_ms / 2
+  std::int64_t safe_stop_budget_ms = 1000;
+  // Both kinds:
+  std::int64_t watchdog_ms = 1000;  // the table stops itself without a heartbeat this long
+  double max_rate_rad_s = 10.0;     // software limit: no |Ω| above it is ever commanded
+  double max_accel_rad_s2 = 5.0;    // software limit on the acceleration setting
+  double accel_rad_s2 = 1.0;        // acceleration limit written at connect, <= max_accel_rad_s2
+};
+
+// [simulated.faults]: failure injection for tests; everything off by default. Absent optionals
+// mean "never".
+struct SimulatedFaults {
+  bool table_never_stable = false;                         // the table's rate never settles
+  std::optional<double> table_fault_after_s;               // table latches a drive fault after t s
+  std::optional<double> table_unresponsive_after_s;        // table stops answering after t s
+  std::optional<std::int64_t> gyro_stall_after_samples;    // gyro stops streaming in a free run
+  std::optional<std::int64_t> gyro_bus_off_after_samples;  // the bus goes bus-off in a free run
+  std::int64_t gyro_drop_every_nth_sample = 0;  // drop every n-th sample frame (0 = none)
+  bool gyro_never_ready = false;                // excitation never reports ready
+};
+
+// [simulated]: the in-process simulated station (drivers/sim physics, seeded, reproducible).
+struct SimulatedStationConfig {
+  // true: simulated time on a manual clock, advanced as fast as the CPU allows (CI);
+  // false: paced on the wall clock at time_scale.
+  bool faster_than_real_time = false;
+  double time_scale = 1.0;  // simulated s per wall-clock s when paced; 1 = real time
+  // The truth the simulated gyro follows (MODEL.md).
+  estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
+  estimator::Xi xi = (estimator::Xi() << 0.01, 0.0, 0.0, 0.0).finished();
+  double sigma = 1e-4;  // white noise std per channel of y (amplitude units); 0 = noise-free
+  std::uint64_t seed = 1;
+  double resonant_frequency_hz = 5000.0;
+  double temperature_c = 25.0;             // resonator housing at the start
+  double temperature_drift_c_per_s = 0.0;  // linear drift (tests the warm-up and drift checks)
+  double excite_time_s = 0.2;              // time from Excite to "ready"
+  // Table physics (drivers/sim/table_physics.hpp).
+  double table_settle_time_constant_s = 0.05;
+  double table_noise_rad_s = 2e-5;  // measured-rate noise, 1 σ
+  double table_stable_tolerance_rad_s = 1e-3;
+  double table_stable_hold_s = 0.2;
+  SimulatedFaults faults;
+};
+
+// [realtime]: how the capture thread is scheduled. The app records what it actually got.
+struct RealtimeConfig {
+  int priority = 0;          // SCHED_FIFO priority 1..99; 0 = normal scheduling
+  int cpu = -1;              // pin the capture thread to this CPU; -1 = any
+  bool lock_memory = false;  // mlockall(MCL_CURRENT | MCL_FUTURE) before the first run
+};
+
+struct StationConfig {
+  std::filesystem::path file;  // where it was loaded from
+  std::string sha256_hex;      // SHA-256 of the file's bytes (recorded in the session)
+
+  std::string name;  // [station] name, recorded in the session (required)
+  std::string description;
+  StationKind kind = StationKind::kSimulated;
+  SiteConfig site;
+  GyroLinkConfig gyro;
+  TableLinkConfig table;
+  SimulatedStationConfig simulated;  // meaningful only for kind = kSimulated
+  RealtimeConfig realtime;
+};
+
+// Ω_earth on the sensitive axis, rad/s: the Earth-rate vector in the local level frame (east,
+// north, up) is Ω_E·(0, cos φ, sin φ), so its component on the unit axis u is
+// Ω_E·(u_n·cos φ + u_u·sin φ). Axis up at 45° N: Ω_E·sin 45°; axis north at the equator: Ω_E.
+double EarthRateOnAxisRadS(const StationConfig& station);
+double EarthRateOnAxisRadS(double latitude_deg, const std::array<double, 3>& axis_enu);
+
+// Unit vector in (east, north, up) from elevation above the horizon and azimuth clockwise from
+// north (navigation convention): (cos el·sin az, cos el·cos az, sin el).
+std::array<double, 3> AxisFromElevationAzimuth(double elevation_deg, double azimuth_deg);
+
+std::expected<StationConfig, ConfigError> LoadStationConfig(const std::filesystem::path& file);
+// The same from text in memory; `file` is only used in messages.
+std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view toml_text,
+                                                             const std::filesystem::path& file);
+
+}  // namespace hrgbench::bench

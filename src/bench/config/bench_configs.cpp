@@ -1,0 +1,100 @@
+#include "hrgbench/bench/bench_configs.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "hrgbench/estimator/identifiability.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+// Shortest text that reads back to the same double: the loaded value as close to the written one
+// as a double allows.
+std::string Shortest(double v) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof(text), v);
+  return std::string(text, result.ptr);
+}
+
+std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
+  const StationConfig& station = configs.station;
+  const SequenceConfig& sequence = configs.sequence;
+  for (std::size_t i = 0; i < sequence.runs.size(); ++i) {
+    const SequenceRun& run = sequence.runs[i];
+    const std::string run_key = "runs[" + std::to_string(i) + "]";
+    if (std::abs(run.omega_rad_s) > station.table.max_rate_rad_s) {
+      return std::unexpected(ConfigError{
+          sequence.file, run.omega_line, run_key + ".omega_rad_s", Shortest(run.omega_rad_s),
+          "out of range for station '" + station.name + "' (" + station.file.string() +
+              "): |omega| must be <= table.max_rate_rad_s = " +
+              Shortest(station.table.max_rate_rad_s)});
+    }
+    if (!station.gyro.fd && run.sample_rate_hz > kMaxClassicCanSampleRateHz) {
+      return std::unexpected(ConfigError{
+          sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
+          std::to_string(run.sample_rate_hz),
+          "out of range for station '" + station.name + "' (" + station.file.string() +
+              "): classic CAN carries at most 2000 samples/s; more needs gyro.fd = true"});
+    }
+  }
+  return {};
+}
+
+std::expected<void, ConfigError> CheckIdentifiable(const BenchConfigs& configs) {
+  // The estimator sees table rate + Earth rate, so the plan is judged on those.
+  const double earth_rad_s = EarthRateOnAxisRadS(configs.station);
+  std::vector<double> omegas;
+  for (const SequenceRun& run : configs.sequence.runs)
+    omegas.push_back(run.omega_rad_s + earth_rad_s);
+  const estimator::IdentifiabilityReport report =
+      estimator::CheckRatePlan(omegas, estimator::kAllXi);
+  for (const ParameterLimit& limit : configs.limits.limits) {
+    const auto q = static_cast<std::size_t>(limit.quantity);
+    bool identifiable = true;
+    if (q <= static_cast<std::size_t>(LimitedQuantity::kDelta6)) {
+      identifiable = report.delta_identifiable[q];
+    } else if (q <= static_cast<std::size_t>(LimitedQuantity::kXi4)) {
+      identifiable = report.xi_identifiable[q - static_cast<std::size_t>(LimitedQuantity::kXi1)];
+    }
+    if (!identifiable) {
+      std::string why;
+      for (const std::string& reason : report.reasons) why += (why.empty() ? "" : "; ") + reason;
+      return std::unexpected(ConfigError{
+          configs.limits.file, limit.line, "limits." + std::string(ToString(limit.quantity)),
+          "[" + Shortest(limit.min) + ", " + Shortest(limit.max) + "]",
+          "cannot be judged: the sequence " + configs.sequence.file.string() +
+              " does not determine it (" + why + ")"});
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs) {
+  if (auto ok = CheckRuns(configs); !ok) return ok;
+  return CheckIdentifiable(configs);
+}
+
+std::expected<BenchConfigs, ConfigError> LoadBenchConfigs(
+    const std::filesystem::path& station_path, const std::filesystem::path& sequence_path,
+    const std::filesystem::path& limits_path) {
+  BenchConfigs configs;
+  auto station = LoadStationConfig(station_path);
+  if (!station) return std::unexpected(station.error());
+  configs.station = std::move(*station);
+  auto sequence = LoadSequenceConfig(sequence_path);
+  if (!sequence) return std::unexpected(sequence.error());
+  configs.sequence = std::move(*sequence);
+  if (!limits_path.empty()) {
+    auto limits = LoadLimitsConfig(limits_path);
+    if (!limits) return std::unexpected(limits.error());
+    configs.limits = std::move(*limits);
+  }
+  if (auto ok = CheckBenchConfigs(configs); !ok) return std::unexpected(ok.error());
+  return configs;
+}
+
+}  // namespace hrgbench::bench

@@ -1,0 +1,82 @@
+// Loader of limits files.
+
+#include <string>
+#include <utility>
+
+#include "bench/config/toml_reader.hpp"
+#include "hrgbench/bench/limits_config.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+
+std::expected<ParameterLimit, ConfigError> ReadLimit(const TableReader& reader,
+                                                     const toml::node& node,
+                                                     LimitedQuantity quantity) {
+  const std::string_view key = ToString(quantity);
+  HRG_TRY(range, VectorFrom<2>(reader, node, key, kAnyFinite));
+  ParameterLimit limit;
+  limit.quantity = quantity;
+  limit.min = (*range)(0);
+  limit.max = (*range)(1);
+  limit.line = LineOf(node);
+  if (limit.min > limit.max) {
+    return std::unexpected(
+        reader.Error(node, key, "out of range: must be [min, max] with min <= max"));
+  }
+  if ((quantity == LimitedQuantity::kResidualRms || quantity == LimitedQuantity::kNoiseSigma) &&
+      limit.min < 0.0) {
+    return std::unexpected(
+        reader.Error(node, key, "out of range: an RMS or a sigma is >= 0, so min must be >= 0"));
+  }
+  return limit;
+}
+
+std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document,
+                                                    const std::filesystem::path& file) {
+  const Source source(file, document.text);
+  LimitsConfig limits;
+  limits.file = file;
+  limits.sha256_hex = document.sha256_hex;
+  TableReader root(document.root, "", source);
+
+  HRG_TRY(header, SubTable(root, "limits", true));
+  TableReader reader(**header, "limits", source);
+  HRG_TRY(name, RequiredString(reader, "name"));
+  limits.name = *name;
+  HRG_TRY(description, OptionalString(reader, "description", "", false));
+  limits.description = *description;
+  for (std::size_t q = 0; q < kLimitedQuantityCount; ++q) {
+    const auto quantity = static_cast<LimitedQuantity>(q);
+    const toml::node* node = reader.Find(ToString(quantity));
+    if (node == nullptr) continue;
+    HRG_TRY(limit, ReadLimit(reader, *node, quantity));
+    limits.limits.push_back(*limit);
+  }
+  HRG_CHECK(reader.Unknown(
+      "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma (each "
+      "[min, max])"));
+  HRG_CHECK(root.Unknown("[limits]"));
+  return limits;
+}
+
+}  // namespace
+
+std::string_view ToString(LimitedQuantity quantity) noexcept {
+  const auto index = static_cast<std::size_t>(quantity);
+  return index < kLimitedQuantityCount ? kLimitedQuantityNames[index] : "?";
+}
+
+std::expected<LimitsConfig, ConfigError> ParseLimitsConfig(std::string_view toml_text,
+                                                           const std::filesystem::path& file) {
+  HRG_TRY(document, ParseTomlText(toml_text, file));
+  return ReadLimits(*document, file);
+}
+
+std::expected<LimitsConfig, ConfigError> LoadLimitsConfig(const std::filesystem::path& file) {
+  HRG_TRY(document, LoadTomlFile(file));
+  return ReadLimits(*document, file);
+}
+
+}  // namespace hrgbench::bench

@@ -1,0 +1,400 @@
+// Loader of station files. Reads table by table; each table reader reports its unknown keys last,
+// so a misspelt key is reported even when everything else is right.
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <utility>
+
+#include "bench/config/toml_reader.hpp"
+#include "hrgbench/bench/station_config.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::string_view kRealOnly = "applies only to kind = \"real\"";
+
+std::expected<SiteConfig, ConfigError> ReadSite(TableReader& reader) {
+  SiteConfig site;
+  HRG_TRY(latitude, RequiredNumber(reader, "latitude_deg", {-90.0, 90.0, true, "in [-90, 90]"}));
+  site.latitude_deg = *latitude;
+
+  const toml::node* enu = reader.Find("axis_enu");
+  const toml::node* elevation = reader.Find("axis_elevation_deg");
+  const toml::node* azimuth = reader.Find("axis_azimuth_deg");
+  if (enu != nullptr && (elevation != nullptr || azimuth != nullptr)) {
+    return std::unexpected(reader.Error(
+        *enu, "axis_enu",
+        "conflict: give the axis either as axis_enu or as axis_elevation_deg/axis_azimuth_deg"));
+  }
+  if (enu != nullptr) {
+    HRG_TRY(v, VectorFrom<3>(reader, *enu, "axis_enu", kAnyFinite));
+    const double norm = v->norm();
+    // A unit vector written with 4-5 digits is within 1e-3 of length 1; anything further off is a
+    // mistyped component, not rounding.
+    if (std::abs(norm - 1.0) > 1e-3) {
+      return std::unexpected(reader.Error(*enu, "axis_enu",
+                                          "out of range: must be a unit vector (east, north, up), "
+                                          "|v| within 1e-3 of 1, got |v| = " +
+                                              std::to_string(norm)));
+    }
+    site.axis_enu = {(*v)(0) / norm, (*v)(1) / norm, (*v)(2) / norm};
+  } else if (elevation != nullptr || azimuth != nullptr) {
+    if (elevation == nullptr)
+      return std::unexpected(reader.Missing("axis_elevation_deg", "a number in [-90, 90]"));
+    if (azimuth == nullptr)
+      return std::unexpected(reader.Missing("axis_azimuth_deg", "a number in [0, 360)"));
+    HRG_TRY(el, NumberFrom(reader, *elevation, "axis_elevation_deg",
+                           {-90.0, 90.0, true, "in [-90, 90]"}));
+    HRG_TRY(az, NumberFrom(reader, *azimuth, "axis_azimuth_deg",
+                           {0.0, 360.0, true, "in [0, 360)", false}));
+    site.axis_enu = AxisFromElevationAzimuth(*el, *az);
+  }
+  HRG_CHECK(reader.Unknown("latitude_deg, axis_enu, axis_elevation_deg, axis_azimuth_deg"));
+  return site;
+}
+
+std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, StationKind kind) {
+  GyroLinkConfig gyro;
+  HRG_TRY(fd, OptionalBool(reader, "fd", gyro.fd));
+  gyro.fd = *fd;
+  if (kind == StationKind::kReal) {
+    HRG_TRY(iface, RequiredString(reader, "can_interface"));
+    // IFNAMSIZ is 16 including the terminating zero.
+    if (iface->size() > 15) {
+      return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
+                                          "out of range: a Linux interface name has <= 15 "
+                                          "characters"));
+    }
+    gyro.can_interface = *iface;
+    HRG_TRY(bitrate, OptionalInteger(reader, "bitrate", 10'000, 1'000'000, gyro.bitrate));
+    gyro.bitrate = *bitrate;
+    if (gyro.fd) {
+      HRG_TRY(data, OptionalInteger(reader, "data_bitrate", 10'000, 8'000'000, gyro.data_bitrate));
+      gyro.data_bitrate = *data;
+      if (gyro.data_bitrate < gyro.bitrate) {
+        return std::unexpected(reader.Error(
+            *reader.table().get("data_bitrate"), "data_bitrate",
+            "out of range: must be >= bitrate (" + std::to_string(gyro.bitrate) + ")"));
+      }
+    } else {
+      HRG_CHECK(Forbid(reader, "data_bitrate", "applies only with fd = true"));
+    }
+  } else {
+    for (std::string_view key : {"can_interface", "bitrate", "data_bitrate"})
+      HRG_CHECK(Forbid(reader, key, kRealOnly));
+  }
+  HRG_TRY(ack, OptionalInteger(reader, "ack_timeout_ms", 1, 10'000, gyro.ack_timeout_ms));
+  gyro.ack_timeout_ms = *ack;
+  HRG_TRY(attempts, OptionalInteger(reader, "command_attempts", 1, 10, gyro.command_attempts));
+  gyro.command_attempts = *attempts;
+  HRG_TRY(poll, OptionalInteger(reader, "status_poll_ms", 1, 10'000, gyro.status_poll_ms));
+  gyro.status_poll_ms = *poll;
+  HRG_TRY(sample, OptionalInteger(reader, "sample_timeout_ms", 1, 60'000, gyro.sample_timeout_ms));
+  gyro.sample_timeout_ms = *sample;
+  HRG_CHECK(
+      reader.Unknown("can_interface, bitrate, fd, data_bitrate, ack_timeout_ms, command_attempts, "
+                     "status_poll_ms, sample_timeout_ms"));
+  return gyro;
+}
+
+std::expected<void, ConfigError> ReadTableLink(TableReader& reader, TableLinkConfig& table) {
+  HRG_TRY(transport, Choice(reader, "transport", {"tcp", "rtu"}, -1));
+  table.transport = *transport == 0 ? TableTransport::kTcp : TableTransport::kRtu;
+  if (table.transport == TableTransport::kTcp) {
+    HRG_TRY(host, RequiredString(reader, "host"));
+    table.host = *host;
+    HRG_TRY(port, OptionalInteger(reader, "port", 1, 65535, table.port));
+    table.port = *port;
+    for (std::string_view key :
+         {"device", "baud", "parity", "data_bits", "stop_bits", "byte_timeout_ms"}) {
+      HRG_CHECK(Forbid(reader, key, "applies only to transport = \"rtu\""));
+    }
+  } else {
+    HRG_TRY(device, RequiredString(reader, "device"));
+    table.device = *device;
+    HRG_TRY(baud, OptionalInteger(reader, "baud", 300, 4'000'000, table.baud));
+    table.baud = *baud;
+    HRG_TRY(parity, Choice(reader, "parity", {"N", "E", "O"}, 0));
+    table.parity = "NEO"[*parity];
+    HRG_TRY(data_bits, OptionalInteger(reader, "data_bits", 5, 8, table.data_bits));
+    table.data_bits = *data_bits;
+    HRG_TRY(stop_bits, OptionalInteger(reader, "stop_bits", 1, 2, table.stop_bits));
+    table.stop_bits = *stop_bits;
+    HRG_TRY(byte_timeout,
+            OptionalInteger(reader, "byte_timeout_ms", 1, 60'000, table.byte_timeout_ms));
+    table.byte_timeout_ms = *byte_timeout;
+    for (std::string_view key : {"host", "port"})
+      HRG_CHECK(Forbid(reader, key, "applies only to transport = \"tcp\""));
+  }
+  HRG_TRY(unit, OptionalInteger(reader, "unit_id", 1, 247, table.unit_id));
+  table.unit_id = *unit;
+  HRG_TRY(response,
+          OptionalInteger(reader, "response_timeout_ms", 1, 60'000, table.response_timeout_ms));
+  table.response_timeout_ms = *response;
+  HRG_TRY(transactions,
+          OptionalInteger(reader, "transaction_attempts", 1, 10, table.transaction_attempts));
+  table.transaction_attempts = *transactions;
+  HRG_TRY(connects, OptionalInteger(reader, "connect_attempts", 1, 10, table.connect_attempts));
+  table.connect_attempts = *connects;
+  HRG_TRY(backoff,
+          OptionalInteger(reader, "reconnect_backoff_ms", 0, 10'000, table.reconnect_backoff_ms));
+  table.reconnect_backoff_ms = *backoff;
+  HRG_TRY(heartbeat,
+          OptionalInteger(reader, "heartbeat_period_ms", 1, 30'000, table.heartbeat_period_ms));
+  table.heartbeat_period_ms = *heartbeat;
+  HRG_TRY(budget,
+          OptionalInteger(reader, "safe_stop_budget_ms", 1, 60'000, table.safe_stop_budget_ms));
+  table.safe_stop_budget_ms = *budget;
+  return {};
+}
+
+std::expected<TableLinkConfig, ConfigError> ReadTable(TableReader& reader, StationKind kind) {
+  TableLinkConfig table;
+  if (kind == StationKind::kReal) {
+    if (auto ok = ReadTableLink(reader, table); !ok) return std::unexpected(ok.error());
+  } else {
+    for (std::string_view key :
+         {"transport", "host", "port", "device", "baud", "parity", "data_bits", "stop_bits",
+          "unit_id", "response_timeout_ms", "byte_timeout_ms", "transaction_attempts",
+          "connect_attempts", "reconnect_backoff_ms", "heartbeat_period_ms",
+          "safe_stop_budget_ms"}) {
+      HRG_CHECK(Forbid(reader, key, kRealOnly));
+    }
+  }
+  // The register map's watchdog range (drivers/modbus_rate_table/register_map.hpp).
+  HRG_TRY(watchdog, OptionalInteger(reader, "watchdog_ms", 100, 60'000, table.watchdog_ms));
+  table.watchdog_ms = *watchdog;
+  if (kind == StationKind::kReal && table.heartbeat_period_ms > table.watchdog_ms / 2) {
+    const toml::node* node = reader.table().get("heartbeat_period_ms");
+    const std::string message = "out of range: must be <= watchdog_ms / 2 (" +
+                                std::to_string(table.watchdog_ms / 2) +
+                                ") so that one lost heartbeat does not stop the table";
+    if (node == nullptr) return std::unexpected(reader.Missing("heartbeat_period_ms", message));
+    return std::unexpected(reader.Error(*node, "heartbeat_period_ms", message));
+  }
+  HRG_TRY(max_rate, OptionalNumber(reader, "max_rate_rad_s", {0.0, 100.0, false, "in (0, 100]"},
+                                   table.max_rate_rad_s));
+  table.max_rate_rad_s = *max_rate;
+  HRG_TRY(max_accel, OptionalNumber(reader, "max_accel_rad_s2",
+                                    {0.0, 1000.0, false, "in (0, 1000]"}, table.max_accel_rad_s2));
+  table.max_accel_rad_s2 = *max_accel;
+  HRG_TRY(accel, OptionalNumber(reader, "accel_rad_s2", kPositive, table.accel_rad_s2));
+  table.accel_rad_s2 = *accel;
+  if (table.accel_rad_s2 > table.max_accel_rad_s2) {
+    const toml::node* node = reader.table().get("accel_rad_s2");
+    const std::string message = "out of range: must be <= max_accel_rad_s2 (" +
+                                std::to_string(table.max_accel_rad_s2) + ")";
+    if (node == nullptr) return std::unexpected(reader.Missing("accel_rad_s2", message));
+    return std::unexpected(reader.Error(*node, "accel_rad_s2", message));
+  }
+  HRG_CHECK(reader.Unknown(
+      "transport, host, port, device, baud, parity, data_bits, stop_bits, unit_id, "
+      "response_timeout_ms, byte_timeout_ms, transaction_attempts, connect_attempts, "
+      "reconnect_backoff_ms, heartbeat_period_ms, safe_stop_budget_ms, watchdog_ms, "
+      "max_rate_rad_s, max_accel_rad_s2, accel_rad_s2"));
+  return table;
+}
+
+std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader) {
+  SimulatedFaults faults;
+  constexpr std::int64_t kMaxCount = std::numeric_limits<std::int64_t>::max();
+  HRG_TRY(never_stable, OptionalBool(reader, "table_never_stable", false));
+  faults.table_never_stable = *never_stable;
+  HRG_TRY(fault_after, MaybeNumber(reader, "table_fault_after_s", kNonNegative));
+  faults.table_fault_after_s = *fault_after;
+  HRG_TRY(silent_after, MaybeNumber(reader, "table_unresponsive_after_s", kNonNegative));
+  faults.table_unresponsive_after_s = *silent_after;
+  HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
+  faults.gyro_stall_after_samples = *stall;
+  HRG_TRY(bus_off, MaybeInteger(reader, "gyro_bus_off_after_samples", 0, kMaxCount));
+  faults.gyro_bus_off_after_samples = *bus_off;
+  HRG_TRY(drop, OptionalInteger(reader, "gyro_drop_every_nth_sample", 0, kMaxCount, 0));
+  if (*drop == 1) {
+    return std::unexpected(reader.Error(*reader.table().get("gyro_drop_every_nth_sample"),
+                                        "gyro_drop_every_nth_sample",
+                                        "out of range: 1 would drop every sample; use 0 (off) or "
+                                        ">= 2"));
+  }
+  faults.gyro_drop_every_nth_sample = *drop;
+  HRG_TRY(never_ready, OptionalBool(reader, "gyro_never_ready", false));
+  faults.gyro_never_ready = *never_ready;
+  HRG_CHECK(reader.Unknown(
+      "table_never_stable, table_fault_after_s, table_unresponsive_after_s, "
+      "gyro_stall_after_samples, gyro_bus_off_after_samples, gyro_drop_every_nth_sample, "
+      "gyro_never_ready"));
+  return faults;
+}
+
+std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& reader) {
+  SimulatedStationConfig sim;
+  HRG_TRY(fast, OptionalBool(reader, "faster_than_real_time", sim.faster_than_real_time));
+  sim.faster_than_real_time = *fast;
+  if (sim.faster_than_real_time) {
+    HRG_CHECK(Forbid(reader, "time_scale",
+                     "applies only with faster_than_real_time = false (a manual clock has no "
+                     "pace)"));
+  } else {
+    HRG_TRY(scale, OptionalNumber(reader, "time_scale", {0.01, 1000.0, true, "in [0.01, 1000]"},
+                                  sim.time_scale));
+    sim.time_scale = *scale;
+  }
+  if (reader.table().get("delta") != nullptr) {
+    HRG_TRY(delta, RequiredVector<6>(reader, "delta", kAnyFinite));
+    sim.delta = *delta;
+  } else {
+    reader.Find("delta");
+  }
+  if (reader.table().get("xi") != nullptr) {
+    // Each |ξi| < 1/4 keeps I + C(ξ) invertible (estimator/model.hpp).
+    HRG_TRY(xi, RequiredVector<4>(reader, "xi",
+                                  {-0.25, 0.25, false,
+                                   "in (-0.25, 0.25) so that I + C(xi) is "
+                                   "invertible",
+                                   false}));
+    sim.xi = *xi;
+  } else {
+    reader.Find("xi");
+  }
+  HRG_TRY(sigma, OptionalNumber(reader, "sigma", {0.0, 1.0, true, "in [0, 1]"}, sim.sigma));
+  sim.sigma = *sigma;
+  HRG_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(), 1));
+  sim.seed = static_cast<std::uint64_t>(*seed);
+  HRG_TRY(f, OptionalNumber(reader, "resonant_frequency_hz", {0.0, 1e6, false, "in (0, 1e6]"},
+                            sim.resonant_frequency_hz));
+  sim.resonant_frequency_hz = *f;
+  HRG_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},
+                            sim.temperature_c));
+  sim.temperature_c = *t;
+  HRG_TRY(drift, OptionalNumber(reader, "temperature_drift_c_per_s",
+                                {-1.0, 1.0, true, "in [-1, 1]"}, sim.temperature_drift_c_per_s));
+  sim.temperature_drift_c_per_s = *drift;
+  HRG_TRY(excite, OptionalNumber(reader, "excite_time_s", {0.0, 600.0, true, "in [0, 600]"},
+                                 sim.excite_time_s));
+  sim.excite_time_s = *excite;
+  HRG_TRY(tau, OptionalNumber(reader, "table_settle_time_constant_s",
+                              {0.0, 60.0, false, "in (0, 60]"}, sim.table_settle_time_constant_s));
+  sim.table_settle_time_constant_s = *tau;
+  HRG_TRY(noise, OptionalNumber(reader, "table_noise_rad_s", {0.0, 1.0, true, "in [0, 1]"},
+                                sim.table_noise_rad_s));
+  sim.table_noise_rad_s = *noise;
+  HRG_TRY(tolerance, OptionalNumber(reader, "table_stable_tolerance_rad_s", kPositive,
+                                    sim.table_stable_tolerance_rad_s));
+  sim.table_stable_tolerance_rad_s = *tolerance;
+  HRG_TRY(hold, OptionalNumber(reader, "table_stable_hold_s", {0.0, 600.0, true, "in [0, 600]"},
+                               sim.table_stable_hold_s));
+  sim.table_stable_hold_s = *hold;
+  HRG_TRY(faults_table, SubTable(reader, "faults", false));
+  if (*faults_table != nullptr) {
+    TableReader faults_reader(**faults_table, reader.KeyPath("faults"), reader.source());
+    HRG_TRY(faults, ReadFaults(faults_reader));
+    sim.faults = *faults;
+  }
+  HRG_CHECK(reader.Unknown(
+      "faster_than_real_time, time_scale, delta, xi, sigma, seed, resonant_frequency_hz, "
+      "temperature_c, temperature_drift_c_per_s, excite_time_s, table_settle_time_constant_s, "
+      "table_noise_rad_s, table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.faults]"));
+  return sim;
+}
+
+std::expected<RealtimeConfig, ConfigError> ReadRealtime(TableReader& reader) {
+  RealtimeConfig rt;
+  HRG_TRY(priority, OptionalInteger(reader, "priority", 0, 99, rt.priority));
+  rt.priority = static_cast<int>(*priority);
+  // CPU_SETSIZE is 1024; whether the CPU exists is checked when the thread is pinned.
+  HRG_TRY(cpu, OptionalInteger(reader, "cpu", -1, 1023, rt.cpu));
+  rt.cpu = static_cast<int>(*cpu);
+  HRG_TRY(lock, OptionalBool(reader, "lock_memory", rt.lock_memory));
+  rt.lock_memory = *lock;
+  HRG_CHECK(reader.Unknown("priority, cpu, lock_memory"));
+  return rt;
+}
+
+std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& document,
+                                                      const std::filesystem::path& file) {
+  const Source source(file, document.text);
+  StationConfig station;
+  station.file = file;
+  station.sha256_hex = document.sha256_hex;
+  TableReader root(document.root, "", source);
+
+  HRG_TRY(station_table, SubTable(root, "station", true));
+  {
+    TableReader reader(**station_table, "station", source);
+    HRG_TRY(name, RequiredString(reader, "name"));
+    station.name = *name;
+    HRG_TRY(description, OptionalString(reader, "description", "", false));
+    station.description = *description;
+    HRG_TRY(kind, Choice(reader, "kind", {"simulated", "real"}, -1));
+    station.kind = *kind == 0 ? StationKind::kSimulated : StationKind::kReal;
+    HRG_CHECK(reader.Unknown("name, description, kind"));
+  }
+  const bool real = station.kind == StationKind::kReal;
+
+  HRG_TRY(site_table, SubTable(root, "site", true));
+  {
+    TableReader reader(**site_table, "site", source);
+    HRG_TRY(site, ReadSite(reader));
+    station.site = *site;
+  }
+
+  HRG_TRY(gyro_table, SubTable(root, "gyro", real));
+  if (*gyro_table != nullptr) {
+    TableReader reader(**gyro_table, "gyro", source);
+    HRG_TRY(gyro, ReadGyro(reader, station.kind));
+    station.gyro = *gyro;
+  }
+
+  HRG_TRY(table_table, SubTable(root, "table", real));
+  if (*table_table != nullptr) {
+    TableReader reader(**table_table, "table", source);
+    HRG_TRY(table, ReadTable(reader, station.kind));
+    station.table = *table;
+  }
+
+  if (real) {
+    HRG_CHECK(Forbid(root, "simulated", "[simulated] applies only to kind = \"simulated\""));
+  } else {
+    HRG_TRY(sim_table, SubTable(root, "simulated", true));
+    TableReader reader(**sim_table, "simulated", source);
+    HRG_TRY(sim, ReadSimulated(reader));
+    station.simulated = *sim;
+  }
+
+  HRG_TRY(rt_table, SubTable(root, "realtime", false));
+  if (*rt_table != nullptr) {
+    TableReader reader(**rt_table, "realtime", source);
+    HRG_TRY(rt, ReadRealtime(reader));
+    station.realtime = *rt;
+  }
+
+  HRG_CHECK(root.Unknown("[station], [site], [gyro], [table], [simulated], [realtime]"));
+  return station;
+}
+
+}  // namespace
+
+std::string_view ToString(StationKind kind) noexcept {
+  return kind == StationKind::kReal ? "real" : "simulated";
+}
+
+std::string_view ToString(TableTransport transport) noexcept {
+  return transport == TableTransport::kRtu ? "rtu" : "tcp";
+}
+
+std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view toml_text,
+                                                             const std::filesystem::path& file) {
+  HRG_TRY(document, ParseTomlText(toml_text, file));
+  return ReadStation(*document, file);
+}
+
+std::expected<StationConfig, ConfigError> LoadStationConfig(const std::filesystem::path& file) {
+  HRG_TRY(document, LoadTomlFile(file));
+  return ReadStation(*document, file);
+}
+
+}  // namespace hrgbench::bench
