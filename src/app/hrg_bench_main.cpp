@@ -1,0 +1,234 @@
+// hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
+//
+//   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR] [--json]
+//   hrg-bench resume DIR [--json]
+//   hrg-bench check S.toml Q.toml [L.toml]
+//
+// Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
+// (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
+// 4 usage or config error (nothing was started).
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "app/cli_exit.hpp"
+#include "app/logging.hpp"
+#include "app/station_factory.hpp"
+#include "hrgbench/bench/bench_configs.hpp"
+#include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/session_runner.hpp"
+
+namespace {
+
+using namespace hrgbench;
+
+std::atomic<int> g_interrupts{0};
+
+// First Ctrl-C (or SIGTERM): the session stops safely (table to zero, gyro stopped, record closed as
+// ABORTED). Second: exit at once. Both are async-signal-safe (a lock-free atomic and _exit).
+extern "C" void OnInterrupt(int) {
+  if (g_interrupts.fetch_add(1) >= 1) _exit(bench::kExitAborted);
+}
+
+void InstallSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnInterrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+std::string DefaultSessionDir(const std::string& serial) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
+  return "sessions/" + serial + "-" + stamp;
+}
+
+// A progress line on a terminal (rewritten in place), plain log lines otherwise.
+class ProgressPrinter {
+ public:
+  ProgressPrinter() : tty_(::isatty(STDERR_FILENO) == 1) {}
+  void operator()(const bench::Progress& p) {
+    char line[200];
+    if (p.phase == "estimate" || p.phase == "warm-up") {
+      std::snprintf(line, sizeof line, "%-8.*s  %6.1f s elapsed  ~%6.1f s of free run ahead",
+                    static_cast<int>(p.phase.size()), p.phase.data(), p.elapsed_s, p.remaining_s);
+      Show(line, p);
+      return;
+    }
+    std::snprintf(line, sizeof line,
+                  "run %d/%d  Ω %+.4g rad/s  %-8.*s  %6.1f s elapsed  ~%6.1f s left  %llu/%llu "
+                  "samples  %llu lost",
+                  p.run, p.run_count, p.omega_rad_s, static_cast<int>(p.phase.size()),
+                  p.phase.data(), p.elapsed_s, p.remaining_s,
+                  static_cast<unsigned long long>(p.samples),
+                  static_cast<unsigned long long>(p.samples_expected),
+                  static_cast<unsigned long long>(p.samples_lost));
+    Show(line, p);
+  }
+  void Show(const char* line, const bench::Progress& p) {
+    if (tty_) {
+      std::fprintf(stderr, "\r%-150s", line);
+      std::fflush(stderr);
+      dirty_ = true;
+    } else if (p.phase != last_phase_ || p.run != last_run_) {
+      spdlog::info("{}", line);
+    }
+    last_phase_ = std::string(p.phase);
+    last_run_ = p.run;
+  }
+  void Log(std::string_view text) {
+    EndLine();
+    spdlog::info("{}", text);
+  }
+  void EndLine() {
+    if (dirty_) std::fputc('\n', stderr);
+    dirty_ = false;
+  }
+
+ private:
+  bool tty_;
+  bool dirty_ = false;
+  std::string last_phase_;
+  int last_run_ = -1;
+};
+
+int Report(const bench::SessionResult& result, bool json) {
+  if (json) {
+    nlohmann::json out;
+    out["outcome"] = std::string(bench::ToString(result.outcome));
+    out["exit_code"] = result.exit_code;
+    out["reason"] = result.reason;
+    out["session"] = result.dir.string();
+    out["complete_runs"] = result.complete_runs;
+    out["estimate"] = result.estimate_json;
+    out["warnings"] = result.warnings;
+    nlohmann::json limits = nlohmann::json::array();
+    if (result.verdict) {
+      for (const bench::LimitResult& r : result.verdict->results)
+        limits.push_back({{"quantity", std::string(bench::ToString(r.quantity))},
+                          {"status", std::string(bench::ToString(r.status))},
+                          {"value", bench::NumberOrNull(r.value)},
+                          {"std", bench::NumberOrNull(r.std)},
+                          {"min", bench::NumberOrNull(r.min)},
+                          {"max", bench::NumberOrNull(r.max)},
+                          {"message", r.message}});
+    }
+    out["limits"] = limits;
+    std::cout << out.dump(1) << '\n';
+    return result.exit_code;
+  }
+  if (result.estimate) std::cout << result.estimate->Report();
+  if (result.verdict) std::cout << result.verdict->Report();
+  for (const std::string& w : result.warnings) std::cout << "warning: " << w << '\n';
+  std::cout << bench::ToString(result.outcome) << ": " << result.reason << '\n'
+            << "session: " << result.dir.string() << '\n';
+  return result.exit_code;
+}
+
+int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
+                const std::string& serial, bool resume, bool json) {
+  auto station = app::OpenStation(configs.station);
+  if (!station) {
+    spdlog::error("{}", station.error());
+    return bench::kExitError;
+  }
+  ProgressPrinter printer;
+  bench::RunnerOptions options;
+  options.unit_serial = serial;
+  options.software_version = HRGBENCH_SOFTWARE_VERSION;
+  options.simulation = (*station)->simulation();
+  options.interrupts = &g_interrupts;
+  options.on_progress = [&](const bench::Progress& p) { printer(p); };
+  options.on_log = [&](std::string_view line) { printer.Log(line); };
+  InstallSignalHandlers();
+  const bench::SessionResult result =
+      resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
+             : bench::RunSession(configs, (*station)->hardware(), dir, options);
+  printer.EndLine();
+  return Report(result, json);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{
+      "hrg-bench: free-run sessions of a hemispherical resonator gyro on a rate table, recorded, "
+      "estimated and judged.\nExit codes: 0 PASS; 1 FAIL (a parameter out of its limits); 2 ERROR "
+      "(the bench: timeout, bus-off, Modbus, drops, disk); 3 ABORTED (operator); 4 usage or "
+      "config error."};
+  cli.require_subcommand(1);
+  bool quiet = false;
+  bool json = false;
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+
+  std::string station, sequence, limits, serial, out_dir, resume_dir;
+  CLI::App* run = cli.add_subcommand("run", "run a session");
+  run->add_option("--station", station, "station config (TOML)")->required();
+  run->add_option("--sequence", sequence, "sequence config (TOML)")->required();
+  run->add_option("--limits", limits, "limits config (TOML) for the verdict");
+  run->add_option("--serial", serial, "unit serial number")->required();
+  run->add_option("-o,--output", out_dir, "session directory (default sessions/SERIAL-UTC)");
+  run->add_flag("--json", json, "print the result as one JSON object");
+  CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
+  resume->add_option("dir", resume_dir, "session directory")->required();
+  resume->add_flag("--json", json, "print the result as one JSON object");
+  std::string check_station, check_sequence, check_limits;
+  CLI::App* check = cli.add_subcommand("check", "validate configs only");
+  check->add_option("station", check_station, "station config")->required();
+  check->add_option("sequence", check_sequence, "sequence config")->required();
+  check->add_option("limits", check_limits, "limits config");
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = cli.exit(error);
+    return code == 0 ? 0 : bench::kExitUsage;
+  }
+  hrgbench::app::SetUpStderrLogging("hrg-bench", quiet ? -1 : 0);
+  try {
+    if (*check) {
+      auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);
+      if (!configs) {
+        std::cerr << configs.error().ToString() << '\n';
+        return bench::kExitUsage;
+      }
+      std::cout << "ok: station '" << configs->station.name << "', sequence '"
+                << configs->sequence.name << "' (" << configs->sequence.runs.size()
+                << " runs, " << configs->sequence.TotalFreeRunS() << " s of free run)"
+                << (configs->limits.file.empty() ? "" : ", limits '" + configs->limits.name + "'")
+                << '\n';
+      return 0;
+    }
+    if (*run) {
+      auto configs = bench::LoadBenchConfigs(station, sequence, limits);
+      if (!configs) {
+        std::cerr << configs.error().ToString() << '\n';
+        return bench::kExitUsage;
+      }
+      return RunOrResume(*configs, out_dir.empty() ? DefaultSessionDir(serial) : out_dir, serial,
+                         false, json);
+    }
+    auto configs = bench::LoadSavedConfigs(resume_dir);
+    if (!configs) {
+      std::cerr << configs.error() << '\n';
+      return bench::kExitUsage;
+    }
+    return RunOrResume(*configs, resume_dir, "", true, json);
+  } catch (const std::exception& error) {
+    spdlog::critical("unexpected failure: {}", error.what());
+    return bench::kExitError;
+  }
+}

@@ -1,0 +1,165 @@
+#include "app/station_factory.hpp"
+
+#include "gyro_can/gyro_can_device.hpp"
+#include "mock/simulated_station.hpp"
+#include "modbus_rate_table/modbus_rate_table.hpp"
+#include "socketcan/socket_can_bus.hpp"
+
+namespace hrgbench::app {
+namespace {
+
+std::string Where(const bench::StationConfig& config) { return config.file.string() + ": "; }
+
+class SimulatedStationAdapter final : public Station {
+ public:
+  explicit SimulatedStationAdapter(std::unique_ptr<mock::SimulatedStation> station)
+      : station_(std::move(station)) {
+    hardware_.table = &station_->table();
+    hardware_.gyro = &station_->gyro();
+    hardware_.clock = &station_->clock();
+    hardware_.monitor = &station_->monitor();
+    hardware_.can_interface = "vcan-sim";
+  }
+  bench::BenchHardware& hardware() override { return hardware_; }
+  std::optional<nlohmann::json> simulation() const override {
+    const mock::SimulatedTruth truth = station_->truth();
+    nlohmann::json j;
+    j["generator"] = "hrgbench in-process simulated station (drivers/mock), exact model";
+    j["delta"] = std::vector<double>(truth.delta.data(), truth.delta.data() + 6);
+    j["xi"] = std::vector<double>(truth.xi.data(), truth.xi.data() + 4);
+    j["sigma"] = truth.sigma;
+    j["seed"] = truth.seed;
+    j["earth_rate_rad_s"] = truth.earth_rate_rad_s;
+    return j;
+  }
+
+ private:
+  std::unique_ptr<mock::SimulatedStation> station_;
+  bench::BenchHardware hardware_;
+};
+
+class RealStation final : public Station {
+ public:
+  bench::BenchHardware& hardware() override { return hardware_; }
+  std::optional<nlohmann::json> simulation() const override { return std::nullopt; }
+
+  hw::SteadyClock clock;
+  std::unique_ptr<drivers::socketcan::SocketCanBus> bus;
+  std::unique_ptr<drivers::socketcan::SocketCanBus> monitor;
+  std::unique_ptr<gyro_can::GyroCanDevice> gyro;
+  std::unique_ptr<modbus_table::ModbusRateTable> table;
+  bench::BenchHardware hardware_;
+};
+
+mock::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
+  const bench::SimulatedStationConfig& sim = config.simulated;
+  mock::SimulatedStationOptions o;
+  o.faster_than_real_time = sim.faster_than_real_time;
+  o.time_scale = sim.time_scale;
+  o.gyro.delta = sim.delta;
+  o.gyro.xi = sim.xi;
+  o.gyro.sigma = sim.sigma;
+  o.gyro.seed = sim.seed;
+  o.gyro.excite_time_s = sim.excite_time_s;
+  o.gyro.resonant_frequency_hz = sim.resonant_frequency_hz;
+  o.gyro.temperature_c = sim.temperature_c;
+  o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config);
+  o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
+  o.table_physics.noise_rad_s = sim.table_noise_rad_s;
+  o.table_physics.stable_tolerance_rad_s = sim.table_stable_tolerance_rad_s;
+  o.table_physics.stable_hold_s = sim.table_stable_hold_s;
+  o.table_physics.seed = sim.seed + 1000;
+  o.table_physics.accel_limit_rad_s2 = config.table.accel_rad_s2;
+  o.table.limits.max_rate_rad_s = config.table.max_rate_rad_s;
+  o.table.limits.max_accel_rad_s2 = config.table.max_accel_rad_s2;
+  o.table.accel_limit_rad_s2 = config.table.accel_rad_s2;
+  o.table.watchdog_timeout_ms = static_cast<std::uint16_t>(config.table.watchdog_ms);
+  o.table.heartbeat_period_ms = config.table.heartbeat_period_ms;
+  o.table.response_timeout_ms = config.table.response_timeout_ms;
+  o.table.safe_stop_budget_ms = config.table.safe_stop_budget_ms;
+  o.gyro_link.ack_timeout_ns = config.gyro.ack_timeout_ms * 1'000'000;
+  o.gyro_link.command_attempts = static_cast<int>(config.gyro.command_attempts);
+  o.gyro_link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
+  const bench::SimulatedFaults& f = sim.faults;
+  o.table.faults.never_stable = f.table_never_stable;
+  if (f.table_fault_after_s) o.table.faults.fault_after_s = *f.table_fault_after_s;
+  if (f.table_unresponsive_after_s) o.table.faults.unresponsive_after_s = *f.table_unresponsive_after_s;
+  if (f.gyro_stall_after_samples) o.gyro.faults.stall_after_samples = *f.gyro_stall_after_samples;
+  if (f.gyro_bus_off_after_samples) o.gyro.faults.bus_off_after_samples = *f.gyro_bus_off_after_samples;
+  o.gyro.faults.drop_every_nth_frame = static_cast<std::uint32_t>(f.gyro_drop_every_nth_sample);
+  o.gyro.faults.never_ready = f.gyro_never_ready;
+  return o;
+}
+
+std::expected<std::unique_ptr<Station>, std::string> OpenSimulated(
+    const bench::StationConfig& config) {
+  auto station = mock::SimulatedStation::Create(MapSimulated(config));
+  if (!station) return std::unexpected(Where(config) + "simulated station: " + station.error());
+  if (auto connected = (*station)->table().Connect(); !connected)
+    return std::unexpected(Where(config) + "simulated table: " + connected.error().ToString());
+  return std::make_unique<SimulatedStationAdapter>(std::move(*station));
+}
+
+std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::StationConfig& config) {
+  auto station = std::make_unique<RealStation>();
+  drivers::socketcan::SocketCanOptions can;
+  can.fd = config.gyro.fd;
+  auto bus = drivers::socketcan::SocketCanBus::Open(config.gyro.can_interface, can);
+  if (!bus) return std::unexpected(Where(config) + "gyro CAN: " + bus.error());
+  station->bus = std::move(*bus);
+  auto monitor = drivers::socketcan::SocketCanBus::Open(config.gyro.can_interface, can);
+  if (!monitor) return std::unexpected(Where(config) + "CAN tap: " + monitor.error());
+  station->monitor = std::move(*monitor);
+  gyro_can::GyroCanDeviceConfig link;
+  link.clock = &station->clock;
+  link.ack_timeout_ns = config.gyro.ack_timeout_ms * 1'000'000;
+  link.command_attempts = static_cast<int>(config.gyro.command_attempts);
+  link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
+  link.prefer_fd = config.gyro.fd;
+  auto gyro = gyro_can::GyroCanDevice::Create(*station->bus, link);
+  if (!gyro) return std::unexpected(Where(config) + "gyro: " + gyro.error().ToString());
+  station->gyro = std::move(*gyro);
+
+  modbus_table::ModbusRateTableConfig table;
+  const bench::TableLinkConfig& t = config.table;
+  table.transport = t.transport == bench::TableTransport::kTcp ? modbus_table::ModbusTransport::kTcp
+                                                               : modbus_table::ModbusTransport::kRtu;
+  table.host = t.host;
+  table.port = static_cast<int>(t.port);
+  table.serial_device = t.device;
+  table.baud = static_cast<int>(t.baud);
+  table.parity = t.parity;
+  table.data_bits = static_cast<int>(t.data_bits);
+  table.stop_bits = static_cast<int>(t.stop_bits);
+  table.unit_id = static_cast<int>(t.unit_id);
+  table.response_timeout_ms = static_cast<int>(t.response_timeout_ms);
+  table.byte_timeout_ms = static_cast<int>(t.byte_timeout_ms);
+  table.transaction_attempts = static_cast<int>(t.transaction_attempts);
+  table.connect_attempts = static_cast<int>(t.connect_attempts);
+  table.reconnect_backoff_ms = static_cast<int>(t.reconnect_backoff_ms);
+  table.watchdog_timeout_ms = static_cast<int>(t.watchdog_ms);
+  table.heartbeat_period_ms = static_cast<int>(t.heartbeat_period_ms);
+  table.accel_limit_rad_s2 = t.accel_rad_s2;
+  table.limits.max_rate_rad_s = t.max_rate_rad_s;
+  table.limits.max_accel_rad_s2 = t.max_accel_rad_s2;
+  table.safe_stop_budget_ms = static_cast<int>(t.safe_stop_budget_ms);
+  station->table = std::make_unique<modbus_table::ModbusRateTable>(table, station->clock);
+  if (auto connected = station->table->Connect(); !connected)
+    return std::unexpected(Where(config) + "rate table (" + table.Describe() +
+                           "): " + connected.error().ToString());
+  station->hardware_.table = station->table.get();
+  station->hardware_.gyro = station->gyro.get();
+  station->hardware_.clock = &station->clock;
+  station->hardware_.monitor = station->monitor.get();
+  station->hardware_.can_interface = config.gyro.can_interface;
+  return station;
+}
+
+}  // namespace
+
+std::expected<std::unique_ptr<Station>, std::string> OpenStation(
+    const bench::StationConfig& config) {
+  return config.kind == bench::StationKind::kSimulated ? OpenSimulated(config) : OpenReal(config);
+}
+
+}  // namespace hrgbench::app

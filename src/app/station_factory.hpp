@@ -1,0 +1,35 @@
+#pragma once
+// The one place that picks concrete drivers (STYLE: app → bench → interfaces ← drivers): a station
+// config becomes the hardware a bench session runs on.
+//   simulated: the in-process simulated station (drivers/mock): the real gyro driver and protocol on
+//              a virtual CAN bus with the simulated electronics, the table physics behind an
+//              in-process RateTable; faster than real time or paced.
+//   real:      SocketCAN on the station's interface (a second socket taps every frame for the
+//              candump log), GyroCanDevice, and the Modbus rate table (TCP or RTU).
+
+#include <expected>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hrgbench/bench/session_runner.hpp"
+#include "hrgbench/bench/station_config.hpp"
+
+namespace hrgbench::app {
+
+class Station {
+ public:
+  virtual ~Station() = default;
+  virtual bench::BenchHardware& hardware() = 0;
+  // Truth of a simulated station for the record ("simulation"); nullopt for real hardware.
+  virtual std::optional<nlohmann::json> simulation() const = 0;
+};
+
+// Builds and connects the station (the table is connected; the gyro driver is created). Errors name
+// the config file and what failed.
+std::expected<std::unique_ptr<Station>, std::string> OpenStation(
+    const bench::StationConfig& config);
+
+}  // namespace hrgbench::app

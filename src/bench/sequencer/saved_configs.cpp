@@ -1,0 +1,73 @@
+// The configs a session ran with, saved inside it: <dir>/config/{station,sequence,limits}.toml.
+// `resume` needs nothing but the session directory, and a session shows exactly what was run.
+#include <fstream>
+#include <sstream>
+
+#include "bench/sequencer/saved_configs.hpp"
+#include "hrgbench/session/session.hpp"
+
+namespace hrgbench::bench::internal {
+namespace {
+
+std::expected<std::string, std::string> ReadAll(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::unexpected(path.string() + ": cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
+                                             const std::filesystem::path& dir) {
+  const std::pair<const std::filesystem::path*, const char*> files[] = {
+      {&configs.station.file, "station.toml"},
+      {&configs.sequence.file, "sequence.toml"},
+      {&configs.limits.file, "limits.toml"}};
+  std::error_code ec;
+  std::filesystem::create_directories(dir / "config", ec);
+  if (ec) return std::unexpected((dir / "config").string() + ": " + ec.message());
+  for (const auto& [source, name] : files) {
+    if (source->empty()) continue;  // no limits file
+    auto text = ReadAll(*source);
+    if (!text) return std::unexpected(text.error());
+    if (auto written = session::WriteFileAtomic(dir / "config" / name, *text); !written)
+      return std::unexpected(written.error().ToString());
+  }
+  return {};
+}
+
+}  // namespace hrgbench::bench::internal
+
+namespace hrgbench::bench {
+
+std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir) {
+  const std::filesystem::path config = dir / "config";
+  const std::filesystem::path limits =
+      std::filesystem::exists(config / "limits.toml") ? config / "limits.toml" : "";
+  auto configs = LoadBenchConfigs(config / "station.toml", config / "sequence.toml", limits);
+  if (!configs) return std::unexpected(configs.error().ToString());
+  // The copies must be the files the session recorded (a hand-edited copy is not the same run).
+  session::ReadOptions options;
+  options.load_samples = false;
+  auto recorded = session::ReadSession(dir, options);
+  if (!recorded) return std::unexpected(recorded.error().ToString());
+  const nlohmann::json& hashes = recorded->document.value("config_sha256", nlohmann::json::object());
+  const std::pair<const char*, const std::string*> checks[] = {
+      {"station", &configs->station.sha256_hex},
+      {"sequence", &configs->sequence.sha256_hex},
+      {"limits", &configs->limits.sha256_hex}};
+  for (const auto& [key, actual] : checks) {
+    const nlohmann::json& expected = hashes.value(key, nlohmann::json());
+    const std::string want = expected.is_string() ? expected.get<std::string>() : "";
+    if (want != *actual)
+      return std::unexpected((config / (std::string(key) + ".toml")).string() +
+                             ": SHA-256 " + (actual->empty() ? "(none)" : *actual) +
+                             " differs from the one recorded in session.json (" +
+                             (want.empty() ? "(none)" : want) + ")");
+  }
+  return std::move(*configs);
+}
+
+}  // namespace hrgbench::bench

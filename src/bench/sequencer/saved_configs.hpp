@@ -1,0 +1,17 @@
+#pragma once
+// Copies of the config files inside the session (internal to the sequencer).
+
+#include <expected>
+#include <filesystem>
+#include <string>
+
+#include "hrgbench/bench/bench_configs.hpp"
+
+namespace hrgbench::bench::internal {
+
+// Writes <dir>/config/{station,sequence,limits}.toml atomically from the files the configs were
+// loaded from (limits only when there was a limits file).
+std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
+                                             const std::filesystem::path& dir);
+
+}  // namespace hrgbench::bench::internal

@@ -1,0 +1,68 @@
+#pragma once
+// Shared by the bench tests: shipped configs, temporary session directories, one session run on
+// the in-process simulated station.
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "app/station_factory.hpp"
+#include "hrgbench/bench/bench_configs.hpp"
+#include "hrgbench/bench/session_runner.hpp"
+
+namespace hrgbench::testing {
+
+inline std::filesystem::path ConfigPath(const std::string& name) {
+  return std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs" / name;
+}
+
+// A fresh directory name under the system temp dir (not created: sessions refuse non-empty dirs).
+inline std::filesystem::path FreshDir(const std::string& stem) {
+  std::random_device rd;
+  return std::filesystem::temp_directory_path() /
+         ("hrgbench-" + stem + "-" + std::to_string(rd()) + std::to_string(rd()));
+}
+
+struct BenchRun {
+  bench::SessionResult result;
+  std::filesystem::path dir;
+  std::unique_ptr<app::Station> station;  // kept, so a test can look at the hardware afterwards
+};
+
+// Loads the shipped configs, lets `edit` change them (faults, shorter runs), opens the station and
+// runs the session. `interrupt_when` (optional) is asked at every progress report whether to press
+// Ctrl-C now.
+inline BenchRun RunOnSimulatedStation(
+    const std::string& sequence, const std::string& limits,
+    const std::function<void(bench::BenchConfigs&)>& edit = {},
+    const std::function<bool(const bench::Progress&)>& interrupt_when = {}) {
+  BenchRun run;
+  auto configs = bench::LoadBenchConfigs(ConfigPath("station-sim.toml"), ConfigPath(sequence),
+                                         limits.empty() ? "" : ConfigPath(limits));
+  EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
+  if (!configs) return run;
+  if (edit) edit(*configs);
+  auto station = app::OpenStation(configs->station);
+  EXPECT_TRUE(station) << (station ? "" : station.error());
+  if (!station) return run;
+  run.station = std::move(*station);
+  std::atomic<int> interrupts{0};
+  bench::RunnerOptions options;
+  options.unit_serial = "TEST-001";
+  options.software_version = "test";
+  options.simulation = run.station->simulation();
+  options.interrupts = &interrupts;
+  options.on_progress = [&](const bench::Progress& p) {
+    if (interrupt_when && interrupt_when(p)) interrupts = 1;
+  };
+  run.dir = FreshDir("session");
+  run.result = bench::RunSession(*configs, run.station->hardware(), run.dir, options);
+  return run;
+}
+
+}  // namespace hrgbench::testing

@@ -1,0 +1,112 @@
+// Faults on the in-process simulated station: every one ends the session with ERROR (the bench's
+// fault, not the unit's) or ABORTED (operator), the table commanded to zero rate, the runs completed
+// before the fault intact on disk, and the record saying why.
+#include <nlohmann/json.hpp>
+
+#include "bench_test_support.hpp"
+#include "hrgbench/session/session.hpp"
+
+namespace hrgbench::testing {
+namespace {
+
+// The paper's sequence, shortened (2 s runs, a 1 s warm-up window) so each fault test is quick.
+void Shorten(bench::BenchConfigs& c) {
+  for (bench::SequenceRun& run : c.sequence.runs) run.free_run_s = 2.0;
+  c.sequence.warmup.window_s = 1.0;
+  c.sequence.timeouts.settle_s = 5.0;
+  c.sequence.timeouts.excite_s = 2.0;
+}
+
+struct Expectation {
+  bench::OutcomeKind outcome;
+  std::string reason_contains;
+  std::size_t complete_runs_at_least;
+};
+
+void ExpectStoppedSafely(const BenchRun& run, const Expectation& expected) {
+  EXPECT_EQ(run.result.outcome, expected.outcome) << run.result.reason;
+  EXPECT_EQ(run.result.exit_code, bench::ExitCode(expected.outcome));
+  EXPECT_NE(run.result.reason.find(expected.reason_contains), std::string::npos)
+      << "reason: " << run.result.reason;
+  // The table was commanded to zero (SafeStop), whatever state the link is in now.
+  ASSERT_TRUE(run.station);
+  if (auto status = run.station->hardware().table->ReadStatus(); status) {
+    EXPECT_EQ(status->commanded_rate_rad_s, 0.0);
+  }
+  // The record: readable, closed with the reason, and every completed run intact.
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_GE(session->loaded_run_ids.size(), expected.complete_runs_at_least);
+  for (std::size_t i = 0; i < session->loaded_run_ids.size(); ++i)
+    EXPECT_EQ(session->loaded_samples[i].size(), 200u);  // 2 s at 100 Hz: complete
+  const nlohmann::json& outcome = session->document.at("outcome");
+  EXPECT_EQ(outcome.at("kind"), std::string(bench::ToString(expected.outcome)));
+  EXPECT_EQ(outcome.at("reason"), run.result.reason);
+  std::filesystem::remove_all(run.dir);
+}
+
+TEST(BenchFaults, TableNeverStable) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.table_never_stable = true;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "not stable", 0});
+}
+
+TEST(BenchFaults, TableFaultMidSession) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.table_fault_after_s = 9.0;  // after run 1, during run 2 or 3
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "fault", 1});
+}
+
+TEST(BenchFaults, TableStopsAnsweringModbusTimeout) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.table_unresponsive_after_s = 9.0;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "timeout", 1});
+}
+
+TEST(BenchFaults, GyroStopsStreaming) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.gyro_stall_after_samples = 50;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "stalled", 0});
+}
+
+TEST(BenchFaults, BusOff) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.gyro_bus_off_after_samples = 50;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "bus-off", 0});
+}
+
+TEST(BenchFaults, TooManyDrops) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.gyro_drop_every_nth_sample = 40;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "too many drops", 0});
+}
+
+TEST(BenchFaults, GyroNeverReady) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.faults.gyro_never_ready = true;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "not ready", 0});
+}
+
+TEST(BenchFaults, OperatorInterruptDuringRunTwo) {
+  const BenchRun run = RunOnSimulatedStation(
+      "sequence-paper.toml", "", Shorten,
+      [](const bench::Progress& p) { return p.run == 2 && p.phase == "capture" && p.samples > 20; });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kAborted, "operator", 1});
+}
+
+}  // namespace
+}  // namespace hrgbench::testing
