@@ -115,6 +115,9 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
 
   auto release = hw.gyro->Release();
   if (!release) return StepOutcome::Error("gyro: release: " + release.error().ToString());
+  // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
+  // too; deadlines and progress run on the bench's clock, so note the release there as well.
+  const std::int64_t released_at = hw.clock->NowNs();
   start.release_t_ns = *release;
   if (auto begun = ctx.recorder->BeginRun(run_id, start); !begun)
     return StepOutcome::Error("record: " + begun.error().ToString());
@@ -124,7 +127,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   CaptureThread capture;
   CaptureRun capture_run;
   capture_run.sample_count = run.Samples();
-  capture_run.deadline_ns = *release + Ns(run.free_run_s + seq.timeouts.run_margin_s);
+  capture_run.deadline_ns = released_at + Ns(run.free_run_s + seq.timeouts.run_margin_s);
   capture_run.clock = hw.clock;
   capture_run.max_silence_ns = ctx.configs->station.gyro.sample_timeout_ms * 1'000'000;
   capture_run.external_stop = &ctx.stop_capture;
@@ -190,7 +193,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     progress.samples_lost = live.samples_missing + live.ring_overruns;
     progress.elapsed_s = ctx.Seconds(now);
     progress.remaining_s = ctx.remaining_free_run_s -
-                           std::min(run.free_run_s, static_cast<double>(now - *release) * 1e-9);
+                           std::min(run.free_run_s, static_cast<double>(now - released_at) * 1e-9);
     ctx.ReportProgress(progress);
     hw.clock->SleepForNs(kLoopPeriodNs);
   }
