@@ -1,4 +1,4 @@
-#include "atomic_file.hpp"
+#include "hrgbench/session/session.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -26,19 +26,6 @@ fs::path ParentOrDot(const fs::path& path) {
   return parent.empty() ? fs::path(".") : parent;
 }
 
-// Without this the rename (or mkdir) may be lost on power failure even though the data was synced.
-std::expected<void, SessionError> FsyncDirectory(const fs::path& dir) {
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return SystemError(dir, "cannot open directory for fsync", errno);
-  if (::fsync(fd) != 0) {
-    const int error_number = errno;
-    ::close(fd);
-    return SystemError(dir, "cannot fsync directory", error_number);
-  }
-  ::close(fd);
-  return {};
-}
-
 std::expected<void, SessionError> WriteAll(int fd, const std::string& contents,
                                            const fs::path& file) {
   const char* data = contents.data();
@@ -57,7 +44,18 @@ std::expected<void, SessionError> WriteAll(int fd, const std::string& contents,
 
 }  // namespace
 
-namespace internal {
+std::expected<void, SessionError> FsyncDirectory(const fs::path& dir) {
+  const fs::path target = dir.empty() ? fs::path(".") : dir;
+  const int fd = ::open(target.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return SystemError(target, "cannot open directory for fsync", errno);
+  if (::fsync(fd) != 0) {
+    const int error_number = errno;
+    ::close(fd);
+    return SystemError(target, "cannot fsync directory", error_number);
+  }
+  ::close(fd);
+  return {};
+}
 
 std::expected<void, SessionError> CreateDirectoriesDurably(const fs::path& dir) {
   if (dir.empty()) return {};
@@ -79,8 +77,6 @@ std::expected<void, SessionError> CreateDirectoriesDurably(const fs::path& dir) 
   }
   return {};
 }
-
-}  // namespace internal
 
 std::expected<void, SessionError> WriteFileAtomic(const fs::path& path,
                                                   const std::string& contents) {

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "atomic_file.hpp"
+#include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::session {
@@ -93,7 +93,7 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     out += '\n';
   }
 
-  if (auto created = internal::CreateDirectoriesDurably(path.parent_path()); !created) {
+  if (auto created = CreateDirectoriesDurably(path.parent_path()); !created) {
     return created;
   }
   return WriteFileAtomic(path, out);

@@ -4,7 +4,7 @@
 #include <set>
 #include <string>
 
-#include "atomic_file.hpp"
+#include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session.hpp"
 #include "run_file_path.hpp"
 
@@ -84,7 +84,7 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     return fail("", e.what());
   }
 
-  if (auto created = internal::CreateDirectoriesDurably(dir); !created) return created;
+  if (auto created = CreateDirectoriesDurably(dir); !created) return created;
   return WriteFileAtomic(file, text);
 }
 

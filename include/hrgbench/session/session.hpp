@@ -126,6 +126,14 @@ std::expected<void, SessionError> WriteRunCsv(const std::filesystem::path& path,
 std::expected<void, SessionError> WriteSessionJson(const std::filesystem::path& dir,
                                                    const Session& session);
 
+// Creates `dir` and any missing parents, fsyncing the parent of each directory it creates, so the
+// new entries survive a power loss (mkdir -p, durably).
+std::expected<void, SessionError> CreateDirectoriesDurably(const std::filesystem::path& dir);
+
+// fsync of a directory: without it a rename or a new entry in it may be lost on power failure even
+// though the file's data was synced. An empty path means ".".
+std::expected<void, SessionError> FsyncDirectory(const std::filesystem::path& dir);
+
 // Atomic write of any small text file (temporary, fsync, rename, fsync directory). The parent
 // directory must exist. The temporary (".<name>.tmp.<pid>.<n>") is removed on failure.
 // Thread-safe; with concurrent writers of one path the last rename wins. Blocks on fsync (tens of

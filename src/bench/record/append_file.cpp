@@ -9,6 +9,8 @@
 #include <cstring>
 #include <vector>
 
+#include "hrgbench/session/session.hpp"
+
 namespace hrgbench::bench::internal {
 
 namespace fs = std::filesystem;
@@ -19,38 +21,24 @@ std::unexpected<RecordError> IoError(const fs::path& file, std::string_view what
                                      std::string(what) + ": " + std::strerror(error_number)});
 }
 
+namespace {
+
+// The session library owns the durable directory operations; the recorder reports in its own error
+// type.
+std::expected<void, RecordError> FromSession(std::expected<void, session::SessionError> result) {
+  if (result) return {};
+  return std::unexpected(
+      RecordError{RecordErrorKind::kIo, result.error().file, result.error().message});
+}
+
+}  // namespace
+
 std::expected<void, RecordError> FsyncDirectory(const fs::path& dir) {
-  const fs::path target = dir.empty() ? fs::path(".") : dir;
-  const int fd = ::open(target.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return IoError(target, "cannot open directory for fsync", errno);
-  if (::fsync(fd) != 0) {
-    const int error_number = errno;
-    ::close(fd);
-    return IoError(target, "cannot fsync directory", error_number);
-  }
-  ::close(fd);
-  return {};
+  return FromSession(session::FsyncDirectory(dir));
 }
 
 std::expected<void, RecordError> MakeDirectoryDurably(const fs::path& dir) {
-  std::vector<fs::path> missing;  // deepest first
-  std::error_code ec;
-  for (fs::path p = dir; !p.empty(); p = p.parent_path()) {
-    if (fs::exists(p, ec)) break;
-    missing.push_back(p);
-    if (p == p.parent_path()) break;
-  }
-  for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
-      return IoError(*it, "cannot create directory", errno);
-    }
-    if (auto synced = FsyncDirectory(it->parent_path()); !synced) return synced;
-  }
-  if (!fs::is_directory(dir, ec)) {
-    return std::unexpected(
-        RecordError{RecordErrorKind::kIo, dir, "exists and is not a directory"});
-  }
-  return {};
+  return FromSession(session::CreateDirectoriesDurably(dir));
 }
 
 std::expected<void, RecordError> RenameDurably(const fs::path& from, const fs::path& to) {

@@ -1,9 +1,7 @@
 #pragma once
 // Internal: a buffered append-only file (the streamed run CSV, the CAN log) and the few durable
 // directory operations the recorder needs beyond session::WriteFileAtomic.
-//
-// FsyncDirectory and MakeDirectoryDurably repeat ~20 lines of src/session/atomic_file.cpp, whose
-// CreateDirectoriesDurably is internal to hrgbench_session; if that becomes public, use it.
+// FsyncDirectory and MakeDirectoryDurably are the session library's, in the recorder's error type.
 
 #include <cstdint>
 #include <expected>

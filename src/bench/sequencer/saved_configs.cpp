@@ -25,9 +25,8 @@ std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
       {&configs.station.file, "station.toml"},
       {&configs.sequence.file, "sequence.toml"},
       {&configs.limits.file, "limits.toml"}};
-  std::error_code ec;
-  std::filesystem::create_directories(dir / "config", ec);
-  if (ec) return std::unexpected((dir / "config").string() + ": " + ec.message());
+  if (auto made = session::CreateDirectoriesDurably(dir / "config"); !made)
+    return std::unexpected(made.error().ToString());
   for (const auto& [source, name] : files) {
     if (source->empty()) continue;  // no limits file
     auto text = ReadAll(*source);
