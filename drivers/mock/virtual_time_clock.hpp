@@ -113,9 +113,9 @@ class VirtualTimeClock final : public hw::Clock {
   // otherwise unknown until it first waits: time may move on while a new thread starts (as a
   // slow-starting thread on real hardware would find; frames wait in the queues). Call it first
   // thing in a thread whose first moments matter.
-  void AttachCurrentThread();
+  void AttachCurrentThread() override;
   // The calling thread no longer holds time back (until its next wait).
-  void DetachCurrentThread();
+  void DetachCurrentThread() override;
 
   VirtualTimeClockStatistics Statistics() const;
   const VirtualTimeClockOptions& options() const noexcept { return options_; }

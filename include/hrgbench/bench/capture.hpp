@@ -65,7 +65,7 @@ struct CaptureRun {
   std::int64_t deadline_ns = 0;
   // The time base for deadline_ns and max_silence_ns; not owned, must outlive the run. nullptr:
   // a SteadyClock inside CaptureThread.
-  const hw::Clock* clock = nullptr;
+  hw::Clock* clock = nullptr;
   // Longest single ReadSamples wait: bounds the reaction time to RequestStop. 10 ms is 10 samples
   // at 1 kHz, well below the driver's buffer, and costs ~100 wake-ups/s when the stream is idle.
   std::int64_t read_timeout_ns = 10'000'000;
@@ -184,7 +184,7 @@ class CaptureThread {
   hw::GyroElectronics* electronics_ = nullptr;
   SampleRing* ring_ = nullptr;
   CaptureRun run_;
-  const hw::Clock* clock_ = nullptr;
+  hw::Clock* clock_ = nullptr;
   // Written by the thread, read after join (join orders them).
   CaptureResult result_;
   std::uint64_t next_seq_ = 0;  // 64-bit: first_seq + sample_count may exceed 2^32

@@ -75,6 +75,8 @@ CaptureResult CaptureThread::Join() {
 void CaptureThread::ThreadMain() noexcept {
   // Setup (may allocate: the report's strings). Not part of the real-time loop.
   try {
+    // Before Start() returns: a simulated clock must not run on while this thread starts.
+    clock_->AttachCurrentThread();
     realtime_internal::ApplyToCallingThread(run_.realtime, result_.realtime);
   } catch (...) {
     // Only std::bad_alloc from a reason string: the setup calls themselves were made; carry on
@@ -84,6 +86,11 @@ void CaptureThread::ThreadMain() noexcept {
   setup_done_.notify_one();
 
   result_.termination = Loop();
+  try {
+    clock_->DetachCurrentThread();
+  } catch (...) {
+    // Only a simulated clock's bookkeeping can fail here; the capture is over either way.
+  }
   running_.store(false, std::memory_order_release);
 }
 
