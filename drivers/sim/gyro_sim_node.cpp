@@ -26,6 +26,7 @@ GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimO
       short_bus_(std::move(short_bus)),
       distortion_(estimator::Matrix4::Identity() + estimator::DistortionMatrix(options.xi)) {
   const std::int64_t now = clock_.NowNs();
+  power_on_ns_ = now;
   next_poll_ns_ = now;
   next_status_ns_ = now;
 }
@@ -301,7 +302,11 @@ void GyroSimNode::SendStatus() noexcept {
   status.ready = mode_ == GyroMode::kReady;
   status.frequency_mhz =
       static_cast<std::uint32_t>(std::lround(options_.resonant_frequency_hz * 1e3));
-  status.temperature_centi_c = static_cast<std::int16_t>(std::lround(options_.temperature_c * 100));
+  const double since_power_on_s = static_cast<double>(clock_.NowNs() - power_on_ns_) * 1e-9;
+  const double temperature_c =
+      std::clamp(options_.temperature_c + options_.temperature_drift_c_per_s * since_power_on_s,
+                 -327.67, 327.67);
+  status.temperature_centi_c = static_cast<std::int16_t>(std::lround(temperature_c * 100));
   Send(gyro_can::EncodeStatus(status));
 }
 

@@ -86,6 +86,7 @@ class GyroSimNode final : public SimulationParticipant {
   OmegaSource omega_;
   std::function<void()> short_bus_;
   estimator::Matrix4 distortion_;  // I + C(ξ)
+  std::int64_t power_on_ns_ = 0;   // temperature drift counts from here
 
   hw::GyroMode mode_ = hw::GyroMode::kIdle;
   std::uint8_t fault_bits_ = 0;

@@ -26,6 +26,9 @@ bool GyroSimOptions::IsValid(std::string* why) const {
       resonant_frequency_hz > 16777.215) {
     return fail("resonant_frequency_hz must be in (0, 16777.215] (the status field's range)");
   }
+  if (!std::isfinite(temperature_drift_c_per_s) || std::abs(temperature_drift_c_per_s) > 10.0) {
+    return fail("temperature_drift_c_per_s must be within +-10");
+  }
   if (!std::isfinite(temperature_c) || std::abs(temperature_c) > 327.67) {
     return fail("temperature_c must be within +-327.67");
   }

@@ -36,7 +36,9 @@ struct GyroSimOptions {
   // The electronics.
   double excite_time_s = 0.2;             // from Excite to "ready" (control loops settling)
   double resonant_frequency_hz = 5000.0;  // reported by the PLL
-  double temperature_c = 25.0;            // reported housing temperature
+  double temperature_c = 25.0;            // reported housing temperature at power-on
+  // Linear drift of the housing temperature from power-on (°C/s), e.g. warm-up; 0 = constant.
+  double temperature_drift_c_per_s = 0.0;
   bool supports_fd = true;                // accept FrameFormat::kFd (when the bus is FD too)
   std::int64_t poll_period_ns = 200'000;  // firmware loop: commands are answered within this
 

@@ -86,12 +86,14 @@ void CaptureThread::ThreadMain() noexcept {
   setup_done_.notify_one();
 
   result_.termination = Loop();
+  // Running() turns false before this thread lets a simulated clock go: the other way round, the
+  // sequencer, still seeing Running(), would sleep through seconds of virtual time in that gap.
+  running_.store(false, std::memory_order_release);
   try {
     clock_->DetachCurrentThread();
   } catch (...) {
     // Only a simulated clock's bookkeeping can fail here; the capture is over either way.
   }
-  running_.store(false, std::memory_order_release);
 }
 
 CaptureTermination CaptureThread::Loop() noexcept {

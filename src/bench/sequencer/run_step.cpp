@@ -259,6 +259,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
         end.reason = drift;
         ctx.warnings.push_back(line + " (rejected)");
       } else {
+        end.reason = "flagged: " + drift;  // kept for the estimator, marked in the record
         ctx.warnings.push_back(line + " (flagged)");
       }
       ctx.Log(ctx.warnings.back());

@@ -110,3 +110,65 @@ TEST(BenchFaults, OperatorInterruptDuringRunTwo) {
 
 }  // namespace
 }  // namespace hrgbench::testing
+
+namespace hrgbench::testing {
+namespace {
+
+// Temperature drift (the paper estimates only when it is stationary, change < 1 %): a drift of
+// 0.2 °C/s over a 2 s run at 25 °C is a 1.6 % change.
+void Drifting(bench::BenchConfigs& c) {
+  Shorten(c);
+  c.station.simulated.temperature_drift_c_per_s = 0.2;
+  c.sequence.warmup.max_drift_c = 100.0;  // let the warm-up pass: the runs are under test
+}
+
+TEST(BenchDrift, ADriftingRunIsFlaggedAndKept) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Drifting(c);
+    c.sequence.drift.action = bench::DriftAction::kFlag;
+  });
+  EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  EXPECT_EQ(run.result.complete_runs, 5);
+  int flagged = 0;
+  for (const std::string& w : run.result.warnings)
+    flagged += w.find("temperature changed") != std::string::npos && w.find("flagged") != std::string::npos;
+  EXPECT_EQ(flagged, 5);
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  const nlohmann::json& first = session->document.at("runs").at(0);
+  EXPECT_EQ(first.at("status"), "complete");
+  EXPECT_NE(first.at("end").at("reason").get<std::string>().find("flagged: temperature"),
+            std::string::npos);
+  std::filesystem::remove_all(run.dir);
+}
+
+TEST(BenchDrift, ADriftingRunIsRejectedWhenTheSequenceSaysSo) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Drifting(c);
+    c.sequence.drift.action = bench::DriftAction::kReject;
+  });
+  // Every run drifted: none is given to the estimator, so there is nothing to judge.
+  EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kError) << run.result.reason;
+  EXPECT_NE(run.result.reason.find("no complete run"), std::string::npos) << run.result.reason;
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->loaded_run_ids.size(), 0u);
+  const nlohmann::json& runs = session->document.at("runs");
+  ASSERT_EQ(runs.size(), 5u);
+  EXPECT_EQ(runs.at(0).at("status"), "rejected");
+  EXPECT_NE(runs.at(0).at("end").at("reason").get<std::string>().find("temperature"),
+            std::string::npos);
+  std::filesystem::remove_all(run.dir);
+}
+
+TEST(BenchDrift, AGyroThatNeverWarmsUpIsAnError) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.simulated.temperature_drift_c_per_s = 0.5;  // 0.5 °C over the 1 s window
+    c.sequence.warmup.timeout_s = 20.0;
+  });
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kError, "not warm", 0});
+}
+
+}  // namespace
+}  // namespace hrgbench::testing
