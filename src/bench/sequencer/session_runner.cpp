@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/realtime_setup.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench {
@@ -184,6 +186,20 @@ void Begin(SessionContext& ctx, const BenchConfigs& configs, const BenchHardware
   ctx.unix_offset_ns = unix_now - ctx.start_ns;
 }
 
+// What the capture thread will get, asked of the system before the session starts, so the record
+// says what was granted and, where refused, why: memory is locked for the process here (as the
+// capture would), scheduling and affinity are tried on a probe thread exactly as the capture thread
+// applies them.
+std::string ProbeRealtime(const RealtimeConfig& rt) {
+  const RealtimeOptions options{rt.priority, rt.cpu, rt.lock_memory};
+  if (options.priority == 0 && options.cpu < 0 && !options.lock_memory) return "not requested";
+  RealtimeReport report;
+  if (options.lock_memory) report.memory_lock = LockProcessMemory();
+  std::thread probe([&] { realtime_internal::ApplyToCallingThread(options, report); });
+  probe.join();
+  return report.Summary();
+}
+
 SessionResult Refused(const std::filesystem::path& dir, std::string reason) {
   SessionResult result;
   result.dir = dir;
@@ -202,13 +218,7 @@ SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
   header.software_version = options.software_version;
   header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
                           configs.limits.sha256_hex};
-  const RealtimeConfig& rt = configs.station.realtime;
-  header.realtime_status =
-      rt.priority == 0 && !rt.lock_memory
-          ? "not requested"
-          : "requested: SCHED_FIFO priority " + std::to_string(rt.priority) + ", cpu " +
-                std::to_string(rt.cpu) + (rt.lock_memory ? ", mlockall" : "") +
-                " (per-run grant in the log)";
+  header.realtime_status = ProbeRealtime(configs.station.realtime);
   header.simulation = options.simulation;
   header.can_interface = hw.can_interface;
   int id = 1;

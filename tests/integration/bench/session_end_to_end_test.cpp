@@ -42,6 +42,7 @@ void ExpectCompleteRecord(const std::filesystem::path& dir, std::size_t runs,
   EXPECT_EQ(doc.at("state"), "closed");
   EXPECT_EQ(doc.at("outcome").at("kind"), outcome);
   EXPECT_TRUE(doc.contains("simulation"));
+  EXPECT_EQ(doc.at("realtime"), "not requested");  // station-sim asks for none
   EXPECT_EQ(doc.at("config_sha256").at("station").get<std::string>().size(), 64u);
   for (const char* name : {"station.toml", "sequence.toml"})
     EXPECT_TRUE(std::filesystem::exists(dir / "config" / name)) << name;
@@ -108,6 +109,25 @@ TEST(BenchEndToEnd, OutOfLimitsIsAFailThatNamesTheParameter) {
   const nlohmann::json& failed = session->document.at("outcome").at("failed_parameters");
   ASSERT_EQ(failed.size(), 1u);
   EXPECT_EQ(failed.at(0).at("name"), "delta2");
+  std::filesystem::remove_all(run.dir);
+}
+
+// Asked for SCHED_FIFO and mlockall, the record says what the system granted (or refused, and why).
+TEST(BenchEndToEnd, TheRecordSaysWhatRealTimeWasGranted) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    for (bench::SequenceRun& r : c.sequence.runs) r.free_run_s = 1.0;
+    c.sequence.warmup.window_s = 1.0;
+    c.station.realtime.priority = 5;
+    c.station.realtime.lock_memory = true;
+  });
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  const std::string realtime = session->document.at("realtime");
+  EXPECT_NE(realtime.find("SCHED_FIFO 5"), std::string::npos) << realtime;
+  EXPECT_NE(realtime.find("mlockall"), std::string::npos) << realtime;
+  EXPECT_TRUE(realtime.find("granted") != std::string::npos ||
+              realtime.find("refused") != std::string::npos)
+      << realtime;
   std::filesystem::remove_all(run.dir);
 }
 
