@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
     std::size_t n = 0;
     for (const RunData& r : runs) n += static_cast<std::size_t>(r.size());
     EstimateSummary s;
-    const double ms = MedianMs(3, [&] { s = EstimateMaximumLikelihood(runs); });
+    const double ms = MedianMs(7, [&] { s = EstimateMaximumLikelihood(runs); });
     std::printf("| %.1f | %zu | %.0f | %.0f | %d |\n", duration, n, ms, 1e6 * ms / static_cast<double>(n),
                 s.iterations);
   }
