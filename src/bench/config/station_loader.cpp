@@ -166,7 +166,7 @@ std::expected<TableLinkConfig, ConfigError> ReadTable(TableReader& reader, Stati
       HRG_CHECK(Forbid(reader, key, kRealOnly));
     }
   }
-  // The register map's watchdog range (drivers/modbus_rate_table/register_map.hpp).
+  // The register map's watchdog range (the Modbus rate-table driver's register_map.hpp).
   HRG_TRY(watchdog, OptionalInteger(reader, "watchdog_ms", 100, 60'000, table.watchdog_ms));
   table.watchdog_ms = *watchdog;
   if (kind == StationKind::kReal && table.heartbeat_period_ms > table.watchdog_ms / 2) {
