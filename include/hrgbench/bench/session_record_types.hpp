@@ -103,6 +103,11 @@ struct RunEnd {
   // Ω for the estimator: mean measured table rate over the capture + Earth-rate component.
   // Must be finite for a complete run; otherwise NaN means "commanded Ω" in session.json.
   double omega_rad_s = std::numeric_limits<double>::quiet_NaN();
+  // How well that Ω is known: the standard error of the mean of the table's rate readings (rad/s)
+  // and how many there were. With the production sequence, an Ω error of 3e-7 rad/s already
+  // biases δ3…δ6 by ~4 of their std, so the record keeps it. NaN / 0 when not measured.
+  double omega_std_error_rad_s = std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t omega_readings = 0;
   double temperature_start_c = std::numeric_limits<double>::quiet_NaN();
   double temperature_end_c = std::numeric_limits<double>::quiet_NaN();
   double frequency_start_hz = std::numeric_limits<double>::quiet_NaN();

@@ -58,6 +58,8 @@ json ToJson(const RunEnd& end, std::uint64_t samples) {
   json out{{"status", end.status},
            {"reason", end.reason},
            {"omega_rad_s", Number(end.omega_rad_s)},
+           {"omega_std_error_rad_s", Number(end.omega_std_error_rad_s)},
+           {"omega_readings", end.omega_readings},
            {"temperature_start_c", Number(end.temperature_start_c)},
            {"temperature_end_c", Number(end.temperature_end_c)},
            {"frequency_start_hz", Number(end.frequency_start_hz)},

@@ -142,6 +142,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   std::vector<hw::GyroSample> drained;
   std::vector<GyroSampleRecord> records;
   double omega_sum = 0.0;
+  double omega_sum2 = 0.0;
   int omega_reads = 0;
   std::int64_t next_table_read = 0;
   StepOutcome outcome = StepOutcome::Ok();
@@ -179,6 +180,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
         break;
       }
       omega_sum += table->measured_rate_rad_s;
+      omega_sum2 += table->measured_rate_rad_s * table->measured_rate_rad_s;
       ++omega_reads;
     }
     if (ctx.Interrupted()) {
@@ -218,6 +220,14 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   const auto stopped = hw.gyro->Stop();
   end.omega_rad_s = (omega_reads > 0 ? omega_sum / omega_reads : start.measured_omega_rad_s) +
                     ctx.earth_rate_rad_s;
+  end.omega_readings = static_cast<std::uint64_t>(omega_reads);
+  if (omega_reads > 1) {
+    // Readings 20 ms apart are treated as independent (the readout noise, not the rate, varies).
+    const double n = omega_reads;
+    const double mean = omega_sum / n;
+    const double variance = std::max(0.0, (omega_sum2 - n * mean * mean) / (n - 1));
+    end.omega_std_error_rad_s = std::sqrt(variance / n);
+  }
 
   if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
     outcome = result.termination == CaptureTermination::kStopRequested

@@ -6,6 +6,7 @@
 // Tolerance: 4 reported standard deviations per parameter (the estimator's std is validated against
 // Monte Carlo in tests/unit/estimator/statistics_test.cpp; 4σ leaves a false alarm rate of 6e-5 per
 // parameter with fixed seeds, i.e. never for a given build).
+#include <cmath>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -60,6 +61,12 @@ void ExpectCompleteRecord(const std::filesystem::path& dir, std::size_t runs,
     const double earth = run.at("start").at("earth_rate_rad_s").get<double>();
     EXPECT_NEAR(run.at("omega_rad_s").get<double>(), commanded + earth, 1e-5);
     EXPECT_EQ(run.at("end").at("sequence_gaps").get<int>(), 0);
+    // The Ω's own uncertainty: the simulated table's readout noise (1e-6 rad/s) over the run's
+    // readings, to within a factor 2 (the rate loop's lag adds a little at the start).
+    const double readings = run.at("end").at("omega_readings").get<double>();
+    ASSERT_GT(readings, 10.0);
+    EXPECT_GT(run.at("end").at("omega_std_error_rad_s").get<double>(), 0.5e-6 / std::sqrt(readings));
+    EXPECT_LT(run.at("end").at("omega_std_error_rad_s").get<double>(), 2e-6 / std::sqrt(readings));
   }
 }
 
