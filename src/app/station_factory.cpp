@@ -55,11 +55,6 @@ mock::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
   const bench::SimulatedStationConfig& sim = config.simulated;
   mock::SimulatedStationOptions o;
   o.faster_than_real_time = sim.faster_than_real_time;
-  // A thread that does not wait on the virtual clock for this long (wall) is parked and time runs on
-  // without it. The bench's threads only block off the clock briefly, but a loaded CI machine can
-  // starve a thread for a few hundred ms: 200 ms parked the capture thread and the run's deadline
-  // passed in virtual time before it read a sample.
-  o.park_after_wall_ns = 5'000'000'000;
   o.time_scale = sim.time_scale;
   o.gyro.delta = sim.delta;
   o.gyro.xi = sim.xi;
