@@ -152,6 +152,7 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
   station->hardware_.gyro = station->gyro.get();
   station->hardware_.clock = &station->clock;
   station->hardware_.monitor = station->monitor.get();
+  station->hardware_.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
   station->hardware_.can_interface = config.gyro.can_interface;
   return station;
 }

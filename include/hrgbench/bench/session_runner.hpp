@@ -51,6 +51,10 @@ struct BenchHardware {
   // Optional tap that receives every frame on the gyro's bus (a second socket on the interface, or
   // the virtual bus's monitor endpoint): everything it receives goes to the candump log.
   hw::CanBus* monitor = nullptr;
+  // The monitor's receive stamps: on `clock` (a virtual bus) or, for software stamps, Unix time
+  // (SocketCAN: CLOCK_REALTIME). Other stamps (a controller's own clock) are replaced by the
+  // bench clock at the time the frame is taken off the monitor.
+  bool monitor_stamps_on_bench_clock = true;
   std::string can_interface = "can0";  // name written in the candump log
 };
 

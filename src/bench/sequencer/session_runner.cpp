@@ -48,8 +48,14 @@ StepOutcome SessionContext::PumpCanLog() {
   // Bounded: a babbling bus must not keep the sequencer from its other duties.
   for (int i = 0; i < 100000; ++i) {
     if (hw->monitor->Receive(&frame, 0, &info) != hw::CanStatus::kOk) break;
-    const std::int64_t stamp = info.timestamp_ns != 0 ? info.timestamp_ns : hw->clock->NowNs();
-    logged_scratch.push_back({stamp + unix_offset_ns, frame});
+    std::int64_t unix_ns = hw->clock->NowNs() + unix_offset_ns;
+    if (info.timestamp_ns != 0) {
+      if (hw->monitor_stamps_on_bench_clock)
+        unix_ns = info.timestamp_ns + unix_offset_ns;
+      else if (info.timestamp_source == hw::TimestampSource::kSoftware)
+        unix_ns = info.timestamp_ns;  // already CLOCK_REALTIME
+    }
+    logged_scratch.push_back({unix_ns, frame});
   }
   if (logged_scratch.empty()) return StepOutcome::Ok();
   if (auto appended = recorder->AppendCanFrames(logged_scratch); !appended)

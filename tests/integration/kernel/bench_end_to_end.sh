@@ -22,4 +22,10 @@ complete=$(grep -c '"status": "complete"' "$out/session.json" || true)
 echo "complete run entries in session.json: $complete"
 lines=$(wc -l < "$out/can/session.log")
 echo "CAN log lines: $lines"
-[ "$status" -eq 0 ] && [ -f "$out/runs/run-003.csv" ] && [ "$lines" -gt 1000 ]
+# The candump log's stamps are Unix time (SocketCAN software stamps are CLOCK_REALTIME): the first
+# frame was logged within the last hour of the guest's own clock.
+first=$(head -n 1 "$out/can/session.log" | sed 's/^(\([0-9]*\)\..*/\1/')
+age=$(( $(date +%s) - first ))
+echo "first CAN log stamp $first, $age s ago"
+[ "$status" -eq 0 ] && [ -f "$out/runs/run-003.csv" ] && [ "$lines" -gt 1000 ] &&
+  [ "$age" -ge 0 ] && [ "$age" -lt 3600 ]
