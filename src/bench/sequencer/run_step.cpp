@@ -48,7 +48,7 @@ StepOutcome SettleTable(SessionContext& ctx, double omega_rad_s) {
     if (stable) return StepOutcome::Ok();
     if (stable.error().code != hw::RateTableErrorCode::kNotStable)
       return StepOutcome::Error("rate table: " + stable.error().ToString());
-    ctx.PumpCanLog();
+    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) return pumped;
   }
 }
 
@@ -70,7 +70,7 @@ std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const
       return std::unexpected(StepOutcome::Error(
           "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s"));
     auto ready = gyro.WaitReady(std::min(left, Ns(kWaitSliceS)));
-    ctx.PumpCanLog();
+    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) return std::unexpected(pumped);
     if (ready) return *ready;
     if (ready.error().code != hw::GyroErrorCode::kTimeout)
       return std::unexpected(StepOutcome::Error("gyro: " + ready.error().ToString()));
@@ -204,7 +204,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   while (capture.Running()) hw.clock->SleepForNs(kLoopPeriodNs);
   const CaptureResult result = capture.Join();
   if (outcome.ok()) drain();
-  ctx.PumpCanLog();
+  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
 
   RunEnd end;
   end.temperature_start_c = start.temperature_c;

@@ -59,7 +59,7 @@ StepOutcome WaitForWarmup(SessionContext& ctx) {
     }
     progress.elapsed_s = ctx.Seconds(now);
     ctx.ReportProgress(progress);
-    ctx.PumpCanLog();
+    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) return pumped;
     clock.SleepForNs(static_cast<std::int64_t>(period_s * 1e9));
   }
 }
