@@ -1,7 +1,10 @@
 #include "mock/virtual_time_clock.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 namespace hrgbench::mock {
@@ -9,6 +12,9 @@ namespace hrgbench::mock {
 namespace {
 using WallClock = std::chrono::steady_clock;
 constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+// Paced time may run fast to make up this much lag (step overheads, a short stall) so that it
+// keeps its scale on average, but no more: a longer stall is not made up.
+constexpr auto kPacingCatchUp = std::chrono::milliseconds(20);
 
 struct ThreadRecord {
   enum class State { kRunning, kWaiting, kParked };
@@ -20,12 +26,28 @@ struct ThreadRecord {
   // Running because output woke it (not a deadline): time may go on up to the lookahead.
   bool woken_by_output = false;
   std::int64_t woken_at_ns = 0;
+  pid_t tid = 0;  // the kernel's id of the thread, to ask whether it is blocked (see MayPark)
 };
+
+// True unless the kernel says the thread is runnable ('R': running, or waiting for a CPU on a
+// loaded machine) or in uninterruptible I/O ('D': fsync, a page fault): such a thread is working
+// and will wait on the clock again, so time must wait for it. Only a thread asleep off the clock
+// ('S': join, a mutex, a condition variable) is parked. Where /proc cannot tell, park as before.
+bool MayPark(pid_t tid) {
+  if (tid <= 0) return true;
+  std::ifstream stat("/proc/self/task/" + std::to_string(tid) + "/stat");
+  std::string line;
+  if (!stat || !std::getline(stat, line)) return true;
+  // "tid (comm) S ...": comm may hold spaces and parentheses; the state follows the last ')'.
+  const std::size_t close = line.rfind(')');
+  if (close == std::string::npos || close + 2 >= line.size()) return true;
+  const char state = line[close + 2];
+  return state != 'R' && state != 'D';
+}
 }  // namespace
 
 struct VirtualTimeClock::Core {
-  explicit Core(const VirtualTimeClockOptions& o)
-      : options(o), now_ns(o.start_ns), wall_start(WallClock::now()) {}
+  explicit Core(const VirtualTimeClockOptions& o) : options(o), now_ns(o.start_ns) {}
 
   void Detach(std::thread::id id) {
     {
@@ -68,8 +90,14 @@ struct VirtualTimeClock::Core {
   std::condition_variable cv;
   std::atomic<std::int64_t> now_ns;
   std::atomic<std::uint64_t> epoch{0};
-  const WallClock::time_point wall_start;
   bool pacing = false;  // a thread is waiting for the wall clock to catch up (mutex released)
+  // Pacing reference: simulated anchor_sim_ns corresponds to wall time anchor_wall. Set at the
+  // first advance (not at construction: a station that takes a while to build must not then run
+  // ahead to "catch up") and moved forward whenever the simulation falls behind the wall clock
+  // by more than kPacingCatchUp.
+  bool anchored = false;
+  WallClock::time_point anchor_wall;
+  std::int64_t anchor_sim_ns = 0;
   std::map<std::thread::id, ThreadRecord> threads;
   std::vector<gyro_sim::SimulationParticipant*> participants;
   VirtualTimeClockStatistics statistics;
@@ -101,10 +129,20 @@ bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   }
   if (next == kNever || !MayAdvanceTo(next)) return false;
   if (options.time_scale > 0.0 && next > now) {
-    const auto wall_target =
-        wall_start + std::chrono::nanoseconds(static_cast<std::int64_t>(
-                         static_cast<double>(next - options.start_ns) / options.time_scale));
-    if (WallClock::now() < wall_target) {
+    const WallClock::time_point wall_now = WallClock::now();
+    const auto wall_at = [&](std::int64_t sim_ns) {
+      return anchor_wall + std::chrono::nanoseconds(static_cast<std::int64_t>(
+                               static_cast<double>(sim_ns - anchor_sim_ns) / options.time_scale));
+    };
+    // First advance, or already late for `next` by more than the catch-up allowance (a slow
+    // machine, or the threads worked off the clock for a while): pace the step from here.
+    if (!anchored || wall_now > wall_at(next) + kPacingCatchUp) {
+      anchored = true;
+      anchor_wall = wall_now;
+      anchor_sim_ns = now;
+    }
+    const WallClock::time_point wall_target = wall_at(next);
+    if (wall_now < wall_target) {
       pacing = true;
       cv.wait_until(lock, wall_target);
       pacing = false;
@@ -183,7 +221,10 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
   const std::thread::id id = std::this_thread::get_id();
   std::unique_lock lock(core.mutex);
   auto [it, inserted] = core.threads.try_emplace(id);
-  if (inserted) t_attachments.cores.push_back(core_);
+  if (inserted) {
+    t_attachments.cores.push_back(core_);
+    it->second.tid = gettid();
+  }
   ThreadRecord& self = it->second;
   if (deadline_ns <= core.now_ns.load(std::memory_order_relaxed) ||
       (wake_on_output && core.epoch.load(std::memory_order_acquire) != seen_epoch)) {
@@ -213,10 +254,16 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
     if (core.cv.wait_until(lock, park_at) == std::cv_status::timeout) {
       const auto wall_now = WallClock::now();
       for (auto& [other_id, record] : core.threads) {
-        if (record.state == ThreadRecord::State::kRunning &&
-            wall_now >= record.running_since + park_after) {
+        if (record.state != ThreadRecord::State::kRunning ||
+            wall_now < record.running_since + park_after)
+          continue;
+        if (MayPark(record.tid)) {
           record.state = ThreadRecord::State::kParked;
           ++core.statistics.parks;
+        } else {
+          // Working, or waiting for a CPU: look again after another park_after_wall_ns.
+          record.running_since = wall_now;
+          ++core.statistics.park_deferrals;
         }
       }
     }
@@ -242,7 +289,10 @@ void VirtualTimeClock::WithParticipantsLocked(const std::function<void()>& f) {
 void VirtualTimeClock::AttachCurrentThread() {
   std::lock_guard lock(core_->mutex);
   auto [it, inserted] = core_->threads.try_emplace(std::this_thread::get_id());
-  if (inserted) t_attachments.cores.push_back(core_);
+  if (inserted) {
+    t_attachments.cores.push_back(core_);
+    it->second.tid = gettid();
+  }
   it->second.state = ThreadRecord::State::kRunning;
   it->second.running_since = WallClock::now();
   it->second.woken_by_output = false;

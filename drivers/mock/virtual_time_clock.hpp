@@ -21,12 +21,17 @@
 //     thread called NotifyOutput (a frame was sent). Woken threads count as running at once, so
 //     time cannot slip past them before they are scheduled.
 //   - A thread that blocks on something other than this clock (join, a mutex, a condition
-//     variable, slow file I/O) would stall time for ever; after park_after_wall_ns of wall time
-//     without waiting on the clock it is PARKED (counted in Statistics().parks) and time goes on
-//     without it until its next wait. Parks are normal around a join; a park while a thread was
-//     merely busy means the simulation was not exactly conservative for that moment.
+//     variable) would stall time for ever; after park_after_wall_ns of wall time without waiting
+//     on the clock it is PARKED (counted in Statistics().parks) and time goes on without it until
+//     its next wait, but only if the kernel says it is asleep: a thread that is runnable (working,
+//     or starved of a CPU on a loaded machine) or in uninterruptible I/O (fsync) is not parked
+//     (Statistics().park_deferrals) and time keeps waiting for it. So a loaded machine makes a
+//     simulation slower, never different; parks happen around a join or a wait off the clock.
 //   - Pacing (time_scale > 0): before each advance, wait until the wall clock catches up:
-//     simulated elapsed = time_scale × wall elapsed. time_scale = 0: as fast as possible.
+//     simulated elapsed = time_scale × wall elapsed, counted from the first advance. A simulation
+//     that falls behind (a loaded machine, threads working off the clock) makes up at most 20 ms
+//     of wall time, then goes on from where it is rather than running fast to catch up.
+//     time_scale = 0: as fast as possible.
 //
 // Contract for users: in faster-than-real-time mode every timed wait must be on this clock
 // (SleepForNs, or a driver call that waits on it); a std::this_thread::sleep_for or a condition
@@ -34,7 +39,9 @@
 //
 // Limits: one mutex serialises every wait and every participant service (fine for a handful of
 // threads); participants must not wait on this clock or call NotifyOutput from Service; a thread
-// that is descheduled for longer than park_after_wall_ns is parked too.
+// that never waits on the clock and never detaches, while busy for ever (a spin loop), holds
+// time back for ever; the park check reads /proc/self/task/<tid>/stat (Linux; elsewhere every
+// thread past park_after_wall_ns is parked).
 //
 // Threads: every method from any thread. NowNs() is real-time safe (an atomic load); the waits
 // are not (mutex, condition variable; the first wait of a thread allocates its record).
@@ -81,6 +88,7 @@ struct VirtualTimeClockStatistics {
   std::uint64_t services = 0;   // participant Service calls
   std::uint64_t outputs = 0;    // output notifications (participant output or NotifyOutput)
   std::uint64_t parks = 0;      // threads parked after park_after_wall_ns
+  std::uint64_t park_deferrals = 0;  // park checks that found the thread working, not blocked
   std::uint64_t attached_threads = 0;  // threads attached now
 };
 

@@ -240,11 +240,11 @@ TEST(SessionRecorder, SessionJsonIsNeverHalfWritten) {
   const SessionHeader header = SyntheticHeader(40);
   auto recorder = SessionRecorder::Create(dir, header);
   ASSERT_TRUE(recorder.has_value());
-  std::atomic<bool> done{false};
   std::atomic<int> reads{0};
   std::atomic<int> bad{0};
-  std::thread reader([&] {
-    while (!done.load()) {
+  // jthread: stopped and joined on every way out of the test, a failed ASSERT included.
+  std::jthread reader([&](const std::stop_token& stop) {
+    while (!stop.stop_requested()) {
       std::ifstream in(dir / "session.json");
       std::stringstream text;
       text << in.rdbuf();
@@ -266,7 +266,7 @@ TEST(SessionRecorder, SessionJsonIsNeverHalfWritten) {
     ASSERT_TRUE(recorder->AppendSamples(SyntheticSamples(plan.id, 20, 1000.0)).has_value());
     ASSERT_TRUE(recorder->EndRun(CompleteEnd(plan)).has_value());
   }
-  done = true;
+  reader.request_stop();
   reader.join();
   EXPECT_EQ(bad.load(), 0) << "of " << reads.load() << " reads";
   EXPECT_GT(reads.load(), 10);

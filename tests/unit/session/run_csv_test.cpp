@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -209,8 +208,8 @@ TEST(RunCsvTest, WriteFileAtomicReportsUnwritableDirectory) {
 }
 
 // 100 000 lines of typical capture data (t, four channels at 17 significant digits, a sequence
-// number). Best of five to be robust against a busy machine.
-TEST(RunCsvTest, Parses100kLinesFast) {
+// number) come back bit for bit. (How fast: benchmarks/, not here: a test never judges speed.)
+TEST(RunCsvTest, Reads100kLinesBackBitForBit) {
   TempDir dir;
   constexpr std::size_t kLines = 100'000;
   std::mt19937_64 rng(42);
@@ -227,22 +226,12 @@ TEST(RunCsvTest, Parses100kLinesFast) {
   }
   const auto file = dir / "big.csv";
   ASSERT_TRUE(WriteRunCsv(file, samples));
-
-  double best_ms = 1e9;
-  for (int attempt = 0; attempt < 5; ++attempt) {
-    const auto start = std::chrono::steady_clock::now();
-    const auto read = ReadRunCsv(file);
-    const auto stop = std::chrono::steady_clock::now();
-    ASSERT_TRUE(read) << read.error().ToString();
-    ASSERT_EQ(read->size(), kLines);
-    best_ms = std::min(best_ms, std::chrono::duration<double, std::milli>(stop - start).count());
-  }
-  RecordProperty("parse_100k_lines_ms", std::to_string(best_ms));
-  std::printf("ReadRunCsv: %zu lines (%ju bytes) in %.2f ms\n", kLines,
-              static_cast<std::uintmax_t>(std::filesystem::file_size(file)), best_ms);
-#ifdef NDEBUG
-  EXPECT_LT(best_ms, 100.0);
-#endif
+  const auto read = ReadRunCsv(file);
+  ASSERT_TRUE(read) << read.error().ToString();
+  ASSERT_EQ(read->size(), kLines);
+  EXPECT_EQ(read->t_s, samples.t_s);
+  EXPECT_TRUE(read->y == samples.y);
+  EXPECT_EQ(read->extra_columns.at("seq"), seq);
 }
 
 }  // namespace
