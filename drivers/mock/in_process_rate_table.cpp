@@ -207,7 +207,9 @@ std::expected<void, RateTableError> InProcessRateTable::SetRate(double rate_rad_
     return ok;
   }
   if (auto ok = RequireConnected(/*allow_faulted=*/false); !ok) return ok;
+  last_command_ = {hw::RateTableMode::kRate, rate_rad_s, clock_.NowNs(), false, false};
   if (auto ok = Transact("set rate"); !ok) return ok;
+  last_command_.delivered = true;
   if (!physics_.Command(hw::RateTableMode::kRate, rate_rad_s)) return Refused("set rate");
   target_rate_rad_s_ = rate_rad_s;
   return {};
@@ -264,7 +266,9 @@ std::expected<void, RateTableError> InProcessRateTable::ResetFault() {
 std::expected<void, RateTableError> InProcessRateTable::Stop() {
   if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return ok;
   target_rate_rad_s_ = 0.0;
+  last_command_ = {hw::RateTableMode::kIdle, 0.0, clock_.NowNs(), false, false};
   if (auto ok = Transact("stop"); !ok) return ok;
+  last_command_.delivered = true;
   if (!physics_.Command(hw::RateTableMode::kIdle, 0.0)) return Refused("stop");
   return {};
 }
@@ -272,12 +276,14 @@ std::expected<void, RateTableError> InProcessRateTable::Stop() {
 void InProcessRateTable::SafeStop() noexcept {
   try {
     target_rate_rad_s_ = 0.0;
+    last_command_ = {hw::RateTableMode::kIdle, 0.0, clock_.NowNs(), false, true};
     const std::int64_t deadline_ns = clock_.NowNs() + config_.safe_stop_budget_ms * kNsPerMs;
     // Whatever the state machine says: a stop is always worth trying, within one budget.
     do {
       ++counters_.calls;
       if (!InjectedFailureDue()) {
         physics_.Command(hw::RateTableMode::kIdle, 0.0);
+        last_command_.delivered = true;
         return;
       }
       ++counters_.timeouts;

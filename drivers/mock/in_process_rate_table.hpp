@@ -58,6 +58,17 @@ struct InProcessRateTableConfig {
 
 enum class InProcessTableState { kDisconnected, kConnected, kFaulted };
 
+// The last motion command the bench sent (SetRate, Stop or SafeStop), whether or not the table
+// received it: what a test checks to know the bench commanded zero rate, even when the table no
+// longer answers (then `delivered` is false and the table's watchdog is what stops it).
+struct SentTableCommand {
+  hw::RateTableMode mode = hw::RateTableMode::kIdle;
+  double rate_rad_s = 0.0;
+  std::int64_t sent_at_ns = -1;  // the station's clock; -1: nothing sent yet
+  bool delivered = false;
+  bool safe_stop = false;  // sent by SafeStop
+};
+
 // One counter per failure kind (STYLE rule 5), cumulative, never reset.
 struct InProcessTableCounters {
   std::uint64_t calls = 0;              // calls that reached the table (the wire's transactions)
@@ -101,6 +112,8 @@ class InProcessRateTable final : public hw::RateTable {
   InProcessTableState state() const noexcept { return state_.load(std::memory_order_acquire); }
   InProcessTableCounters counters() const noexcept;
   double target_rate_rad_s() const noexcept { return target_rate_rad_s_; }
+  // Owner thread, or after the owner is done.
+  const SentTableCommand& last_command() const noexcept { return last_command_; }
   const InProcessRateTableConfig& config() const noexcept { return config_; }
 
  private:
@@ -124,6 +137,7 @@ class InProcessRateTable final : public hw::RateTable {
   std::int64_t last_heartbeat_ns_ = 0;
   std::uint16_t heartbeat_value_ = 0;
   double target_rate_rad_s_ = 0.0;
+  SentTableCommand last_command_;
 
   struct AtomicCounters {
     std::atomic<std::uint64_t> calls{0}, timeouts{0}, connection_losses{0}, limit_rejections{0},

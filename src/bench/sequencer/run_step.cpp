@@ -218,6 +218,9 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     end.frequency_end_hz = status->resonant_frequency_hz;
   }
   const auto stopped = hw.gyro->Stop();
+  // The run's closing frames (status request, Stop and their acks) belong to this run's record,
+  // not the next one's, and the last run's would otherwise never be logged.
+  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
   end.omega_rad_s = (omega_reads > 0 ? omega_sum / omega_reads : start.measured_omega_rad_s) +
                     ctx.earth_rate_rad_s;
   end.omega_readings = static_cast<std::uint64_t>(omega_reads);

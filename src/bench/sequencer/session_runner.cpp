@@ -120,18 +120,36 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
         outcome.reason = "estimate not usable: " + estimated.summary.message;
       } else {
         Verdict verdict = EvaluateLimits(ctx.configs->limits, estimated.summary);
-        for (const LimitResult& r : verdict.results)
+        std::string not_judged;  // "xi2: not evaluated, held fixed ...; delta4: ..."
+        for (const LimitResult& r : verdict.results) {
           if (r.status == LimitStatus::kFail)
             outcome.failed_parameters.push_back(
                 {std::string(ToString(r.quantity)), r.value, r.min, r.max});
-        outcome.kind = verdict.overall == LimitStatus::kFail ? OutcomeKind::kFail : OutcomeKind::kPass;
+          if (r.status == LimitStatus::kNotEvaluated)
+            not_judged += (not_judged.empty() ? "" : "; ") + r.message;
+        }
         std::string names;
         for (const FailedParameter& f : outcome.failed_parameters)
           names += (names.empty() ? "" : ", ") + f.name;
-        outcome.reason = outcome.kind == OutcomeKind::kFail
-                             ? "out of limits: " + names
-                             : (ctx.configs->limits.limits.empty() ? "no limits to judge"
-                                                                   : "every limit met");
+        // PASS means every declared limit was judged and met. A limit the bench could not judge
+        // (the information was rank-deficient at run time, say) is the bench's failure: ERROR.
+        // A limit that failed is the unit's, whatever else could not be judged: FAIL.
+        switch (verdict.overall) {
+          case LimitStatus::kFail:
+            outcome.kind = OutcomeKind::kFail;
+            outcome.reason = "out of limits: " + names;
+            if (!not_judged.empty()) outcome.reason += "; not judged: " + not_judged;
+            break;
+          case LimitStatus::kNotEvaluated:
+            outcome.kind = OutcomeKind::kError;
+            outcome.reason = "limits not judged: " + not_judged;
+            break;
+          case LimitStatus::kPass:
+            outcome.kind = OutcomeKind::kPass;
+            outcome.reason =
+                ctx.configs->limits.limits.empty() ? "no limits to judge" : "every limit met";
+            break;
+        }
         result.verdict = std::move(verdict);
       }
       result.estimate = std::move(estimated.summary);
@@ -163,6 +181,9 @@ SessionResult RunPlanned(SessionContext& ctx, const std::filesystem::path& dir,
   result.warnings = ctx.warnings;
   if (!step.ok()) {
     internal::MakeSafe(*ctx.hw);
+    // The safe-state commands and whatever came before them, in the log before it closes; a log
+    // that cannot be written now changes nothing (the session already stops with its reason).
+    (void)ctx.PumpCanLog();
     ctx.Log("stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
     SessionOutcome outcome;
     outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
@@ -175,6 +196,14 @@ SessionResult RunPlanned(SessionContext& ctx, const std::filesystem::path& dir,
   }
   // Normal end: bring the table to rest before the (long) estimate.
   if (auto stopped = ctx.hw->table->Stop(); !stopped) ctx.hw->table->SafeStop();
+  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) {
+    result.outcome = OutcomeKind::kError;
+    result.reason = pumped.reason;
+    SessionOutcome outcome{OutcomeKind::kError, pumped.reason, {}, std::nullopt};
+    if (auto closed = ctx.recorder->Close(outcome); !closed)
+      result.reason += "; record: cannot close: " + closed.error().ToString();
+    return Finish(std::move(result));
+  }
   return EstimateAndClose(ctx, dir, std::move(result));
 }
 
@@ -206,6 +235,20 @@ std::string ProbeRealtime(const RealtimeConfig& rt) {
   return report.Summary();
 }
 
+// The sequencer owns the table and feeds its watchdog: on a simulated clock, time must wait for
+// this thread from the session's first moment, not from its first sleep (else a capture or
+// monitor thread's waits let time run on while it writes files, and the watchdog expires).
+class ClockAttachment {
+ public:
+  explicit ClockAttachment(hw::Clock& clock) : clock_(clock) { clock_.AttachCurrentThread(); }
+  ~ClockAttachment() { clock_.DetachCurrentThread(); }
+  ClockAttachment(const ClockAttachment&) = delete;
+  ClockAttachment& operator=(const ClockAttachment&) = delete;
+
+ private:
+  hw::Clock& clock_;
+};
+
 SessionResult Refused(const std::filesystem::path& dir, std::string reason) {
   SessionResult result;
   result.dir = dir;
@@ -218,6 +261,7 @@ SessionResult Refused(const std::filesystem::path& dir, std::string reason) {
 
 SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
                          const std::filesystem::path& dir, const RunnerOptions& options) {
+  const ClockAttachment attached(*hw.clock);
   SessionHeader header;
   header.unit_serial = options.unit_serial;
   header.station_name = configs.station.name;
@@ -251,6 +295,7 @@ SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
 
 SessionResult ResumeSession(const BenchConfigs& configs, const BenchHardware& hw,
                             const std::filesystem::path& dir, const RunnerOptions& options) {
+  const ClockAttachment attached(*hw.clock);
   auto recorder = SessionRecorder::OpenForResume(dir);
   if (!recorder) {
     internal::MakeSafe(hw);

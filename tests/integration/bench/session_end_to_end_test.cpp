@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
+#include "candump_log_parser.hpp"
+#include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::testing {
@@ -53,6 +55,25 @@ void ExpectCompleteRecord(const std::filesystem::path& dir, std::size_t runs,
   ASSERT_TRUE(std::getline(log, first));
   EXPECT_EQ(first.front(), '(');
   EXPECT_NE(first.find(" vcan-sim "), std::string::npos) << first;
+  // ... every one: each run's Release and its closing status request and Stop, each command with
+  // its acknowledgement (the last run's closing frames were missing: the log closed first).
+  std::size_t releases = 0, stops = 0, status_requests = 0, commands = 0, acks = 0;
+  std::vector<std::string> lines{first};
+  for (std::string line; std::getline(log, line);) lines.push_back(line);
+  for (const std::string& line : lines) {
+    const auto parsed = ParseCandumpLine(line);
+    ASSERT_TRUE(parsed) << line;
+    const std::uint32_t id = parsed->frame.id;
+    releases += id == gyro_can::can_id::kRelease ? 1 : 0;
+    stops += id == gyro_can::can_id::kStop ? 1 : 0;
+    status_requests += id == gyro_can::can_id::kStatusRequest ? 1 : 0;
+    commands += gyro_can::IsCommandId(id) ? 1 : 0;
+    acks += id == gyro_can::can_id::kAck ? 1 : 0;
+  }
+  EXPECT_EQ(releases, runs);
+  EXPECT_GE(stops, runs);
+  EXPECT_GE(status_requests, runs);
+  EXPECT_EQ(acks, commands);
   for (std::size_t i = 0; i < runs; ++i) {
     const nlohmann::json& run = doc.at("runs").at(i);
     EXPECT_EQ(run.at("status"), "complete");
@@ -116,6 +137,54 @@ TEST(BenchEndToEnd, OutOfLimitsIsAFailThatNamesTheParameter) {
   const nlohmann::json& failed = session->document.at("outcome").at("failed_parameters");
   ASSERT_EQ(failed.size(), 1u);
   EXPECT_EQ(failed.at(0).at("name"), "delta2");
+  std::filesystem::remove_all(run.dir);
+}
+
+// A PASS means every declared limit was judged and met. Runs alternating between two rates 1e-9
+// rad/s apart pass the plan check (two distinct Ω) but make the information numerically
+// rank-deficient: the estimator holds what it cannot determine at its given value. The limits
+// judge those parameters, so the session is the bench's ERROR naming them, never PASS (it was).
+TEST(BenchEndToEnd, ALimitThatCouldNotBeJudgedIsAnErrorNotAPass) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "limits-example.toml",
+                                             [](auto& c) {
+                                               for (std::size_t i = 0; i < c.sequence.runs.size(); ++i)
+                                                 c.sequence.runs[i].omega_rad_s =
+                                                     i % 2 == 0 ? 0.3 : 0.300000001;
+                                               c.sequence.settle.rate_tolerance_rad_s = 1e-3;
+                                             });
+  ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
+  const estimator::EstimateSummary& s = *run.result.estimate;
+  ASSERT_FALSE(s.xi_estimated[1]) << "the design was meant to leave xi2 undetermined\n"
+                                  << s.Report();
+  EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kError) << run.result.reason;
+  EXPECT_EQ(run.result.exit_code, bench::ExitCode(bench::OutcomeKind::kError));
+  EXPECT_NE(run.result.reason.find("limits not judged"), std::string::npos) << run.result.reason;
+  EXPECT_NE(run.result.reason.find("xi2: not evaluated, held fixed"), std::string::npos)
+      << run.result.reason;
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->document.at("outcome").at("kind"), "ERROR");
+  std::filesystem::remove_all(run.dir);
+}
+
+// gyro.fd = true on the simulated station: the plan is checked against CAN FD and the station
+// really uses it, so a 4 kHz sequence (beyond classic CAN) runs. It failed at run time: the
+// simulated station ignored fd.
+TEST(BenchEndToEnd, CanFdStationCarriesARateClassicCanCannot) {
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    c.station.gyro.fd = true;
+    for (bench::SequenceRun& r : c.sequence.runs) {
+      r.sample_rate_hz = 4000;
+      r.free_run_s = 1.0;
+    }
+    c.sequence.warmup.window_s = 1.0;
+    ASSERT_TRUE(bench::CheckBenchConfigs(c).has_value());
+  });
+  EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  ASSERT_EQ(session->loaded_run_ids.size(), 5u);
+  for (const auto& samples : session->loaded_samples) EXPECT_EQ(samples.size(), 4000u);
   std::filesystem::remove_all(run.dir);
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
+#include "mock/in_process_rate_table.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::testing {
@@ -28,11 +29,16 @@ void ExpectStoppedSafely(const BenchRun& run, const Expectation& expected) {
   EXPECT_EQ(run.result.exit_code, bench::ExitCode(expected.outcome));
   EXPECT_NE(run.result.reason.find(expected.reason_contains), std::string::npos)
       << "reason: " << run.result.reason;
-  // The table was commanded to zero (SafeStop), whatever state the link is in now.
+  // The table was commanded to zero (SafeStop), whatever state the link is in now: asked of the
+  // simulated table's own record of what it was sent, since an unresponsive table cannot be read.
   ASSERT_TRUE(run.station);
-  if (auto status = run.station->hardware().table->ReadStatus(); status) {
-    EXPECT_EQ(status->commanded_rate_rad_s, 0.0);
-  }
+  const auto* table = dynamic_cast<const mock::InProcessRateTable*>(run.station->hardware().table);
+  ASSERT_NE(table, nullptr);
+  const mock::SentTableCommand& last = table->last_command();
+  EXPECT_TRUE(last.safe_stop);
+  EXPECT_EQ(last.mode, hw::RateTableMode::kIdle);
+  EXPECT_EQ(last.rate_rad_s, 0.0);
+  EXPECT_GE(last.sent_at_ns, 0);
   // The record: readable, closed with the reason, and every completed run intact.
   auto session = session::ReadSession(run.dir);
   ASSERT_TRUE(session) << session.error().ToString();
