@@ -14,6 +14,8 @@ packages=(
   libbenchmark-dev
   libmodbus-dev            # rate table driver
   socat                    # RTU tests: a pty pair between driver and simulated table
+  can-utils                # log2asc/canplayer read the CAN log in the tests
+  stress-ng                # the load check: the suite with both cores busy beside it
 )
 
 missing=()

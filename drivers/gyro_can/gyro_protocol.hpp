@@ -79,6 +79,10 @@ inline constexpr int kSamplesPerFdFrame = 5;
 // per sample at ≤ 135 bits each (worst-case stuffing), so 2 kHz is 54 % bus load (README).
 inline constexpr std::uint16_t kMaxClassicSampleRateHz = 2000;
 inline constexpr std::uint16_t kMaxFdSampleRateHz = 10000;
+static_assert(kMaxClassicSampleRateHz == hw::kMaxSampleRateClassicCanHz &&
+              kMaxFdSampleRateHz == hw::kMaxSampleRateCanFdHz,
+              "the bench judges plans by hw/gyro_electronics.hpp's limits: keep them the same");
+static_assert(((1 << 24) - 1) * kFrequencyLsbHz == hw::kMaxReportedResonantFrequencyHz);
 inline constexpr std::uint8_t kDefaultStatusRateHz = 10;
 
 // The electronics' sample counter on the wire: 8 bits on classic frames, 16 bits on FD frames.

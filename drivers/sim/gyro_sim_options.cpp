@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "hrgbench/hw/gyro_electronics.hpp"
+
 namespace hrgbench::gyro_sim {
 
 bool GyroSimOptions::IsValid(std::string* why) const {
@@ -23,7 +25,7 @@ bool GyroSimOptions::IsValid(std::string* why) const {
     return fail("excite_time_s must be in [0, 600]");
   }
   if (!std::isfinite(resonant_frequency_hz) || resonant_frequency_hz <= 0 ||
-      resonant_frequency_hz > 16777.215) {
+      resonant_frequency_hz > hw::kMaxReportedResonantFrequencyHz) {
     return fail("resonant_frequency_hz must be in (0, 16777.215] (the status field's range)");
   }
   if (!std::isfinite(temperature_drift_c_per_s) || std::abs(temperature_drift_c_per_s) > 10.0) {

@@ -81,6 +81,9 @@ mock::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
   o.gyro_link.ack_timeout_ns = config.gyro.ack_timeout_ms * 1'000'000;
   o.gyro_link.command_attempts = static_cast<int>(config.gyro.command_attempts);
   o.gyro_link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
+  // The transport the plan was checked against is the one the simulated station uses.
+  o.can_fd = config.gyro.fd;
+  o.gyro_link.prefer_fd = config.gyro.fd;
   const bench::SimulatedFaults& f = sim.faults;
   o.table.faults.never_stable = f.table_never_stable;
   if (f.table_fault_after_s) o.table.faults.fault_after_s = *f.table_fault_after_s;

@@ -168,7 +168,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     // cost itself decides between them.
     p = internal::Pack(free.delta_fixed, free.xi_fixed);
     double best_cost = std::numeric_limits<double>::infinity();
-    const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads);
+    const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
+                                                      options.min_samples_for_threads);
     std::vector<Eigen::Vector4d> w0;
     for (const XiMask& xi_in_start : {free.xi, kNoXi}) {
       internal::IntegralEquationResult iee;
@@ -196,7 +197,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   internal::NormalEquations ne;
   std::vector<int> indices = free.Indices();
   for (;;) {
-    internal::OutputErrorProblem problem(runs, indices, options.num_threads);
+    internal::OutputErrorProblem problem(runs, indices, options.num_threads,
+                                                options.min_samples_for_threads);
     if (!problem.SolveInitialStates(p, &x0)) {
       s.termination = Termination::kNumericalFailure;
       s.message = "initial states cannot be solved for: a run carries no signal";
@@ -235,7 +237,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       if (!free.xi[k]) p[internal::kXiOffset + k] = free.xi_fixed[k];
     indices = free.Indices();
   }
-  const internal::OutputErrorProblem problem(runs, indices, options.num_threads);
+  const internal::OutputErrorProblem problem(runs, indices, options.num_threads,
+                                                options.min_samples_for_threads);
   const auto n_obs = static_cast<double>(problem.NumObservations());
   const double dof = std::max(1.0, n_obs - static_cast<double>(indices.size()) -
                                        4.0 * static_cast<double>(runs.size()));
@@ -319,6 +322,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     }
   }
   s.iterations = iteration;
+  s.threads_used = problem.Threads();
   if (s.termination == Termination::kNoProgress && ne.cost <= 1e3 * cost_floor) {
     s.termination = Termination::kConverged;
     s.message = "residual at rounding level";

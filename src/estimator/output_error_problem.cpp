@@ -25,11 +25,10 @@ FullParameters Pack(const Delta& delta, const Xi& xi) {
 }
 
 OutputErrorProblem::OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free,
-                                       int threads)
+                                       int threads, std::size_t min_samples_for_threads)
     : runs_(runs), free_(std::move(free)) {
   for (const RunData& r : runs_) samples_ += static_cast<std::size_t>(r.size());
-  // Below ~20k samples a pass takes about a millisecond and starting threads is not worth it.
-  threads_ = samples_ < 20000 ? 1 : ResolveThreads(threads, runs_.size());
+  threads_ = samples_ < min_samples_for_threads ? 1 : ResolveThreads(threads, runs_.size());
 }
 
 double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<Eigen::Vector4d>& w0,

@@ -45,8 +45,10 @@ struct NormalEquations {
 class OutputErrorProblem {
  public:
   // `free` lists the estimated entries of FullParameters, ascending. `runs` must outlive this.
-  // `threads`: 0 = all hardware threads, 1 = none created; runs are spread over them.
-  OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free, int threads = 1);
+  // `threads`: 0 = all hardware threads, 1 = none created; runs are spread over them, and only
+  // when the runs hold at least `min_samples_for_threads` samples (MlOptions says why).
+  OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free, int threads = 1,
+                     std::size_t min_samples_for_threads = 0);
 
   int NumFree() const { return static_cast<int>(free_.size()); }
   int Threads() const { return threads_; }

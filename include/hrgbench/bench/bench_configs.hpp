@@ -5,8 +5,9 @@
 // Besides each file's own checks, the combination is checked (each error names the file and line
 // where the fix belongs):
 //   - every run's |Ω| is within the station's table.max_rate_rad_s (sequence file, the run's line);
-//   - every run's sample rate fits the gyro link: classic CAN carries at most
-//     kMaxClassicCanSampleRateHz; more needs gyro.fd = true (sequence file);
+//   - every run's sample rate fits the gyro link it will really use: classic CAN carries at most
+//     hw::kMaxSampleRateClassicCanHz, CAN FD (gyro.fd = true, simulated stations too)
+//     hw::kMaxSampleRateCanFdHz (sequence file);
 //   - every limited parameter can be determined by the sequence's rates, Earth rate included
 //     (δ2 needs Ω ≠ 0, ξ two distinct Ω; estimator/identifiability.hpp) (limits file, its line).
 //
@@ -21,9 +22,6 @@
 #include "hrgbench/bench/station_config.hpp"
 
 namespace hrgbench::bench {
-
-// hw/gyro_electronics.hpp GyroConfig: the classic-CAN sample stream's ceiling.
-inline constexpr std::uint32_t kMaxClassicCanSampleRateHz = 2000;
 
 struct BenchConfigs {
   StationConfig station;

@@ -56,6 +56,9 @@ struct MlOptions {
   // Threads for the passes over the data (runs are spread over them): 0 = every hardware thread,
   // 1 = single-threaded, no thread created (embedded targets). Small problems run single-threaded.
   int num_threads = 0;
+  // ... but only when the runs hold at least this many samples: below ~20k a pass over the data
+  // takes about a millisecond and starting threads costs more than it saves.
+  std::size_t min_samples_for_threads = 20000;
 
   // Optional starting point; when not set the integral equation error supplies it.
   bool use_initial_guess = false;

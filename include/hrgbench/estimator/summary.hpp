@@ -53,6 +53,7 @@ struct EstimateSummary {
 
   int iterations = 0;
   std::size_t samples_used = 0;
+  int threads_used = 1;  // threads the passes over the data ran on (the caller's included)
   std::vector<std::string> warnings;
 
   bool IsUsable() const {

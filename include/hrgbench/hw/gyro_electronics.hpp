@@ -91,8 +91,19 @@ struct WaveState {
 };
 
 struct GyroConfig {
-  std::uint32_t sample_rate_hz = 1000;  // 1 … the transport's limit (classic CAN: 2000 Hz)
+  std::uint32_t sample_rate_hz = 1000;  // 1 … the transport's limit (below)
 };
+
+// What the gyro link can carry, whatever electronics sit behind it (the CAN protocol v1;
+// drivers/gyro_can/gyro_protocol.hpp static_asserts that it agrees): a plan is judged against
+// these before any hardware is touched (`hrg-bench check`), not refused at run time.
+inline constexpr std::uint32_t kMaxSampleRateClassicCanHz = 2000;  // two 8-byte frames a sample
+inline constexpr std::uint32_t kMaxSampleRateCanFdHz = 10000;      // five samples a 64-byte frame
+inline constexpr std::uint32_t MaxSampleRateHz(bool can_fd) noexcept {
+  return can_fd ? kMaxSampleRateCanFdHz : kMaxSampleRateClassicCanHz;
+}
+// The status frame reports the resonant frequency as an unsigned 24-bit count of mHz.
+inline constexpr double kMaxReportedResonantFrequencyHz = 16777.215;
 
 // One sample of the four demodulated channels.
 struct GyroSample {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/identifiability.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -31,12 +32,16 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
               "): |omega| must be <= table.max_rate_rad_s = " +
               Shortest(station.table.max_rate_rad_s)});
     }
-    if (!station.gyro.fd && run.sample_rate_hz > kMaxClassicCanSampleRateHz) {
+    const std::uint32_t max_rate_hz = hw::MaxSampleRateHz(station.gyro.fd);
+    if (run.sample_rate_hz > max_rate_hz) {
       return std::unexpected(ConfigError{
           sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
           std::to_string(run.sample_rate_hz),
-          "out of range for station '" + station.name + "' (" + station.file.string() +
-              "): classic CAN carries at most 2000 samples/s; more needs gyro.fd = true"});
+          "out of range for station '" + station.name + "' (" + station.file.string() + "): " +
+              (station.gyro.fd ? "CAN FD carries at most " + std::to_string(max_rate_hz) +
+                                     " samples/s"
+                               : "classic CAN carries at most " + std::to_string(max_rate_hz) +
+                                     " samples/s; more needs gyro.fd = true")});
     }
   }
   return {};

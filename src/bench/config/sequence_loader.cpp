@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "bench/config/toml_reader.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 
 namespace hrgbench::bench {
@@ -13,7 +14,8 @@ namespace {
 
 using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
-constexpr double kMaxSampleRateHz = 10000.0;  // beyond any HRG electronics' output rate
+// The fastest any gyro link carries (CAN FD); the station's own link is judged by the cross-check.
+constexpr double kMaxSampleRateHz = hw::kMaxSampleRateCanFdHz;
 constexpr std::string_view kRunKeysText =
     "omega_rad_s, a, b, theta_rad, free_run_s, sample_rate_hz";
 constexpr std::string_view kDefaultKeysText = "a, b, theta_rad, free_run_s, sample_rate_hz";

@@ -9,6 +9,7 @@
 
 #include "bench/config/toml_reader.hpp"
 #include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -264,7 +265,9 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   sim.sigma = *sigma;
   HRG_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(), 1));
   sim.seed = static_cast<std::uint64_t>(*seed);
-  HRG_TRY(f, OptionalNumber(reader, "resonant_frequency_hz", {0.0, 1e6, false, "in (0, 1e6]"},
+  // The electronics report it in a 24-bit mHz field: the simulated ones refuse more.
+  HRG_TRY(f, OptionalNumber(reader, "resonant_frequency_hz",
+                            {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
                             sim.resonant_frequency_hz));
   sim.resonant_frequency_hz = *f;
   HRG_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},

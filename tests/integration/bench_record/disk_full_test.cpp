@@ -17,6 +17,7 @@
 
 #include "record_test_dir.hpp"
 #include "recorder_fixture.hpp"
+#include "required_tool.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -53,7 +54,7 @@ TEST(RecorderDiskFull, TinyTmpfsFillsMidRunAndRunsOneAndTwoStayIntact) {
   testing::ScratchDir scratch("record_tmpfs");
   // 512 KiB: session.json, runs 1 and 2 (~45 KiB each) fit; run 3's 20 000 samples do not.
   TmpfsMount mount(scratch.path(), "size=512k,mode=0755");
-  if (!mount.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (" << mount.error() << ")";
+  HRGBENCH_REQUIRE(mount.mounted(), "cannot mount a tmpfs here (" << mount.error() << ")");
   const fs::path dir = scratch / "session";
   const SessionHeader header = testing::SyntheticHeader(3);
   RecorderOptions options;
@@ -133,10 +134,8 @@ TEST(RecorderDiskFull, UnwritableDirectoryIsAnErrorNotAThrow) {
   std::optional<TmpfsMount> mount;
   if (::geteuid() == 0) {
     mount.emplace(scratch.path(), "size=64k", MS_RDONLY);
-    if (!mount->mounted()) {
-      GTEST_SKIP() << "root bypasses chmod and a read-only tmpfs cannot be mounted ("
-                   << mount->error() << ")";
-    }
+    HRGBENCH_REQUIRE(mount->mounted(), "root bypasses chmod and a read-only tmpfs cannot be "
+                                       "mounted (" << mount->error() << ")");
   } else {
     fs::permissions(scratch.path(), fs::perms::owner_read | fs::perms::owner_exec);
   }

@@ -12,6 +12,7 @@
 #include "hrgbench/bench/candump_log.hpp"
 #include "record_test_dir.hpp"
 #include "recorder_fixture.hpp"
+#include "required_tool.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -19,9 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(CandumpLogCompat, Log2ascReadsEveryKindOfFrame) {
-  if (std::system("command -v log2asc > /dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "log2asc (can-utils) not installed";
-  }
+  HRGBENCH_REQUIRE(std::system("command -v log2asc > /dev/null 2>&1") == 0,
+                   "log2asc (can-utils) not installed");
   testing::ScratchDir scratch("record_log2asc");
   const fs::path log_path = scratch / "session.log";
   std::vector<LoggedCanFrame> frames(5);

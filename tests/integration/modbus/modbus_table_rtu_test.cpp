@@ -15,17 +15,13 @@
 
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "modbus_rate_table/register_map.hpp"
+#include "required_tool.hpp"
 #include "sim_table_fixture.hpp"
 
 extern char** environ;
 
 namespace hrgbench::modbus_table {
 namespace {
-
-bool InCi() {
-  const char* ci = std::getenv("CI");
-  return ci != nullptr && std::string(ci) == "true";
-}
 
 std::string FindSocat() {
   for (const char* dir : {"/usr/bin", "/bin", "/usr/local/bin"}) {
@@ -90,10 +86,7 @@ class ModbusTableRtu : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::string socat = FindSocat();
-    if (socat.empty()) {
-      if (InCi()) FAIL() << "socat is required in CI (scripts/setup-debian.sh installs it)";
-      GTEST_SKIP() << "socat not installed: RTU test skipped (apt-get install socat)";
-    }
+    HRGBENCH_REQUIRE(!socat.empty(), "socat not installed: RTU test skipped (apt-get install socat)");
     ASSERT_EQ(ptys_.Start(socat), "");
     table_sim::TableServerOptions server;
     server.transport = table_sim::TableServerOptions::Transport::kRtu;

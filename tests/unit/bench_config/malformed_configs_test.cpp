@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -311,6 +313,41 @@ TEST(CrossChecks, SampleRateAboveClassicCanNeedsFd) {
   const std::string fd_station =
       Mutate(kStationText, "bitrate = 500000", "bitrate = 500000\nfd = true");
   EXPECT_TRUE(CheckBenchConfigs(Combine(fd_station, sequence, kLimitsText)).has_value());
+}
+
+// With gyro.fd = true the ceiling is CAN FD's, named as such (the plan is judged against the
+// transport the station will use: simulated stations too, which ignored fd before).
+TEST(CrossChecks, SampleRateAboveCanFdIsNamed) {
+  const std::string fd_station =
+      Mutate(kStationText, "bitrate = 500000", "bitrate = 500000\nfd = true");
+  BenchConfigs configs = Combine(fd_station, kSequenceText, kLimitsText);
+  // (The sequence loader already refuses more than any transport carries; the check is the
+  // second line, for configs built in code.)
+  configs.sequence.runs[0].sample_rate_hz = 12000;
+  auto result = CheckBenchConfigs(configs);
+  ASSERT_FALSE(result.has_value());
+  EXPECT_EQ(result.error().key, "runs[0].sample_rate_hz");
+  EXPECT_EQ(result.error().value, "12000");
+  EXPECT_NE(result.error().message.find("CAN FD carries at most 10000 samples/s"),
+            std::string::npos)
+      << result.error().ToString();
+}
+
+// The simulated electronics report the resonant frequency in a 24-bit mHz field; a station that
+// asks for more is refused when it is loaded, naming the line, not when the first run starts.
+TEST(MalformedConfigs, SimulatedResonantFrequencyBeyondTheProtocolsField) {
+  std::ifstream in(std::string(HRGBENCH_SOURCE_DIR) + "/bench_configs/station-sim.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string station =
+      Mutate(text.str(), "resonant_frequency_hz = 5000.0", "resonant_frequency_hz = 20000.0");
+  auto result = ParseStationConfig(station, "sim.toml");
+  ASSERT_FALSE(result.has_value());
+  EXPECT_EQ(result.error().file, "sim.toml");
+  EXPECT_EQ(result.error().line, LineOfText(station, "resonant_frequency_hz = 20000.0"));
+  EXPECT_EQ(result.error().key, "simulated.resonant_frequency_hz");
+  EXPECT_NE(result.error().message.find("16777.215"), std::string::npos)
+      << result.error().ToString();
 }
 
 TEST(CrossChecks, LimitOnAParameterTheSequenceCannotDetermine) {

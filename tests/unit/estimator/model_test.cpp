@@ -30,7 +30,16 @@ TEST_F(ModelTest, FormsSatisfyTheRankThreeIdentity) {
     const Forms z = QuadraticForms(RandomState());
     EXPECT_NEAR(z[kAc] * z[kAc] + z[kAs] * z[kAs], z[kS] * z[kS] - z[kK] * z[kK],
                 1e-13 * z[kS] * z[kS]);
-    EXPECT_LT((FormsMatrix(RandomState()) * State::Zero()).norm(), 1e-300);
+  }
+}
+
+// W is the symmetric bilinear form behind the quadratic forms: W(a)·b = (z(a+b) − z(a−b))/4
+// (polarisation), which fails for any W that is not z's own.
+TEST_F(ModelTest, FormsMatrixIsThePolarisationOfTheForms) {
+  for (int i = 0; i < 100; ++i) {
+    const State a = RandomState(), b = RandomState();
+    const Forms polarised = (QuadraticForms(a + b) - QuadraticForms(a - b)) / 4.0;
+    EXPECT_LT((FormsMatrix(a) * b - polarised).norm(), 1e-13);
   }
 }
 
