@@ -158,6 +158,7 @@ TEST_F(TableExceptions, SingleRegisterWriteToHalfAFloatIsIllegalDataAddress) {
   // FC 16 of one register is the same request.
   EXPECT_EQ(client_->WriteRegisters(holding::kRateCommand, {0x3F80}), kIllegalAddress);
   ExpectUntouched();
+  EXPECT_EQ(sim_.server().counters().illegal_addresses, 5u);
 }
 
 TEST_F(TableExceptions, MultiRegisterWriteStraddlingOrSplittingAFloatIsIllegalDataAddress) {
@@ -188,6 +189,7 @@ TEST_F(TableExceptions, UnmappedRegistersAndUnsupportedFunctionsAreRefused) {
   EXPECT_EQ(client_->MaskWrite(holding::kMode, 0x0000, 0x0001), kIllegalFunction);
   EXPECT_EQ(client_->WriteAndRead(holding::kMode, {1}), kIllegalFunction);
   ExpectUntouched();
+  EXPECT_EQ(sim_.server().counters().illegal_functions, 2u);
 }
 
 TEST_F(TableExceptions, OutOfRangeValuesAreIllegalDataValueReservedRegistersIncluded) {
@@ -221,6 +223,7 @@ TEST_F(TableExceptions, MotionCommandsWhileFaultedAreServerDeviceFailure) {
   const auto s = sim_.physics().Status();
   EXPECT_EQ(s.mode, hw::RateTableMode::kIdle);
   EXPECT_EQ(s.fault_code, static_cast<std::uint16_t>(hw::RateTableFault::kDrive));
+  EXPECT_EQ(sim_.server().counters().refused_commands, 3u);
   // After a fault reset the same command is accepted.
   EXPECT_EQ(client_->WriteRegister(holding::kFaultReset, 1), kAccepted);
   EXPECT_EQ(client_->WriteRegisters(holding::kMode, Cat({1, 0}, Float32(0.5f))), kAccepted);
