@@ -170,6 +170,19 @@ void ModbusTableServer::RefreshInputRegisters() {
   std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
 }
 
+std::array<std::uint16_t, holding::kCount> ModbusTableServer::ImageAfterWrite(
+    const std::uint8_t* query, int function, int address, int count) const {
+  std::array<std::uint16_t, holding::kCount> regs{};
+  std::copy_n(mapping_->tab_registers, holding::kCount, regs.begin());
+  const int hl = modbus_get_header_length(ctx_);
+  const int offset0 = function == kFnWriteSingle ? hl + 3 : hl + 6;
+  for (int i = 0; i < count; ++i) {
+    regs[static_cast<std::size_t>(address + i)] =
+        static_cast<std::uint16_t>(GetU16(query, offset0 + 2 * i));
+  }
+  return regs;
+}
+
 int ModbusTableServer::CheckWrite(const std::uint8_t* query, int function, int address, int count) {
   const int hl = modbus_get_header_length(ctx_);
   // libmodbus' own checks, in its order, made here because the registers are decoded below.
@@ -186,13 +199,8 @@ int ModbusTableServer::CheckWrite(const std::uint8_t* query, int function, int a
       return modbus_table::exception_code::kIllegalDataAddress;
     }
   }
-  // The register image the write would leave: every value in it must be in range.
-  std::array<std::uint16_t, holding::kCount> regs{};
-  std::copy_n(mapping_->tab_registers, holding::kCount, regs.begin());
-  for (int i = 0; i < count; ++i) {
-    const int offset = function == kFnWriteSingle ? hl + 3 : hl + 6 + 2 * i;
-    regs[static_cast<std::size_t>(address + i)] = static_cast<std::uint16_t>(GetU16(query, offset));
-  }
+  // Every value of the register image the write would leave must be in range.
+  const auto regs = ImageAfterWrite(query, function, address, count);
   const auto& o = physics_.options();
   const double rate =
       modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]);
@@ -217,14 +225,7 @@ int ModbusTableServer::CheckWrite(const std::uint8_t* query, int function, int a
 bool ModbusTableServer::ApplyWrite(const std::uint8_t* query, int function, int address,
                                    int count) {
   const auto covers = [&](int reg) { return reg >= address && reg < address + count; };
-  const int hl = modbus_get_header_length(ctx_);
-  const int offset0 = function == kFnWriteSingle ? hl + 3 : hl + 6;
-  std::array<std::uint16_t, holding::kCount> regs{};
-  std::copy_n(mapping_->tab_registers, holding::kCount, regs.begin());
-  for (int i = 0; i < count; ++i) {
-    regs[static_cast<std::size_t>(address + i)] =
-        static_cast<std::uint16_t>(GetU16(query, offset0 + 2 * i));
-  }
+  const auto regs = ImageAfterWrite(query, function, address, count);
   // The command first: the physics may still refuse it (the interlock is open, which trips
   // fault 3, or a fault tripped since CheckWrite), and then nothing of the request is applied.
   if (covers(holding::kMode) || covers(holding::kRateCommand)) {

@@ -19,6 +19,7 @@
 // ClearFaults() and counters() from any thread. Run() returns within poll_ms of RequestStop(),
 // also when it is holding a late reply back.
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -27,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "modbus_rate_table/register_map.hpp"
 #include "sim/table_fault_rule.hpp"
 #include "sim/table_physics.hpp"
 
@@ -83,6 +85,9 @@ class ModbusTableServer {
  private:
   void Serve(std::uint8_t* query, int length);
   bool TakeFault(RegisterTable table, int address, int count, FaultRule* fault);
+  // The holding registers as a write (FC 06 / FC 16, already within 0..8) would leave them.
+  std::array<std::uint16_t, modbus_table::holding::kCount> ImageAfterWrite(
+      const std::uint8_t* query, int function, int address, int count) const;
   // 0 when the write may be applied, else the exception code to answer with.
   int CheckWrite(const std::uint8_t* query, int function, int address, int count);
   // False (and nothing applied) when the physics refuses the command after all.
