@@ -138,6 +138,7 @@ std::expected<void, RateTableError> ModbusRateTable::Transact(Op op, int address
                                           "write holding registers"};
   const char* what = kWhat[static_cast<int>(op)];
   LinkResult result;
+  last_exception_code_ = 0;
   for (int attempt = 0; attempt < config_.transaction_attempts; ++attempt) {
     if (!link_->IsOpen()) {
       if (auto reopened = Reopen(); !reopened) return reopened;
@@ -157,7 +158,10 @@ std::expected<void, RateTableError> ModbusRateTable::Transact(Op op, int address
     if (result.ok()) return {};
     Count(result);
     // An exception is the table's definite answer: asking again gives the same one.
-    if (result.status == LinkStatus::kException) break;
+    if (result.status == LinkStatus::kException) {
+      last_exception_code_ = result.exception_code;
+      break;
+    }
     if (result.status == LinkStatus::kConnectionLost) {
       link_->Close();
     } else {
@@ -248,9 +252,35 @@ std::expected<void, RateTableError> ModbusRateTable::SetRate(double rate_rad_s) 
   if (auto ok = RequireConnected(/*allow_faulted=*/false); !ok) return ok;
   if (auto ok = HeartbeatIfDue(); !ok) return ok;
   const auto regs = ModeAndRate(hw::RateTableMode::kRate, rate_rad_s);
-  if (auto ok = WriteAndReadBack(holding::kMode, regs); !ok) return ok;
+  if (auto ok = WriteAndReadBack(holding::kMode, regs); !ok) {
+    if (ok.error().code == RateTableErrorCode::kExceptionReply &&
+        last_exception_code_ == exception_code::kServerDeviceFailure) {
+      return RefusedCommand(ok.error(), rate_rad_s);
+    }
+    return ok;
+  }
   target_rate_rad_s_ = static_cast<double>(static_cast<float>(rate_rad_s));
   return {};
+}
+
+std::expected<void, RateTableError> ModbusRateTable::RefusedCommand(RateTableError exception,
+                                                                    double rate_rad_s) {
+  // Exception 04 to a rate command is how the table refuses motion while a fault is latched or
+  // the e-stop is pressed; our state was stale (the fault came after the last status). One status
+  // read says which fault, and moves the state machine to kFaulted. Without a fault in it (a
+  // drive that fails for another reason, or an injected exception) the exception stands as it is.
+  const auto status = ReadStatus();
+  if (!status || !(status->fault || status->estop)) return std::unexpected(std::move(exception));
+  // The first cause is latched: an e-stop pressed after another fault is worth saying too.
+  const bool estop_besides =
+      status->estop && status->fault_code != static_cast<std::uint16_t>(hw::RateTableFault::kEStop);
+  std::ostringstream os;
+  os << "rate command " << rate_rad_s << " rad/s refused by " << config_.Describe()
+     << " (exception " << exception_code::kServerDeviceFailure << "): the table reports fault '"
+     << hw::RateTableFaultName(status->fault_code) << "'"
+     << (estop_besides ? " and the e-stop is pressed" : "")
+     << "; ResetFault() and read a clean status first";
+  return Fail(RateTableErrorCode::kFaulted, os.str());
 }
 
 std::expected<void, RateTableError> ModbusRateTable::SetAccelerationLimit(double accel_rad_s2) {
@@ -306,6 +336,8 @@ std::expected<void, RateTableError> ModbusRateTable::Stop() {
 }
 
 void ModbusRateTable::SafeStop() noexcept {
+  // Mode 0 + rate 0 is accepted by the table in every state, faulted and e-stop included (the map
+  // refuses only motion), so this is one write; an exception here means a table off the map.
   try {
     target_rate_rad_s_ = 0.0;
     const std::int64_t deadline_ns = clock_.NowNs() + config_.safe_stop_budget_ms * kNsPerMs;

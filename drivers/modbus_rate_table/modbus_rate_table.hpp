@@ -8,6 +8,10 @@
 //   any --transport failure after bounded reconnects, or Disconnect()--> kDisconnected
 // SetRate/SetAccelerationLimit are refused in kFaulted (kFaulted, nothing sent) and
 // kDisconnected (kNotConnected). Stop, ReadStatus, Heartbeat and ResetFault work in kFaulted.
+// When the table faulted since the last status, SetRate is sent and the table refuses it with
+// exception 04 (SERVER DEVICE FAILURE): the driver reads one status and, when it shows a fault or
+// e-stop, returns kFaulted naming the fault (state kFaulted); otherwise kExceptionReply. Never
+// retried. Stop and SafeStop (mode 0, rate 0) are accepted by the table in every state.
 //
 // Thread: owned by one thread; its libmodbus context is never shared (one context per thread: a
 // second thread that needs the table, e.g. a monitor, opens its own ModbusRateTable). counters()
@@ -86,6 +90,9 @@ class ModbusRateTable final : public hw::RateTable {
   std::expected<void, hw::RateTableError> WriteHeartbeat();
   std::expected<void, hw::RateTableError> HeartbeatIfDue();
   std::expected<void, hw::RateTableError> RequireConnected(bool allow_faulted) const;
+  // SetRate answered with exception 04: kFaulted when a status shows why, else `exception`.
+  std::expected<void, hw::RateTableError> RefusedCommand(hw::RateTableError exception,
+                                                         double rate_rad_s);
   hw::RateTableError ErrorFrom(const LinkResult& result, const char* what, int address) const;
   void Count(const LinkResult& result) noexcept;
 
@@ -96,6 +103,7 @@ class ModbusRateTable final : public hw::RateTable {
   std::int64_t last_heartbeat_ns_ = 0;
   std::uint16_t heartbeat_value_ = 0;
   double target_rate_rad_s_ = 0.0;
+  int last_exception_code_ = 0;  // of the last Transact that failed with an exception, else 0
 
   struct AtomicCounters {
     std::atomic<std::uint64_t> transactions{0}, timeouts{0}, exception_replies{0}, bad_replies{0},

@@ -16,17 +16,42 @@ namespace hrgbench::modbus_table {
 
 inline constexpr std::uint16_t kMapVersion = 1;
 
-// Holding registers: read with FC 03, written with FC 06 / FC 16.
+// Holding registers: read with FC 03, written with FC 06 / FC 16 (FC 22 mask write and FC 23
+// write-and-read are not implemented: exception 01). A refused write changes nothing. Per register,
+// what a write is refused with (exception_code below; README.md has the table):
+//   02 ILLEGAL DATA ADDRESS: any register outside 0..8; a write that covers only one half of a
+//      float32 pair (2-3, 4-5), e.g. FC 06 to register 2, or FC 16 of registers 3-4 or 1-2.
+//   03 ILLEGAL DATA VALUE: the value is out of the range given here.
+//   04 SERVER DEVICE FAILURE: a motion command the table cannot carry out in its state: mode 1 or a
+//      non-zero rate while a fault is latched or the e-stop is pressed (or mode 1 with the
+//      interlock open, which also trips fault 3). Mode 0 and rate 0 are always accepted: a stop
+//      must always be possible.
 namespace holding {
-inline constexpr int kMode = 0;         // RateTableMode
-inline constexpr int kReserved1 = 1;    // 0; keeps float32 pairs on even addresses
-inline constexpr int kRateCommand = 2;  // float32 rad/s, registers 2-3
-inline constexpr int kAccelLimit = 4;   // float32 rad/s^2, registers 4-5
-inline constexpr int kHeartbeat = 6;    // uint16; every write refreshes the watchdog
-inline constexpr int kWatchdogMs = 7;   // uint16 ms, 100..60000
-inline constexpr int kFaultReset = 8;   // write 1: clear latched faults; reads 0
+inline constexpr int kMode = 0;         // RateTableMode, reads the mode actually active: 0 after a
+                                        // fault. 03 unless 0 or 1; 04 for 1 while faulted/e-stop
+inline constexpr int kReserved1 = 1;    // 0; keeps float32 pairs on even addresses. 03 unless 0
+inline constexpr int kRateCommand = 2;  // float32 rad/s, registers 2-3, written as a pair (02).
+                                        // 03 beyond the hardware limit; 04 if != 0 while faulted.
+                                        // Keeps the last accepted setpoint after a fault.
+inline constexpr int kAccelLimit = 4;   // float32 rad/s^2, registers 4-5, written as a pair (02).
+                                        // 03 unless > 0 and <= the hardware maximum
+inline constexpr int kHeartbeat = 6;    // uint16; every write refreshes the watchdog; any value
+inline constexpr int kWatchdogMs = 7;   // uint16 ms, 100..60000, else 03
+inline constexpr int kFaultReset = 8;   // write 1: clear latched faults, 0: no-op, else 03; reads 0
 inline constexpr int kCount = 9;
+// First registers of the float32 pairs: a write must cover both registers of a pair or neither.
+inline constexpr std::array<int, 2> kFloatPairs = {kRateCommand, kAccelLimit};
 }  // namespace holding
+
+// Modbus exception codes the table answers with (the Modbus application protocol's numbering,
+// which is libmodbus' MODBUS_EXCEPTION_*). Any exception is a definite answer: the driver never
+// retries one.
+namespace exception_code {
+inline constexpr int kIllegalFunction = 1;      // function not implemented (FC 22, FC 23)
+inline constexpr int kIllegalDataAddress = 2;   // unmapped register, or half of a float32 pair
+inline constexpr int kIllegalDataValue = 3;     // value out of the register's range
+inline constexpr int kServerDeviceFailure = 4;  // motion refused: fault, e-stop or interlock
+}  // namespace exception_code
 
 // Input registers: read-only status block, read with one FC 04 of kCount registers.
 namespace input {

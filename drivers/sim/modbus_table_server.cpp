@@ -26,6 +26,17 @@ constexpr std::uint8_t kFnReadHolding = 0x03;
 constexpr std::uint8_t kFnReadInput = 0x04;
 constexpr std::uint8_t kFnWriteSingle = 0x06;
 constexpr std::uint8_t kFnWriteMultiple = 0x10;
+constexpr std::uint8_t kFnMaskWrite = 0x16;
+constexpr std::uint8_t kFnWriteAndRead = 0x17;
+
+// The register map's exception numbers are the protocol's, which libmodbus names.
+static_assert(modbus_table::exception_code::kIllegalFunction == MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+static_assert(modbus_table::exception_code::kIllegalDataAddress ==
+              MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
+static_assert(modbus_table::exception_code::kIllegalDataValue ==
+              MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+static_assert(modbus_table::exception_code::kServerDeviceFailure ==
+              MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
 
 // Big-endian 16-bit field of a Modbus PDU (libmodbus' macros trip -Wconversion).
 int GetU16(const std::uint8_t* bytes, int index) { return (bytes[index] << 8) | bytes[index + 1]; }
@@ -159,32 +170,72 @@ void ModbusTableServer::RefreshInputRegisters() {
   std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
 }
 
-bool ModbusTableServer::WriteIsValid(const std::uint8_t* query, int function, int address,
-                                     int count) const {
-  if (address + count > holding::kCount) return true;  // modbus_reply answers ILLEGAL ADDRESS
+std::array<std::uint16_t, holding::kCount> ModbusTableServer::ImageAfterWrite(
+    const std::uint8_t* query, int function, int address, int count) const {
   std::array<std::uint16_t, holding::kCount> regs{};
   std::copy_n(mapping_->tab_registers, holding::kCount, regs.begin());
   const int hl = modbus_get_header_length(ctx_);
+  const int offset0 = function == kFnWriteSingle ? hl + 3 : hl + 6;
   for (int i = 0; i < count; ++i) {
-    const int offset = function == kFnWriteSingle ? hl + 3 : hl + 6 + 2 * i;
-    regs[static_cast<std::size_t>(address + i)] = static_cast<std::uint16_t>(GetU16(query, offset));
+    regs[static_cast<std::size_t>(address + i)] =
+        static_cast<std::uint16_t>(GetU16(query, offset0 + 2 * i));
   }
+  return regs;
+}
+
+int ModbusTableServer::CheckWrite(const std::uint8_t* query, int function, int address, int count) {
+  const int hl = modbus_get_header_length(ctx_);
+  // libmodbus' own checks, in its order, made here because the registers are decoded below.
+  if (function == kFnWriteMultiple &&
+      (count < 1 || count > MODBUS_MAX_WRITE_REGISTERS || query[hl + 5] != 2 * count)) {
+    return modbus_table::exception_code::kIllegalDataValue;
+  }
+  if (address + count > holding::kCount) return modbus_table::exception_code::kIllegalDataAddress;
+  const auto covers = [&](int reg) { return reg >= address && reg < address + count; };
+  // A float32 is one value in two registers: half of it would command a torn value (a new high
+  // word with the old low word), which a real controller refuses as an address error.
+  for (int first : holding::kFloatPairs) {
+    if (covers(first) != covers(first + 1)) {
+      return modbus_table::exception_code::kIllegalDataAddress;
+    }
+  }
+  // Every value of the register image the write would leave must be in range.
+  const auto regs = ImageAfterWrite(query, function, address, count);
   const auto& o = physics_.options();
   const double rate =
       modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]);
   const double accel =
       modbus_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]);
-  return regs[holding::kMode] <= 1 && std::isfinite(rate) && std::abs(rate) <= o.max_rate_rad_s &&
-         std::isfinite(accel) && accel > 0.0 && accel <= o.max_accel_rad_s2 &&
-         regs[holding::kWatchdogMs] >= modbus_table::kMinWatchdogMs &&
-         regs[holding::kWatchdogMs] <= modbus_table::kMaxWatchdogMs;
+  const bool in_range =
+      regs[holding::kMode] <= 1 && regs[holding::kReserved1] == 0 && std::isfinite(rate) &&
+      std::abs(rate) <= o.max_rate_rad_s && std::isfinite(accel) && accel > 0.0 &&
+      accel <= o.max_accel_rad_s2 && regs[holding::kWatchdogMs] >= modbus_table::kMinWatchdogMs &&
+      regs[holding::kWatchdogMs] <= modbus_table::kMaxWatchdogMs && regs[holding::kFaultReset] <= 1;
+  if (!in_range) return modbus_table::exception_code::kIllegalDataValue;
+  // A well-formed motion command the table cannot carry out now. A stop (mode 0, rate 0) is never
+  // refused: it is what a faulted table does anyway, and a safe stop must always be possible.
+  const bool commands_motion = (covers(holding::kMode) && regs[holding::kMode] == 1) ||
+                               (covers(holding::kRateCommand) && rate != 0.0);
+  if (commands_motion && physics_.LatchedFaultCode() != 0) {
+    return modbus_table::exception_code::kServerDeviceFailure;
+  }
+  return 0;
 }
 
-void ModbusTableServer::ApplyWrite(int address, int count) {
-  if (address + count > holding::kCount) return;
+bool ModbusTableServer::ApplyWrite(const std::uint8_t* query, int function, int address,
+                                   int count) {
   const auto covers = [&](int reg) { return reg >= address && reg < address + count; };
-  std::uint16_t* regs = mapping_->tab_registers;
-  if (covers(holding::kAccelLimit) || covers(holding::kAccelLimit + 1)) {
+  const auto regs = ImageAfterWrite(query, function, address, count);
+  // The command first: the physics may still refuse it (the interlock is open, which trips
+  // fault 3, or a fault tripped since CheckWrite), and then nothing of the request is applied.
+  if (covers(holding::kMode) || covers(holding::kRateCommand)) {
+    const bool accepted = physics_.Command(
+        static_cast<hw::RateTableMode>(regs[holding::kMode]),
+        modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]));
+    if (!accepted) return false;
+  }
+  std::copy(regs.begin(), regs.end(), mapping_->tab_registers);
+  if (covers(holding::kAccelLimit)) {
     physics_.SetAccelLimit(
         modbus_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]));
   }
@@ -194,16 +245,36 @@ void ModbusTableServer::ApplyWrite(int address, int count) {
     std::lock_guard lock(mutex_);
     ++counters_.heartbeats;
   }
-  if (covers(holding::kMode) || covers(holding::kRateCommand) ||
-      covers(holding::kRateCommand + 1)) {
-    physics_.Command(
-        static_cast<hw::RateTableMode>(regs[holding::kMode]),
-        modbus_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]));
+  if (covers(holding::kFaultReset) && regs[holding::kFaultReset] == 1) physics_.ResetFault();
+  return true;
+}
+
+void ModbusTableServer::RefreshHoldingRegisters() {
+  // The mode register reads what the table is doing: a fault (watchdog, e-stop, ...) drops it to
+  // idle, so a client reading it back never sees rate mode on a table that stopped itself.
+  mapping_->tab_registers[holding::kMode] = static_cast<std::uint16_t>(physics_.ActiveMode());
+  mapping_->tab_registers[holding::kFaultReset] = 0;  // a command, not a setting: reads 0
+}
+
+void ModbusTableServer::Refuse(const std::uint8_t* query, int exception_code) {
+  {
+    std::lock_guard lock(mutex_);
+    switch (exception_code) {
+      case modbus_table::exception_code::kIllegalFunction:
+        ++counters_.illegal_functions;
+        break;
+      case modbus_table::exception_code::kIllegalDataAddress:
+        ++counters_.illegal_addresses;
+        break;
+      case modbus_table::exception_code::kIllegalDataValue:
+        ++counters_.rejected_writes;
+        break;
+      case modbus_table::exception_code::kServerDeviceFailure:
+        ++counters_.refused_commands;
+        break;
+    }
   }
-  if (covers(holding::kFaultReset) && regs[holding::kFaultReset] == 1) {
-    physics_.ResetFault();
-    regs[holding::kFaultReset] = 0;  // a command, not a setting: reads 0
-  }
+  modbus_reply_exception(ctx_, query, static_cast<unsigned int>(exception_code));
 }
 
 void ModbusTableServer::Serve(std::uint8_t* query, int length) {
@@ -223,9 +294,15 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
       break;
     case kFnWriteSingle:
       break;
+    case kFnMaskWrite:
+    case kFnWriteAndRead:
+      // libmodbus would serve them straight from the register map, around every check here; the
+      // register map does not offer them, as many controllers do not.
+      Refuse(query, modbus_table::exception_code::kIllegalFunction);
+      return;
     default:
       modbus_reply(ctx_, query, length, mapping_);
-      return;  // libmodbus' exceptions
+      return;  // libmodbus' exceptions (no coils or discrete inputs: 02; unknown function: 01)
   }
   FaultRule fault;
   if (TakeFault(table, address, count, &fault)) {
@@ -245,27 +322,27 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
         break;
     }
   }
-  const bool write = function == kFnWriteSingle || function == kFnWriteMultiple;
-  if (write && !WriteIsValid(query, function, address, count)) {
-    {
-      std::lock_guard lock(mutex_);
-      ++counters_.rejected_writes;
-    }
-    modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-    return;
-  }
+  RefreshHoldingRegisters();
   if (function == kFnReadInput) RefreshInputRegisters();
-  // A write takes effect before it is acknowledged, as on a real controller: a client that reads
-  // the table right after the reply must see it (the reply-then-apply order raced under load).
-  if (write && address + count <= holding::kCount) {
-    const int offset0 = function == kFnWriteSingle ? hl + 3 : hl + 6;
-    for (int i = 0; i < count; ++i)
-      mapping_->tab_registers[address + i] = static_cast<std::uint16_t>(GetU16(query, offset0 + 2 * i));
-    ApplyWrite(address, count);
+  const bool write = function == kFnWriteSingle || function == kFnWriteMultiple;
+  if (write) {
+    if (const int refusal = CheckWrite(query, function, address, count); refusal != 0) {
+      Refuse(query, refusal);
+      return;
+    }
+    // A write takes effect before it is acknowledged, as on a real controller: a client that
+    // reads the table right after the reply must see it (the reply-then-apply order raced under
+    // load).
+    if (!ApplyWrite(query, function, address, count)) {
+      RefreshHoldingRegisters();
+      Refuse(query, modbus_table::exception_code::kServerDeviceFailure);
+      return;
+    }
   }
   modbus_reply(ctx_, query, length, mapping_);  // -1: the client went away; nothing to undo
-  // The reply copied the written values into the map again; fault reset is a command and reads 0.
-  if (write) mapping_->tab_registers[holding::kFaultReset] = 0;
+  // The reply copied the written values into the map again: fault reset reads 0, and the mode
+  // is the table's (a command accepted by the physics is what it does, until a fault).
+  if (write) RefreshHoldingRegisters();
 }
 
 std::expected<void, std::string> ModbusTableServer::Run() {

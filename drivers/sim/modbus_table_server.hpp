@@ -3,14 +3,23 @@
 // one request at a time) or an RTU server on a serial device, with the register map of
 // drivers/modbus_rate_table/README.md and fault injection (table_fault_rule.hpp).
 //
-// Writes are validated as the real table would: a mode other than 0/1, a rate beyond the table's
-// max_rate, an acceleration beyond max_accel or a watchdog outside 100..60000 ms get exception 03
-// (ILLEGAL DATA VALUE) and change nothing.
+// Writes are validated as the real table would, per register as register_map.hpp and README.md
+// in drivers/modbus_rate_table document, and a refused write changes nothing:
+//   02 ILLEGAL DATA ADDRESS  a register outside 0..8, or a write covering half of a float32 pair;
+//   03 ILLEGAL DATA VALUE    mode not 0/1, reserved not 0, |rate| > max_rate, acceleration not in
+//                            (0, max_accel], watchdog outside 100..60000 ms, fault reset not 0/1;
+//   04 SERVER DEVICE FAILURE mode 1 or a non-zero rate while a fault is latched or the e-stop is
+//                            pressed, or mode 1 with the interlock open (which trips fault 3);
+//                            mode 0 / rate 0 are always accepted (a stop must always be possible);
+//   01 ILLEGAL FUNCTION      FC 22 (mask write) and FC 23 (write and read), not in the map.
+// The holding mode register reads the mode actually active (0 once a fault tripped), so it
+// agrees with the status block.
 //
 // Threads: Open() and Run() on one thread (the server's; Run blocks). RequestStop(), AddFault(),
 // ClearFaults() and counters() from any thread. Run() returns within poll_ms of RequestStop(),
 // also when it is holding a late reply back.
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -19,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "modbus_rate_table/register_map.hpp"
 #include "sim/table_fault_rule.hpp"
 #include "sim/table_physics.hpp"
 
@@ -46,7 +56,10 @@ struct TableServerCounters {
   std::uint64_t injected_exceptions = 0;
   std::uint64_t injected_late_replies = 0;
   std::uint64_t injected_wrong_lengths = 0;
-  std::uint64_t rejected_writes = 0;  // exception 03 for an out-of-range value
+  std::uint64_t rejected_writes = 0;    // exception 03: a value out of range
+  std::uint64_t illegal_addresses = 0;  // exception 02 to a write: unmapped, or half a float32
+  std::uint64_t refused_commands = 0;   // exception 04: motion while faulted / e-stop / interlock
+  std::uint64_t illegal_functions = 0;  // exception 01: FC 22, FC 23
   std::uint64_t heartbeats = 0;
   std::uint64_t clients_accepted = 0;
 };
@@ -72,8 +85,15 @@ class ModbusTableServer {
  private:
   void Serve(std::uint8_t* query, int length);
   bool TakeFault(RegisterTable table, int address, int count, FaultRule* fault);
-  bool WriteIsValid(const std::uint8_t* query, int function, int address, int count) const;
-  void ApplyWrite(int address, int count);
+  // The holding registers as a write (FC 06 / FC 16, already within 0..8) would leave them.
+  std::array<std::uint16_t, modbus_table::holding::kCount> ImageAfterWrite(
+      const std::uint8_t* query, int function, int address, int count) const;
+  // 0 when the write may be applied, else the exception code to answer with.
+  int CheckWrite(const std::uint8_t* query, int function, int address, int count);
+  // False (and nothing applied) when the physics refuses the command after all.
+  bool ApplyWrite(const std::uint8_t* query, int function, int address, int count);
+  void Refuse(const std::uint8_t* query, int exception_code);
+  void RefreshHoldingRegisters();
   void RefreshInputRegisters();
   void SleepUnlessStopped(int ms);
   void CloseAll() noexcept;

@@ -177,6 +177,18 @@ double TablePhysics::TrueRateRadS() {
   return rate_rad_s_;
 }
 
+hw::RateTableMode TablePhysics::ActiveMode() {
+  std::lock_guard lock(mutex_);
+  AdvanceTo(clock_.NowNs());
+  return mode_;
+}
+
+std::uint16_t TablePhysics::LatchedFaultCode() {
+  std::lock_guard lock(mutex_);
+  AdvanceTo(clock_.NowNs());
+  return fault_code_;
+}
+
 double TablePhysics::accel_limit_rad_s2() const {
   std::lock_guard lock(mutex_);
   return accel_rad_s2_;

@@ -70,6 +70,12 @@ class TablePhysics {
   hw::RateTableStatus Status();
   // Advances to now; the noiseless table rate (what a gyro on the top senses).
   double TrueRateRadS();
+  // Advance to now without drawing noise (the Modbus server asks before every request, and must
+  // not change the seeded noise sequence the status reads see). ActiveMode: the mode the table is
+  // in (kIdle once a fault trips, whatever was commanded). LatchedFaultCode: the RateTableFault
+  // latched, 0 for none (a pressed e-stop is kEStop); while it is set Command(kRate) is refused.
+  hw::RateTableMode ActiveMode();
+  std::uint16_t LatchedFaultCode();
 
   double accel_limit_rad_s2() const;
   std::uint16_t watchdog_ms() const;

@@ -111,6 +111,26 @@ TEST(TablePhysics, EStopFaultsBrakesAndSurvivesResetWhilePressed) {
   EXPECT_FALSE(table.Status().fault);
 }
 
+TEST(TablePhysics, ActiveModeAndLatchedFaultFollowAWatchdogTripWithoutDrawingNoise) {
+  hw::ManualClock clock;
+  auto o = Quiet();
+  o.noise_rad_s = 1e-3;
+  TablePhysics asked(o, clock);
+  TablePhysics not_asked(o, clock);
+  ASSERT_TRUE(asked.Command(RateTableMode::kRate, 0.2));
+  ASSERT_TRUE(not_asked.Command(RateTableMode::kRate, 0.2));
+  EXPECT_EQ(asked.ActiveMode(), RateTableMode::kRate);
+  EXPECT_EQ(asked.LatchedFaultCode(), 0);
+  clock.Advance(1500 * kMs);  // no heartbeat: the 1 s watchdog trips on its own time
+  EXPECT_EQ(asked.ActiveMode(), RateTableMode::kIdle);
+  EXPECT_EQ(asked.LatchedFaultCode(), static_cast<std::uint16_t>(RateTableFault::kWatchdog));
+  // The queries draw no noise: the status sequence is the one of a table never asked.
+  EXPECT_EQ(asked.Status().measured_rate_rad_s, not_asked.Status().measured_rate_rad_s);
+  asked.ResetFault();
+  EXPECT_EQ(asked.LatchedFaultCode(), 0);
+  EXPECT_EQ(asked.ActiveMode(), RateTableMode::kIdle);  // a reset does not restart motion
+}
+
 TEST(TablePhysics, InterlockRefusesMotion) {
   hw::ManualClock clock;
   TablePhysics table(Quiet(), clock);
