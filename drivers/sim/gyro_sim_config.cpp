@@ -2,12 +2,39 @@
 
 #include <toml++/toml.h>
 
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
+#include <system_error>
 
 namespace hrgbench::gyro_sim {
 namespace {
+
+// Bounds on the file (the same as the bench's config files, bench/config_bounds.hpp, which a driver
+// does not include): the example is 1 KiB; a host name has at most 253 bytes.
+constexpr std::size_t kMaxFileBytes = std::size_t{1} << 20;
+constexpr std::size_t kMaxNameBytes = 255;
+constexpr std::size_t kMaxShownValue = 80;
+
+// A value as shown in a message: control characters escaped (a NUL would cut the message short in
+// a C string, a line feed would split it), cut to kMaxShownValue characters.
+std::string Shown(std::string_view text) {
+  std::string shown;
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7F) {
+      char code[8];
+      std::snprintf(code, sizeof(code), "\\u%04X", c);
+      shown += code;
+    } else {
+      shown += ch;
+    }
+    if (shown.size() >= kMaxShownValue) return shown + "...";
+  }
+  return shown;
+}
 
 // Error messages: "<file>:<line>: <key> = <value>: <what>".
 class Reader {
@@ -22,11 +49,11 @@ class Reader {
     if (node != nullptr) {
       os << " = ";
       if (node->is_string()) {
-        os << '"' << node->value_or(std::string()) << '"';
+        os << '"' << Shown(node->value_or(std::string())) << '"';
       } else if (node->is_value() || node->is_array()) {
         std::ostringstream value;
         value << toml::toml_formatter(*node);
-        os << value.str();
+        os << Shown(value.str());
       }
     }
     return os.str();
@@ -124,6 +151,10 @@ const toml::table* SubTable(const toml::table& root, std::string_view name) {
 
 std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_view toml_text,
                                                                  std::string_view source_name) {
+  if (toml_text.size() > kMaxFileBytes) {
+    return std::unexpected(std::string(source_name) + ": file too large: more than " +
+                           std::to_string(kMaxFileBytes) + " bytes");
+  }
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
@@ -188,6 +219,14 @@ std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_vie
         if (!n->is_string())
           return std::unexpected(r.Where(n, "omega.modbus_host") + ": expected a string");
         w.modbus_host = n->value_or(std::string());
+        bool printable = true;
+        for (const char c : w.modbus_host) {
+          printable = printable && static_cast<unsigned char>(c) >= 0x20 && c != 0x7F;
+        }
+        if (w.modbus_host.empty() || w.modbus_host.size() > kMaxNameBytes || !printable) {
+          return std::unexpected(r.Where(n, "omega.modbus_host") +
+                                 ": expected a host name: 1 to 255 bytes, no control characters");
+        }
       }
     }
   }
@@ -220,11 +259,22 @@ std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_vie
 }
 
 std::expected<GyroSimFileConfig, std::string> LoadGyroSimConfig(const std::string& path) {
-  std::ifstream in(path);
+  // An ifstream opens a directory and reads it as empty, which would load the defaults silently.
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) {
+    return std::unexpected(path + ": is a directory, not a file");
+  }
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    return std::unexpected(path + ": not a regular file");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) return std::unexpected(path + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseGyroSimConfig(text.str(), path);
+  std::string text(kMaxFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) return std::unexpected(path + ": read error");
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  return ParseGyroSimConfig(text, path);
 }
 
 }  // namespace hrgbench::gyro_sim

@@ -8,6 +8,7 @@
 
 #include "app/sim_spec.hpp"
 #include "bench/config/toml_reader.hpp"
+#include "hrgbench/bench/config_bounds.hpp"
 
 namespace hrgbench::app {
 namespace {
@@ -46,6 +47,7 @@ const std::array<RunKey, 7>& RunKeys() {
       {"theta_rad", &RunPlan::theta_rad, kAnyFinite},
       {"phi_rad", &RunPlan::phi_rad, kAnyFinite},
       {"sample_rate_hz", &RunPlan::sample_rate_hz, kPositive},
+      // Bounded by the total over the runs (at most a day), checked after each run.
       {"duration_s", &RunPlan::duration_s, kPositive},
   }};
   return keys;
@@ -120,7 +122,8 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
   spec.file = file;
   TableReader reader(root, "", source);
 
-  auto description = OptionalString(reader, "description", "", false);
+  auto description =
+      OptionalString(reader, "description", "", false, toml_util::StringKind::kDescription);
   if (!description) return std::unexpected(description.error());
   spec.description = *description;
 
@@ -185,9 +188,42 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
     return std::unexpected(
         reader.Error(*runs_node, "runs", "wrong type: expected one or more [[runs]] tables"));
   }
+  // Checked before reading any run: 100 000 runs would otherwise all be read first.
+  if (runs->size() > bench::kMaxRuns) {
+    // At the first [[runs]] header; the value (every run) is too long to quote.
+    return std::unexpected(ConfigError{file, toml_util::LineOf(*runs->get(0)), "runs", "",
+                                       "out of range: " + std::to_string(runs->size()) +
+                                           " [[runs]] tables; a spec has at most " +
+                                           std::to_string(bench::kMaxRuns)});
+  }
+  double total_duration_s = 0.0;
+  double total_samples = 0.0;
   for (std::size_t i = 0; i < runs->size(); ++i) {
-    auto run = ReadRun(*runs->get(i)->as_table(), i, *defaults, source);
+    const toml::table& table = *runs->get(i)->as_table();
+    auto run = ReadRun(table, i, *defaults, source);
     if (!run) return std::unexpected(run.error());
+    total_duration_s += run->duration_s;
+    total_samples += std::round(run->duration_s * run->sample_rate_hz);
+    if (total_duration_s > bench::kMaxTotalFreeRunS || total_samples > bench::kMaxTotalSamples) {
+      // Named at this run's duration_s (or the default it took): the run that crossed the bound.
+      const std::string run_path = "runs[" + std::to_string(i) + "]";
+      const toml::node* node = table.get("duration_s");
+      std::optional<TableReader> from;
+      if (node != nullptr) {
+        from.emplace(table, run_path, source);
+      } else {
+        node = (*defaults)[6]->node;
+        from.emplace(**defaults_table, "defaults", source);
+      }
+      const std::string what = total_duration_s > bench::kMaxTotalFreeRunS
+                                   ? "runs[0.." + std::to_string(i) + "] last " +
+                                         std::to_string(static_cast<long long>(total_duration_s)) +
+                                         " s in total; a spec simulates at most 86400 s (a day)"
+                                   : "runs[0.." + std::to_string(i) + "] have " +
+                                         std::to_string(static_cast<long long>(total_samples)) +
+                                         " samples in total; a spec simulates at most 1e8";
+      return std::unexpected(from->Error(*node, "duration_s", "out of range: " + what));
+    }
     spec.runs.push_back(*run);
   }
 

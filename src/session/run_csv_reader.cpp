@@ -31,6 +31,11 @@ std::unexpected<SessionError> Fail(const fs::path& file, std::size_t line, std::
   return std::unexpected(SessionError{file, line, std::move(field), std::move(message)});
 }
 
+std::string LineTooLong(std::size_t bytes) {
+  return "line is " + std::to_string(bytes) + " bytes long (at most " +
+         std::to_string(kMaxRunCsvLineBytes) + ")";
+}
+
 std::string_view NextLine(std::string_view& rest) {
   const std::size_t eol = rest.find('\n');
   std::string_view line = rest.substr(0, eol);
@@ -50,6 +55,12 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
 
   std::string_view rest = text;
   const std::string_view header = NextLine(rest);
+  if (header.size() > kMaxRunCsvLineBytes) return Fail(file, 1, "", LineTooLong(header.size()));
+  if (CountFields(header) > kMaxRunCsvColumns) {
+    return Fail(file, 1, "",
+                std::to_string(CountFields(header)) + " columns in the header (at most " +
+                    std::to_string(kMaxRunCsvColumns) + ")");
+  }
   std::vector<std::string_view> names;
   for (std::size_t start = 0;;) {
     const std::size_t comma = header.find(',', start);
@@ -96,12 +107,22 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
   const std::size_t sample_count =
       static_cast<std::size_t>(std::count(rest.begin(), rest.end(), '\n')) +
       (!rest.empty() && rest.back() != '\n' ? 1 : 0);
-  samples.t_s.resize(sample_count);
-  samples.y.resize(4, static_cast<Eigen::Index>(sample_count));
+  if (sample_count > kMaxRunCsvSamples) {
+    return Fail(file, kMaxRunCsvSamples + 2, "t_s",
+                std::to_string(sample_count) + " sample lines (at most " +
+                    std::to_string(kMaxRunCsvSamples) + ")");
+  }
+  // Storage for the lines that can be valid: a valid line has at least 2·columns bytes (one
+  // character per field, the commas, the line end), so a file of bare line ends (a few bytes per
+  // line, 40+ bytes of doubles each) cannot make us allocate many times its size. For a valid file
+  // this is sample_count; the first short line is an error before its index reaches the end.
+  const std::size_t storage = std::min(sample_count, rest.size() / (2 * column_count) + 1);
+  samples.t_s.resize(storage);
+  samples.y.resize(4, static_cast<Eigen::Index>(storage));
   std::vector<double*> extra_data;
   for (const std::string_view name : extra_names) {
     auto& column = samples.extra_columns[std::string(name)];
-    column.resize(sample_count);
+    column.resize(storage);
     extra_data.push_back(column.data());
   }
   double* const t = samples.t_s.data();
@@ -116,6 +137,11 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
     const char* const next = newline != nullptr ? newline + 1 : end;
     if (line_end > p && line_end[-1] == '\r') --line_end;
     const std::string_view line(p, static_cast<std::size_t>(line_end - p));
+    if (line.size() > kMaxRunCsvLineBytes)
+      return Fail(file, line_number, "", LineTooLong(line.size()));
+    if (k >= storage) {  // unreachable (see `storage`); kept so that no write can pass the end
+      return Fail(file, line_number, std::string(names[0]), "line too short for its fields");
+    }
     if (line.empty()) {
       return Fail(file, line_number, std::string(names[0]),
                   "empty line (expected " + std::to_string(column_count) + " fields)");
@@ -181,7 +207,7 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
 
 std::expected<RunSamples, SessionError> ReadRunCsv(const fs::path& path,
                                                    std::size_t min_samples_per_run) {
-  auto text = internal::ReadWholeFile(path);
+  auto text = internal::ReadWholeFile(path, kMaxRunCsvBytes);
   if (!text) return std::unexpected(text.error());
   return ParseRunCsv(*text, path, min_samples_per_run);
 }

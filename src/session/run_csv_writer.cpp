@@ -66,11 +66,25 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     columns.push_back(values.data());
   }
 
+  if (names.size() > kMaxRunCsvColumns) {
+    return Fail(path, 0, "", std::to_string(names.size()) + " columns (at most " +
+                                 std::to_string(kMaxRunCsvColumns) + ")");
+  }
+  if (n > kMaxRunCsvSamples) {
+    return Fail(path, 0, "t_s", std::to_string(n) + " samples (at most " +
+                                    std::to_string(kMaxRunCsvSamples) + ")");
+  }
+
   std::string out;
   out.reserve(64 + n * names.size() * 24);
   for (std::size_t c = 0; c < names.size(); ++c) {
     if (c > 0) out += ',';
     out += names[c];
+  }
+  if (out.size() > kMaxRunCsvLineBytes) {
+    return Fail(path, 1, "", "header line is " + std::to_string(out.size()) +
+                                 " bytes long (at most " + std::to_string(kMaxRunCsvLineBytes) +
+                                 ")");
   }
   out += '\n';
   const double* const y = samples.y.data();
@@ -93,6 +107,10 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     out += '\n';
   }
 
+  if (out.size() > kMaxRunCsvBytes) {
+    return Fail(path, 0, "", "file would be " + std::to_string(out.size()) + " bytes (at most " +
+                                 std::to_string(kMaxRunCsvBytes) + ")");
+  }
   if (auto created = CreateDirectoriesDurably(path.parent_path()); !created) {
     return created;
   }

@@ -6,9 +6,12 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 #include "hrgbench/session/session.hpp"
+#include "json_depth.hpp"
 #include "json_lines.hpp"
+#include "name_field.hpp"
 #include "run_file_path.hpp"
 #include "whole_file.hpp"
 
@@ -75,6 +78,18 @@ class Checker {
     return (*value)->get<std::string>();
   }
 
+  // A string under the name rule (name_field.hpp).
+  std::expected<std::string, SessionError> GetName(const json& object,
+                                                   const std::string& object_path,
+                                                   const char* key) const {
+    auto value = GetString(object, object_path, key);
+    if (!value) return value;
+    if (const auto problem = internal::NameFieldProblem(*value)) {
+      return Fail(Join(object_path, key), "string " + *problem + ": " + Describe(object.at(key)));
+    }
+    return value;
+  }
+
   std::expected<int, SessionError> GetInt(const json& object, const std::string& object_path,
                                           const char* key) const {
     auto value = Get(object, object_path, key);
@@ -111,6 +126,14 @@ class Checker {
 std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                                      const fs::path& file) {
   Session session;
+  // Before the parser: it recurses once per level (see json_depth.hpp).
+  if (const auto excess = internal::FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
+    return std::unexpected(
+        SessionError{file, excess->line, "",
+                     "nested deeper than " + std::to_string(kMaxSessionJsonDepth) +
+                         " levels of arrays and objects (level " + std::to_string(excess->depth) +
+                         " opens on this line); a session.json is under 10 deep"});
+  }
   try {
     session.document = json::parse(text);
   } catch (const json::parse_error& e) {
@@ -158,7 +181,7 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
   }
   const auto unit = check.GetObject(doc, "", "unit");
   if (!unit) return std::unexpected(unit.error());
-  const auto serial = check.GetString(**unit, "unit", "serial");
+  const auto serial = check.GetName(**unit, "unit", "serial");
   if (!serial) return std::unexpected(serial.error());
   session.serial = *serial;
   const auto rate = check.GetFinite(doc, "", "sample_rate_hz");
@@ -171,6 +194,10 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
   const auto runs = check.Get(doc, "", "runs");
   if (!runs) return std::unexpected(runs.error());
   if (!(*runs)->is_array()) return check.Fail("runs", "expected an array, got " + Describe(**runs));
+  if ((*runs)->size() > kMaxSessionRuns) {
+    return check.Fail("runs", std::to_string((*runs)->size()) + " runs (at most " +
+                                  std::to_string(kMaxSessionRuns) + ")");
+  }
   std::map<int, std::size_t> index_of_id;
   for (std::size_t i = 0; i < (*runs)->size(); ++i) {
     const json& item = (**runs)[i];
@@ -185,7 +212,7 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                           std::to_string(it->second) + "].id)");
     }
     entry.id = *id;
-    const auto run_file = check.GetString(item, path, "file");
+    const auto run_file = check.GetName(item, path, "file");
     if (!run_file) return std::unexpected(run_file.error());
     if (const auto problem = internal::RunFilePathProblem(*run_file)) {
       return check.Fail(path + ".file", *problem);
@@ -194,7 +221,7 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     const auto omega = check.GetFinite(item, path, "omega_rad_s");
     if (!omega) return std::unexpected(omega.error());
     entry.omega_rad_s = *omega;
-    const auto status = check.GetString(item, path, "status");
+    const auto status = check.GetName(item, path, "status");
     if (!status) return std::unexpected(status.error());
     entry.status = *status;
     session.runs.push_back(std::move(entry));
@@ -207,7 +234,13 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
 std::expected<Session, SessionError> ReadSession(const fs::path& dir, const ReadOptions& options) {
   const fs::path json_file = dir / "session.json";
   try {
-    const auto text = internal::ReadWholeFile(json_file);
+    // A plain file given as the directory: say so, rather than "cannot open dir/session.json".
+    std::error_code ec;
+    if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+      return std::unexpected(
+          SessionError{dir, 0, "", "not a directory (a session is a directory)"});
+    }
+    const auto text = internal::ReadWholeFile(json_file, kMaxSessionJsonBytes);
     if (!text) return std::unexpected(text.error());
     auto session = ReadSessionJson(*text, json_file);
     if (!session) return session;

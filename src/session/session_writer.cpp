@@ -5,7 +5,8 @@
 #include <string>
 
 #include "hrgbench/session/session.hpp"
-#include "hrgbench/session/session.hpp"
+#include "json_depth.hpp"
+#include "name_field.hpp"
 #include "run_file_path.hpp"
 
 namespace hrgbench::session {
@@ -44,6 +45,13 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     return fail("sample_rate_hz",
                 "must be finite and positive, got " + std::to_string(session.sample_rate_hz));
   }
+  if (const auto problem = internal::NameFieldProblem(session.serial)) {
+    return fail("unit.serial", "string " + *problem);
+  }
+  if (session.runs.size() > kMaxSessionRuns) {
+    return fail("runs", std::to_string(session.runs.size()) + " runs (at most " +
+                            std::to_string(kMaxSessionRuns) + ")");
+  }
   std::set<int> ids;
   for (std::size_t i = 0; i < session.runs.size(); ++i) {
     const RunEntry& run = session.runs[i];
@@ -54,6 +62,12 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     }
     if (const auto problem = internal::RunFilePathProblem(run.file)) {
       return fail(path + ".file", *problem);
+    }
+    if (const auto problem = internal::NameFieldProblem(run.file)) {
+      return fail(path + ".file", "string " + *problem);
+    }
+    if (const auto problem = internal::NameFieldProblem(run.status)) {
+      return fail(path + ".status", "string " + *problem);
     }
     if (!std::isfinite(run.omega_rad_s)) {
       return fail(path + ".omega_rad_s", "non-finite " + std::to_string(run.omega_rad_s));
@@ -84,6 +98,15 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     return fail("", e.what());
   }
 
+  // The reader's bounds, checked on the text it would read.
+  if (text.size() > kMaxSessionJsonBytes) {
+    return fail("", "session.json would be " + std::to_string(text.size()) + " bytes (at most " +
+                        std::to_string(kMaxSessionJsonBytes) + ")");
+  }
+  if (const auto excess = internal::FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
+    return fail("", "document nested deeper than " + std::to_string(kMaxSessionJsonDepth) +
+                        " levels of arrays and objects");
+  }
   if (auto created = CreateDirectoriesDurably(dir); !created) return created;
   return WriteFileAtomic(file, text);
 }

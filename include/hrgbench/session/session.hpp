@@ -20,6 +20,10 @@
 // skipped with a warning. Every error names the file, the line (1-based, 0 when not applicable) and
 // the field.
 //
+// Bounds (refused with an error naming the file, before anything large is allocated or any
+// recursive parse starts): see the constants below. The reader refuses what exceeds them and the
+// writer refuses to write it, so a file the writer wrote always reads back.
+//
 // Writing is atomic per file (temporary file in the same directory, fsync, rename, fsync of the
 // directory), so a crash leaves either the old or the new file, never half of one.
 
@@ -39,6 +43,26 @@ namespace hrgbench::session {
 
 inline constexpr const char* kFormatName = "hrgbench-session";
 inline constexpr int kFormatVersion = 1;
+
+// session.json: at most 64 MiB (a bench session is tens of KiB; every resume and attempt adds
+// about 1 KiB) and at most 64 levels of nested arrays and objects (a bench session is under 10
+// deep: {} → runs[] → run → attempts[] → attempt → start → ...). The depth is checked on the text
+// before it is parsed, because the JSON library recurses per level: 100 000 levels overflowed the
+// stack of hrg-estimate.
+inline constexpr std::size_t kMaxSessionJsonBytes = std::size_t{64} << 20;
+inline constexpr std::size_t kMaxSessionJsonDepth = 64;
+// Entries in "runs" (a sequence has at most 1000 runs, and each may be listed once).
+inline constexpr std::size_t kMaxSessionRuns = 1000;
+// unit.serial, runs[].status and runs[].file: at most 255 bytes, no control characters
+// (U+0000..U+001F, U+007F): they are printed in reports and used in file names.
+inline constexpr std::size_t kMaxSessionNameBytes = 255;
+// Run CSV: at most 4 GiB (1e7 samples of 8 columns at full precision are about 2 GB), at most
+// 1e7 samples (the configs' bound per run), at most 64 columns, lines of at most 4096 bytes (64
+// values of at most 24 characters and their commas fit in 1600).
+inline constexpr std::size_t kMaxRunCsvBytes = std::size_t{4} << 30;
+inline constexpr std::size_t kMaxRunCsvSamples = 10'000'000;
+inline constexpr std::size_t kMaxRunCsvColumns = 64;
+inline constexpr std::size_t kMaxRunCsvLineBytes = 4096;
 
 struct SessionError {
   std::filesystem::path file;  // the file at fault

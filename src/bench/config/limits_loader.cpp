@@ -45,7 +45,7 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
   TableReader reader(**header, "limits", source);
   HRG_TRY(name, RequiredString(reader, "name"));
   limits.name = *name;
-  HRG_TRY(description, OptionalString(reader, "description", "", false));
+  HRG_TRY(description, OptionalString(reader, "description", "", false, StringKind::kDescription));
   limits.description = *description;
   for (std::size_t q = 0; q < kLimitedQuantityCount; ++q) {
     const auto quantity = static_cast<LimitedQuantity>(q);

@@ -1,11 +1,13 @@
 // Loader of sequence files.
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
 
 #include "bench/config/toml_reader.hpp"
+#include "hrgbench/bench/config_bounds.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 
@@ -16,9 +18,19 @@ using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader'
 
 // The fastest any gyro link carries (CAN FD); the station's own link is judged by the cross-check.
 constexpr double kMaxSampleRateHz = hw::kMaxSampleRateCanFdHz;
+constexpr Range kWait{0.0, kMaxWaitS, false, "in (0, 3600] s (an hour)"};
+constexpr Range kLongWaitPositive{0.0, kMaxLongWaitS, false, "in (0, 86400] s (a day)"};
+constexpr Range kLongWaitNonNegative{0.0, kMaxLongWaitS, true, "in [0, 86400] s (a day)"};
 constexpr std::string_view kRunKeysText =
     "omega_rad_s, a, b, theta_rad, free_run_s, sample_rate_hz";
 constexpr std::string_view kDefaultKeysText = "a, b, theta_rad, free_run_s, sample_rate_hz";
+
+// Shortest fixed-point text of a total (seconds, samples): "100000", not "1e+05".
+std::string Shortest(double v) {
+  char text[400];
+  const auto result = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed);
+  return std::string(text, result.ptr);
+}
 
 // The run keys; [defaults] may supply any of them but Ω (a rate is what makes a run a run).
 enum RunKey { kOmega, kA, kB, kTheta, kFreeRun, kSampleRate, kRunKeyCount };
@@ -40,7 +52,7 @@ std::expected<double, ConfigError> RunValue(const TableReader& reader, const tom
     case kTheta:
       return NumberFrom(reader, node, name,
                         {-kMaxWaveAngleRad, kMaxWaveAngleRad, true, "in [-3.2767, 3.2767] rad"});
-    case kFreeRun:
+    case kFreeRun:  // also bounded by the total over the runs (a day), checked after each run
       return NumberFrom(reader, node, name, kPositive);
     case kSampleRate: {
       constexpr std::string_view kWhat = "a whole number of Hz in [1, 10000]";
@@ -137,7 +149,8 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     TableReader reader(**header, "sequence", source);
     HRG_TRY(name, RequiredString(reader, "name"));
     sequence.name = *name;
-    HRG_TRY(description, OptionalString(reader, "description", "", false));
+    HRG_TRY(description,
+            OptionalString(reader, "description", "", false, StringKind::kDescription));
     sequence.description = *description;
     HRG_CHECK(reader.Unknown("name, description"));
   }
@@ -149,7 +162,7 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     HRG_TRY(tolerance,
             OptionalNumber(reader, "rate_tolerance_rad_s", kPositive, s.rate_tolerance_rad_s));
     s.rate_tolerance_rad_s = *tolerance;
-    HRG_TRY(dwell, OptionalNumber(reader, "dwell_s", kPositive, s.dwell_s));
+    HRG_TRY(dwell, OptionalNumber(reader, "dwell_s", kWait, s.dwell_s));
     s.dwell_s = *dwell;
     HRG_TRY(poll, OptionalNumber(reader, "poll_period_s", {0.0, 10.0, false, "in (0, 10]"},
                                  s.poll_period_s));
@@ -161,7 +174,7 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
   if (*timeouts_table != nullptr) {
     TableReader reader(**timeouts_table, "timeouts", source);
     SequenceTimeouts& t = sequence.timeouts;
-    HRG_TRY(settle, OptionalNumber(reader, "settle_s", kPositive, t.settle_s));
+    HRG_TRY(settle, OptionalNumber(reader, "settle_s", kWait, t.settle_s));
     t.settle_s = *settle;
     if (sequence.settle.dwell_s > t.settle_s) {
       const toml::node* node = reader.table().get("settle_s");
@@ -171,9 +184,9 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
       if (node == nullptr) return std::unexpected(reader.Missing("settle_s", message));
       return std::unexpected(reader.Error(*node, "settle_s", message));
     }
-    HRG_TRY(excite, OptionalNumber(reader, "excite_s", kPositive, t.excite_s));
+    HRG_TRY(excite, OptionalNumber(reader, "excite_s", kWait, t.excite_s));
     t.excite_s = *excite;
-    HRG_TRY(margin, OptionalNumber(reader, "run_margin_s", kPositive, t.run_margin_s));
+    HRG_TRY(margin, OptionalNumber(reader, "run_margin_s", kWait, t.run_margin_s));
     t.run_margin_s = *margin;
     HRG_CHECK(reader.Unknown("settle_s, excite_s, run_margin_s"));
   } else if (sequence.settle.dwell_s > sequence.timeouts.settle_s) {
@@ -185,13 +198,16 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
   if (*warmup_table != nullptr) {
     TableReader reader(**warmup_table, "warmup", source);
     WarmupCriteria& w = sequence.warmup;
-    HRG_TRY(min_s, OptionalNumber(reader, "min_s", kNonNegative, w.min_s));
+    HRG_TRY(min_s, OptionalNumber(reader, "min_s", kLongWaitNonNegative, w.min_s));
     w.min_s = *min_s;
-    HRG_TRY(window, OptionalNumber(reader, "window_s", kPositive, w.window_s));
+    HRG_TRY(window, OptionalNumber(reader, "window_s", kLongWaitPositive, w.window_s));
     w.window_s = *window;
     HRG_TRY(drift, OptionalNumber(reader, "max_drift_c", kPositive, w.max_drift_c));
     w.max_drift_c = *drift;
-    HRG_TRY(timeout, OptionalNumber(reader, "timeout_s", kPositive, w.timeout_s));
+    HRG_TRY(timeout,
+            OptionalNumber(reader, "timeout_s",
+                           {0.0, 2.0 * kMaxLongWaitS, false, "in (0, 172800] s (two days)"},
+                           w.timeout_s));
     w.timeout_s = *timeout;
     if (w.timeout_s < w.min_s + w.window_s) {
       const toml::node* node = reader.table().get("timeout_s");
@@ -254,9 +270,35 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     return std::unexpected(
         root.Error(*runs_node, "runs", "wrong type: expected one or more [[runs]] tables"));
   }
+  // Checked before reading any run: 100 000 runs would otherwise all be read first.
+  if (runs->size() > kMaxRuns) {
+    // At the first [[runs]] header; the value (every run) is too long to quote.
+    return std::unexpected(ConfigError{file, LineOf(*runs->get(0)), "runs", "",
+                                       "out of range: " + std::to_string(runs->size()) +
+                                           " [[runs]] tables; a sequence has at most " +
+                                           std::to_string(kMaxRuns)});
+  }
+  double total_free_run_s = 0.0;
+  double total_samples = 0.0;
   for (std::size_t i = 0; i < runs->size(); ++i) {
-    TableReader reader(*runs->get(i)->as_table(), "runs[" + std::to_string(i) + "]", source);
+    const toml::table& table = *runs->get(i)->as_table();
+    TableReader reader(table, "runs[" + std::to_string(i) + "]", source);
     HRG_TRY(run, ReadRun(reader, defaults, defaults_reader ? &*defaults_reader : nullptr));
+    total_free_run_s += run->free_run_s;
+    total_samples += static_cast<double>(run->Samples());
+    if (total_free_run_s > kMaxTotalFreeRunS || total_samples > kMaxTotalSamples) {
+      // Named at this run's free_run_s (or the default it took): the run that crossed the bound.
+      const toml::node* node = table.get("free_run_s");
+      const TableReader& from = node != nullptr || !defaults_reader ? reader : *defaults_reader;
+      if (node == nullptr) node = defaults.node[kFreeRun];
+      const std::string what =
+          total_free_run_s > kMaxTotalFreeRunS
+              ? "runs[0.." + std::to_string(i) + "] free-run " + Shortest(total_free_run_s) +
+                    " s in total; a sequence free-runs at most 86400 s (a day)"
+              : "runs[0.." + std::to_string(i) + "] capture " + Shortest(total_samples) +
+                    " samples in total; a sequence captures at most 1e8";
+      return std::unexpected(from.Error(*node, "free_run_s", "out of range: " + what));
+    }
     sequence.runs.push_back(*run);
   }
 

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "bench/config/toml_reader.hpp"
+#include "hrgbench/bench/config_bounds.hpp"
 #include "hrgbench/bench/station_config.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 
@@ -206,9 +207,11 @@ std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader) {
   constexpr std::int64_t kMaxCount = std::numeric_limits<std::int64_t>::max();
   HRG_TRY(never_stable, OptionalBool(reader, "table_never_stable", false));
   faults.table_never_stable = *never_stable;
-  HRG_TRY(fault_after, MaybeNumber(reader, "table_fault_after_s", kNonNegative));
+  // Absent means never; a time beyond any session is a typo, not a way to say never.
+  constexpr Range kFaultTime{0.0, kMaxLongWaitS, true, "in [0, 86400] s (a day)"};
+  HRG_TRY(fault_after, MaybeNumber(reader, "table_fault_after_s", kFaultTime));
   faults.table_fault_after_s = *fault_after;
-  HRG_TRY(silent_after, MaybeNumber(reader, "table_unresponsive_after_s", kNonNegative));
+  HRG_TRY(silent_after, MaybeNumber(reader, "table_unresponsive_after_s", kFaultTime));
   faults.table_unresponsive_after_s = *silent_after;
   HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
   faults.gyro_stall_after_samples = *stall;
@@ -330,7 +333,8 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     TableReader reader(**station_table, "station", source);
     HRG_TRY(name, RequiredString(reader, "name"));
     station.name = *name;
-    HRG_TRY(description, OptionalString(reader, "description", "", false));
+    HRG_TRY(description,
+            OptionalString(reader, "description", "", false, StringKind::kDescription));
     station.description = *description;
     HRG_TRY(kind, Choice(reader, "kind", {"simulated", "real"}, -1));
     station.kind = *kind == 0 ? StationKind::kSimulated : StationKind::kReal;

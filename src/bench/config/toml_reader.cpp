@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 #include <utility>
 
 #include "bench/config/sha256.hpp"
@@ -42,8 +44,19 @@ std::string Source::Render(const toml::node& node) const {
   return shown;
 }
 
+namespace {
+
+std::string TooLarge(std::uintmax_t bytes) {
+  return "file too large: " + std::to_string(bytes) + " bytes (a config file has at most " +
+         std::to_string(kMaxConfigFileBytes) + ")";
+}
+
+}  // namespace
+
 std::expected<TomlDocument, ConfigError> ParseTomlText(std::string_view text,
                                                        const std::filesystem::path& file) {
+  if (text.size() > kMaxConfigFileBytes)
+    return std::unexpected(ConfigError{file, 0, "", "", TooLarge(text.size())});
   TomlDocument document;
   document.text = std::string(text);
   document.sha256_hex = Sha256Hex(text);
@@ -57,12 +70,25 @@ std::expected<TomlDocument, ConfigError> ParseTomlText(std::string_view text,
 }
 
 std::expected<TomlDocument, ConfigError> LoadTomlFile(const std::filesystem::path& file) {
+  // An ifstream opens a directory and reads it as empty, which then reported "missing [limits]".
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (std::filesystem::is_directory(status))
+    return std::unexpected(ConfigError{file, 0, "", "", "is a directory, not a file"});
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    return std::unexpected(ConfigError{file, 0, "", "", "not a regular file"});
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::unexpected(ConfigError{file, 0, "", "", "cannot open the file"});
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most one byte more than allowed: enough to know the file is too large.
+  std::string text(kMaxConfigFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) return std::unexpected(ConfigError{file, 0, "", "", "read error"});
-  return ParseTomlText(text.str(), file);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxConfigFileBytes) {
+    const std::uintmax_t size = std::filesystem::file_size(file, ec);
+    return std::unexpected(ConfigError{file, 0, "", "", TooLarge(ec ? text.size() : size)});
+  }
+  return ParseTomlText(text, file);
 }
 
 std::size_t LineOf(const toml::node& node) { return node.source().begin.line; }
@@ -206,8 +232,30 @@ std::expected<bool, ConfigError> OptionalBool(TableReader& reader, std::string_v
   return node->value<bool>().value_or(default_value);
 }
 
+std::optional<std::string> StringProblem(std::string_view value, StringKind kind) {
+  const bool name = kind == StringKind::kName;
+  const std::size_t max_bytes = name ? kMaxNameBytes : kMaxDescriptionBytes;
+  if (value.size() > max_bytes) {
+    return "out of range: " + std::to_string(value.size()) + " bytes long; " +
+           (name ? "a name" : "a description") + " has at most " + std::to_string(max_bytes);
+  }
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const auto c = static_cast<unsigned char>(value[i]);
+    const bool allowed_space = !name && (c == '\t' || c == '\n');
+    if ((c < 0x20 || c == 0x7F) && !allowed_space) {
+      char code[8];
+      std::snprintf(code, sizeof(code), "U+%04X", c);
+      return std::string("out of range: control character ") + code + " at byte " +
+             std::to_string(i) + (name ? "; a name is printable text on one line"
+                                       : "; a description may hold only tabs and line feeds");
+    }
+  }
+  return std::nullopt;
+}
+
 std::expected<std::string, ConfigError> OptionalString(TableReader& reader, std::string_view key,
-                                                       std::string default_value, bool non_empty) {
+                                                       std::string default_value, bool non_empty,
+                                                       StringKind kind) {
   const toml::node* node = reader.Find(key);
   if (node == nullptr) return default_value;
   if (!node->is_string())
@@ -215,6 +263,8 @@ std::expected<std::string, ConfigError> OptionalString(TableReader& reader, std:
   std::string value = node->value<std::string>().value_or("");
   if (non_empty && value.empty())
     return std::unexpected(reader.Error(*node, key, "out of range: must not be empty"));
+  if (auto problem = StringProblem(value, kind))
+    return std::unexpected(reader.Error(*node, key, std::move(*problem)));
   return value;
 }
 

@@ -25,6 +25,7 @@
 #include <string_view>
 #include <utility>
 
+#include "hrgbench/bench/config_bounds.hpp"
 #include "hrgbench/bench/config_error.hpp"
 
 // Loader shorthand: `HRG_TRY(v, Expr());` declares v = Expr() and returns its error from the
@@ -61,10 +62,11 @@ struct TomlDocument {
   toml::table root;
 };
 
-// Reads `file` (error: cannot open / read error, line 0) and parses it (error: TOML syntax error at
-// its line).
+// Reads `file` (errors at line 0: cannot open, a directory or not a regular file, larger than
+// kMaxConfigFileBytes, read error) and parses it (error: TOML syntax error at its line).
 std::expected<TomlDocument, ConfigError> LoadTomlFile(const std::filesystem::path& file);
-// The same from text already in memory; `file` is only used in messages.
+// The same from text already in memory (also refused above kMaxConfigFileBytes); `file` is only
+// used in messages.
 std::expected<TomlDocument, ConfigError> ParseTomlText(std::string_view text,
                                                        const std::filesystem::path& file);
 
@@ -139,8 +141,17 @@ std::expected<std::optional<std::int64_t>, ConfigError> MaybeInteger(TableReader
 std::expected<bool, ConfigError> OptionalBool(TableReader& reader, std::string_view key,
                                               bool default_value);
 
+// What a string may hold (config_bounds.hpp): a name is printable text of at most kMaxNameBytes
+// bytes; a description may also hold tabs and line feeds, up to kMaxDescriptionBytes.
+enum class StringKind { kName, kDescription };
+
+// Why `value` is not a valid string of `kind` ("out of range: ..."), or nullopt.
+std::optional<std::string> StringProblem(std::string_view value, StringKind kind);
+
 std::expected<std::string, ConfigError> OptionalString(TableReader& reader, std::string_view key,
-                                                       std::string default_value, bool non_empty);
+                                                       std::string default_value, bool non_empty,
+                                                       StringKind kind = StringKind::kName);
+// A non-empty name.
 std::expected<std::string, ConfigError> RequiredString(TableReader& reader, std::string_view key);
 
 // A string that must be one of `choices`; returns its index. `default_index` < 0: required.
