@@ -8,6 +8,8 @@
 //       ::testing::Values(CanBusConformanceParam{"virtual", &MakeVirtualPair}),
 //       CanBusConformanceName);
 //
+// and, with the FD-capable transports among them, CanFdConformanceTest likewise.
+//
 // A factory that cannot make its pair (no AF_CAN in this kernel, no vcan0) returns the reason; the
 // tests are then SKIPPED with it, never silently passed. The tests use deltas of the statistics,
 // so a transport shared with other traffic still conforms, and no sleeps: every "not received"
@@ -95,6 +97,18 @@ class CanBusConformanceTest : public ::testing::TestWithParam<CanBusConformanceP
   }
 
   CanBusPair pair_;
+};
+
+// The CAN FD part of the suite, instantiated only with FD-capable transports: an FD test on a
+// classic bus would have nothing to check, so it is not instantiated there rather than skipped.
+// A transport instantiated here that turns out not to be FD fails.
+class CanFdConformanceTest : public CanBusConformanceTest {
+ protected:
+  void SetUp() override {
+    CanBusConformanceTest::SetUp();
+    if (IsSkipped() || HasFatalFailure()) return;
+    if (!BothFd()) GTEST_FAIL() << "CanBus '" << GetParam().name << "' is not CAN FD capable";
+  }
 };
 
 }  // namespace hrgbench::testing

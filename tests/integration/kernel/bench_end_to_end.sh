@@ -2,8 +2,8 @@
 # hrg-bench driving hrg-table-sim (Modbus TCP on 127.0.0.1) and hrg-gyro-sim (SocketCAN on vcan0)
 # as separate processes, inside the QEMU guest (busybox sh). Usage:
 #   bench_end_to_end.sh BIN_DIR CONFIG_DIR
-# Passes when the session is PASS (no limits: the estimate is usable), with 3 complete runs.
-set -e
+# Passes when the session is PASS (no limits: the estimate is usable), with 3 complete runs in
+# session.json, the CAN log stamped in Unix time, and the estimate within 5 std of the truth.
 bin="$1"
 cfg="$2"
 out=/tmp/bench-e2e
@@ -14,18 +14,41 @@ gyro=$!
 sleep 1
 status=0
 "$bin/hrg-bench" run --station "$cfg/bench_vm_station.toml" --sequence "$cfg/bench_vm_sequence.toml" \
-  --serial VM-0001 -o "$out" || status=$?
+  --serial VM-0001 -o "$out" > /tmp/bench-e2e.out 2>&1 || status=$?
+cat /tmp/bench-e2e.out
 kill "$gyro" "$table" 2>/dev/null || true
 echo "hrg-bench exit $status"
 ls "$out/runs"
-complete=$(grep -c '"status": "complete"' "$out/session.json" || true)
-echo "complete run entries in session.json: $complete"
+fail=0
+check() {  # check WHAT CONDITION-EXIT-CODE
+  if [ "$2" -eq 0 ]; then echo "ok: $1"; else echo "FAIL: $1"; fail=1; fi
+}
+[ "$status" -eq 0 ]; check "hrg-bench exits 0 (PASS)" $?
+grep -q '"kind": "PASS"' "$out/session.json"; check "session.json outcome PASS" $?
+# A run's own status (session.json is indented by 2: runs[k].status is at 6 spaces; its end's
+# status, also "complete", at 8).
+complete=$(grep -c '^      "status": "complete"' "$out/session.json" || true)
+[ "$complete" -eq 3 ]; check "3 complete runs in session.json (found $complete)" $?
+[ -f "$out/runs/run-003.csv" ]; check "run-003.csv on disk" $?
 lines=$(wc -l < "$out/can/session.log")
-echo "CAN log lines: $lines"
+[ "$lines" -gt 1000 ]; check "CAN log holds the session's frames ($lines lines)" $?
 # The candump log's stamps are Unix time (SocketCAN software stamps are CLOCK_REALTIME): the first
 # frame was logged within the last hour of the guest's own clock.
 first=$(head -n 1 "$out/can/session.log" | sed 's/^(\([0-9]*\)\..*/\1/')
 age=$(( $(date +%s) - first ))
-echo "first CAN log stamp $first, $age s ago"
-[ "$status" -eq 0 ] && [ -f "$out/runs/run-003.csv" ] && [ "$lines" -gt 1000 ] &&
-  [ "$age" -ge 0 ] && [ "$age" -lt 3600 ]
+[ "$age" -ge 0 ] && [ "$age" -lt 3600 ]; check "first CAN log stamp $first is $age s old" $?
+# The estimate agrees with hrg-gyro-sim's truth (gyro_sim_e2e.toml: delta, xi = 0) within 5 of
+# its reported standard deviations: lines "  delta2  +3.0000000000e-01 ± 3.8e-09  ...".
+awk '
+  BEGIN { split("-0.05 0.3 2e-3 -1e-3 3e-3 1e-3", d, " ");
+          for (i = 1; i <= 6; ++i) truth["delta" i] = d[i];
+          for (i = 1; i <= 4; ++i) truth["xi" i] = 0; }
+  ($1 in truth) && $3 == "\302\261" && !($1 in seen) {
+    seen[$1] = 1; err = $2 - truth[$1]; if (err < 0) err = -err;
+    ok = ($4 > 0 && err <= 5 * $4);
+    printf "%s: %s %s %s truth %s (%s)\n", $1, $2, $3, $4, truth[$1], ok ? "within 5 std" : "OFF";
+    if (ok) ++good; else ++bad; }
+  END { if (good < 6 || bad > 0) { print "estimate: " good " agree, " bad " off"; exit 1 } }
+' /tmp/bench-e2e.out
+check "estimate within 5 std of the truth" $?
+exit "$fail"

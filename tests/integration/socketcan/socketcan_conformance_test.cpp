@@ -26,6 +26,11 @@ INSTANTIATE_TEST_SUITE_P(SocketCan, CanBusConformanceTest,
                          ::testing::Values(CanBusConformanceParam{"vcan", &MakeSocketCanPair,
                                                                   VcanRequired()}),
                          CanBusConformanceName);
+// vcan0 is brought up CAN FD capable (mtu 72) by scripts/run-in-kernel.sh.
+INSTANTIATE_TEST_SUITE_P(SocketCan, CanFdConformanceTest,
+                         ::testing::Values(CanBusConformanceParam{"vcan", &MakeSocketCanPair,
+                                                                  VcanRequired()}),
+                         CanBusConformanceName);
 
 }  // namespace
 }  // namespace hrgbench::testing

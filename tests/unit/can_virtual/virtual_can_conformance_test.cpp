@@ -42,6 +42,9 @@ INSTANTIATE_TEST_SUITE_P(VirtualCanBus, CanBusConformanceTest,
                          ::testing::Values(Param("fd", {}), Param("classic", Classic()),
                                            Param("timed_1mbit", Timed())),
                          CanBusConformanceName);
+INSTANTIATE_TEST_SUITE_P(VirtualCanBus, CanFdConformanceTest,
+                         ::testing::Values(Param("fd", {}), Param("timed_1mbit", Timed())),
+                         CanBusConformanceName);
 
 }  // namespace
 }  // namespace hrgbench::testing
