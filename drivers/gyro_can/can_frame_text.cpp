@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 constexpr char kHex[] = "0123456789ABCDEF";
@@ -112,4 +112,4 @@ std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept {
   return frame;
 }
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -16,7 +16,7 @@
 
 #include "hrgbench/hw/can_frame.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 // Longest text FormatCanFrame writes: 8 id digits, "##", a flags digit, 128 data digits, NUL.
 inline constexpr std::size_t kMaxCanFrameTextLength = 8 + 2 + 1 + 2 * 64 + 1;
@@ -34,4 +34,4 @@ std::string CanFrameToString(const hw::CanFrame& frame);
 // length that is not a valid FD DLC length, an odd number of data digits. noexcept, no allocation.
 std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept;
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 using hw::CanStatus;
@@ -503,4 +503,4 @@ hw::GyroCounters GyroCanDevice::Counters() const noexcept {
   return c;
 }
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -34,7 +34,7 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 struct GyroCanDeviceConfig {
   // The transport's time base (the Clock a VirtualCanBus was given, SteadyClock for SocketCAN
@@ -134,4 +134,4 @@ class GyroCanDevice final : public hw::GyroElectronics {
   AtomicCounters counters_;
 };
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

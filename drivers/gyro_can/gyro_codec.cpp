@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 using hw::CanFrame;
@@ -253,4 +253,4 @@ DecodeStatus DecodeSampleFd(const CanFrame& frame, SampleFdBlock* out) noexcept 
   return DecodeStatus::kOk;
 }
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

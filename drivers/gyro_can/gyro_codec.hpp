@@ -13,7 +13,7 @@
 #include "gyro_can/gyro_protocol.hpp"
 #include "hrgbench/hw/can_frame.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 enum class DecodeStatus : std::uint8_t {
   kOk,
@@ -129,4 +129,4 @@ constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
          id == can_id::kSampleB || id == can_id::kSampleFd;
 }
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

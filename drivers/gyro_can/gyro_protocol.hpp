@@ -14,7 +14,7 @@
 
 #include "hrgbench/hw/gyro_electronics.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 inline constexpr std::uint8_t kProtocolVersion = 1;
 
@@ -89,4 +89,4 @@ inline constexpr std::uint8_t kDefaultStatusRateHz = 10;
 inline constexpr std::uint32_t kClassicSeqModulo = 256;
 inline constexpr std::uint32_t kFdSeqModulo = 65536;
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 SampleStreamDecoder::SampleStreamDecoder(std::size_t capacity)
     : ring_(capacity == 0 ? 1 : capacity) {}
@@ -101,4 +101,4 @@ std::size_t SampleStreamDecoder::Pop(std::span<hw::GyroSample> out) noexcept {
   return n;
 }
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

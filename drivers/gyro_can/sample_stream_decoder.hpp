@@ -15,7 +15,7 @@
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 
 struct SampleStreamCounters {
   std::uint64_t samples_decoded = 0;  // whole samples put into the ring
@@ -71,4 +71,4 @@ class SampleStreamDecoder {
   SampleStreamCounters counters_;
 };
 
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

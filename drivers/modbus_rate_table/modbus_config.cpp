@@ -4,7 +4,7 @@
 
 #include "modbus_rate_table/register_map.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 namespace {
 bool InRange(const char* name, long long value, long long lo, long long hi, std::string* why) {
@@ -70,4 +70,4 @@ std::string ModbusRateTableConfig::Describe() const {
   return os.str();
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

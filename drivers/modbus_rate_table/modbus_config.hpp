@@ -7,7 +7,7 @@
 
 #include "modbus_rate_table/rate_limits.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 enum class ModbusTransport { kTcp, kRtu };
 
@@ -57,4 +57,4 @@ struct ModbusRateTableConfig {
   std::string Describe() const;
 };
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

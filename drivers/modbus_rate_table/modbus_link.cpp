@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 namespace {
 void SetTimeout(modbus_t* ctx, int ms, int (*setter)(modbus_t*, std::uint32_t, std::uint32_t)) {
@@ -100,4 +100,4 @@ void ModbusLink::Resynchronise() noexcept {
   modbus_flush(ctx_);
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

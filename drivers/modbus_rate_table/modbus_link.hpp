@@ -14,7 +14,7 @@
 
 struct _modbus;  // libmodbus' opaque context (typedef'd to modbus_t in <modbus.h>)
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 enum class LinkStatus {
   kOk,
@@ -60,4 +60,4 @@ class ModbusLink {
   _modbus* ctx_ = nullptr;
 };
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -8,7 +8,7 @@
 #include "modbus_rate_table/register_map.hpp"
 #include "modbus_rate_table/stable_wait.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 namespace {
 using hw::RateTableError;
@@ -370,4 +370,4 @@ void ModbusRateTable::Disconnect() noexcept {
   state_.store(TableLinkState::kDisconnected, std::memory_order_release);
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

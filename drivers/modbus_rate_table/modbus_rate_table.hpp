@@ -35,7 +35,7 @@
 #include "hrgbench/hw/rate_table.hpp"
 #include "modbus_rate_table/modbus_config.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 class ModbusLink;
 struct LinkResult;
@@ -111,4 +111,4 @@ class ModbusRateTable final : public hw::RateTable {
   } counters_;
 };
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

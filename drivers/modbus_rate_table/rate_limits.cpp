@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 namespace {
 // g++ 12 has no <format>; a stream keeps the messages readable (shortest round-trip is not needed).
@@ -50,4 +50,4 @@ std::expected<void, hw::RateTableError> CheckAcceleration(const RateLimits& limi
   return {};
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -6,7 +6,7 @@
 
 #include "hrgbench/hw/rate_table.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 struct RateLimits {
   // The gyro's rated input range with margin; the paper's designs stay within +-1 rad/s.
@@ -23,4 +23,4 @@ std::expected<void, hw::RateTableError> CheckRate(const RateLimits& limits, doub
 std::expected<void, hw::RateTableError> CheckAcceleration(const RateLimits& limits,
                                                           double accel_rad_s2);
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -2,7 +2,7 @@
 
 #include "modbus_rate_table/register_map.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 std::array<std::uint16_t, 2> EncodeFloat32(float value) noexcept {
   // bit_cast works on the value, not on memory, so this is independent of host byte order.
@@ -65,4 +65,4 @@ hw::RateTableStatus DecodeStatusBlock(std::span<const std::uint16_t, input::kCou
   return status;
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -12,7 +12,7 @@
 
 #include "hrgbench/hw/rate_table.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 inline constexpr std::uint16_t kMapVersion = 1;
 
@@ -92,4 +92,4 @@ std::array<std::uint16_t, input::kCount> EncodeStatusBlock(
     const hw::RateTableStatus& status) noexcept;
 hw::RateTableStatus DecodeStatusBlock(std::span<const std::uint16_t, input::kCount> regs) noexcept;
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

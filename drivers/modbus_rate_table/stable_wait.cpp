@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 namespace {
 std::int64_t SecondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
@@ -60,4 +60,4 @@ std::expected<hw::RateTableStatus, hw::RateTableError> WaitForStableRate(
   }
 }
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -11,7 +11,7 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 
 class StableDetector {
  public:
@@ -44,4 +44,4 @@ std::expected<hw::RateTableStatus, hw::RateTableError> WaitForStableRate(
     const StatusReader& read, hw::Clock& clock, double target_rate_rad_s,
     const hw::StableCriteria& criteria);
 
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <system_error>
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 namespace {
 
 // Bounds on the file (the same as the bench's config files, bench/config_bounds.hpp, which a driver
@@ -277,4 +277,4 @@ std::expected<GyroSimFileConfig, std::string> LoadGyroSimConfig(const std::strin
   return ParseGyroSimConfig(text, path);
 }
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -16,7 +16,7 @@
 
 #include "sim/gyro_sim_options.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 struct OmegaConfig {
   enum class Source { kConstant, kModbus };
@@ -38,4 +38,4 @@ std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_vie
                                                                  std::string_view source_name);
 std::expected<GyroSimFileConfig, std::string> LoadGyroSimConfig(const std::string& path);
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -5,7 +5,7 @@
 
 #include "hrgbench/hw/gyro_electronics.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 bool GyroSimOptions::IsValid(std::string* why) const {
   const auto fail = [why](const std::string& message) {
@@ -40,4 +40,4 @@ bool GyroSimOptions::IsValid(std::string* why) const {
   return true;
 }
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -9,7 +9,7 @@
 
 #include "hrgbench/estimator/parameters.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 // Failure modes, each off by default. Counts are "the next N"; they decrement as they fire.
 struct GyroSimFaults {
@@ -47,4 +47,4 @@ struct GyroSimOptions {
   bool IsValid(std::string* why) const;
 };
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

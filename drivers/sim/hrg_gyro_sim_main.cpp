@@ -54,9 +54,9 @@ int main(int argc, char** argv) {
     app.add_option("--table", table, "Read Omega from a Modbus rate table at HOST:PORT");
     CLI11_PARSE(app, argc, argv);
 
-    gyro_sim::GyroSimFileConfig config;
+    drivers::sim::GyroSimFileConfig config;
     if (!config_path.empty()) {
-      auto loaded = gyro_sim::LoadGyroSimConfig(config_path);
+      auto loaded = drivers::sim::LoadGyroSimConfig(config_path);
       if (!loaded) {
         std::cerr << "hrg-gyro-sim: " << loaded.error() << "\n";
         return 2;
@@ -68,10 +68,10 @@ int main(int argc, char** argv) {
         std::cerr << "hrg-gyro-sim: --table wants HOST:PORT, got '" << table << "'\n";
         return 2;
       }
-      config.omega.source = gyro_sim::OmegaConfig::Source::kModbus;
+      config.omega.source = drivers::sim::OmegaConfig::Source::kModbus;
     }
     if (omega_override) {
-      config.omega.source = gyro_sim::OmegaConfig::Source::kConstant;
+      config.omega.source = drivers::sim::OmegaConfig::Source::kConstant;
       config.omega.omega_rad_s = *omega_override;
     }
 
@@ -81,10 +81,10 @@ int main(int argc, char** argv) {
       std::cerr << "hrg-gyro-sim: " << bus.error() << "\n";
       return 1;
     }
-    std::unique_ptr<gyro_sim::ModbusOmegaSource> modbus;
-    gyro_sim::OmegaSource omega;
-    if (config.omega.source == gyro_sim::OmegaConfig::Source::kModbus) {
-      modbus = std::make_unique<gyro_sim::ModbusOmegaSource>(
+    std::unique_ptr<drivers::sim::ModbusOmegaSource> modbus;
+    drivers::sim::OmegaSource omega;
+    if (config.omega.source == drivers::sim::OmegaConfig::Source::kModbus) {
+      modbus = std::make_unique<drivers::sim::ModbusOmegaSource>(
           config.omega.modbus_host, config.omega.modbus_port, config.omega.earth_rate_rad_s,
           config.omega.poll_period_ms);
       omega = [source = modbus.get()] { return source->OmegaRadS(); };
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
       omega = [w = config.omega.omega_rad_s] { return w; };
     }
     hw::SteadyClock clock;
-    gyro_sim::GyroSimNode node(**bus, clock, config.options, omega);
+    drivers::sim::GyroSimNode node(**bus, clock, config.options, omega);
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     std::cout << "hrg-gyro-sim: on " << interface_name << (bus.value()->SupportsFd() ? " (FD)" : "")
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
                          : "constant " + std::to_string(config.omega.omega_rad_s) + " rad/s")
               << std::endl;
     node.Run(g_stop);
-    const gyro_sim::GyroSimStatistics s = node.Statistics();
+    const drivers::sim::GyroSimStatistics s = node.Statistics();
     std::cout << "hrg-gyro-sim: " << s.commands << " commands, " << s.runs << " runs, " << s.samples
               << " samples, " << s.frames_sent << " frames sent, " << s.send_failures
               << " send failures" << std::endl;

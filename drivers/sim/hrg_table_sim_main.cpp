@@ -14,7 +14,7 @@
 #include "sim/modbus_table_server.hpp"
 
 namespace {
-using hrgbench::table_sim::TableServerOptions;
+using hrgbench::drivers::sim::TableServerOptions;
 
 bool ParseHostPort(const std::string& text, std::string* host, int* port) {
   const auto colon = text.rfind(':');
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     CLI::App app{"Simulated rate table speaking the hrgbench Modbus register map"};
     std::string tcp, rtu;
     TableServerOptions server;
-    hrgbench::table_sim::TablePhysicsOptions physics;
+    hrgbench::drivers::sim::TablePhysicsOptions physics;
     std::vector<std::string> fault_texts;
     double estop_after_s = -1.0;
     auto* tcp_opt = app.add_option("--tcp", tcp, "Listen on HOST:PORT (e.g. 127.0.0.1:1502)");
@@ -76,10 +76,10 @@ int main(int argc, char** argv) {
       return 2;
     }
     hrgbench::hw::SteadyClock clock;
-    hrgbench::table_sim::TablePhysics table(physics, clock);
-    hrgbench::table_sim::ModbusTableServer modbus(table, server);
+    hrgbench::drivers::sim::TablePhysics table(physics, clock);
+    hrgbench::drivers::sim::ModbusTableServer modbus(table, server);
     for (const auto& text : fault_texts) {
-      auto rule = hrgbench::table_sim::ParseFaultRule(text);
+      auto rule = hrgbench::drivers::sim::ParseFaultRule(text);
       if (!rule) {
         std::cerr << "hrg-table-sim: " << rule.error() << "\n";
         return 2;

@@ -6,7 +6,7 @@
 
 #include "modbus_rate_table/register_map.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 ModbusOmegaSource::ModbusOmegaSource(std::string host, int port, double earth_rate_rad_s,
                                      int poll_period_ms)
@@ -42,8 +42,8 @@ void ModbusOmegaSource::Poll() {
       }
     }
     std::uint16_t regs[2] = {0, 0};
-    if (modbus_read_input_registers(ctx, modbus_table::input::kMeasuredRate, 2, regs) == 2) {
-      const double rate = modbus_table::DecodeFloat32(regs[0], regs[1]);
+    if (modbus_read_input_registers(ctx, drivers::modbus_rate_table::input::kMeasuredRate, 2, regs) == 2) {
+      const double rate = drivers::modbus_rate_table::DecodeFloat32(regs[0], regs[1]);
       omega_rad_s_.store(rate + earth_rate_rad_s_, std::memory_order_release);
       reads_.fetch_add(1, std::memory_order_relaxed);
     } else {
@@ -62,4 +62,4 @@ void ModbusOmegaSource::Poll() {
   }
 }
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

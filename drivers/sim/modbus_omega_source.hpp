@@ -14,7 +14,7 @@
 #include <string>
 #include <thread>
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 class ModbusOmegaSource {
  public:
@@ -41,4 +41,4 @@ class ModbusOmegaSource {
   std::thread thread_;
 };
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 void SimulationClock::Advance(std::int64_t until_ns, bool wake_on_output) {
   if (serving_) {
@@ -37,4 +37,4 @@ void SimulationClock::RemoveParticipant(SimulationParticipant* participant) {
                       participants_.end());
 }
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -14,7 +14,7 @@
 
 #include "hrgbench/hw/clock.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 
 class SimulationParticipant {
  public:
@@ -52,4 +52,4 @@ class SimulationClock final : public hw::Clock {
   bool serving_ = false;  // a participant's Service that sleeps only moves time, no recursion
 };
 
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

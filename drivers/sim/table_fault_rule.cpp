@@ -2,7 +2,7 @@
 
 #include <charconv>
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 
 namespace {
 bool ParseInt(std::string_view text, int* value) {
@@ -71,4 +71,4 @@ std::expected<FaultRule, std::string> ParseFaultRule(const std::string& text) {
   return rule;
 }
 
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

@@ -11,7 +11,7 @@
 #include <expected>
 #include <string>
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 
 enum class RegisterTable { kHolding, kInput };
 
@@ -33,4 +33,4 @@ struct FaultRule {
 
 std::expected<FaultRule, std::string> ParseFaultRule(const std::string& text);
 
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 
 using hw::RateTableFault;
 using hw::RateTableMode;
@@ -199,4 +199,4 @@ std::uint16_t TablePhysics::watchdog_ms() const {
   return watchdog_ms_;
 }
 
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

@@ -29,7 +29,7 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 
 struct TablePhysicsOptions {
   double max_rate_rad_s = 20.0;          // hardware limit: commands beyond it are refused
@@ -107,4 +107,4 @@ class TablePhysics {
   std::normal_distribution<double> normal_{0.0, 1.0};
 };
 
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

@@ -25,7 +25,7 @@
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
-#include "hrgbench/bench/session_runner.hpp"
+#include "hrgbench/bench/sequencer.hpp"
 
 namespace {
 

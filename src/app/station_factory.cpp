@@ -1,7 +1,7 @@
 #include "app/station_factory.hpp"
 
 #include "gyro_can/gyro_can_device.hpp"
-#include "mock/simulated_station.hpp"
+#include "sim_station/simulated_station.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "socketcan/socket_can_bus.hpp"
 
@@ -12,7 +12,7 @@ std::string Where(const bench::StationConfig& config) { return config.file.strin
 
 class SimulatedStationAdapter final : public Station {
  public:
-  explicit SimulatedStationAdapter(std::unique_ptr<mock::SimulatedStation> station)
+  explicit SimulatedStationAdapter(std::unique_ptr<drivers::sim_station::SimulatedStation> station)
       : station_(std::move(station)) {
     hardware_.table = &station_->table();
     hardware_.gyro = &station_->gyro();
@@ -22,9 +22,9 @@ class SimulatedStationAdapter final : public Station {
   }
   bench::BenchHardware& hardware() override { return hardware_; }
   std::optional<nlohmann::json> simulation() const override {
-    const mock::SimulatedTruth truth = station_->truth();
+    const drivers::sim_station::SimulatedTruth truth = station_->truth();
     nlohmann::json j;
-    j["generator"] = "hrgbench in-process simulated station (drivers/mock), exact model";
+    j["generator"] = "hrgbench in-process simulated station (drivers/sim_station), exact model";
     j["delta"] = std::vector<double>(truth.delta.data(), truth.delta.data() + 6);
     j["xi"] = std::vector<double>(truth.xi.data(), truth.xi.data() + 4);
     j["sigma"] = truth.sigma;
@@ -34,7 +34,7 @@ class SimulatedStationAdapter final : public Station {
   }
 
  private:
-  std::unique_ptr<mock::SimulatedStation> station_;
+  std::unique_ptr<drivers::sim_station::SimulatedStation> station_;
   bench::BenchHardware hardware_;
 };
 
@@ -46,14 +46,14 @@ class RealStation final : public Station {
   hw::SteadyClock clock;
   std::unique_ptr<drivers::socketcan::SocketCanBus> bus;
   std::unique_ptr<drivers::socketcan::SocketCanBus> monitor;
-  std::unique_ptr<gyro_can::GyroCanDevice> gyro;
-  std::unique_ptr<modbus_table::ModbusRateTable> table;
+  std::unique_ptr<drivers::gyro_can::GyroCanDevice> gyro;
+  std::unique_ptr<drivers::modbus_rate_table::ModbusRateTable> table;
   bench::BenchHardware hardware_;
 };
 
-mock::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
+drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
   const bench::SimulatedStationConfig& sim = config.simulated;
-  mock::SimulatedStationOptions o;
+  drivers::sim_station::SimulatedStationOptions o;
   o.faster_than_real_time = sim.faster_than_real_time;
   o.time_scale = sim.time_scale;
   o.gyro.delta = sim.delta;
@@ -97,7 +97,7 @@ mock::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
 
 std::expected<std::unique_ptr<Station>, std::string> OpenSimulated(
     const bench::StationConfig& config) {
-  auto station = mock::SimulatedStation::Create(MapSimulated(config));
+  auto station = drivers::sim_station::SimulatedStation::Create(MapSimulated(config));
   if (!station) return std::unexpected(Where(config) + "simulated station: " + station.error());
   if (auto connected = (*station)->table().Connect(); !connected)
     return std::unexpected(Where(config) + "simulated table: " + connected.error().ToString());
@@ -114,20 +114,20 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
   auto monitor = drivers::socketcan::SocketCanBus::Open(config.gyro.can_interface, can);
   if (!monitor) return std::unexpected(Where(config) + "CAN tap: " + monitor.error());
   station->monitor = std::move(*monitor);
-  gyro_can::GyroCanDeviceConfig link;
+  drivers::gyro_can::GyroCanDeviceConfig link;
   link.clock = &station->clock;
   link.ack_timeout_ns = config.gyro.ack_timeout_ms * 1'000'000;
   link.command_attempts = static_cast<int>(config.gyro.command_attempts);
   link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
   link.prefer_fd = config.gyro.fd;
-  auto gyro = gyro_can::GyroCanDevice::Create(*station->bus, link);
+  auto gyro = drivers::gyro_can::GyroCanDevice::Create(*station->bus, link);
   if (!gyro) return std::unexpected(Where(config) + "gyro: " + gyro.error().ToString());
   station->gyro = std::move(*gyro);
 
-  modbus_table::ModbusRateTableConfig table;
+  drivers::modbus_rate_table::ModbusRateTableConfig table;
   const bench::TableLinkConfig& t = config.table;
-  table.transport = t.transport == bench::TableTransport::kTcp ? modbus_table::ModbusTransport::kTcp
-                                                               : modbus_table::ModbusTransport::kRtu;
+  table.transport = t.transport == bench::TableTransport::kTcp ? drivers::modbus_rate_table::ModbusTransport::kTcp
+                                                               : drivers::modbus_rate_table::ModbusTransport::kRtu;
   table.host = t.host;
   table.port = static_cast<int>(t.port);
   table.serial_device = t.device;
@@ -147,7 +147,7 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
   table.limits.max_rate_rad_s = t.max_rate_rad_s;
   table.limits.max_accel_rad_s2 = t.max_accel_rad_s2;
   table.safe_stop_budget_ms = static_cast<int>(t.safe_stop_budget_ms);
-  station->table = std::make_unique<modbus_table::ModbusRateTable>(table, station->clock);
+  station->table = std::make_unique<drivers::modbus_rate_table::ModbusRateTable>(table, station->clock);
   if (auto connected = station->table->Connect(); !connected)
     return std::unexpected(Where(config) + "rate table (" + table.Describe() +
                            "): " + connected.error().ToString());

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"
 #include "whole_file.hpp"
 
@@ -184,13 +185,9 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
       p = stop + 1;  // past the comma (or the line end, reset below)
     }
     if (k > 0 && !(t[k] > t[k - 1])) {
-      char now[32];
-      char before[32];
-      *std::to_chars(now, now + sizeof(now) - 1, t[k]).ptr = '\0';
-      *std::to_chars(before, before + sizeof(before) - 1, t[k - 1]).ptr = '\0';
       return Fail(file, line_number, "t_s",
-                  std::string("time not strictly increasing: ") + now + " after " + before +
-                      " on line " + std::to_string(line_number - 1));
+                  "time not strictly increasing: " + NumberText(t[k]) + " after " +
+                      NumberText(t[k - 1]) + " on line " + std::to_string(line_number - 1));
     }
     p = next;
   }

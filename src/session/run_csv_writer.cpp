@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/session/session.hpp"
+#include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::session {
@@ -17,25 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::string_view kRequiredColumns[] = {"t_s", "y1", "y2", "y3", "y4"};
-// Longest shortest-round-trip double: "-2.2250738585072014e-308" is 24 characters.
-constexpr std::size_t kMaxNumberChars = 32;
-
 std::unexpected<SessionError> Fail(const fs::path& file, std::size_t line, std::string field,
                                    std::string message) {
   return std::unexpected(SessionError{file, line, std::move(field), std::move(message)});
-}
-
-void Append(std::string& out, double value) {
-  char buffer[kMaxNumberChars];
-  // No precision argument: the shortest text that parses back to exactly `value`.
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  out.append(buffer, result.ptr);
-}
-
-std::string Show(double value) {
-  std::string text;
-  Append(text, value);
-  return text;
 }
 
 }  // namespace
@@ -94,15 +78,15 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     if (k > 0 && !(t > samples.t_s[k - 1])) {
       return Fail(
           path, line, "t_s",
-          "time not strictly increasing: " + Show(t) + " after " + Show(samples.t_s[k - 1]));
+          "time not strictly increasing: " + NumberText(t) + " after " + NumberText(samples.t_s[k - 1]));
     }
     for (std::size_t c = 0; c < names.size(); ++c) {
       const double value = c == 0 ? t : c < 5 ? y[4 * k + (c - 1)] : columns[c - 5][k];
       if (!std::isfinite(value)) {
-        return Fail(path, line, std::string(names[c]), "non-finite value " + Show(value));
+        return Fail(path, line, std::string(names[c]), "non-finite value " + NumberText(value));
       }
       if (c > 0) out += ',';
-      Append(out, value);
+      AppendNumber(out, value);
     }
     out += '\n';
   }

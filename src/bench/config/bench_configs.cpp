@@ -7,17 +7,13 @@
 
 #include "hrgbench/estimator/identifiability.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/session/number_text.hpp"
 
 namespace hrgbench::bench {
 namespace {
 
-// Shortest text that reads back to the same double: the loaded value as close to the written one
-// as a double allows.
-std::string Shortest(double v) {
-  char text[32];
-  const auto result = std::to_chars(text, text + sizeof(text), v);
-  return std::string(text, result.ptr);
-}
+// The loaded value, as close to the written one as a double allows.
+std::string Shortest(double v) { return session::NumberText(v); }
 
 std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
   const StationConfig& station = configs.station;

@@ -4,21 +4,15 @@
 #include <cmath>
 #include <string>
 
+#include "hrgbench/session/number_text.hpp"
+
 namespace hrgbench::bench::internal {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Longest shortest-round-trip double is 24 characters.
-constexpr std::size_t kMaxNumberChars = 32;
-
-void AppendNumber(std::string& out, double value) {
-  char buffer[kMaxNumberChars];
-  // No precision argument: the shortest text that reads back to exactly `value`, as
-  // session::WriteRunCsv writes it.
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  out.append(buffer, result.ptr);
-}
+// Numbers as session::WriteRunCsv writes them (one function: the two must stay bit-identical).
+using session::AppendNumber;
 
 void AppendNumber(std::string& out, std::uint32_t value) {
   char buffer[16];
@@ -26,11 +20,7 @@ void AppendNumber(std::string& out, std::uint32_t value) {
   out.append(buffer, result.ptr);
 }
 
-std::string Show(double value) {
-  std::string text;
-  AppendNumber(text, value);
-  return text;
-}
+std::string Show(double value) { return session::NumberText(value); }
 
 }  // namespace
 

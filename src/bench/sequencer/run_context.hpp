@@ -8,7 +8,7 @@
 
 #include "hrgbench/bench/capture.hpp"
 #include "hrgbench/bench/session_recorder.hpp"
-#include "hrgbench/bench/session_runner.hpp"
+#include "hrgbench/bench/sequencer.hpp"
 
 namespace hrgbench::bench::internal {
 

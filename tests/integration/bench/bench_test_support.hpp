@@ -13,7 +13,7 @@
 
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
-#include "hrgbench/bench/session_runner.hpp"
+#include "hrgbench/bench/sequencer.hpp"
 
 namespace hrgbench::testing {
 

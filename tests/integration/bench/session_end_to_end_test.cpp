@@ -64,11 +64,11 @@ void ExpectCompleteRecord(const std::filesystem::path& dir, std::size_t runs,
     const auto parsed = ParseCandumpLine(line);
     ASSERT_TRUE(parsed) << line;
     const std::uint32_t id = parsed->frame.id;
-    releases += id == gyro_can::can_id::kRelease ? 1 : 0;
-    stops += id == gyro_can::can_id::kStop ? 1 : 0;
-    status_requests += id == gyro_can::can_id::kStatusRequest ? 1 : 0;
-    commands += gyro_can::IsCommandId(id) ? 1 : 0;
-    acks += id == gyro_can::can_id::kAck ? 1 : 0;
+    releases += id == drivers::gyro_can::can_id::kRelease ? 1 : 0;
+    stops += id == drivers::gyro_can::can_id::kStop ? 1 : 0;
+    status_requests += id == drivers::gyro_can::can_id::kStatusRequest ? 1 : 0;
+    commands += drivers::gyro_can::IsCommandId(id) ? 1 : 0;
+    acks += id == drivers::gyro_can::can_id::kAck ? 1 : 0;
   }
   EXPECT_EQ(releases, runs);
   EXPECT_GE(stops, runs);

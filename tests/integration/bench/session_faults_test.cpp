@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
-#include "mock/in_process_rate_table.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::testing {
@@ -32,9 +32,9 @@ void ExpectStoppedSafely(const BenchRun& run, const Expectation& expected) {
   // The table was commanded to zero (SafeStop), whatever state the link is in now: asked of the
   // simulated table's own record of what it was sent, since an unresponsive table cannot be read.
   ASSERT_TRUE(run.station);
-  const auto* table = dynamic_cast<const mock::InProcessRateTable*>(run.station->hardware().table);
+  const auto* table = dynamic_cast<const drivers::sim_station::InProcessRateTable*>(run.station->hardware().table);
   ASSERT_NE(table, nullptr);
-  const mock::SentTableCommand& last = table->last_command();
+  const drivers::sim_station::SentTableCommand& last = table->last_command();
   EXPECT_TRUE(last.safe_stop);
   EXPECT_EQ(last.mode, hw::RateTableMode::kIdle);
   EXPECT_EQ(last.rate_rad_s, 0.0);

@@ -19,8 +19,8 @@ using hw::GyroMode;
 using hw::GyroReadStatus;
 using hw::GyroSample;
 
-gyro_sim::GyroSimOptions NoiseFreeModel() {
-  gyro_sim::GyroSimOptions o;
+drivers::sim::GyroSimOptions NoiseFreeModel() {
+  drivers::sim::GyroSimOptions o;
   o.delta << -0.001, 0.3, 2e-4, -1e-4, 3e-4, -2e-4;
   o.xi << 0.01, -0.004, 0.003, 0.002;
   o.sigma = 0.0;
@@ -50,7 +50,7 @@ std::vector<GyroSample> ReadN(hw::GyroElectronics& device, std::size_t n,
 }
 
 // The model's y at sample k for the wave as quantised on the wire.
-estimator::Observation ModelY(const gyro_sim::GyroSimOptions& o, double omega, double t_s) {
+estimator::Observation ModelY(const drivers::sim::GyroSimOptions& o, double omega, double t_s) {
   const estimator::Orbit orbit{std::round(kWave.a / 1e-4) * 1e-4, std::round(kWave.b / 1e-4) * 1e-4,
                                std::round(kWave.theta_rad / 1e-4) * 1e-4, 0.0};
   const estimator::State x =
@@ -79,7 +79,7 @@ TEST(GyroCanDeviceTest, TenSecondsAtOneKilohertzMatchTheModel) {
     for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(samples[k].y[c] - y(c)));
   }
   // Quantisation only: half an LSB (plus rounding of the closed form).
-  EXPECT_LE(worst, gyro_can::kSampleLsb / 2 + 1e-12);
+  EXPECT_LE(worst, drivers::gyro_can::kSampleLsb / 2 + 1e-12);
   // Samples arrive on time over a 1 Mbit/s bus: the stream ends ~10 s after t0, not later.
   EXPECT_LT(rig.clock.NowNs() - t0, 10'100'000'000);
   const hw::GyroCounters c = rig.device->Counters();
@@ -104,7 +104,7 @@ TEST(GyroCanDeviceTest, CanFdPacksFiveSamplesPerFrame) {
   options.device.prefer_fd = true;
   GyroRig rig(options);
   const std::int64_t t0 = rig.StartRun(5000, kWave);
-  EXPECT_EQ(rig.device->frame_format(), gyro_can::FrameFormat::kFd);
+  EXPECT_EQ(rig.device->frame_format(), drivers::gyro_can::FrameFormat::kFd);
   const std::vector<GyroSample> samples = ReadN(*rig.device, 10'000);
   ASSERT_EQ(samples.size(), 10'000u);
   for (std::size_t k = 0; k < samples.size(); k += 997) {
@@ -113,7 +113,7 @@ TEST(GyroCanDeviceTest, CanFdPacksFiveSamplesPerFrame) {
     const estimator::Observation y =
         ModelY(options.sim, options.omega_rad_s, 2e-4 * static_cast<double>(k));
     for (int c = 0; c < 4; ++c)
-      EXPECT_NEAR(samples[k].y[c], y(c), gyro_can::kSampleLsb / 2 + 1e-12);
+      EXPECT_NEAR(samples[k].y[c], y(c), drivers::gyro_can::kSampleLsb / 2 + 1e-12);
   }
   EXPECT_EQ(rig.device->Counters().sequence_gaps, 0u);
   // 10 000 samples in 2 000 frames (+ commands and status).

@@ -16,8 +16,8 @@
 namespace hrgbench::testing {
 
 struct GyroRigOptions {
-  gyro_sim::GyroSimOptions sim;
-  gyro_can::GyroCanDeviceConfig device;   // clock is filled in by the rig
+  drivers::sim::GyroSimOptions sim;
+  drivers::gyro_can::GyroCanDeviceConfig device;   // clock is filled in by the rig
   std::int64_t bit_rate_bps = 1'000'000;  // 0: untimed bus
   bool fd_bus = false;
   double omega_rad_s = 0.3;
@@ -36,13 +36,13 @@ class GyroRig {
     bus = std::move(*created);
     host_endpoint = bus->CreateEndpoint();
     sim_endpoint = bus->CreateEndpoint();
-    node = std::make_unique<gyro_sim::GyroSimNode>(
+    node = std::make_unique<drivers::sim::GyroSimNode>(
         *sim_endpoint, clock, options.sim, [this] { return omega_rad_s; },
         [this] { bus->SetBusOff(true); });
     clock.AddParticipant(node.get());
-    gyro_can::GyroCanDeviceConfig device_config = options.device;
+    drivers::gyro_can::GyroCanDeviceConfig device_config = options.device;
     device_config.clock = &clock;
-    auto made = gyro_can::GyroCanDevice::Create(*host_endpoint, device_config);
+    auto made = drivers::gyro_can::GyroCanDevice::Create(*host_endpoint, device_config);
     EXPECT_TRUE(made.has_value()) << (made ? "" : made.error().ToString());
     device = std::move(*made);
   }
@@ -61,13 +61,13 @@ class GyroRig {
     return t0.value_or(0);
   }
 
-  gyro_sim::SimulationClock clock;
+  drivers::sim::SimulationClock clock;
   double omega_rad_s;
   std::unique_ptr<drivers::can_virtual::VirtualCanBus> bus;
   std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> host_endpoint;
   std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> sim_endpoint;
-  std::unique_ptr<gyro_sim::GyroSimNode> node;
-  std::unique_ptr<gyro_can::GyroCanDevice> device;
+  std::unique_ptr<drivers::sim::GyroSimNode> node;
+  std::unique_ptr<drivers::gyro_can::GyroCanDevice> device;
 };
 
 }  // namespace hrgbench::testing

@@ -65,10 +65,10 @@ TEST(GyroEndToEnd, SimulatorAndDriverInSeparateProcessesOverVcan) {
   ASSERT_TRUE(sim.Start(iface));
 
   hrgbench::hw::SteadyClock clock;
-  hrgbench::gyro_can::GyroCanDeviceConfig config;
+  hrgbench::drivers::gyro_can::GyroCanDeviceConfig config;
   config.clock = &clock;
   config.ack_timeout_ns = 200'000'000;  // the emulated CPU of the guest is slow
-  auto device = hrgbench::gyro_can::GyroCanDevice::Create(**bus, config);
+  auto device = hrgbench::drivers::gyro_can::GyroCanDevice::Create(**bus, config);
   ASSERT_TRUE(device) << device.error().ToString();
   // The child needs a moment to open its socket: the first command is retried until it answers.
   std::expected<void, hrgbench::hw::GyroError> configured;

@@ -14,12 +14,12 @@
 #include <thread>
 #include <vector>
 
-#include "mock/in_process_rate_table.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "modbus_rate_table/register_map.hpp"
 #include "sim_table_fixture.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 using hw::RateTableErrorCode;
@@ -346,15 +346,15 @@ TEST_F(DriverAgainstRefusals, StopAndSafeStopAreAcceptedByAFaultedTable) {
   EXPECT_EQ(s.commanded_rate_rad_s, 0.0);
 }
 
-// The in-process table (drivers/mock) claims the Modbus table's observable semantics: the same
+// The in-process table (drivers/sim_station) claims the Modbus table's observable semantics: the same
 // refused command gives the same error code and state, and leaves the table where it was.
 TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModbusTableDoes) {
   ModbusRateTable modbus(QuietConfig(), clock_);
   ASSERT_TRUE(modbus.Connect());
-  table_sim::TablePhysics physics(testing::FastTable(), clock_);
-  mock::InProcessRateTableConfig in_process_config;
+  drivers::sim::TablePhysics physics(testing::FastTable(), clock_);
+  drivers::sim_station::InProcessRateTableConfig in_process_config;
   in_process_config.accel_limit_rad_s2 = 2.0;
-  mock::InProcessRateTable in_process(in_process_config, physics, clock_);
+  drivers::sim_station::InProcessRateTable in_process(in_process_config, physics, clock_);
   ASSERT_TRUE(in_process.Connect());
 
   sim_.physics().InjectFault(hw::RateTableFault::kDrive);
@@ -372,7 +372,7 @@ TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModb
     EXPECT_NE(message->find("drive"), std::string::npos) << *message;
   }
   EXPECT_EQ(modbus.state(), TableLinkState::kFaulted);
-  EXPECT_EQ(in_process.state(), mock::InProcessTableState::kFaulted);
+  EXPECT_EQ(in_process.state(), drivers::sim_station::InProcessTableState::kFaulted);
   EXPECT_EQ(modbus.target_rate_rad_s(), in_process.target_rate_rad_s());
   // Stop is accepted by both while faulted.
   EXPECT_TRUE(modbus.Stop());
@@ -381,4 +381,4 @@ TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModb
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

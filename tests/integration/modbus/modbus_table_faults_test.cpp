@@ -9,20 +9,20 @@
 #include "modbus_rate_table/register_map.hpp"
 #include "sim_table_fixture.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 using hw::RateTableErrorCode;
-using table_sim::FaultKind;
-using table_sim::FaultRule;
-using table_sim::RegisterTable;
+using drivers::sim::FaultKind;
+using drivers::sim::FaultRule;
+using drivers::sim::RegisterTable;
 using testing::SimTable;
 using Seconds = std::chrono::duration<double>;
 
 class ModbusTableFaults : public ::testing::Test {
  protected:
   void SetUp() override {
-    table_sim::TableServerOptions server;
+    drivers::sim::TableServerOptions server;
     server.late_reply_ms = 600;
     sim_ = std::make_unique<SimTable>(testing::FastTable(), server);
     ASSERT_EQ(sim_->Start(), "");
@@ -101,4 +101,4 @@ TEST_F(ModbusTableFaults, PersistentWrongLengthIsABadReply) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

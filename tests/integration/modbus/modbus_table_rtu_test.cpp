@@ -20,7 +20,7 @@
 
 extern char** environ;
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 std::string FindSocat() {
@@ -88,8 +88,8 @@ class ModbusTableRtu : public ::testing::Test {
     const std::string socat = FindSocat();
     HRGBENCH_REQUIRE(!socat.empty(), "socat not installed: RTU test skipped (apt-get install socat)");
     ASSERT_EQ(ptys_.Start(socat), "");
-    table_sim::TableServerOptions server;
-    server.transport = table_sim::TableServerOptions::Transport::kRtu;
+    drivers::sim::TableServerOptions server;
+    server.transport = drivers::sim::TableServerOptions::Transport::kRtu;
     server.serial_device = ptys_.a();
     server.baud = 115200;
     server.unit_id = 7;
@@ -138,7 +138,7 @@ TEST_F(ModbusTableRtu, LateReplyTimesOutThenTheLineResynchronises) {
   ModbusRateTable table(config_, clock_);
   ASSERT_TRUE(table.Connect());
   sim_->server().AddFault(
-      {table_sim::RegisterTable::kInput, input::kStatusBits, table_sim::FaultKind::kLateReply, 1});
+      {drivers::sim::RegisterTable::kInput, input::kStatusBits, drivers::sim::FaultKind::kLateReply, 1});
   const auto r = table.ReadStatus();
   // Attempt 1 times out; the driver waits for the line to go quiet, flushes, and retries.
   // Depending on timing the retry catches the server still asleep (timeout) or succeeds.
@@ -152,4 +152,4 @@ TEST_F(ModbusTableRtu, LateReplyTimesOutThenTheLineResynchronises) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

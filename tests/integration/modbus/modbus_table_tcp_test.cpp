@@ -8,7 +8,7 @@
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "sim_table_fixture.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 using hw::RateTableErrorCode;
@@ -180,4 +180,4 @@ TEST(ModbusTableConnect, NoServerIsABoundedConnectFailure) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

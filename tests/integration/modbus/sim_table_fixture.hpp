@@ -18,8 +18,8 @@
 
 namespace hrgbench::testing {
 
-inline table_sim::TablePhysicsOptions FastTable() {
-  table_sim::TablePhysicsOptions o;
+inline drivers::sim::TablePhysicsOptions FastTable() {
+  drivers::sim::TablePhysicsOptions o;
   o.max_accel_rad_s2 = 50.0;
   o.settle_time_constant_s = 0.02;
   o.noise_rad_s = 1e-5;
@@ -29,8 +29,8 @@ inline table_sim::TablePhysicsOptions FastTable() {
 
 class SimTable {
  public:
-  explicit SimTable(table_sim::TablePhysicsOptions physics = FastTable(),
-                    table_sim::TableServerOptions server = {})
+  explicit SimTable(drivers::sim::TablePhysicsOptions physics = FastTable(),
+                    drivers::sim::TableServerOptions server = {})
       : physics_(physics, clock_), server_options_(std::move(server)) {}
   ~SimTable() { Stop(); }
 
@@ -38,12 +38,12 @@ class SimTable {
   // Empty string on success, else why.
   std::string Start() {
     std::string last_error;
-    const bool tcp = server_options_.transport == table_sim::TableServerOptions::Transport::kTcp;
+    const bool tcp = server_options_.transport == drivers::sim::TableServerOptions::Transport::kTcp;
     const int first = 20000 + static_cast<int>(::getpid() % 2000) * 10;
     for (int i = 0; i < (tcp ? 100 : 1); ++i) {
       auto options = server_options_;
       if (tcp) options.port = 20000 + (first - 20000 + i * 7) % 40000;
-      server_ = std::make_unique<table_sim::ModbusTableServer>(physics_, options);
+      server_ = std::make_unique<drivers::sim::ModbusTableServer>(physics_, options);
       if (auto opened = server_->Open(); opened) {
         port_ = options.port;
         thread_ = std::thread([this] { server_->Run(); });
@@ -63,8 +63,8 @@ class SimTable {
     server_.reset();  // closes the listening socket and every client connection
   }
 
-  modbus_table::ModbusRateTableConfig DriverConfig() const {
-    modbus_table::ModbusRateTableConfig c;
+  drivers::modbus_rate_table::ModbusRateTableConfig DriverConfig() const {
+    drivers::modbus_rate_table::ModbusRateTableConfig c;
     c.host = "127.0.0.1";
     c.port = port_;
     c.response_timeout_ms = 200;
@@ -72,15 +72,15 @@ class SimTable {
     return c;
   }
 
-  table_sim::TablePhysics& physics() { return physics_; }
-  table_sim::ModbusTableServer& server() { return *server_; }
+  drivers::sim::TablePhysics& physics() { return physics_; }
+  drivers::sim::ModbusTableServer& server() { return *server_; }
   int port() const { return port_; }
 
  private:
   hw::SteadyClock clock_;
-  table_sim::TablePhysics physics_;
-  table_sim::TableServerOptions server_options_;
-  std::unique_ptr<table_sim::ModbusTableServer> server_;
+  drivers::sim::TablePhysics physics_;
+  drivers::sim::TableServerOptions server_options_;
+  std::unique_ptr<drivers::sim::ModbusTableServer> server_;
   std::thread thread_;
   int port_ = 0;
 };

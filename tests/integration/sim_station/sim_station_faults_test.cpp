@@ -6,7 +6,7 @@
 
 #include <numbers>
 
-#include "mock/simulated_station.hpp"
+#include "sim_station/simulated_station.hpp"
 #include "station_driver.hpp"
 
 namespace hrgbench::testing {
@@ -15,8 +15,8 @@ namespace {
 using hw::GyroErrorCode;
 using hw::GyroReadStatus;
 using hw::RateTableErrorCode;
-using mock::SimulatedStation;
-using mock::SimulatedStationOptions;
+using drivers::sim_station::SimulatedStation;
+using drivers::sim_station::SimulatedStationOptions;
 
 const hw::WaveState kWave{1.0, 0.2, 0.3};
 
@@ -181,7 +181,7 @@ TEST(SimStationFaultsTest, GyroReportsAFaultWhileExciting) {
   ASSERT_TRUE(station->gyro().Configure({1000}).has_value());
   ASSERT_TRUE(station->gyro().Excite(kWave).has_value());
   ASSERT_TRUE(station->InjectGyroFaults(
-      [](gyro_sim::GyroSimFaults& f) { f.fault_bits = hw::gyro_fault::kOverTemperature; }));
+      [](drivers::sim::GyroSimFaults& f) { f.fault_bits = hw::gyro_fault::kOverTemperature; }));
   const auto ready = station->gyro().WaitReady(2'000'000'000);
   ASSERT_FALSE(ready.has_value());
   EXPECT_EQ(ready.error().code, GyroErrorCode::kFaulted);

@@ -16,14 +16,14 @@
 
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
-#include "mock/simulated_station.hpp"
+#include "sim_station/simulated_station.hpp"
 #include "station_driver.hpp"
 
 namespace hrgbench::testing {
 namespace {
 
-using mock::SimulatedStation;
-using mock::SimulatedStationOptions;
+using drivers::sim_station::SimulatedStation;
+using drivers::sim_station::SimulatedStationOptions;
 
 const hw::WaveState kWave{1.0, -0.4, std::numbers::pi / 7};
 constexpr double kEarthRate = 7.2921150e-5 * 0.7071;  // axis up at 45° N
@@ -97,9 +97,9 @@ TEST(SimStationTest, RawFrameTapSeesBothDirectionsInBusOrder) {
     EXPECT_GE(info.timestamp_ns, last_ns);
     EXPECT_EQ(info.dropped_frames, 0u);
     last_ns = info.timestamp_ns;
-    if (gyro_can::IsCommandId(frame.id)) ++commands;
-    if (frame.id == gyro_can::can_id::kAck) ++acks;
-    if (frame.id == gyro_can::can_id::kSampleA || frame.id == gyro_can::can_id::kSampleB) ++samples;
+    if (drivers::gyro_can::IsCommandId(frame.id)) ++commands;
+    if (frame.id == drivers::gyro_can::can_id::kAck) ++acks;
+    if (frame.id == drivers::gyro_can::can_id::kSampleA || frame.id == drivers::gyro_can::can_id::kSampleB) ++samples;
   }
   EXPECT_GE(commands, 4u);  // Configure, Excite, Release, Stop (+ status requests)
   EXPECT_EQ(acks, commands);
@@ -110,7 +110,7 @@ TEST(SimStationTest, RawFrameTapSeesBothDirectionsInBusOrder) {
 TEST(SimStationTest, ThreeRunsEstimateTheTruthWithinFiveSigma) {
   auto station = MakeStation(Options(1e-4));
   ASSERT_NE(station, nullptr);
-  const mock::SimulatedTruth truth = station->truth();
+  const drivers::sim_station::SimulatedTruth truth = station->truth();
   std::vector<estimator::RunData> runs;
   const auto wall = std::chrono::steady_clock::now();
   int id = 1;
@@ -240,7 +240,7 @@ TEST(SimStationTest, BenchThreadsCaptureSixHundredSecondRunsInSeconds) {
   EXPECT_EQ(c.buffer_overruns, 0u);
   EXPECT_GE(tap_frames.load(), 2 * kRuns * kSamples);
   EXPECT_EQ(tap_drops.load(), 0u);
-  const mock::VirtualTimeClockStatistics s = station->virtual_clock()->Statistics();
+  const drivers::sim_station::VirtualTimeClockStatistics s = station->virtual_clock()->Statistics();
   const double sim_s = static_cast<double>(clock.NowNs()) * 1e-9;
   EXPECT_GT(sim_s, kRuns * 100.0);
   EXPECT_EQ(s.attached_threads, 0u);

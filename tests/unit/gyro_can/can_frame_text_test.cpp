@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 TEST(CanFrameTextTest, RoundTripsTheNotation) {
@@ -53,4 +53,4 @@ TEST(CanFrameTextTest, FormatRefusesASmallBuffer) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -17,7 +17,7 @@
 
 #include "gyro_can/gyro_codec.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 struct DbcSignal {
@@ -253,4 +253,4 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

@@ -22,7 +22,7 @@
 #include "gyro_can/gyro_codec.hpp"
 #include "gyro_can/sample_stream_decoder.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 constexpr std::uint64_t kSeed = 0xCA4F'2A3E'0001;
@@ -228,4 +228,4 @@ TEST(GyroCanFuzz, FrameTextParsesOrIsRefused) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

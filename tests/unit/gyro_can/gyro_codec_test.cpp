@@ -12,7 +12,7 @@
 
 #include "gyro_can/can_frame_text.hpp"
 
-namespace hrgbench::gyro_can {
+namespace hrgbench::drivers::gyro_can {
 namespace {
 
 hw::CanFrame Frame(const char* text) {
@@ -205,4 +205,4 @@ TEST(GyroCodecTest, RejectsEveryKindOfBadFrame) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_can
+}  // namespace hrgbench::drivers::gyro_can

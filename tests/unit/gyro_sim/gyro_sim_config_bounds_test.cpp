@@ -10,7 +10,7 @@
 
 #include "sim/gyro_sim_config.hpp"
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 namespace {
 
 TEST(GyroSimConfigBounds, PathThatIsADirectorySaysSo) {
@@ -47,4 +47,4 @@ TEST(GyroSimConfigBounds, ExciteTimeOf1e12SecondsIsRefused) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-namespace hrgbench::gyro_sim {
+namespace hrgbench::drivers::sim {
 namespace {
 
 TEST(GyroSimConfigTest, ShippedExampleLoads) {
@@ -52,4 +52,4 @@ TEST(GyroSimConfigTest, ErrorsNameFileLineKeyAndValue) {
 }
 
 }  // namespace
-}  // namespace hrgbench::gyro_sim
+}  // namespace hrgbench::drivers::sim

@@ -2,7 +2,7 @@
 
 #include "sim/table_fault_rule.hpp"
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 namespace {
 
 TEST(FaultRule, ParsesEveryKindAndRoundTrips) {
@@ -28,4 +28,4 @@ TEST(FaultRule, RejectsMalformedText) {
 }
 
 }  // namespace
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

@@ -6,7 +6,7 @@
 
 #include "modbus_rate_table/modbus_config.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 TEST(RateLimits, RateWithinLimitPasses) {
@@ -57,4 +57,4 @@ TEST(ModbusConfig, DefaultsAreValidAndBadFieldsAreNamed) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -7,7 +7,7 @@
 
 #include "modbus_rate_table/register_map.hpp"
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 TEST(RegisterCodec, Float32IsHighWordFirst) {
@@ -88,4 +88,4 @@ TEST(RegisterCodec, StatusBlockLayoutAndRoundTrip) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

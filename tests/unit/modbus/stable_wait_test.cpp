@@ -6,7 +6,7 @@
 
 #include <vector>
 
-namespace hrgbench::modbus_table {
+namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
@@ -117,4 +117,4 @@ TEST(WaitForStableRate, TransportErrorIsPassedThroughAndBadCriteriaRejected) {
 }
 
 }  // namespace
-}  // namespace hrgbench::modbus_table
+}  // namespace hrgbench::drivers::modbus_rate_table

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-namespace hrgbench::table_sim {
+namespace hrgbench::drivers::sim {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
@@ -172,4 +172,4 @@ TEST(TablePhysics, NoiseIsSeededAndHasTheStatedSpread) {
 }
 
 }  // namespace
-}  // namespace hrgbench::table_sim
+}  // namespace hrgbench::drivers::sim

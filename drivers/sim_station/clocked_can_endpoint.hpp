@@ -24,9 +24,9 @@
 #include "can_virtual/virtual_can_bus.hpp"
 #include "can_virtual/virtual_can_endpoint.hpp"
 #include "hrgbench/hw/can_bus.hpp"
-#include "mock/virtual_time_clock.hpp"
+#include "sim_station/virtual_time_clock.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 class ClockedCanEndpoint final : public hw::CanBus {
  public:
@@ -51,4 +51,4 @@ class ClockedCanEndpoint final : public hw::CanBus {
   std::atomic<std::uint64_t> timeouts_{0};
 };
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

@@ -2,11 +2,11 @@
 // jump): the real driver's semantics (limits first, stable decision, state machine, heartbeat,
 // SafeStop) and every injected failure.
 
-#include "mock/in_process_rate_table.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 
 #include <gtest/gtest.h>
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 namespace {
 
 using hw::RateTableErrorCode;
@@ -14,10 +14,10 @@ using hw::RateTableErrorCode;
 constexpr std::int64_t kNsPerS = 1'000'000'000;
 
 struct Rig {
-  explicit Rig(InProcessRateTableConfig config = {}, table_sim::TablePhysicsOptions physics = {})
+  explicit Rig(InProcessRateTableConfig config = {}, drivers::sim::TablePhysicsOptions physics = {})
       : physics_model(physics, clock), table(config, physics_model, clock) {}
   hw::ManualClock clock{0, /*auto_advance=*/true};
-  table_sim::TablePhysics physics_model;
+  drivers::sim::TablePhysics physics_model;
   InProcessRateTable table;
 };
 
@@ -66,7 +66,7 @@ TEST(InProcessRateTableTest, SoftwareLimitsAreCheckedBeforeCommanding) {
 }
 
 TEST(InProcessRateTableTest, HardwareLimitIsTheTablesRefusal) {
-  table_sim::TablePhysicsOptions physics;
+  drivers::sim::TablePhysicsOptions physics;
   physics.max_rate_rad_s = 2.0;  // tighter than the software limit
   Rig rig({}, physics);
   ASSERT_TRUE(rig.table.Connect().has_value());
@@ -206,4 +206,4 @@ TEST(InProcessRateTableTest, SafeStopCommandsZeroFromAnyState) {
 }
 
 }  // namespace
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

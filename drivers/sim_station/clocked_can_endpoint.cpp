@@ -1,8 +1,8 @@
-#include "mock/clocked_can_endpoint.hpp"
+#include "sim_station/clocked_can_endpoint.hpp"
 
 #include <algorithm>
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 hw::CanStatus ClockedCanEndpoint::Send(const hw::CanFrame& frame, std::int64_t timeout_ns) noexcept {
   const hw::CanStatus status = endpoint_.Send(frame, timeout_ns);
@@ -54,4 +54,4 @@ hw::CanBusStatistics ClockedCanEndpoint::Statistics() const noexcept {
   return statistics;
 }
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

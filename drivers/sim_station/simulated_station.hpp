@@ -37,14 +37,14 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/hw/rate_table.hpp"
-#include "mock/clocked_can_endpoint.hpp"
-#include "mock/in_process_rate_table.hpp"
-#include "mock/simulated_station_options.hpp"
-#include "mock/virtual_time_clock.hpp"
+#include "sim_station/clocked_can_endpoint.hpp"
+#include "sim_station/in_process_rate_table.hpp"
+#include "sim_station/simulated_station_options.hpp"
+#include "sim_station/virtual_time_clock.hpp"
 #include "sim/gyro_sim_node.hpp"
 #include "sim/table_physics.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 class SimulatedStation {
  public:
@@ -69,16 +69,16 @@ class SimulatedStation {
 
   // The concrete parts, for tests and the app's diagnostics.
   InProcessRateTable& in_process_table() noexcept { return *table_; }
-  gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
+  drivers::gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
   drivers::can_virtual::VirtualCanBus& bus() noexcept { return *bus_; }
   VirtualTimeClock* virtual_clock() noexcept { return virtual_clock_.get(); }  // null: real time
   // The simulated electronics' counters. In real time they are read racily (diagnostics only).
-  gyro_sim::GyroSimStatistics gyro_sim_statistics() const;
+  drivers::sim::GyroSimStatistics gyro_sim_statistics() const;
 
   // Changes the simulated electronics' failure modes while running, safely with respect to the
   // thread that drives the node. False in real time (the node's thread owns them; set them in
   // the options instead).
-  bool InjectGyroFaults(const std::function<void(gyro_sim::GyroSimFaults&)>& change);
+  bool InjectGyroFaults(const std::function<void(drivers::sim::GyroSimFaults&)>& change);
 
  private:
   explicit SimulatedStation(const SimulatedStationOptions& options);
@@ -90,7 +90,7 @@ class SimulatedStation {
   std::unique_ptr<VirtualTimeClock> virtual_clock_;
   hw::SteadyClock steady_clock_;
   hw::Clock* clock_ = nullptr;
-  std::unique_ptr<table_sim::TablePhysics> physics_;
+  std::unique_ptr<drivers::sim::TablePhysics> physics_;
   std::unique_ptr<InProcessRateTable> table_;
   std::unique_ptr<drivers::can_virtual::VirtualCanBus> bus_;
   std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> host_endpoint_;
@@ -100,10 +100,10 @@ class SimulatedStation {
   std::unique_ptr<ClockedCanEndpoint> monitor_clocked_;  // faster than real time only
   hw::CanBus* host_bus_ = nullptr;
   hw::CanBus* monitor_bus_ = nullptr;
-  std::unique_ptr<gyro_sim::GyroSimNode> node_;
-  std::unique_ptr<gyro_can::GyroCanDevice> device_;
+  std::unique_ptr<drivers::sim::GyroSimNode> node_;
+  std::unique_ptr<drivers::gyro_can::GyroCanDevice> device_;
   std::atomic<bool> stop_node_{false};
   std::thread node_thread_;  // real time only
 };
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

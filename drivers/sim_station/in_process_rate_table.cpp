@@ -1,4 +1,4 @@
-#include "mock/in_process_rate_table.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 
 #include <cmath>
 #include <limits>
@@ -6,7 +6,7 @@
 
 #include "modbus_rate_table/stable_wait.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 namespace {
 using hw::RateTableError;
@@ -67,7 +67,7 @@ bool InProcessRateTableConfig::IsValid(std::string* why) const {
 }
 
 InProcessRateTable::InProcessRateTable(InProcessRateTableConfig config,
-                                       table_sim::TablePhysics& physics, hw::Clock& clock)
+                                       drivers::sim::TablePhysics& physics, hw::Clock& clock)
     : config_(std::move(config)),
       physics_(physics),
       clock_(clock),
@@ -202,7 +202,7 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
 }
 
 std::expected<void, RateTableError> InProcessRateTable::SetRate(double rate_rad_s) {
-  if (auto ok = modbus_table::CheckRate(config_.limits, rate_rad_s); !ok) {
+  if (auto ok = drivers::modbus_rate_table::CheckRate(config_.limits, rate_rad_s); !ok) {
     ++counters_.limit_rejections;
     return ok;
   }
@@ -216,7 +216,7 @@ std::expected<void, RateTableError> InProcessRateTable::SetRate(double rate_rad_
 }
 
 std::expected<void, RateTableError> InProcessRateTable::SetAccelerationLimit(double accel_rad_s2) {
-  if (auto ok = modbus_table::CheckAcceleration(config_.limits, accel_rad_s2); !ok) {
+  if (auto ok = drivers::modbus_rate_table::CheckAcceleration(config_.limits, accel_rad_s2); !ok) {
     ++counters_.limit_rejections;
     return ok;
   }
@@ -245,7 +245,7 @@ std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::ReadStatu
 std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::WaitUntilStable(
     const hw::StableCriteria& criteria) {
   if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());
-  return modbus_table::WaitForStableRate([this] { return ReadStatus(); }, clock_,
+  return drivers::modbus_rate_table::WaitForStableRate([this] { return ReadStatus(); }, clock_,
                                          target_rate_rad_s_, criteria);
 }
 
@@ -298,4 +298,4 @@ void InProcessRateTable::Disconnect() noexcept {
   state_.store(InProcessTableState::kDisconnected, std::memory_order_release);
 }
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

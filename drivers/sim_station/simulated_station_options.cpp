@@ -1,8 +1,8 @@
-#include "mock/simulated_station_options.hpp"
+#include "sim_station/simulated_station_options.hpp"
 
 #include <cmath>
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 bool SimulatedStationOptions::IsValid(std::string* why) const {
   const auto fail = [why](std::string message) {
@@ -22,7 +22,7 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
   if (!gyro.IsValid(&part)) return fail("gyro: " + part);
   if (!table_physics.IsValid(&part)) return fail("table_physics: " + part);
   if (!table.IsValid(&part)) return fail("table: " + part);
-  gyro_can::GyroCanDeviceConfig link = gyro_link;
+  drivers::gyro_can::GyroCanDeviceConfig link = gyro_link;
   hw::SteadyClock placeholder;  // the station supplies its clock; validate the rest
   link.clock = &placeholder;
   if (!link.IsValid(&part)) return fail("gyro_link: " + part);
@@ -33,4 +33,4 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
   return true;
 }
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

@@ -1,6 +1,6 @@
-#include "mock/simulated_station.hpp"
+#include "sim_station/simulated_station.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 namespace can_virtual = drivers::can_virtual;
 
@@ -28,7 +28,7 @@ std::expected<void, std::string> SimulatedStation::Build() {
     clock_ = virtual_clock_.get();
   }
 
-  physics_ = std::make_unique<table_sim::TablePhysics>(options_.table_physics, *clock_);
+  physics_ = std::make_unique<drivers::sim::TablePhysics>(options_.table_physics, *clock_);
   table_ = std::make_unique<InProcessRateTable>(options_.table, *physics_, *clock_);
 
   can_virtual::VirtualCanBusOptions bus_options;
@@ -58,14 +58,14 @@ std::expected<void, std::string> SimulatedStation::Build() {
   InProcessRateTable* table = table_.get();
   const double earth_rate_rad_s = options_.earth_rate_rad_s;
   can_virtual::VirtualCanBus* shorted_bus = bus_.get();
-  node_ = std::make_unique<gyro_sim::GyroSimNode>(
+  node_ = std::make_unique<drivers::sim::GyroSimNode>(
       *node_endpoint_, *clock_, options_.gyro,
       [table, earth_rate_rad_s] { return table->SenseTrueRateRadS() + earth_rate_rad_s; },
       [shorted_bus] { shorted_bus->SetBusOff(true); });
 
-  gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
+  drivers::gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
   link.clock = clock_;
-  auto device = gyro_can::GyroCanDevice::Create(*host_bus_, link);
+  auto device = drivers::gyro_can::GyroCanDevice::Create(*host_bus_, link);
   if (!device) return std::unexpected("simulated station: gyro driver: " + device.error().ToString());
   device_ = std::move(*device);
 
@@ -90,8 +90,8 @@ SimulatedTruth SimulatedStation::truth() const {
           options_.earth_rate_rad_s};
 }
 
-gyro_sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
-  gyro_sim::GyroSimStatistics statistics;
+drivers::sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
+  drivers::sim::GyroSimStatistics statistics;
   if (virtual_clock_) {
     virtual_clock_->WithParticipantsLocked([&] { statistics = node_->Statistics(); });
   } else {
@@ -101,10 +101,10 @@ gyro_sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
 }
 
 bool SimulatedStation::InjectGyroFaults(
-    const std::function<void(gyro_sim::GyroSimFaults&)>& change) {
+    const std::function<void(drivers::sim::GyroSimFaults&)>& change) {
   if (!virtual_clock_) return false;
   virtual_clock_->WithParticipantsLocked([&] { change(node_->faults()); });
   return true;
 }
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

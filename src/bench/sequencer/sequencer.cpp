@@ -1,4 +1,4 @@
-#include "hrgbench/bench/session_runner.hpp"
+#include "hrgbench/bench/sequencer.hpp"
 
 #include <chrono>
 #include <cmath>

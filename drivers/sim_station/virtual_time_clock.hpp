@@ -61,7 +61,7 @@
 #include "hrgbench/hw/clock.hpp"
 #include "sim/simulation_clock.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 struct VirtualTimeClockOptions {
   std::int64_t start_ns = 0;
@@ -111,8 +111,8 @@ class VirtualTimeClock final : public hw::Clock {
 
   // Participants are not owned; they are served under the clock's mutex. Remove before
   // destroying them.
-  void AddParticipant(gyro_sim::SimulationParticipant* participant);
-  void RemoveParticipant(gyro_sim::SimulationParticipant* participant);
+  void AddParticipant(drivers::sim::SimulationParticipant* participant);
+  void RemoveParticipant(drivers::sim::SimulationParticipant* participant);
   // Runs `f` under the clock's mutex: the participants are not being served meanwhile (e.g. to
   // change a GyroSimNode's faults from a test).
   void WithParticipantsLocked(const std::function<void()>& f);
@@ -137,4 +137,4 @@ class VirtualTimeClock final : public hw::Clock {
   std::shared_ptr<Core> core_;
 };
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

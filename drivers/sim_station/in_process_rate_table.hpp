@@ -31,7 +31,7 @@
 #include "modbus_rate_table/rate_limits.hpp"
 #include "sim/table_physics.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 // Every injected failure is off by default. Times are seconds on the clock from the table's
 // construction (the station's start); < 0 means never.
@@ -44,7 +44,7 @@ struct InProcessTableFaults {
 };
 
 struct InProcessRateTableConfig {
-  modbus_table::RateLimits limits;       // software limits (the bench's ceiling)
+  drivers::modbus_rate_table::RateLimits limits;       // software limits (the bench's ceiling)
   double accel_limit_rad_s2 = 1.0;       // written and read back at Connect
   std::uint16_t watchdog_timeout_ms = 1000;  // written and read back at Connect (100..60000)
   std::int64_t heartbeat_period_ms = 200;    // every call heartbeats when this has passed
@@ -84,7 +84,7 @@ class InProcessRateTable final : public hw::RateTable {
  public:
   // `physics` and `clock` must outlive this; `clock` must be the physics' clock. The config is
   // validated by Connect() (kInvalidConfig).
-  InProcessRateTable(InProcessRateTableConfig config, table_sim::TablePhysics& physics,
+  InProcessRateTable(InProcessRateTableConfig config, drivers::sim::TablePhysics& physics,
                      hw::Clock& clock);
 
   std::expected<void, hw::RateTableError> Connect() override;
@@ -125,7 +125,7 @@ class InProcessRateTable final : public hw::RateTable {
   void FireScheduledFault() noexcept;  // any thread
 
   InProcessRateTableConfig config_;
-  table_sim::TablePhysics& physics_;
+  drivers::sim::TablePhysics& physics_;
   hw::Clock& clock_;
   const std::int64_t fault_at_ns_;         // INT64_MAX: never
   const std::int64_t unresponsive_at_ns_;  // INT64_MAX: never
@@ -145,4 +145,4 @@ class InProcessRateTable final : public hw::RateTable {
   } counters_;
 };
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

@@ -1,4 +1,4 @@
-#include "mock/virtual_time_clock.hpp"
+#include "sim_station/virtual_time_clock.hpp"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <limits>
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 namespace {
 using WallClock = std::chrono::steady_clock;
@@ -99,7 +99,7 @@ struct VirtualTimeClock::Core {
   WallClock::time_point anchor_wall;
   std::int64_t anchor_sim_ns = 0;
   std::map<std::thread::id, ThreadRecord> threads;
-  std::vector<gyro_sim::SimulationParticipant*> participants;
+  std::vector<drivers::sim::SimulationParticipant*> participants;
   VirtualTimeClockStatistics statistics;
 };
 
@@ -124,7 +124,7 @@ bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   for (const auto& [id, record] : threads) {
     if (record.state == ThreadRecord::State::kWaiting) next = std::min(next, record.deadline_ns);
   }
-  for (gyro_sim::SimulationParticipant* p : participants) {
+  for (drivers::sim::SimulationParticipant* p : participants) {
     next = std::min(next, std::max(p->NextEventNs(), now));
   }
   if (next == kNever || !MayAdvanceTo(next)) return false;
@@ -152,7 +152,7 @@ bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   now_ns.store(next, std::memory_order_release);
   ++statistics.advances;
   bool output = false;
-  for (gyro_sim::SimulationParticipant* p : participants) {
+  for (drivers::sim::SimulationParticipant* p : participants) {
     if (p->NextEventNs() > next) continue;
     ++statistics.services;
     output = p->Service(next) || output;
@@ -271,12 +271,12 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
   self.running_since = WallClock::now();
 }
 
-void VirtualTimeClock::AddParticipant(gyro_sim::SimulationParticipant* participant) {
+void VirtualTimeClock::AddParticipant(drivers::sim::SimulationParticipant* participant) {
   std::lock_guard lock(core_->mutex);
   core_->participants.push_back(participant);
 }
 
-void VirtualTimeClock::RemoveParticipant(gyro_sim::SimulationParticipant* participant) {
+void VirtualTimeClock::RemoveParticipant(drivers::sim::SimulationParticipant* participant) {
   std::lock_guard lock(core_->mutex);
   std::erase(core_->participants, participant);
 }
@@ -307,4 +307,4 @@ VirtualTimeClockStatistics VirtualTimeClock::Statistics() const {
   return s;
 }
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

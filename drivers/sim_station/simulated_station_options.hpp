@@ -17,11 +17,11 @@
 #include <string>
 
 #include "gyro_can/gyro_can_device.hpp"
-#include "mock/in_process_rate_table.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 #include "sim/gyro_sim_options.hpp"
 #include "sim/table_physics.hpp"
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 
 struct SimulatedStationOptions {
   bool faster_than_real_time = true;
@@ -37,18 +37,18 @@ struct SimulatedStationOptions {
 
   // The simulated electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes
   // (gyro.faults). Defaults: the paper's experiment, noise-free; set sigma for realism.
-  gyro_sim::GyroSimOptions gyro;
+  drivers::sim::GyroSimOptions gyro;
   // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
   // axis (bench::EarthRateOnAxisRadS of the station's site), rad/s.
   double earth_rate_rad_s = 0.0;
 
   // The rate table: its physics (drivers/sim) and the in-process driver (limits, heartbeat,
   // watchdog, failure modes in table.faults).
-  table_sim::TablePhysicsOptions table_physics;
+  drivers::sim::TablePhysicsOptions table_physics;
   InProcessRateTableConfig table;
 
   // The host side of the gyro link (GyroCanDevice); its clock is the station's (ignored here).
-  gyro_can::GyroCanDeviceConfig gyro_link;
+  drivers::gyro_can::GyroCanDeviceConfig gyro_link;
 
   // The in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
   std::int64_t can_bit_rate_bps = 1'000'000;
@@ -71,4 +71,4 @@ struct SimulatedTruth {
   double earth_rate_rad_s = 0.0;
 };
 
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station

@@ -14,13 +14,13 @@ using namespace hrgbench;
 
 void BM_ReadStatusRoundTrip(benchmark::State& state) {
   hw::SteadyClock clock;
-  table_sim::TablePhysics physics({}, clock);
-  std::unique_ptr<table_sim::ModbusTableServer> server;
+  drivers::sim::TablePhysics physics({}, clock);
+  std::unique_ptr<drivers::sim::ModbusTableServer> server;
   int port = 0;
   for (int i = 0; i < 100 && server == nullptr; ++i) {
-    table_sim::TableServerOptions options;
+    drivers::sim::TableServerOptions options;
     options.port = 30000 + static_cast<int>(::getpid() % 1000) * 10 + i;
-    auto candidate = std::make_unique<table_sim::ModbusTableServer>(physics, options);
+    auto candidate = std::make_unique<drivers::sim::ModbusTableServer>(physics, options);
     if (candidate->Open()) {
       server = std::move(candidate);
       port = options.port;
@@ -31,9 +31,9 @@ void BM_ReadStatusRoundTrip(benchmark::State& state) {
     return;
   }
   std::thread serving([&] { server->Run(); });
-  modbus_table::ModbusRateTableConfig config;
+  drivers::modbus_rate_table::ModbusRateTableConfig config;
   config.port = port;
-  modbus_table::ModbusRateTable table(config, clock);
+  drivers::modbus_rate_table::ModbusRateTable table(config, clock);
   if (!table.Connect()) {
     state.SkipWithError("connect failed");
   } else {

@@ -2,7 +2,7 @@
 // thread waits, participants are served at their events, WaitForOutput wakes on output, a thread
 // blocked elsewhere is parked, an exiting thread detaches, pacing follows the wall clock.
 
-#include "mock/virtual_time_clock.hpp"
+#include "sim_station/virtual_time_clock.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace hrgbench::mock {
+namespace hrgbench::drivers::sim_station {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
@@ -24,7 +24,7 @@ double WallSince(std::chrono::steady_clock::time_point start) {
 }
 
 // Fires every period_ns; output on every event.
-class Ticker final : public gyro_sim::SimulationParticipant {
+class Ticker final : public drivers::sim::SimulationParticipant {
  public:
   explicit Ticker(std::int64_t period_ns) : period_ns_(period_ns), next_ns_(period_ns) {}
   std::int64_t NextEventNs() const noexcept override { return next_ns_; }
@@ -223,4 +223,4 @@ TEST(VirtualTimeClockTest, OptionsAreValidated) {
 }
 
 }  // namespace
-}  // namespace hrgbench::mock
+}  // namespace hrgbench::drivers::sim_station
