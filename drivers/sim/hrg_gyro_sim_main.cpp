@@ -18,6 +18,7 @@
 #include "hrgbench/hw/clock.hpp"
 #include "sim/gyro_sim_config.hpp"
 #include "sim/gyro_sim_node.hpp"
+#include "sim/host_port.hpp"
 #include "sim/modbus_omega_source.hpp"
 #ifdef HRGBENCH_HAVE_SOCKETCAN
 #include "socketcan/socket_can_bus.hpp"
@@ -28,17 +29,6 @@ namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop.store(true); }
 
-bool ParseHostPort(const std::string& text, std::string* host, int* port) {
-  const auto colon = text.rfind(':');
-  if (colon == std::string::npos) return false;
-  *host = text.substr(0, colon);
-  try {
-    *port = std::stoi(text.substr(colon + 1));
-  } catch (...) {
-    return false;
-  }
-  return !host->empty() && *port > 0 && *port < 65536;
-}
 
 }  // namespace
 
@@ -64,10 +54,13 @@ int main(int argc, char** argv) {
       config = *loaded;
     }
     if (!table.empty()) {
-      if (!ParseHostPort(table, &config.omega.modbus_host, &config.omega.modbus_port)) {
+      const auto address = drivers::sim::ParseHostPort(table);
+      if (!address) {
         std::cerr << "hrg-gyro-sim: --table wants HOST:PORT, got '" << table << "'\n";
         return 2;
       }
+      config.omega.modbus_host = address->host;
+      config.omega.modbus_port = address->port;
       config.omega.source = drivers::sim::OmegaConfig::Source::kModbus;
     }
     if (omega_override) {

@@ -11,22 +11,12 @@
 #include <iostream>
 #include <thread>
 
+#include "sim/host_port.hpp"
 #include "sim/modbus_table_server.hpp"
 
 namespace {
 using hrgbench::drivers::sim::TableServerOptions;
 
-bool ParseHostPort(const std::string& text, std::string* host, int* port) {
-  const auto colon = text.rfind(':');
-  if (colon == std::string::npos) return false;
-  *host = text.substr(0, colon);
-  try {
-    *port = std::stoi(text.substr(colon + 1));
-  } catch (...) {
-    return false;
-  }
-  return !host->empty() && *port > 0 && *port < 65536;
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,7 +57,11 @@ int main(int argc, char** argv) {
     if (!rtu.empty()) {
       server.transport = TableServerOptions::Transport::kRtu;
       server.serial_device = rtu;
-    } else if (!ParseHostPort(tcp.empty() ? "127.0.0.1:1502" : tcp, &server.host, &server.port)) {
+    } else if (const auto address =
+                   hrgbench::drivers::sim::ParseHostPort(tcp.empty() ? "127.0.0.1:1502" : tcp)) {
+      server.host = address->host;
+      server.port = address->port;
+    } else {
       std::cerr << "hrg-table-sim: --tcp wants HOST:PORT, got '" << tcp << "'\n";
       return 2;
     }
