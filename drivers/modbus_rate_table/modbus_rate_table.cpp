@@ -33,18 +33,6 @@ std::array<std::uint16_t, 4> ModeAndRate(hw::RateTableMode mode, double rate_rad
 }
 }  // namespace
 
-const char* TableLinkStateName(TableLinkState state) {
-  switch (state) {
-    case TableLinkState::kDisconnected:
-      return "disconnected";
-    case TableLinkState::kConnected:
-      return "connected";
-    case TableLinkState::kFaulted:
-      return "faulted";
-  }
-  return "unknown";
-}
-
 ModbusRateTable::ModbusRateTable(ModbusRateTableConfig config, hw::Clock& clock)
     : config_(std::move(config)), clock_(clock), link_(std::make_unique<ModbusLink>(config_)) {}
 
@@ -104,20 +92,7 @@ RateTableError ModbusRateTable::ErrorFrom(const LinkResult& result, const char* 
 }
 
 std::expected<void, RateTableError> ModbusRateTable::RequireConnected(bool allow_faulted) const {
-  switch (state()) {
-    case TableLinkState::kDisconnected:
-      return Fail(RateTableErrorCode::kNotConnected,
-                  "rate table " + config_.Describe() + " is not connected (call Connect)");
-    case TableLinkState::kFaulted:
-      if (!allow_faulted) {
-        return Fail(RateTableErrorCode::kFaulted,
-                    "rate table is faulted; ResetFault() and read a clean status first");
-      }
-      break;
-    case TableLinkState::kConnected:
-      break;
-  }
-  return {};
+  return RequireLinkState(state(), allow_faulted, "rate table " + config_.Describe());
 }
 
 std::expected<void, RateTableError> ModbusRateTable::Reopen() {

@@ -31,6 +31,7 @@
 #include <memory>
 #include <span>
 
+#include "modbus_rate_table/link_state.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 #include "modbus_rate_table/modbus_config.hpp"
@@ -51,9 +52,6 @@ struct ModbusTableCounters {
   std::uint64_t limit_rejections = 0;   // software limit refused a value (nothing sent)
   std::uint64_t heartbeats = 0;         // heartbeat writes that succeeded
 };
-
-enum class TableLinkState { kDisconnected, kConnected, kFaulted };
-const char* TableLinkStateName(TableLinkState state);
 
 class ModbusRateTable final : public hw::RateTable {
  public:

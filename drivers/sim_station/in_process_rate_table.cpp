@@ -112,20 +112,7 @@ bool InProcessRateTable::InjectedFailureDue() noexcept {
 }
 
 std::expected<void, RateTableError> InProcessRateTable::RequireConnected(bool allow_faulted) const {
-  switch (state()) {
-    case InProcessTableState::kDisconnected:
-      return Fail(RateTableErrorCode::kNotConnected,
-                  "in-process rate table is not connected (call Connect)");
-    case InProcessTableState::kFaulted:
-      if (!allow_faulted) {
-        return Fail(RateTableErrorCode::kFaulted,
-                    "rate table is faulted; ResetFault() and read a clean status first");
-      }
-      break;
-    case InProcessTableState::kConnected:
-      break;
-  }
-  return {};
+  return modbus_rate_table::RequireLinkState(state(), allow_faulted, "in-process rate table");
 }
 
 std::expected<void, RateTableError> InProcessRateTable::Transact(const char* what) {
@@ -136,7 +123,7 @@ std::expected<void, RateTableError> InProcessRateTable::Transact(const char* wha
     if (!unresponsive && fail_code_ == RateTableErrorCode::kConnectionLost) {
       // The real driver's bounded reconnects failed: it gives the link up.
       ++counters_.connection_losses;
-      state_.store(InProcessTableState::kDisconnected, std::memory_order_release);
+      state_.store(TableLinkState::kDisconnected, std::memory_order_release);
       return Fail(RateTableErrorCode::kConnectionLost,
                   Cat(what, ": connection to the in-process table lost (injected)"));
     }
@@ -160,7 +147,7 @@ std::expected<void, RateTableError> InProcessRateTable::Refused(const char* what
   ++counters_.refusals;
   const hw::RateTableStatus status = physics_.Status();
   if (status.fault || status.estop) {
-    state_.store(InProcessTableState::kFaulted, std::memory_order_release);
+    state_.store(TableLinkState::kFaulted, std::memory_order_release);
     return Fail(RateTableErrorCode::kFaulted,
                 Cat(what, " refused: table reports fault '",
                     hw::RateTableFaultName(status.fault_code), "'"));
@@ -173,7 +160,7 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
   std::string why;
   if (!config_.IsValid(&why)) return Fail(RateTableErrorCode::kInvalidConfig, why);
   Disconnect();
-  state_.store(InProcessTableState::kConnected, std::memory_order_release);
+  state_.store(TableLinkState::kConnected, std::memory_order_release);
   last_heartbeat_ns_ = std::numeric_limits<std::int64_t>::min() / 2;  // due at once
   if (auto ok = Transact("connect"); !ok) {
     Disconnect();
@@ -196,7 +183,7 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
   const hw::RateTableStatus status = physics_.Status();
   target_rate_rad_s_ = status.commanded_rate_rad_s;
   if (status.fault || status.estop) {
-    state_.store(InProcessTableState::kFaulted, std::memory_order_release);
+    state_.store(TableLinkState::kFaulted, std::memory_order_release);
   }
   return {};
 }
@@ -236,8 +223,8 @@ std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::ReadStatu
   if (auto ok = Transact("read status"); !ok) return std::unexpected(ok.error());
   hw::RateTableStatus status = physics_.Status();
   if (never_stable_) status.rate_stable = false;
-  state_.store(status.fault || status.estop ? InProcessTableState::kFaulted
-                                            : InProcessTableState::kConnected,
+  state_.store(status.fault || status.estop ? TableLinkState::kFaulted
+                                            : TableLinkState::kConnected,
                std::memory_order_release);
   return status;
 }
@@ -295,7 +282,7 @@ void InProcessRateTable::SafeStop() noexcept {
 }
 
 void InProcessRateTable::Disconnect() noexcept {
-  state_.store(InProcessTableState::kDisconnected, std::memory_order_release);
+  state_.store(TableLinkState::kDisconnected, std::memory_order_release);
 }
 
 }  // namespace hrgbench::drivers::sim_station

@@ -28,6 +28,7 @@
 
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/rate_table.hpp"
+#include "modbus_rate_table/link_state.hpp"
 #include "modbus_rate_table/rate_limits.hpp"
 #include "sim/table_physics.hpp"
 
@@ -56,7 +57,8 @@ struct InProcessRateTableConfig {
   bool IsValid(std::string* why) const;
 };
 
-enum class InProcessTableState { kDisconnected, kConnected, kFaulted };
+// The link state machine is the Modbus table's (the same observable semantics).
+using modbus_rate_table::TableLinkState;
 
 // The last motion command the bench sent (SetRate, Stop or SafeStop), whether or not the table
 // received it: what a test checks to know the bench commanded zero rate, even when the table no
@@ -109,7 +111,7 @@ class InProcessRateTable final : public hw::RateTable {
   // (so the fault takes effect on the physics even when the owner does not call). Any thread.
   double SenseTrueRateRadS();
 
-  InProcessTableState state() const noexcept { return state_.load(std::memory_order_acquire); }
+  TableLinkState state() const noexcept { return state_.load(std::memory_order_acquire); }
   InProcessTableCounters counters() const noexcept;
   double target_rate_rad_s() const noexcept { return target_rate_rad_s_; }
   // Owner thread, or after the owner is done.
@@ -130,7 +132,7 @@ class InProcessRateTable final : public hw::RateTable {
   const std::int64_t fault_at_ns_;         // INT64_MAX: never
   const std::int64_t unresponsive_at_ns_;  // INT64_MAX: never
   std::atomic<bool> fault_fired_{false};
-  std::atomic<InProcessTableState> state_{InProcessTableState::kDisconnected};
+  std::atomic<TableLinkState> state_{TableLinkState::kDisconnected};
   std::uint32_t fail_next_calls_;
   hw::RateTableErrorCode fail_code_;
   bool never_stable_;

@@ -372,7 +372,7 @@ TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModb
     EXPECT_NE(message->find("drive"), std::string::npos) << *message;
   }
   EXPECT_EQ(modbus.state(), TableLinkState::kFaulted);
-  EXPECT_EQ(in_process.state(), drivers::sim_station::InProcessTableState::kFaulted);
+  EXPECT_EQ(in_process.state(), drivers::modbus_rate_table::TableLinkState::kFaulted);
   EXPECT_EQ(modbus.target_rate_rad_s(), in_process.target_rate_rad_s());
   // Stop is accepted by both while faulted.
   EXPECT_TRUE(modbus.Stop());

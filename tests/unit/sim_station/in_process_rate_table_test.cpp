@@ -38,7 +38,7 @@ TEST(InProcessRateTableTest, NotConnectedUntilConnectWhichWritesAndReadsBack) {
   EXPECT_EQ(rig.table.SetRate(0.1).error().code, RateTableErrorCode::kNotConnected);
   EXPECT_EQ(rig.table.ReadStatus().error().code, RateTableErrorCode::kNotConnected);
   ASSERT_TRUE(rig.table.Connect().has_value());
-  EXPECT_EQ(rig.table.state(), InProcessTableState::kConnected);
+  EXPECT_EQ(rig.table.state(), TableLinkState::kConnected);
   EXPECT_EQ(rig.physics_model.accel_limit_rad_s2(), 2.0);
   EXPECT_EQ(rig.physics_model.watchdog_ms(), 2000);
 }
@@ -107,7 +107,7 @@ TEST(InProcessRateTableTest, CallsKeepTheWatchdogFedAndSilenceTripsIt) {
   ASSERT_TRUE(status.has_value());
   EXPECT_TRUE(status->fault);
   EXPECT_EQ(status->fault_code, static_cast<std::uint16_t>(hw::RateTableFault::kWatchdog));
-  EXPECT_EQ(rig.table.state(), InProcessTableState::kFaulted);
+  EXPECT_EQ(rig.table.state(), TableLinkState::kFaulted);
 }
 
 TEST(InProcessRateTableTest, NeverStableTimesOut) {
@@ -143,7 +143,7 @@ TEST(InProcessRateTableTest, ScheduledFaultLatchesAndRefusesMotionUntilReset) {
   EXPECT_EQ(rig.table.SetRate(0.4).error().code, RateTableErrorCode::kFaulted);
   EXPECT_EQ(rig.table.WaitUntilStable(Criteria()).error().code, RateTableErrorCode::kFaulted);
   ASSERT_TRUE(rig.table.ResetFault().has_value());
-  EXPECT_EQ(rig.table.state(), InProcessTableState::kConnected);
+  EXPECT_EQ(rig.table.state(), TableLinkState::kConnected);
   EXPECT_TRUE(rig.table.SetRate(0.1).has_value());
 }
 
@@ -157,7 +157,7 @@ TEST(InProcessRateTableTest, InjectedTimeoutsCostTheResponseTimeAndRecover) {
   // 2 calls x 2 attempts x 200 ms.
   EXPECT_EQ(rig.clock.NowNs() - start, 800'000'000);
   EXPECT_EQ(rig.table.counters().timeouts, 2u);
-  EXPECT_EQ(rig.table.state(), InProcessTableState::kConnected);
+  EXPECT_EQ(rig.table.state(), TableLinkState::kConnected);
   EXPECT_TRUE(rig.table.SetRate(0.1).has_value());
 }
 
@@ -166,7 +166,7 @@ TEST(InProcessRateTableTest, LostConnectionNeedsAReconnect) {
   ASSERT_TRUE(rig.table.Connect().has_value());
   rig.table.FailNextCalls(1, RateTableErrorCode::kConnectionLost);
   EXPECT_EQ(rig.table.ReadStatus().error().code, RateTableErrorCode::kConnectionLost);
-  EXPECT_EQ(rig.table.state(), InProcessTableState::kDisconnected);
+  EXPECT_EQ(rig.table.state(), TableLinkState::kDisconnected);
   EXPECT_EQ(rig.table.ReadStatus().error().code, RateTableErrorCode::kNotConnected);
   EXPECT_EQ(rig.table.counters().connection_losses, 1u);
   ASSERT_TRUE(rig.table.Connect().has_value());
