@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../../../src/estimator/output_error_problem.hpp"
+#include "estimator/output_error_problem.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 
 namespace {
