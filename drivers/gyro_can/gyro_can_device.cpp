@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <sstream>
+
+#include "hrgbench/hw/error_text.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
@@ -12,13 +13,6 @@ using hw::CanStatus;
 using hw::GyroError;
 using hw::GyroErrorCode;
 using hw::GyroMode;
-
-template <typename... Args>
-std::string Str(const Args&... args) {
-  std::ostringstream os;
-  (os << ... << args);
-  return os.str();
-}
 
 std::string Hex2(unsigned value) {
   static constexpr char kHex[] = "0123456789ABCDEF";
@@ -79,13 +73,13 @@ bool GyroCanDeviceConfig::IsValid(std::string* why) const {
     return false;
   };
   if (clock == nullptr) return fail("clock must be set (the transport's time base)");
-  if (ack_timeout_ns <= 0) return fail(Str("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
+  if (ack_timeout_ns <= 0) return fail(hw::ErrorText("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
   if (command_attempts < 1 || command_attempts > 10) {
-    return fail(Str("command_attempts must be in 1..10, got ", command_attempts));
+    return fail(hw::ErrorText("command_attempts must be in 1..10, got ", command_attempts));
   }
-  if (status_poll_ns <= 0) return fail(Str("status_poll_ns must be > 0, got ", status_poll_ns));
+  if (status_poll_ns <= 0) return fail(hw::ErrorText("status_poll_ns must be > 0, got ", status_poll_ns));
   if (sample_buffer_capacity < kSamplesPerFdFrame) {
-    return fail(Str("sample_buffer_capacity must be >= ", kSamplesPerFdFrame, ", got ",
+    return fail(hw::ErrorText("sample_buffer_capacity must be >= ", kSamplesPerFdFrame, ", got ",
                     sample_buffer_capacity));
   }
   return true;
@@ -100,7 +94,7 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
                                                 hw::CanFilter{can_id::kSampleA, 0x7FC, false}};
   if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
     return Fail(GyroErrorCode::kTransport,
-                Str("setting CAN filters failed: ", hw::ToString(status)));
+                hw::ErrorText("setting CAN filters failed: ", hw::ToString(status)));
   }
   return std::unique_ptr<GyroCanDevice>(new GyroCanDevice(bus, config));
 }
@@ -113,7 +107,7 @@ std::expected<void, GyroError> GyroCanDevice::RequireState(std::initializer_list
   const GyroMode now = State();
   if (std::find(allowed.begin(), allowed.end(), now) != allowed.end()) return {};
   return Fail(GyroErrorCode::kInvalidState,
-              Str(what, " is not allowed in state ", hw::ToString(now)));
+              hw::ErrorText(what, " is not allowed in state ", hw::ToString(now)));
 }
 
 void GyroCanDevice::OnBusOff() noexcept {
@@ -235,12 +229,12 @@ std::expected<Ack, GyroError> GyroCanDevice::Transact(Command command, Encode en
     const CanStatus sent = bus_.Send(frame, config_.ack_timeout_ns);
     if (sent == CanStatus::kBusOff) {
       OnBusOff();
-      return Fail(GyroErrorCode::kBusOff, Str(CommandName(command), ": bus-off on send"));
+      return Fail(GyroErrorCode::kBusOff, hw::ErrorText(CommandName(command), ": bus-off on send"));
     }
     if (sent != CanStatus::kOk && sent != CanStatus::kBufferFull) {
       counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
       return Fail(GyroErrorCode::kTransport,
-                  Str(CommandName(command), ": send failed: ", hw::ToString(sent)));
+                  hw::ErrorText(CommandName(command), ": send failed: ", hw::ToString(sent)));
     }
     const CanStatus waited =
         PumpUntil(clock_.NowNs() + config_.ack_timeout_ns, [this] { return ack_received_; });
@@ -248,30 +242,30 @@ std::expected<Ack, GyroError> GyroCanDevice::Transact(Command command, Encode en
     if (waited == CanStatus::kBusOff) {
       OnBusOff();
       return Fail(GyroErrorCode::kBusOff,
-                  Str(CommandName(command), ": bus-off while waiting for the ack"));
+                  hw::ErrorText(CommandName(command), ": bus-off while waiting for the ack"));
     }
     if (waited != CanStatus::kTimeout) {
       counters_.bus_errors.fetch_add(1, std::memory_order_relaxed);
       return Fail(GyroErrorCode::kTransport,
-                  Str(CommandName(command), ": receive failed: ", hw::ToString(waited)));
+                  hw::ErrorText(CommandName(command), ": receive failed: ", hw::ToString(waited)));
     }
     counters_.timeouts.fetch_add(1, std::memory_order_relaxed);
   }
   if (!ack_received_) {
     return Fail(
         GyroErrorCode::kTimeout,
-        Str(CommandName(command), " (token ", static_cast<int>(token), "): no ack after ",
+        hw::ErrorText(CommandName(command), " (token ", static_cast<int>(token), "): no ack after ",
             config_.command_attempts, " attempts of ", config_.ack_timeout_ns / 1'000'000, " ms"));
   }
   if (ack_.result != AckResult::kOk) {
     counters_.nacks.fetch_add(1, std::memory_order_relaxed);
     if (ack_.result == AckResult::kFaulted) {
       SetState(GyroMode::kFaulted);
-      return Fail(GyroErrorCode::kFaulted, Str(CommandName(command), ": electronics faulted (mode ",
+      return Fail(GyroErrorCode::kFaulted, hw::ErrorText(CommandName(command), ": electronics faulted (mode ",
                                                hw::ToString(ack_.mode), ")"));
     }
     return Fail(GyroErrorCode::kRejected,
-                Str(CommandName(command), ": rejected (", ResultName(ack_.result),
+                hw::ErrorText(CommandName(command), ": rejected (", ResultName(ack_.result),
                     ") in electronics mode ", hw::ToString(ack_.mode)));
   }
   return ack_;
@@ -290,7 +284,7 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   if (config.sample_rate_hz < 1 || config.sample_rate_hz > max_rate) {
     return Fail(
         GyroErrorCode::kInvalidArgument,
-        Str("sample_rate_hz must be in 1..", max_rate, " on ",
+        hw::ErrorText("sample_rate_hz must be in 1..", max_rate, " on ",
             format == FrameFormat::kFd ? "FD" : "classic", " CAN, got ", config.sample_rate_hz));
   }
   const ConfigureCommand command{
@@ -306,7 +300,7 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   if (!ack) return std::unexpected(ack.error());
   if (ack->arg != config.sample_rate_hz || ack->mode != GyroMode::kConfigured) {
     return Fail(GyroErrorCode::kReadBackMismatch,
-                Str("configure: asked ", config.sample_rate_hz, " Hz, electronics acknowledged ",
+                hw::ErrorText("configure: asked ", config.sample_rate_hz, " Hz, electronics acknowledged ",
                     ack->arg, " Hz in mode ", hw::ToString(ack->mode)));
   }
   format_ = format;
@@ -323,7 +317,7 @@ std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target
       target.a <= 0 || target.a > a_max || std::abs(target.b) >= target.a ||
       std::abs(target.b) > bt_max || std::abs(target.theta_rad) > bt_max) {
     return Fail(GyroErrorCode::kInvalidArgument,
-                Str("excite: need 0 < a <= ", a_max, ", |b| < a, |b|, |theta| <= ", bt_max,
+                hw::ErrorText("excite: need 0 < a <= ", a_max, ", |b| < a, |b|, |theta| <= ", bt_max,
                     "; got a=", target.a, " b=", target.b, " theta_rad=", target.theta_rad));
   }
   ExciteCommand command;
@@ -338,7 +332,7 @@ std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target
   if (!ack) return std::unexpected(ack.error());
   if (ack->mode != GyroMode::kExciting && ack->mode != GyroMode::kReady) {
     return Fail(GyroErrorCode::kReadBackMismatch,
-                Str("excite: acknowledged in mode ", hw::ToString(ack->mode)));
+                hw::ErrorText("excite: acknowledged in mode ", hw::ToString(ack->mode)));
   }
   SetState(GyroMode::kExciting);
   return {};
@@ -378,7 +372,7 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t t
     if (status->mode == GyroMode::kFaulted || status->fault_bits != 0) {
       SetState(GyroMode::kFaulted);
       return Fail(GyroErrorCode::kFaulted,
-                  Str("wait ready: electronics report mode ", hw::ToString(status->mode),
+                  hw::ErrorText("wait ready: electronics report mode ", hw::ToString(status->mode),
                       " with fault bits 0x", Hex2(status->fault_bits)));
     }
     if (status->mode == GyroMode::kReady && status->ready) {
@@ -388,7 +382,7 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t t
     const std::int64_t now = clock_.NowNs();
     if (now >= deadline_ns) {
       return Fail(GyroErrorCode::kTimeout,
-                  Str("wait ready: not ready after ", timeout_ns / 1'000'000, " ms (mode ",
+                  hw::ErrorText("wait ready: not ready after ", timeout_ns / 1'000'000, " ms (mode ",
                       hw::ToString(status->mode), ")"));
     }
     // Keep consuming frames (periodic status) while waiting for the next poll.
@@ -417,7 +411,7 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
   if (ack->mode != GyroMode::kFreeRun) {
     streaming_ = false;
     return Fail(GyroErrorCode::kReadBackMismatch,
-                Str("release: acknowledged in mode ", hw::ToString(ack->mode)));
+                hw::ErrorText("release: acknowledged in mode ", hw::ToString(ack->mode)));
   }
   const std::int64_t t0_ns = ack_stamp_ns_ - static_cast<std::int64_t>(ack->arg) * 1000;
   decoder_.SetReleaseTime(t0_ns);
@@ -437,7 +431,7 @@ std::expected<void, GyroError> GyroCanDevice::Stop() {
   if (ack->mode != GyroMode::kStopped) {
     SetState(GyroMode::kFaulted);
     return Fail(GyroErrorCode::kReadBackMismatch,
-                Str("stop: acknowledged in mode ", hw::ToString(ack->mode)));
+                hw::ErrorText("stop: acknowledged in mode ", hw::ToString(ack->mode)));
   }
   SetState(GyroMode::kStopped);
   return {};

@@ -1,27 +1,18 @@
 #include "modbus_rate_table/rate_limits.hpp"
 
 #include <cmath>
-#include <sstream>
+
+#include "hrgbench/hw/error_text.hpp"
 
 namespace hrgbench::drivers::modbus_rate_table {
 
-namespace {
-// g++ 12 has no <format>; a stream keeps the messages readable (shortest round-trip is not needed).
-template <typename... Parts>
-std::string Cat(const Parts&... parts) {
-  std::ostringstream os;
-  (os << ... << parts);
-  return os.str();
-}
-}  // namespace
-
 bool RateLimits::IsValid(std::string* why) const {
   if (!(std::isfinite(max_rate_rad_s) && max_rate_rad_s > 0.0)) {
-    if (why != nullptr) *why = Cat("max_rate_rad_s must be > 0, got ", max_rate_rad_s);
+    if (why != nullptr) *why = hw::ErrorText("max_rate_rad_s must be > 0, got ", max_rate_rad_s);
     return false;
   }
   if (!(std::isfinite(max_accel_rad_s2) && max_accel_rad_s2 > 0.0)) {
-    if (why != nullptr) *why = Cat("max_accel_rad_s2 must be > 0, got ", max_accel_rad_s2);
+    if (why != nullptr) *why = hw::ErrorText("max_accel_rad_s2 must be > 0, got ", max_accel_rad_s2);
     return false;
   }
   return true;
@@ -31,7 +22,7 @@ std::expected<void, hw::RateTableError> CheckRate(const RateLimits& limits, doub
   if (!std::isfinite(rate_rad_s) || std::abs(rate_rad_s) > limits.max_rate_rad_s) {
     return std::unexpected(hw::RateTableError{
         hw::RateTableErrorCode::kLimitExceeded,
-        Cat("rate ", rate_rad_s, " rad/s is outside the software limit max_rate_rad_s = ",
+        hw::ErrorText("rate ", rate_rad_s, " rad/s is outside the software limit max_rate_rad_s = ",
             limits.max_rate_rad_s, " rad/s")});
   }
   return {};
@@ -43,7 +34,7 @@ std::expected<void, hw::RateTableError> CheckAcceleration(const RateLimits& limi
       accel_rad_s2 > limits.max_accel_rad_s2) {
     return std::unexpected(hw::RateTableError{
         hw::RateTableErrorCode::kLimitExceeded,
-        Cat("acceleration ", accel_rad_s2,
+        hw::ErrorText("acceleration ", accel_rad_s2,
             " rad/s^2 is outside the software limit max_accel_rad_s2 = ", limits.max_accel_rad_s2,
             " rad/s^2 (and must be > 0)")});
   }

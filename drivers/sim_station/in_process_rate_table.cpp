@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 
+#include "hrgbench/hw/error_text.hpp"
 #include "modbus_rate_table/stable_wait.hpp"
 
 namespace hrgbench::drivers::sim_station {
@@ -24,12 +24,6 @@ std::int64_t AtNs(std::int64_t start_ns, double after_s) {
   return start_ns + static_cast<std::int64_t>(std::llround(after_s * 1e9));
 }
 
-template <typename... Parts>
-std::string Cat(const Parts&... parts) {
-  std::ostringstream os;
-  (os << ... << parts);
-  return os.str();
-}
 }  // namespace
 
 bool InProcessRateTableConfig::IsValid(std::string* why) const {
@@ -40,24 +34,24 @@ bool InProcessRateTableConfig::IsValid(std::string* why) const {
   if (!limits.IsValid(why)) return false;
   if (!(std::isfinite(accel_limit_rad_s2) && accel_limit_rad_s2 > 0.0 &&
         accel_limit_rad_s2 <= limits.max_accel_rad_s2)) {
-    return fail(Cat("accel_limit_rad_s2 must be in (0, max_accel_rad_s2 = ", limits.max_accel_rad_s2,
+    return fail(hw::ErrorText("accel_limit_rad_s2 must be in (0, max_accel_rad_s2 = ", limits.max_accel_rad_s2,
                     "], got ", accel_limit_rad_s2));
   }
   if (watchdog_timeout_ms < 100 || watchdog_timeout_ms > 60000) {
-    return fail(Cat("watchdog_timeout_ms must be in [100, 60000], got ", watchdog_timeout_ms));
+    return fail(hw::ErrorText("watchdog_timeout_ms must be in [100, 60000], got ", watchdog_timeout_ms));
   }
   if (heartbeat_period_ms <= 0 || 2 * heartbeat_period_ms > watchdog_timeout_ms) {
-    return fail(Cat("heartbeat_period_ms must be in (0, watchdog_timeout_ms / 2 = ",
+    return fail(hw::ErrorText("heartbeat_period_ms must be in (0, watchdog_timeout_ms / 2 = ",
                     watchdog_timeout_ms / 2, "], got ", heartbeat_period_ms));
   }
   if (response_timeout_ms <= 0) {
-    return fail(Cat("response_timeout_ms must be > 0, got ", response_timeout_ms));
+    return fail(hw::ErrorText("response_timeout_ms must be > 0, got ", response_timeout_ms));
   }
   if (transaction_attempts < 1) {
-    return fail(Cat("transaction_attempts must be >= 1, got ", transaction_attempts));
+    return fail(hw::ErrorText("transaction_attempts must be >= 1, got ", transaction_attempts));
   }
   if (safe_stop_budget_ms <= 0) {
-    return fail(Cat("safe_stop_budget_ms must be > 0, got ", safe_stop_budget_ms));
+    return fail(hw::ErrorText("safe_stop_budget_ms must be > 0, got ", safe_stop_budget_ms));
   }
   if (faults.fail_code != RateTableErrorCode::kTimeout &&
       faults.fail_code != RateTableErrorCode::kConnectionLost) {
@@ -125,13 +119,13 @@ std::expected<void, RateTableError> InProcessRateTable::Transact(const char* wha
       ++counters_.connection_losses;
       state_.store(TableLinkState::kDisconnected, std::memory_order_release);
       return Fail(RateTableErrorCode::kConnectionLost,
-                  Cat(what, ": connection to the in-process table lost (injected)"));
+                  hw::ErrorText(what, ": connection to the in-process table lost (injected)"));
     }
     // Every attempt waits its full response timeout, as on the wire.
     clock_.SleepForNs(config_.transaction_attempts * config_.response_timeout_ms * kNsPerMs);
     ++counters_.timeouts;
     return Fail(RateTableErrorCode::kTimeout,
-                Cat(what, ": no reply within ", config_.response_timeout_ms, " ms after ",
+                hw::ErrorText(what, ": no reply within ", config_.response_timeout_ms, " ms after ",
                     config_.transaction_attempts, " attempts (injected",
                     unresponsive ? ": table unresponsive)" : ")"));
   }
@@ -149,11 +143,11 @@ std::expected<void, RateTableError> InProcessRateTable::Refused(const char* what
   if (status.fault || status.estop) {
     state_.store(TableLinkState::kFaulted, std::memory_order_release);
     return Fail(RateTableErrorCode::kFaulted,
-                Cat(what, " refused: table reports fault '",
+                hw::ErrorText(what, " refused: table reports fault '",
                     hw::RateTableFaultName(status.fault_code), "'"));
   }
   return Fail(RateTableErrorCode::kExceptionReply,
-              Cat(what, " refused by the table (beyond its hardware limits)"));
+              hw::ErrorText(what, " refused by the table (beyond its hardware limits)"));
 }
 
 std::expected<void, RateTableError> InProcessRateTable::Connect() {
@@ -176,7 +170,7 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
       physics_.watchdog_ms() != config_.watchdog_timeout_ms) {
     Disconnect();
     return Fail(RateTableErrorCode::kReadBackMismatch,
-                Cat("connect: wrote accel ", config_.accel_limit_rad_s2, " rad/s^2, watchdog ",
+                hw::ErrorText("connect: wrote accel ", config_.accel_limit_rad_s2, " rad/s^2, watchdog ",
                     config_.watchdog_timeout_ms, " ms; read back ", physics_.accel_limit_rad_s2(),
                     ", ", physics_.watchdog_ms()));
   }
@@ -212,7 +206,7 @@ std::expected<void, RateTableError> InProcessRateTable::SetAccelerationLimit(dou
   if (!physics_.SetAccelLimit(accel_rad_s2)) return Refused("set acceleration limit");
   if (physics_.accel_limit_rad_s2() != accel_rad_s2) {
     return Fail(RateTableErrorCode::kReadBackMismatch,
-                Cat("acceleration limit: wrote ", accel_rad_s2, " rad/s^2, read back ",
+                hw::ErrorText("acceleration limit: wrote ", accel_rad_s2, " rad/s^2, read back ",
                     physics_.accel_limit_rad_s2()));
   }
   return {};

@@ -21,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fuzz_text.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 
 namespace hrgbench::bench {
@@ -31,20 +32,7 @@ namespace fs = std::filesystem;
 constexpr std::uint64_t kSeed = 0xC0F1'6F22'2026;
 constexpr int kIterationsPerKind = 3000;
 
-// Portable draws: the standard distributions differ between libraries, the seed must replay.
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : engine_(seed) {}
-  std::size_t Below(std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(engine_() % n); }
-  bool OneIn(std::size_t n) { return Below(n) == 0; }
-  template <typename T>
-  const T& Pick(const std::vector<T>& items) {
-    return items[Below(items.size())];
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
+using hrgbench::testing::Draw;
 
 enum class Kind { kStation, kSequence, kLimits };
 
@@ -93,25 +81,15 @@ const std::vector<std::string>& Numbers() {
 void Mutate(std::string& text, Draw& draw, std::string& log) {
   const std::size_t at = draw.Below(text.size() + 1);
   switch (draw.Below(9)) {
-    case 0: {  // flip a byte
-      if (text.empty()) break;
-      const std::size_t i = draw.Below(text.size());
-      text[i] = static_cast<char>(draw.Below(256));
-      log += " flip@" + std::to_string(i);
+    case 0:
+      hrgbench::testing::FlipByte(text, draw, log);
       break;
-    }
-    case 1:  // truncate
-      text.resize(at);
-      log += " truncate@" + std::to_string(at);
+    case 1:
+      hrgbench::testing::Truncate(text, at, log);
       break;
-    case 2: {  // duplicate a span
-      const std::size_t from = draw.Below(text.size() + 1);
-      const std::size_t length = draw.Below(std::min<std::size_t>(text.size() - from, 2048) + 1);
-      text.insert(at, text.substr(from, length));
-      log +=
-          " dup[" + std::to_string(from) + "+" + std::to_string(length) + "]@" + std::to_string(at);
+    case 2:
+      hrgbench::testing::DuplicateSpan(text, draw, at, 2048, log);
       break;
-    }
     case 3: {  // duplicate a whole line (a repeated key or table header)
       const std::size_t begin = text.rfind('\n', at == 0 ? 0 : at - 1);
       const std::size_t start = begin == std::string::npos ? 0 : begin + 1;
@@ -136,19 +114,9 @@ void Mutate(std::string& text, Draw& draw, std::string& log) {
              std::to_string(where);
       break;
     }
-    case 5: {  // replace a number with a huge or malformed one
-      const std::size_t digit = text.find_first_of("0123456789", at);
-      if (digit == std::string::npos) break;
-      std::size_t end = digit;
-      while (end < text.size() &&
-             std::string_view("0123456789.eE+-_").find(text[end]) != std::string_view::npos) {
-        ++end;
-      }
-      const std::string& number = draw.Pick(Numbers());
-      text.replace(digit, end - digit, number);
-      log += " number@" + std::to_string(digit) + "=" + number;
+    case 5:  // replace a number with a huge or malformed one
+      hrgbench::testing::ReplaceNumber(text, draw, at, ".eE+-_", Numbers(), log);
       break;
-    }
     case 6: {  // control characters in a string, escaped or raw
       const std::size_t quote = text.find('"', at);
       if (quote == std::string::npos) break;

@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fuzz_text.hpp"
 #include "hrgbench/session/session.hpp"
 #include "session_test_util.hpp"
 
@@ -38,19 +39,7 @@ constexpr int kIterations = 3000;
 
 // Small portable draws (the standard distributions differ between libraries; the seed must
 // replay the same inputs everywhere).
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : engine_(seed) {}
-  std::size_t Below(std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(engine_() % n); }
-  bool OneIn(std::size_t n) { return Below(n) == 0; }
-  template <typename T>
-  const T& Pick(const std::vector<T>& items) {
-    return items[Below(items.size())];
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
+using hrgbench::testing::Draw;
 
 Session BaseSession() {
   Session session;
@@ -137,25 +126,15 @@ std::size_t ValueEnd(const std::string& text, std::size_t start) {
 void Mutate(std::string& text, Draw& draw, std::string& log) {
   const std::size_t at = draw.Below(text.size() + 1);
   switch (draw.Below(9)) {
-    case 0: {  // flip a byte
-      if (text.empty()) break;
-      const std::size_t i = draw.Below(text.size());
-      text[i] = static_cast<char>(draw.Below(256));
-      log += " flip@" + std::to_string(i);
+    case 0:
+      hrgbench::testing::FlipByte(text, draw, log);
       break;
-    }
-    case 1:  // truncate
-      text.resize(at);
-      log += " truncate@" + std::to_string(at);
+    case 1:
+      hrgbench::testing::Truncate(text, at, log);
       break;
-    case 2: {  // duplicate a span
-      const std::size_t from = draw.Below(text.size() + 1);
-      const std::size_t length = draw.Below(std::min<std::size_t>(text.size() - from, 4096) + 1);
-      text.insert(at, text.substr(from, length));
-      log +=
-          " dup[" + std::to_string(from) + "+" + std::to_string(length) + "]@" + std::to_string(at);
+    case 2:
+      hrgbench::testing::DuplicateSpan(text, draw, at, 4096, log);
       break;
-    }
     case 3: {  // delete a span
       const std::size_t length = draw.Below(std::min<std::size_t>(text.size() - at, 64) + 1);
       text.erase(at, length);
@@ -173,19 +152,9 @@ void Mutate(std::string& text, Draw& draw, std::string& log) {
       log += " nest" + std::to_string(depth) + (closed ? "closed" : "") + "@" + std::to_string(at);
       break;
     }
-    case 5: {  // replace a number token with a huge or malformed one
-      const std::size_t digit = text.find_first_of("0123456789", at);
-      if (digit == std::string::npos) break;
-      std::size_t end = digit;
-      while (end < text.size() &&
-             std::string_view("0123456789.eE+-").find(text[end]) != std::string_view::npos) {
-        ++end;
-      }
-      const std::string& number = draw.Pick(Numbers());
-      text.replace(digit, end - digit, number);
-      log += " number@" + std::to_string(digit) + "=" + number;
+    case 5:  // replace a number token with a huge or malformed one
+      hrgbench::testing::ReplaceNumber(text, draw, at, ".eE+-", Numbers(), log);
       break;
-    }
     case 6: {  // control characters and escapes, raw or escaped
       static const std::vector<std::string> bits = {
           std::string(1, '\0'), "\\u0000", "\n", "\r", "\x7F", "\\", "\"", "\xFF\xFE", ",", "\t"};

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <future>
 #include <latch>
 #include <mutex>
@@ -78,8 +79,9 @@ TEST(VirtualTimeClockTest, TwoThreadsWakeInSimulatedTimeOrder) {
   EXPECT_EQ(clock.Statistics().parks, 0u);
 }
 
-TEST(VirtualTimeClockTest, TimeWaitsForABusyThread) {
-  VirtualTimeClock clock;
+// Thread a does `work` off the clock between two sleeps while thread b's sleep falls due in the
+// middle of it. True when b woke while a was still working: time did not wait for a.
+bool TimeRanPastAWorkingThread(VirtualTimeClock& clock, const std::function<void()>& work) {
   std::atomic<bool> a_busy{false};
   std::atomic<bool> b_saw_a_busy{false};
   std::latch attached(2);
@@ -87,8 +89,8 @@ TEST(VirtualTimeClockTest, TimeWaitsForABusyThread) {
     clock.AttachCurrentThread();
     attached.arrive_and_wait();
     clock.SleepForNs(1 * kMs);
-    a_busy = true;  // working, off the clock, for 30 ms of wall time
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    a_busy = true;
+    work();
     a_busy = false;
     clock.SleepForNs(10 * kMs);
   });
@@ -100,7 +102,14 @@ TEST(VirtualTimeClockTest, TimeWaitsForABusyThread) {
   });
   a.join();
   b.join();
-  EXPECT_FALSE(b_saw_a_busy);
+  return b_saw_a_busy;
+}
+
+TEST(VirtualTimeClockTest, TimeWaitsForABusyThread) {
+  VirtualTimeClock clock;
+  // Working, off the clock, for 30 ms of wall time (below the park time).
+  EXPECT_FALSE(TimeRanPastAWorkingThread(
+      clock, [] { std::this_thread::sleep_for(std::chrono::milliseconds(30)); }));
   EXPECT_EQ(clock.Statistics().parks, 0u);
 }
 
@@ -124,29 +133,12 @@ TEST(VirtualTimeClockTest, AWorkingThreadIsNotParkedPastTheParkTime) {
   VirtualTimeClockOptions options;
   options.park_after_wall_ns = 20 * kMs;
   VirtualTimeClock clock(options);
-  std::atomic<bool> a_busy{false};
-  std::atomic<bool> b_saw_a_busy{false};
-  std::latch attached(2);
-  std::thread a([&] {
-    clock.AttachCurrentThread();
-    attached.arrive_and_wait();
-    clock.SleepForNs(1 * kMs);
-    a_busy = true;  // runnable for 10 park periods, never asleep
+  // Runnable for 10 park periods, never asleep.
+  EXPECT_FALSE(TimeRanPastAWorkingThread(clock, [] {
     const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
     while (std::chrono::steady_clock::now() < until) {
     }
-    a_busy = false;
-    clock.SleepForNs(10 * kMs);
-  });
-  std::thread b([&] {
-    clock.AttachCurrentThread();
-    attached.arrive_and_wait();
-    clock.SleepForNs(2 * kMs);  // due while a works: must wait for it
-    b_saw_a_busy = a_busy.load();
-  });
-  a.join();
-  b.join();
-  EXPECT_FALSE(b_saw_a_busy);
+  }));
   EXPECT_EQ(clock.Statistics().parks, 0u);
   EXPECT_GE(clock.Statistics().park_deferrals, 1u);
 }
