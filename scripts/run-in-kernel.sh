@@ -11,7 +11,8 @@
 #               must start with #!/bin/sh: the guest has busybox, not bash.
 # Exit code: the command's exit code inside the guest; 1 when the guest gives no result (hung,
 # crashed, setup failed); 77 (ctest's skip) when qemu or the kernel cache is missing on a developer
-# machine. With CI=true a missing prerequisite is a failure instead: CI must never skip these tests.
+# machine. In a strict run (CI=true, or HRGBENCH_STRICT=1 as scripts/run-tests.sh sets) a missing
+# prerequisite is a failure instead: the README's test command must never skip these tests.
 #
 # Environment: HRGBENCH_KERNEL_TIMEOUT_S (default 300) bounds the whole VM run;
 # HRGBENCH_KERNEL_MEMORY_MB (default 256) is the guest's memory; HRGBENCH_KERNEL_KEEP=1 keeps the
@@ -56,8 +57,8 @@ memory_mb="${HRGBENCH_KERNEL_MEMORY_MB:-256}"
 # A developer machine without QEMU skips (77); CI fails, so a broken setup is never reported green.
 unavailable() {
   local fix="run: bash scripts/setup-kernel-tests.sh $build"
-  if [ "${CI:-}" = "true" ]; then
-    echo "$me: FAIL: $1 (CI=true, so this is an error, not a skip; $fix)" >&2
+  if [ "${CI:-}" = "true" ] || [ "${HRGBENCH_STRICT:-}" = "1" ]; then
+    echo "$me: FAIL: $1 (a strict run: CI=true or HRGBENCH_STRICT=1; an error, not a skip; $fix)" >&2
     exit 1
   fi
   echo "$me: SKIP: $1 ($fix)" >&2
