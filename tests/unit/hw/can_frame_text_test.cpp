@@ -1,10 +1,10 @@
-#include "gyro_can/can_frame_text.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-namespace hrgbench::drivers::gyro_can {
+namespace hrgbench::hw {
 namespace {
 
 TEST(CanFrameTextTest, RoundTripsTheNotation) {
@@ -13,7 +13,7 @@ TEST(CanFrameTextTest, RoundTripsTheNotation) {
                            "000##1"
                            "000102030405060708090A0B0C0D0E0F101112131415161718191A1B1C1D1E1F"
                            "202122232425262728292A2B2C2D2E2F303132333435363738393A3B3C3D3E3F"}) {
-    const std::optional<hw::CanFrame> frame = ParseCanFrame(text);
+    const std::optional<CanFrame> frame = ParseCanFrame(text);
     ASSERT_TRUE(frame.has_value()) << text;
     EXPECT_EQ(CanFrameToString(*frame), text);
   }
@@ -53,4 +53,4 @@ TEST(CanFrameTextTest, FormatRefusesASmallBuffer) {
 }
 
 }  // namespace
-}  // namespace hrgbench::drivers::gyro_can
+}  // namespace hrgbench::hw

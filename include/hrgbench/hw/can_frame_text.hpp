@@ -16,7 +16,7 @@
 
 #include "hrgbench/hw/can_frame.hpp"
 
-namespace hrgbench::drivers::gyro_can {
+namespace hrgbench::hw {
 
 // Longest text FormatCanFrame writes: 8 id digits, "##", a flags digit, 128 data digits, NUL.
 inline constexpr std::size_t kMaxCanFrameTextLength = 8 + 2 + 1 + 2 * 64 + 1;
@@ -24,14 +24,14 @@ inline constexpr std::size_t kMaxCanFrameTextLength = 8 + 2 + 1 + 2 * 64 + 1;
 // Writes the frame's text and a terminating NUL into `out`; returns the characters written
 // without the NUL, or 0 if `out` is too small. Real-time safe: no allocation; noexcept.
 // Error frames are written as ERR:<8 hex digits of id>.
-std::size_t FormatCanFrame(const hw::CanFrame& frame, std::span<char> out) noexcept;
+std::size_t FormatCanFrame(const CanFrame& frame, std::span<char> out) noexcept;
 
 // Same, as a std::string (allocates: for logs and test messages).
-std::string CanFrameToString(const hw::CanFrame& frame);
+std::string CanFrameToString(const CanFrame& frame);
 
 // Parses the notation above. Nullopt for anything else: bad hex, an id beyond 11 bits in the
 // 3-digit form or beyond 29 bits in the 8-digit form, more than 8 classic or 64 FD bytes, an FD
 // length that is not a valid FD DLC length, an odd number of data digits. noexcept, no allocation.
-std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept;
+std::optional<CanFrame> ParseCanFrame(std::string_view text) noexcept;
 
-}  // namespace hrgbench::drivers::gyro_can
+}  // namespace hrgbench::hw
