@@ -6,6 +6,7 @@ namespace hrgbench::hw {
 namespace {
 
 constexpr char kHex[] = "0123456789ABCDEF";
+constexpr std::uint32_t kCanErrFlag = 0x20000000u;  // linux/can.h CAN_ERR_FLAG
 
 int HexValue(char c) noexcept {
   if (c >= '0' && c <= '9') return c - '0';
@@ -21,32 +22,33 @@ bool ValidFdLength(std::size_t n) noexcept {
 }  // namespace
 
 std::size_t FormatCanFrame(const CanFrame& frame, std::span<char> out) noexcept {
+  // Built in a local buffer first so that a short `out` is left untouched.
   char buffer[kMaxCanFrameTextLength];
   std::size_t n = 0;
   const auto put_hex = [&](std::uint32_t value, int digits) {
     for (int d = digits - 1; d >= 0; --d) buffer[n++] = kHex[(value >> (4 * d)) & 0xFu];
   };
   if (frame.error) {
-    buffer[n++] = 'E';
-    buffer[n++] = 'R';
-    buffer[n++] = 'R';
-    buffer[n++] = ':';
-    put_hex(frame.id, 8);
+    // candump prints can_id & (CAN_ERR_MASK | CAN_ERR_FLAG): the flag makes it 2xxxxxxx.
+    put_hex(kCanErrFlag | (frame.id & CanFrame::kExtendedIdMask), 8);
+  } else if (frame.extended) {
+    put_hex(frame.id & CanFrame::kExtendedIdMask, 8);
   } else {
-    put_hex(frame.id, frame.extended ? 8 : 3);
-    buffer[n++] = '#';
-    const std::uint8_t max_length = frame.fd ? CanFrame::kMaxFdLength : CanFrame::kMaxClassicLength;
-    const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
-    if (frame.remote) {
-      buffer[n++] = 'R';
-      if (length > 0) buffer[n++] = kHex[length & 0xFu];
-    } else {
-      if (frame.fd) {
-        buffer[n++] = '#';
-        buffer[n++] = frame.bit_rate_switch ? '1' : '0';
-      }
-      for (std::size_t i = 0; i < length; ++i) put_hex(frame.data[i], 2);
+    put_hex(frame.id & CanFrame::kStandardIdMask, 3);
+  }
+  buffer[n++] = '#';
+  const bool fd = frame.fd && !frame.error;  // error frames are classic (CAN_ERR_DLC)
+  const std::uint8_t max_length = fd ? CanFrame::kMaxFdLength : CanFrame::kMaxClassicLength;
+  const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
+  if (frame.remote && !fd && !frame.error) {
+    buffer[n++] = 'R';
+    if (length > 0) buffer[n++] = kHex[length];
+  } else {
+    if (fd) {
+      buffer[n++] = '#';
+      buffer[n++] = frame.bit_rate_switch ? '1' : '0';
     }
+    for (std::size_t i = 0; i < length; ++i) put_hex(frame.data[i], 2);
   }
   if (out.size() < n + 1) return 0;
   for (std::size_t i = 0; i < n; ++i) out[i] = buffer[i];
