@@ -11,7 +11,7 @@
 #include <random>
 #include <string>
 
-#include "can_frame_text.hpp"
+#include "can_frame_assertions.hpp"
 #include "candump_log_parser.hpp"
 #include "hrgbench/bench/candump_log.hpp"
 
