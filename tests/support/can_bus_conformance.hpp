@@ -23,7 +23,7 @@
 #include <ostream>
 #include <string>
 
-#include "can_frame_text.hpp"
+#include "can_frame_assertions.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 
 namespace hrgbench::testing {
@@ -89,10 +89,10 @@ class CanBusConformanceTest : public ::testing::TestWithParam<CanBusConformanceP
 
   // Sends on `from` and expects exactly that frame next on `to`.
   void ExpectRoundTrip(hw::CanBus& from, hw::CanBus& to, const hw::CanFrame& frame) {
-    ASSERT_EQ(from.Send(frame, kReceiveTimeoutNs), hw::CanStatus::kOk) << hw::ToCanUtilsText(frame);
+    ASSERT_EQ(from.Send(frame, kReceiveTimeoutNs), hw::CanStatus::kOk) << hw::CanFrameToString(frame);
     hw::CanFrame received;
     ASSERT_EQ(to.Receive(&received, kReceiveTimeoutNs, nullptr), hw::CanStatus::kOk)
-        << "waiting for " << hw::ToCanUtilsText(frame);
+        << "waiting for " << hw::CanFrameToString(frame);
     EXPECT_TRUE(SameFrame(frame, received));
   }
 

@@ -74,7 +74,7 @@ void ExpectOrdered(hw::CanBus& tx, hw::CanBus& rx, int count, bool fd) {
           << "waiting for frame " << next_expected;
       const std::uint32_t sequence = frame.data[0] | frame.data[1] << 8 | frame.data[2] << 16 |
                                      static_cast<std::uint32_t>(frame.data[3]) << 24;
-      ASSERT_EQ(sequence, next_expected) << hw::ToCanUtilsText(frame);
+      ASSERT_EQ(sequence, next_expected) << hw::CanFrameToString(frame);
       ASSERT_EQ(frame.id, 0x100u + next_expected % 0x600);
       ASSERT_EQ(info.dropped_frames, 0u);
       ++next_expected;
@@ -104,7 +104,7 @@ TEST_P(CanBusConformanceTest, IdMaskFilterPassesOnlyMatchingStandardFrames) {
     EXPECT_TRUE(SameFrame(expected, received));
   }
   CanFrame extra;
-  EXPECT_EQ(b().Receive(&extra, 0, nullptr), CanStatus::kTimeout) << hw::ToCanUtilsText(extra);
+  EXPECT_EQ(b().Receive(&extra, 0, nullptr), CanStatus::kTimeout) << hw::CanFrameToString(extra);
 }
 
 TEST_P(CanBusConformanceTest, FiltersSeparateExtendedFromStandardAndAreOred) {
@@ -120,7 +120,7 @@ TEST_P(CanBusConformanceTest, FiltersSeparateExtendedFromStandardAndAreOred) {
     EXPECT_TRUE(SameFrame(expected, received));
   }
   CanFrame extra;
-  EXPECT_EQ(b().Receive(&extra, 0, nullptr), CanStatus::kTimeout) << hw::ToCanUtilsText(extra);
+  EXPECT_EQ(b().Receive(&extra, 0, nullptr), CanStatus::kTimeout) << hw::CanFrameToString(extra);
 }
 
 TEST_P(CanBusConformanceTest, TooManyFiltersAreRefused) {
@@ -175,7 +175,7 @@ TEST_P(CanBusConformanceTest, InvalidFramesAreRefusedAndNotSent) {
   CanFrame extended_too_big = Frame(0x20000000, 1, true);
   for (const CanFrame& frame :
        {fd_remote, fd_bad_length, classic_brs, error_frame, extended_too_big}) {
-    EXPECT_EQ(a().Send(frame, 0), CanStatus::kInvalidFrame) << hw::ToCanUtilsText(frame);
+    EXPECT_EQ(a().Send(frame, 0), CanStatus::kInvalidFrame) << hw::CanFrameToString(frame);
   }
   if (!a().SupportsFd()) {
     EXPECT_EQ(a().Send(FdFrame(0x10, 8, false), 0), CanStatus::kInvalidFrame);
@@ -186,7 +186,7 @@ TEST_P(CanBusConformanceTest, InvalidFramesAreRefusedAndNotSent) {
 TEST_P(CanBusConformanceTest, SenderDoesNotReceiveItsOwnFrames) {
   ExpectRoundTrip(a(), b(), Frame(0x42, 1));
   CanFrame frame;
-  EXPECT_EQ(a().Receive(&frame, 0, nullptr), CanStatus::kTimeout) << hw::ToCanUtilsText(frame);
+  EXPECT_EQ(a().Receive(&frame, 0, nullptr), CanStatus::kTimeout) << hw::CanFrameToString(frame);
 }
 
 TEST_P(CanBusConformanceTest, TimestampsAreStampedAndMonotonicPerSource) {

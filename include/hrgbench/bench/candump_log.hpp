@@ -12,9 +12,8 @@
 // "(%010lu.%06lu) <ifname> ". Error frames are always classic (CAN_ERR_DLC 8 bytes shown, or the
 // frame's length if shorter); remote frames of FD frames do not exist.
 //
-// The formatter here is the bench's own: drivers/gyro_can/can_frame_text.* writes error frames as
-// "ERR:<id>" (test notation), which canplayer does not read, and src/bench may not depend on a
-// driver folder.
+// The frame part is the hardware layer's one can-utils formatter, hw::FormatCanFrame
+// (hrgbench/hw/can_frame_text.hpp); this file adds the time stamp, interface and line framing.
 
 #include <cstddef>
 #include <cstdint>
@@ -27,6 +26,7 @@
 
 #include "hrgbench/bench/session_record_types.hpp"
 #include "hrgbench/hw/can_frame.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::bench {
 
@@ -43,8 +43,9 @@ struct LoggedCanFrame {
 };
 
 // Longest line FormatCandumpLine writes, interface names up to 15 characters (IFNAMSIZ - 1):
-// "(" 20 digits "." 6 digits ") " ifname " " 8 + 2 + 1 + 128 frame digits "\n" NUL.
-inline constexpr std::size_t kMaxCandumpLineLength = 1 + 20 + 1 + 6 + 2 + 15 + 1 + 139 + 1 + 1;
+// "(" 20 digits "." 6 digits ") " ifname " " frame text (8 + 2 + 1 + 128) "\n" NUL.
+inline constexpr std::size_t kMaxCandumpLineLength =
+    1 + 20 + 1 + 6 + 2 + 15 + 1 + (hw::kMaxCanFrameTextLength - 1) + 1 + 1;
 
 // Writes one log line (with '\n') and a NUL into `out`; returns its length without the NUL, or 0
 // when `out` is too small or `interface_name` is empty, longer than 15 characters or contains a

@@ -1,23 +1,27 @@
-// candump -L line formatting, after can-utils lib.c sprint_canframe() and candump.c's log line
-// "(%010lu.%06lu) %s %s\n": written without printf so it is real-time safe and cheap (~100 ns).
+// candump -L line formatting, after candump.c's log line "(%010lu.%06lu) %s %s\n": written without
+// printf so it is real-time safe and cheap (~100 ns). The frame itself is the hardware layer's
+// can-utils notation (hw::FormatCanFrame, after can-utils lib.c sprint_canframe()).
 
 #include <cstdint>
 
 #include "hrgbench/bench/candump_log.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::bench {
 namespace {
 
-constexpr char kHex[] = "0123456789ABCDEF";
-constexpr std::uint32_t kCanErrFlag = 0x20000000u;  // linux/can.h CAN_ERR_FLAG
-constexpr std::size_t kMaxInterfaceName = 15;      // IFNAMSIZ - 1
+constexpr std::size_t kMaxInterfaceName = 15;  // IFNAMSIZ - 1
 
 class LineBuilder {
  public:
   explicit LineBuilder(char* buffer) : buffer_(buffer) {}
   void Put(char c) { buffer_[n_++] = c; }
-  void Hex(std::uint32_t value, int digits) {
-    for (int d = digits - 1; d >= 0; --d) Put(kHex[(value >> (4 * d)) & 0xFu]);
+  // The frame's can-utils text (and a NUL the next Put overwrites); `capacity` is the whole
+  // buffer's size. False if it did not fit, which kMaxCandumpLineLength rules out.
+  bool Frame(const hw::CanFrame& frame, std::size_t capacity) {
+    const std::size_t written = hw::FormatCanFrame(frame, std::span(buffer_ + n_, capacity - n_));
+    n_ += written;
+    return written > 0;
   }
   // Zero-padded to at least `min_digits` decimal digits.
   void Decimal(std::uint64_t value, int min_digits) {
@@ -57,30 +61,7 @@ std::size_t FormatCandumpLine(const LoggedCanFrame& logged, std::string_view int
   for (const char c : interface_name) line.Put(c);
   line.Put(' ');
 
-  const hw::CanFrame& frame = logged.frame;
-  if (frame.error) {
-    // candump prints can_id & (CAN_ERR_MASK | CAN_ERR_FLAG): the flag makes it 2xxxxxxx.
-    line.Hex(kCanErrFlag | (frame.id & hw::CanFrame::kExtendedIdMask), 8);
-  } else if (frame.extended) {
-    line.Hex(frame.id & hw::CanFrame::kExtendedIdMask, 8);
-  } else {
-    line.Hex(frame.id & hw::CanFrame::kStandardIdMask, 3);
-  }
-  line.Put('#');
-  const bool fd = frame.fd && !frame.error;
-  const std::uint8_t max_length =
-      fd ? hw::CanFrame::kMaxFdLength : hw::CanFrame::kMaxClassicLength;
-  const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
-  if (frame.remote && !fd && !frame.error) {
-    line.Put('R');
-    if (length > 0) line.Put(kHex[length]);
-  } else {
-    if (fd) {
-      line.Put('#');
-      line.Put(frame.bit_rate_switch ? '1' : '0');
-    }
-    for (std::uint8_t i = 0; i < length; ++i) line.Hex(frame.data[i], 2);
-  }
+  if (!line.Frame(logged.frame, sizeof buffer)) return 0;
   line.Put('\n');
 
   const std::size_t n = line.size();

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "candump_log_parser.hpp"
-#include "can_frame_text.hpp"
+#include "can_frame_assertions.hpp"
 #include "hrgbench/bench/session_recorder.hpp"
 #include "hrgbench/session/session.hpp"
 #include "record_test_dir.hpp"

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "can_frame_text.hpp"
+#include "can_frame_assertions.hpp"
 
 namespace hrgbench::drivers::can_virtual {
 namespace {
@@ -125,7 +125,7 @@ TEST(VirtualCanBus, CorruptNextFlipsExactlyOneDataBitOfFramesWithData) {
   for (std::size_t i = 0; i < 8; ++i) {
     flipped_bits += std::popcount(static_cast<unsigned>(frame.data[i] ^ sent.data[i]));
   }
-  EXPECT_EQ(flipped_bits, 1) << hw::ToCanUtilsText(sent) << " -> " << hw::ToCanUtilsText(frame);
+  EXPECT_EQ(flipped_bits, 1) << hw::CanFrameToString(sent) << " -> " << hw::CanFrameToString(frame);
   ASSERT_EQ(b->Receive(&frame, 0, nullptr), CanStatus::kOk);
   EXPECT_TRUE(testing::SameFrame(sent, frame));
   EXPECT_EQ(bus->Statistics().injected_corruptions, 1u);

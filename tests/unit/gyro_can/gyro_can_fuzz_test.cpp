@@ -1,7 +1,7 @@
 // Seeded fuzzing of the gyro CAN protocol's receive side: random frames and bit-flipped valid
 // frames into every decoder, the decoded sample frames (with random stamps, formats and rates)
-// into SampleStreamDecoder, and random and mutated can-utils text into ParseCanFrame. Nothing may
-// crash; a decoder either says kOk, and then the frame re-encodes to one that decodes the same,
+// into SampleStreamDecoder, and random and mutated can-utils text into hw::ParseCanFrame. Nothing
+// may crash; a decoder either says kOk, and then the frame re-encodes to one that decodes the same,
 // or names what is wrong (a non-empty status text); the stream's counters stay consistent; text
 // either parses to a frame that formats back to text parsing to the same frame, or is refused.
 //
@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "gyro_can/can_frame_text.hpp"
 #include "gyro_can/gyro_codec.hpp"
 #include "gyro_can/sample_stream_decoder.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
@@ -155,8 +155,9 @@ TEST(GyroCanFuzz, DecodersAndTheSampleStreamSurviveAnyFrame) {
       ++decoded;
       const hw::CanFrame again = encode(message);
       decltype(message) twice{};
-      ASSERT_EQ(decode(again, &twice), DecodeStatus::kOk) << log << " " << CanFrameToString(frame);
-      ASSERT_TRUE(SameFrame(again, encode(twice))) << log << " " << CanFrameToString(frame);
+      ASSERT_EQ(decode(again, &twice), DecodeStatus::kOk)
+          << log << " " << hw::CanFrameToString(frame);
+      ASSERT_TRUE(SameFrame(again, encode(twice))) << log << " " << hw::CanFrameToString(frame);
     };
     check(DecodeConfigure, EncodeConfigure, ConfigureCommand{});
     check(DecodeExcite, EncodeExcite, ExciteCommand{});
@@ -193,7 +194,7 @@ TEST(GyroCanFuzz, FrameTextParsesOrIsRefused) {
   for (int iteration = 0; iteration < kTexts; ++iteration) {
     std::string text;
     if (draw.OneIn(2)) {  // a valid frame's text, mutated
-      text = CanFrameToString(ValidFrame(draw));
+      text = hw::CanFrameToString(ValidFrame(draw));
       const std::size_t edits = 1 + draw.Below(3);
       for (std::size_t e = 0; e < edits && !text.empty(); ++e) {
         const std::size_t at = draw.Below(text.size());
@@ -215,11 +216,11 @@ TEST(GyroCanFuzz, FrameTextParsesOrIsRefused) {
       for (char& c : text)
         c = draw.OneIn(4) ? static_cast<char>(draw.Bits()) : alphabet[draw.Below(alphabet.size())];
     }
-    const std::optional<hw::CanFrame> frame = ParseCanFrame(text);
+    const std::optional<hw::CanFrame> frame = hw::ParseCanFrame(text);
     if (!frame) continue;
     ++parsed;
-    const std::string again = CanFrameToString(*frame);
-    const std::optional<hw::CanFrame> reparsed = ParseCanFrame(again);
+    const std::string again = hw::CanFrameToString(*frame);
+    const std::optional<hw::CanFrame> reparsed = hw::ParseCanFrame(again);
     ASSERT_TRUE(reparsed) << "seed " << kSeed + 1 << " iteration " << iteration << ": " << again;
     ASSERT_TRUE(SameFrame(*frame, *reparsed)) << "iteration " << iteration << ": " << again;
   }

@@ -10,13 +10,13 @@
 #include <numbers>
 #include <string>
 
-#include "gyro_can/can_frame_text.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
 
 hw::CanFrame Frame(const char* text) {
-  const std::optional<hw::CanFrame> frame = ParseCanFrame(text);
+  const std::optional<hw::CanFrame> frame = hw::ParseCanFrame(text);
   EXPECT_TRUE(frame.has_value()) << text;
   return frame.value_or(hw::CanFrame{});
 }
@@ -33,10 +33,10 @@ TEST(GyroCodecTest, ConfigureGolden) {
   command.sample_rate_hz = 1000;
   command.format = FrameFormat::kClassic;
   command.status_rate_hz = 10;
-  EXPECT_EQ(CanFrameToString(EncodeConfigure(command)), "040#07E803000A0000E9");
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(command)), "040#07E803000A0000E9");
   ConfigureCommand fd{
       .token = 0x21, .sample_rate_hz = 5000, .format = FrameFormat::kFd, .status_rate_hz = 0};
-  EXPECT_EQ(CanFrameToString(EncodeConfigure(fd)), "040#2188130100000051");
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(fd)), "040#2188130100000051");
 
   ConfigureCommand decoded;
   ASSERT_EQ(DecodeConfigure(Frame("040#2188130100000051"), &decoded), DecodeStatus::kOk);
@@ -49,7 +49,7 @@ TEST(GyroCodecTest, ConfigureGolden) {
 TEST(GyroCodecTest, ExciteGolden) {
   // a = 1, b = -0.4, θ = π/7 (the paper's run 2 design) in 1e-4 units.
   ExciteCommand command{.token = 0x08, .a_raw = 10000, .b_raw = -4000, .theta_raw = 4488};
-  EXPECT_EQ(CanFrameToString(EncodeExcite(command)), "041#08102760F0881178");
+  EXPECT_EQ(hw::CanFrameToString(EncodeExcite(command)), "041#08102760F0881178");
   ExciteCommand decoded;
   ASSERT_EQ(DecodeExcite(Frame("041#08102760F0881178"), &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.a_raw, 10000);
@@ -59,9 +59,9 @@ TEST(GyroCodecTest, ExciteGolden) {
 }
 
 TEST(GyroCodecTest, SimpleCommandsGolden) {
-  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kRelease, 0x09})), "042#0967");
-  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kStop, 0x0A})), "043#0ACF");
-  EXPECT_EQ(CanFrameToString(EncodeSimpleCommand({Command::kStatusRequest, 0x0B})), "044#0B58");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kRelease, 0x09})), "042#0967");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kStop, 0x0A})), "043#0ACF");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kStatusRequest, 0x0B})), "044#0B58");
   SimpleCommand decoded;
   ASSERT_EQ(DecodeSimpleCommand(Frame("043#0ACF"), &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.command, Command::kStop);
@@ -71,9 +71,9 @@ TEST(GyroCodecTest, SimpleCommandsGolden) {
 
 TEST(GyroCodecTest, AckGolden) {
   const Ack release{Command::kRelease, 0x09, AckResult::kOk, hw::GyroMode::kFreeRun, 0};
-  EXPECT_EQ(CanFrameToString(EncodeAck(release)), "050#420900040000007C");
+  EXPECT_EQ(hw::CanFrameToString(EncodeAck(release)), "050#420900040000007C");
   const Ack configure{Command::kConfigure, 0x07, AckResult::kOk, hw::GyroMode::kConfigured, 1000};
-  EXPECT_EQ(CanFrameToString(EncodeAck(configure)), "050#40070001E80300DE");
+  EXPECT_EQ(hw::CanFrameToString(EncodeAck(configure)), "050#40070001E80300DE");
   Ack decoded;
   ASSERT_EQ(DecodeAck(Frame("050#41080100000000F9"), &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.command, Command::kExcite);
@@ -89,7 +89,7 @@ TEST(GyroCodecTest, StatusGolden) {
                              .fault_bits = 0,
                              .frequency_mhz = 5123456,
                              .temperature_centi_c = 2537};
-  EXPECT_EQ(CanFrameToString(EncodeStatus(status)), "051#3300802D4EE909B4");
+  EXPECT_EQ(hw::CanFrameToString(EncodeStatus(status)), "051#3300802D4EE909B4");
   StatusMessage decoded;
   ASSERT_EQ(DecodeStatusMessage(Frame("051#060558474C1EFB08"), &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.mode, hw::GyroMode::kFaulted);
@@ -102,11 +102,11 @@ TEST(GyroCodecTest, StatusGolden) {
 TEST(GyroCodecTest, SampleHalvesGolden) {
   SampleHalf a{.half = 0, .seq = 0x2A, .y_raw = {QuantiseY(1.0), QuantiseY(-0.5)}};
   SampleHalf b{.half = 1, .seq = 0x2A, .y_raw = {QuantiseY(0.25), QuantiseY(-kSampleLsb)}};
-  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(a)), "100#2A0000400000E002");
-  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(b)), "101#2A000010FFFFFFEF");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(a)), "100#2A0000400000E002");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(b)), "101#2A000010FFFFFFEF");
   // Saturation at ±full scale.
   SampleHalf sat{.half = 0, .seq = 0xFF, .y_raw = {QuantiseY(5.0), QuantiseY(-5.0)}};
-  EXPECT_EQ(CanFrameToString(EncodeSampleHalf(sat)), "100#FFFFFF7F00008085");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(sat)), "100#FFFFFF7F00008085");
 
   SampleHalf decoded;
   ASSERT_EQ(DecodeSampleHalf(Frame("101#2A000010FFFFFFEF"), &decoded), DecodeStatus::kOk);
@@ -134,8 +134,8 @@ TEST(GyroCodecTest, SampleFdGolden) {
   const char* partial =
       "102##1FFFF02E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF00000000000000000000000000000000"
       "0000000000000000000000000000000000000000E0";
-  EXPECT_EQ(CanFrameToString(EncodeSampleFd(Pattern(0x1234, 5))), full);
-  EXPECT_EQ(CanFrameToString(EncodeSampleFd(Pattern(0xFFFF, 2))), partial);
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(Pattern(0x1234, 5))), full);
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(Pattern(0xFFFF, 2))), partial);
   SampleFdBlock decoded;
   ASSERT_EQ(DecodeSampleFd(Frame(partial), &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.seq, 0xFFFF);

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "can_frame_text.hpp"
+#include "can_frame_assertions.hpp"
 
 namespace hrgbench::drivers::socketcan {
 namespace {

@@ -1,11 +1,12 @@
-#include "gyro_can/can_frame_text.hpp"
+#include "hrgbench/hw/can_frame_text.hpp"
 
 #include <cstdint>
 
-namespace hrgbench::drivers::gyro_can {
+namespace hrgbench::hw {
 namespace {
 
 constexpr char kHex[] = "0123456789ABCDEF";
+constexpr std::uint32_t kCanErrFlag = 0x20000000u;  // linux/can.h CAN_ERR_FLAG
 
 int HexValue(char c) noexcept {
   if (c >= '0' && c <= '9') return c - '0';
@@ -20,34 +21,34 @@ bool ValidFdLength(std::size_t n) noexcept {
 
 }  // namespace
 
-std::size_t FormatCanFrame(const hw::CanFrame& frame, std::span<char> out) noexcept {
+std::size_t FormatCanFrame(const CanFrame& frame, std::span<char> out) noexcept {
+  // Built in a local buffer first so that a short `out` is left untouched.
   char buffer[kMaxCanFrameTextLength];
   std::size_t n = 0;
   const auto put_hex = [&](std::uint32_t value, int digits) {
     for (int d = digits - 1; d >= 0; --d) buffer[n++] = kHex[(value >> (4 * d)) & 0xFu];
   };
   if (frame.error) {
-    buffer[n++] = 'E';
-    buffer[n++] = 'R';
-    buffer[n++] = 'R';
-    buffer[n++] = ':';
-    put_hex(frame.id, 8);
+    // candump prints can_id & (CAN_ERR_MASK | CAN_ERR_FLAG): the flag makes it 2xxxxxxx.
+    put_hex(kCanErrFlag | (frame.id & CanFrame::kExtendedIdMask), 8);
+  } else if (frame.extended) {
+    put_hex(frame.id & CanFrame::kExtendedIdMask, 8);
   } else {
-    put_hex(frame.id, frame.extended ? 8 : 3);
-    buffer[n++] = '#';
-    const std::uint8_t max_length =
-        frame.fd ? hw::CanFrame::kMaxFdLength : hw::CanFrame::kMaxClassicLength;
-    const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
-    if (frame.remote) {
-      buffer[n++] = 'R';
-      if (length > 0) buffer[n++] = kHex[length & 0xFu];
-    } else {
-      if (frame.fd) {
-        buffer[n++] = '#';
-        buffer[n++] = frame.bit_rate_switch ? '1' : '0';
-      }
-      for (std::size_t i = 0; i < length; ++i) put_hex(frame.data[i], 2);
+    put_hex(frame.id & CanFrame::kStandardIdMask, 3);
+  }
+  buffer[n++] = '#';
+  const bool fd = frame.fd && !frame.error;  // error frames are classic (CAN_ERR_DLC)
+  const std::uint8_t max_length = fd ? CanFrame::kMaxFdLength : CanFrame::kMaxClassicLength;
+  const std::uint8_t length = frame.length > max_length ? max_length : frame.length;
+  if (frame.remote && !fd && !frame.error) {
+    buffer[n++] = 'R';
+    if (length > 0) buffer[n++] = kHex[length];
+  } else {
+    if (fd) {
+      buffer[n++] = '#';
+      buffer[n++] = frame.bit_rate_switch ? '1' : '0';
     }
+    for (std::size_t i = 0; i < length; ++i) put_hex(frame.data[i], 2);
   }
   if (out.size() < n + 1) return 0;
   for (std::size_t i = 0; i < n; ++i) out[i] = buffer[i];
@@ -55,24 +56,23 @@ std::size_t FormatCanFrame(const hw::CanFrame& frame, std::span<char> out) noexc
   return n;
 }
 
-std::string CanFrameToString(const hw::CanFrame& frame) {
+std::string CanFrameToString(const CanFrame& frame) {
   char buffer[kMaxCanFrameTextLength];
   const std::size_t n = FormatCanFrame(frame, buffer);
   return std::string(buffer, n);
 }
 
-std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept {
+std::optional<CanFrame> ParseCanFrame(std::string_view text) noexcept {
   const std::size_t hash = text.find('#');
   if (hash != 3 && hash != 8) return std::nullopt;
-  hw::CanFrame frame;
+  CanFrame frame;
   frame.extended = hash == 8;
   for (std::size_t i = 0; i < hash; ++i) {
     const int v = HexValue(text[i]);
     if (v < 0) return std::nullopt;
     frame.id = (frame.id << 4) | static_cast<std::uint32_t>(v);
   }
-  if ((frame.id &
-       ~(frame.extended ? hw::CanFrame::kExtendedIdMask : hw::CanFrame::kStandardIdMask)) != 0) {
+  if ((frame.id & ~(frame.extended ? CanFrame::kExtendedIdMask : CanFrame::kStandardIdMask)) != 0) {
     return std::nullopt;
   }
   std::string_view rest = text.substr(hash + 1);
@@ -84,14 +84,14 @@ std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept {
     frame.length = static_cast<std::uint8_t>(v);
     return frame;
   }
-  std::size_t max_length = hw::CanFrame::kMaxClassicLength;
+  std::size_t max_length = CanFrame::kMaxClassicLength;
   if (!rest.empty() && rest[0] == '#') {
     if (rest.size() < 2) return std::nullopt;
     const int flags = HexValue(rest[1]);
     if (flags < 0) return std::nullopt;
     frame.fd = true;
     frame.bit_rate_switch = (flags & 1) != 0;
-    max_length = hw::CanFrame::kMaxFdLength;
+    max_length = CanFrame::kMaxFdLength;
     rest = rest.substr(2);
   }
   std::size_t length = 0;
@@ -112,4 +112,4 @@ std::optional<hw::CanFrame> ParseCanFrame(std::string_view text) noexcept {
   return frame;
 }
 
-}  // namespace hrgbench::drivers::gyro_can
+}  // namespace hrgbench::hw
