@@ -20,7 +20,7 @@
 #include <string>
 #include <string_view>
 
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 
 namespace hrgbench::bench {
@@ -149,9 +149,9 @@ double EarthRateOnAxisRadS(double latitude_deg, const std::array<double, 3>& axi
 // north (navigation convention): (cos el·sin az, cos el·cos az, sin el).
 std::array<double, 3> AxisFromElevationAzimuth(double elevation_deg, double azimuth_deg);
 
-std::expected<StationConfig, ConfigError> LoadStationConfig(const std::filesystem::path& file);
+std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(const std::filesystem::path& file);
 // The same from text in memory; `file` is only used in messages.
-std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view toml_text,
+std::expected<StationConfig, config_file::ConfigError> ParseStationConfig(std::string_view toml_text,
                                                              const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

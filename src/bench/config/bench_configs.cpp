@@ -12,6 +12,8 @@
 namespace hrgbench::bench {
 namespace {
 
+using config_file::ConfigError;
+
 // The loaded value, as close to the written one as a double allows.
 std::string Shortest(double v) { return session::NumberText(v); }
 

@@ -25,8 +25,8 @@
 #include <string_view>
 #include <utility>
 
-#include "hrgbench/bench/config_bounds.hpp"
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
 // Loader shorthand: `HRG_TRY(v, Expr());` declares v = Expr() and returns its error from the
 // enclosing function (whose return type is a std::expected<_, ConfigError>) when it has one;
@@ -38,7 +38,7 @@
 #define HRG_CHECK(opt_error) \
   if (auto hrg_error_ = (opt_error)) return std::unexpected(std::move(*hrg_error_))
 
-namespace hrgbench::bench::toml_util {
+namespace hrgbench::config_file {
 
 // The file's text, kept so that messages quote a value exactly as the user wrote it ("0.3", not the
 // "0.29999999999999999" a re-print of the double gives). Owns a copy: safe to move.
@@ -204,4 +204,4 @@ std::expected<Eigen::Matrix<double, N, 1>, ConfigError> RequiredVector(TableRead
   return VectorFrom<N>(reader, *node, key, range);
 }
 
-}  // namespace hrgbench::bench::toml_util
+}  // namespace hrgbench::config_file

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 
 struct ConfigError {
   std::filesystem::path file;
@@ -23,4 +23,4 @@ struct ConfigError {
   std::string ToString() const;
 };
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file
