@@ -1,6 +1,7 @@
 #pragma once
 // Strict reading of TOML config files (STYLE rule 10), shared by every loader in the project: the
-// bench's station, sequence and limits files (src/bench/config) and the simulation specs (src/app).
+// bench's station, sequence and limits files (src/bench/config), the simulation specs (src/app)
+// and hrg-gyro-sim's config file (drivers/sim/gyro_sim_config.cpp).
 //
 // Strict means: a key nobody asked for is an error (TableReader::Unknown), a value of the wrong
 // type or outside its range is an error, and every error is a ConfigError naming the file, the
