@@ -102,14 +102,14 @@ std::expected<void, ConfigError> ReadFaults(TableReader& reader, GyroSimFaults* 
   HRG_TRY(drop, ReadInteger(reader, "drop_sample_frames", 0, kUint32Max, &f->drop_sample_frames));
   HRG_TRY(nth,
           ReadInteger(reader, "drop_every_nth_frame", 0, kUint32Max, &f->drop_every_nth_frame));
-  HRG_TRY(corrupt, ReadInteger(reader, "corrupt_sample_frames", 0, kUint32Max,
-                               &f->corrupt_sample_frames));
+  HRG_TRY(corrupt,
+          ReadInteger(reader, "corrupt_sample_frames", 0, kUint32Max, &f->corrupt_sample_frames));
   HRG_TRY(stall,
           ReadInteger(reader, "stall_after_samples", -1, kInt64Max, &f->stall_after_samples));
   HRG_TRY(ignore, ReadInteger(reader, "ignore_commands", 0, kUint32Max, &f->ignore_commands));
   HRG_TRY(no_reply, ReadBool(reader, "no_reply", &f->no_reply));
-  HRG_TRY(bus_off, ReadInteger(reader, "bus_off_after_samples", -1, kInt64Max,
-                               &f->bus_off_after_samples));
+  HRG_TRY(bus_off,
+          ReadInteger(reader, "bus_off_after_samples", -1, kInt64Max, &f->bus_off_after_samples));
   HRG_TRY(bits, ReadInteger(reader, "fault_bits", 0, 255, &f->fault_bits));
   HRG_CHECK(reader.Unknown(
       "drop_sample_frames, drop_every_nth_frame, corrupt_sample_frames, stall_after_samples, "

@@ -16,10 +16,10 @@
 #include <expected>
 #include <filesystem>
 
-#include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/bench/limits_config.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 #include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
 namespace hrgbench::bench {
 

@@ -108,8 +108,9 @@ struct SequenceConfig {
   double TotalFreeRunS() const;
 };
 
-std::expected<SequenceConfig, config_file::ConfigError> LoadSequenceConfig(const std::filesystem::path& file);
-std::expected<SequenceConfig, config_file::ConfigError> ParseSequenceConfig(std::string_view toml_text,
-                                                               const std::filesystem::path& file);
+std::expected<SequenceConfig, config_file::ConfigError> LoadSequenceConfig(
+    const std::filesystem::path& file);
+std::expected<SequenceConfig, config_file::ConfigError> ParseSequenceConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

@@ -127,9 +127,10 @@ struct StationConfig {
   RealtimeConfig realtime;
 };
 
-std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(const std::filesystem::path& file);
+std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(
+    const std::filesystem::path& file);
 // The same from text in memory; `file` is only used in messages.
-std::expected<StationConfig, config_file::ConfigError> ParseStationConfig(std::string_view toml_text,
-                                                             const std::filesystem::path& file);
+std::expected<StationConfig, config_file::ConfigError> ParseStationConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

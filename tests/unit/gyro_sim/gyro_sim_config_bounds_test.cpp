@@ -35,8 +35,7 @@ TEST(GyroSimConfigBounds, OneMegabyteHostIsRefusedAndShownCut) {
   const auto config = ParseGyroSimConfig(
       "[omega]\nmodbus_host = \"" + std::string(1'000'000, 'h') + "\"\n", "sim.toml");
   ASSERT_FALSE(config.has_value());
-  EXPECT_NE(config.error().ToString().find(
-                "sim.toml:2: key 'omega.modbus_host' = \"hhhh"),
+  EXPECT_NE(config.error().ToString().find("sim.toml:2: key 'omega.modbus_host' = \"hhhh"),
             std::string::npos);
   EXPECT_NE(config.error().ToString().find("a name has at most 255"), std::string::npos);
   EXPECT_LT(config.error().ToString().size(), 200u) << config.error().ToString().substr(0, 200);

@@ -35,8 +35,9 @@ TEST(GyroSimConfigTest, FaultsAndOmegaAreRead) {
 TEST(GyroSimConfigTest, ErrorsNameFileLineKeyAndValue) {
   const auto unknown = ParseGyroSimConfig("[model]\nsigma = 1e-4\nsigmaa = 2\n", "sim.toml");
   ASSERT_FALSE(unknown.has_value());
-  EXPECT_EQ(unknown.error().ToString(),
-            "sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: delta, xi, sigma, seed)");
+  EXPECT_EQ(
+      unknown.error().ToString(),
+      "sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: delta, xi, sigma, seed)");
   const auto wrong = ParseGyroSimConfig("[model]\ndelta = [1, 2]\n", "sim.toml");
   ASSERT_FALSE(wrong.has_value());
   EXPECT_NE(wrong.error().ToString().find("sim.toml:2: key 'model.delta'"), std::string::npos)
