@@ -1,280 +1,165 @@
+// Loader of the hrg-gyro-sim config file, on the project's one strict config-file reader
+// (hrgbench/config_file/toml_reader.hpp): the same messages, bounds and file checks as the bench's
+// configs. Each table reader reports its unknown keys last, so a misspelt key is reported even
+// when everything else is right.
+
 #include "sim/gyro_sim_config.hpp"
 
-#include <toml++/toml.h>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <initializer_list>
-#include <sstream>
-#include <system_error>
+#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 
 namespace hrgbench::drivers::sim {
 namespace {
 
-// Bounds on the file (the same as the bench's config files, bench/config_bounds.hpp, which a driver
-// does not include): the example is 1 KiB; a host name has at most 253 bytes.
-constexpr std::size_t kMaxFileBytes = std::size_t{1} << 20;
-constexpr std::size_t kMaxNameBytes = 255;
-constexpr std::size_t kMaxShownValue = 80;
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
-// A value as shown in a message: control characters escaped (a NUL would cut the message short in
-// a C string, a line feed would split it), cut to kMaxShownValue characters.
-std::string Shown(std::string_view text) {
-  std::string shown;
-  for (const char ch : text) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c < 0x20 || c == 0x7F) {
-      char code[8];
-      std::snprintf(code, sizeof(code), "\\u%04X", c);
-      shown += code;
-    } else {
-      shown += ch;
-    }
-    if (shown.size() >= kMaxShownValue) return shown + "...";
-  }
-  return shown;
+constexpr std::int64_t kInt64Max = std::numeric_limits<std::int64_t>::max();
+constexpr std::int64_t kUint32Max = std::numeric_limits<std::uint32_t>::max();
+
+// GyroSimOptions::IsValid's ranges (gyro_sim_options.hpp), checked here as well so that an error
+// names the line and the value as written.
+constexpr Range kXi{-kMaxAbsXi, kMaxAbsXi, false,
+                    "in (-0.25, 0.25) (the distortion is a small perturbation)", false};
+constexpr Range kExciteTime{0.0, kMaxExciteTimeS, true, "in [0, 600]"};
+constexpr Range kResonantFrequency{0.0, hw::kMaxReportedResonantFrequencyHz, false,
+                                   "in (0, 16777.215] (the status field's range)"};
+constexpr Range kTemperature{-kMaxAbsTemperatureC, kMaxAbsTemperatureC, true,
+                             "in [-327.67, 327.67]"};
+
+// Optional keys: absent leaves *out (its in-class default) as it is.
+std::expected<void, ConfigError> ReadNumber(TableReader& reader, std::string_view key,
+                                            const Range& range, double* out) {
+  HRG_TRY(v, OptionalNumber(reader, key, range, *out));
+  *out = *v;
+  return {};
 }
 
-// Error messages: "<file>:<line>: <key> = <value>: <what>".
-class Reader {
- public:
-  explicit Reader(std::string_view source) : source_(source) {}
+template <typename Int>
+std::expected<void, ConfigError> ReadInteger(TableReader& reader, std::string_view key,
+                                             std::int64_t min, std::int64_t max, Int* out) {
+  HRG_TRY(v, OptionalInteger(reader, key, min, max, static_cast<std::int64_t>(*out)));
+  *out = static_cast<Int>(*v);
+  return {};
+}
 
-  std::string Where(const toml::node* node, std::string_view key) const {
-    std::ostringstream os;
-    os << source_;
-    if (node != nullptr) os << ":" << node->source().begin.line;
-    os << ": " << key;
-    if (node != nullptr) {
-      os << " = ";
-      if (node->is_string()) {
-        os << '"' << Shown(node->value_or(std::string())) << '"';
-      } else if (node->is_value() || node->is_array()) {
-        std::ostringstream value;
-        value << toml::toml_formatter(*node);
-        os << Shown(value.str());
-      }
-    }
-    return os.str();
+std::expected<void, ConfigError> ReadBool(TableReader& reader, std::string_view key, bool* out) {
+  HRG_TRY(v, OptionalBool(reader, key, *out));
+  *out = *v;
+  return {};
+}
+
+template <int N>
+std::expected<void, ConfigError> ReadVector(TableReader& reader, std::string_view key,
+                                            const Range& range, Eigen::Matrix<double, N, 1>* out) {
+  const toml::node* node = reader.Find(key);
+  if (node == nullptr) return {};
+  HRG_TRY(v, VectorFrom<N>(reader, *node, key, range));
+  *out = *v;
+  return {};
+}
+
+std::expected<void, ConfigError> ReadModel(TableReader& reader, GyroSimOptions* o) {
+  HRG_TRY(delta, ReadVector<6>(reader, "delta", kAnyFinite, &o->delta));
+  HRG_TRY(xi, ReadVector<4>(reader, "xi", kXi, &o->xi));
+  HRG_TRY(sigma, ReadNumber(reader, "sigma", kNonNegative, &o->sigma));
+  HRG_TRY(seed, ReadInteger(reader, "seed", 0, kInt64Max, &o->seed));
+  HRG_CHECK(reader.Unknown("delta, xi, sigma, seed"));
+  return {};
+}
+
+std::expected<void, ConfigError> ReadElectronics(TableReader& reader, GyroSimOptions* o) {
+  HRG_TRY(excite, ReadNumber(reader, "excite_time_s", kExciteTime, &o->excite_time_s));
+  HRG_TRY(frequency, ReadNumber(reader, "resonant_frequency_hz", kResonantFrequency,
+                                &o->resonant_frequency_hz));
+  HRG_TRY(temperature, ReadNumber(reader, "temperature_c", kTemperature, &o->temperature_c));
+  HRG_TRY(fd, ReadBool(reader, "supports_fd", &o->supports_fd));
+  HRG_CHECK(reader.Unknown("excite_time_s, resonant_frequency_hz, temperature_c, supports_fd"));
+  return {};
+}
+
+std::expected<void, ConfigError> ReadOmega(TableReader& reader, OmegaConfig* w) {
+  HRG_TRY(source, Choice(reader, "source", {"constant", "modbus"},
+                         w->source == OmegaConfig::Source::kConstant ? 0 : 1));
+  w->source = *source == 0 ? OmegaConfig::Source::kConstant : OmegaConfig::Source::kModbus;
+  HRG_TRY(omega, ReadNumber(reader, "omega_rad_s", kAnyFinite, &w->omega_rad_s));
+  // A host name: 1 to kMaxNameBytes (255) bytes, no control characters.
+  HRG_TRY(host, OptionalString(reader, "modbus_host", w->modbus_host, true));
+  w->modbus_host = std::move(*host);
+  HRG_TRY(port, ReadInteger(reader, "modbus_port", 1, 65535, &w->modbus_port));
+  HRG_TRY(earth, ReadNumber(reader, "earth_rate_rad_s", kAnyFinite, &w->earth_rate_rad_s));
+  HRG_TRY(poll, ReadInteger(reader, "poll_period_ms", 1, 10000, &w->poll_period_ms));
+  HRG_CHECK(reader.Unknown(
+      "source, omega_rad_s, modbus_host, modbus_port, earth_rate_rad_s, poll_period_ms"));
+  return {};
+}
+
+std::expected<void, ConfigError> ReadFaults(TableReader& reader, GyroSimFaults* f) {
+  HRG_TRY(drop, ReadInteger(reader, "drop_sample_frames", 0, kUint32Max, &f->drop_sample_frames));
+  HRG_TRY(nth,
+          ReadInteger(reader, "drop_every_nth_frame", 0, kUint32Max, &f->drop_every_nth_frame));
+  HRG_TRY(corrupt,
+          ReadInteger(reader, "corrupt_sample_frames", 0, kUint32Max, &f->corrupt_sample_frames));
+  HRG_TRY(stall,
+          ReadInteger(reader, "stall_after_samples", -1, kInt64Max, &f->stall_after_samples));
+  HRG_TRY(ignore, ReadInteger(reader, "ignore_commands", 0, kUint32Max, &f->ignore_commands));
+  HRG_TRY(no_reply, ReadBool(reader, "no_reply", &f->no_reply));
+  HRG_TRY(bus_off,
+          ReadInteger(reader, "bus_off_after_samples", -1, kInt64Max, &f->bus_off_after_samples));
+  HRG_TRY(bits, ReadInteger(reader, "fault_bits", 0, 255, &f->fault_bits));
+  HRG_CHECK(reader.Unknown(
+      "drop_sample_frames, drop_every_nth_frame, corrupt_sample_frames, stall_after_samples, "
+      "ignore_commands, no_reply, bus_off_after_samples, fault_bits"));
+  return {};
+}
+
+std::expected<GyroSimFileConfig, ConfigError> ReadConfig(const TomlDocument& document,
+                                                         const std::filesystem::path& file) {
+  const Source source(file, document.text);
+  TableReader root(document.root, "", source);
+  GyroSimFileConfig config;
+  HRG_TRY(model, SubTable(root, "model", false));
+  if (*model != nullptr) {
+    TableReader reader(**model, "model", source);
+    HRG_TRY(model_read, ReadModel(reader, &config.options));
   }
-
-  bool CheckKeys(const toml::table& table, std::string_view prefix,
-                 std::initializer_list<std::string_view> allowed, std::string* error) const {
-    for (const auto& [key, node] : table) {
-      bool known = false;
-      for (std::string_view a : allowed) known = known || key.str() == a;
-      if (!known) {
-        *error = Where(&node, std::string(prefix) + std::string(key.str())) + ": unknown key";
-        return false;
-      }
-    }
-    return true;
+  HRG_TRY(electronics, SubTable(root, "electronics", false));
+  if (*electronics != nullptr) {
+    TableReader reader(**electronics, "electronics", source);
+    HRG_TRY(electronics_read, ReadElectronics(reader, &config.options));
   }
-
-  bool Number(const toml::table& table, std::string_view prefix, std::string_view key, double* out,
-              std::string* error) const {
-    const toml::node* node = table.get(key);
-    if (node == nullptr) return true;
-    const std::optional<double> value = node->value<double>();
-    if (!value || !(node->is_floating_point() || node->is_integer())) {
-      *error = Where(node, std::string(prefix) + std::string(key)) + ": expected a number";
-      return false;
-    }
-    *out = *value;
-    return true;
+  HRG_TRY(omega, SubTable(root, "omega", false));
+  if (*omega != nullptr) {
+    TableReader reader(**omega, "omega", source);
+    HRG_TRY(omega_read, ReadOmega(reader, &config.omega));
   }
-
-  template <typename Int>
-  bool Integer(const toml::table& table, std::string_view prefix, std::string_view key, Int* out,
-               std::int64_t min, std::int64_t max, std::string* error) const {
-    const toml::node* node = table.get(key);
-    if (node == nullptr) return true;
-    const std::optional<std::int64_t> value =
-        node->is_integer() ? node->value<std::int64_t>() : std::nullopt;
-    if (!value || *value < min || *value > max) {
-      std::ostringstream os;
-      os << ": expected an integer in [" << min << ", " << max << "]";
-      *error = Where(node, std::string(prefix) + std::string(key)) + os.str();
-      return false;
-    }
-    *out = static_cast<Int>(*value);
-    return true;
+  HRG_TRY(faults, SubTable(root, "faults", false));
+  if (*faults != nullptr) {
+    TableReader reader(**faults, "faults", source);
+    HRG_TRY(faults_read, ReadFaults(reader, &config.options.faults));
   }
-
-  bool Bool(const toml::table& table, std::string_view prefix, std::string_view key, bool* out,
-            std::string* error) const {
-    const toml::node* node = table.get(key);
-    if (node == nullptr) return true;
-    if (!node->is_boolean()) {
-      *error = Where(node, std::string(prefix) + std::string(key)) + ": expected true or false";
-      return false;
-    }
-    *out = node->value_or(false);
-    return true;
-  }
-
-  template <typename Vector>
-  bool Vec(const toml::table& table, std::string_view prefix, std::string_view key, Vector* out,
-           std::string* error) const {
-    const toml::node* node = table.get(key);
-    if (node == nullptr) return true;
-    const toml::array* array = node->as_array();
-    const auto n = static_cast<std::size_t>(out->size());
-    if (array == nullptr || array->size() != n) {
-      std::ostringstream os;
-      os << ": expected an array of " << n << " numbers";
-      *error = Where(node, std::string(prefix) + std::string(key)) + os.str();
-      return false;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::optional<double> v = (*array)[i].value<double>();
-      if (!v) {
-        *error = Where(node, std::string(prefix) + std::string(key)) + ": element is not a number";
-        return false;
-      }
-      (*out)(static_cast<Eigen::Index>(i)) = *v;
-    }
-    return true;
-  }
-
- private:
-  std::string source_;
-};
-
-const toml::table* SubTable(const toml::table& root, std::string_view name) {
-  const toml::node* node = root.get(name);
-  return node == nullptr ? nullptr : node->as_table();
+  HRG_CHECK(root.Unknown("[model], [electronics], [omega], [faults]"));
+  // Every range IsValid checks was checked above at its key; this is the options' own contract.
+  if (std::string why; !config.options.IsValid(&why))
+    return std::unexpected(ConfigError{file, 0, "", "", std::move(why)});
+  return config;
 }
 
 }  // namespace
 
-std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_view toml_text,
-                                                                 std::string_view source_name) {
-  if (toml_text.size() > kMaxFileBytes) {
-    return std::unexpected(std::string(source_name) + ": file too large: more than " +
-                           std::to_string(kMaxFileBytes) + " bytes");
-  }
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source_name);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << source_name << ":" << e.source().begin.line << ": " << e.description();
-    return std::unexpected(os.str());
-  }
-  const Reader r(source_name);
-  GyroSimFileConfig config;
-  GyroSimOptions& o = config.options;
-  std::string error;
-  if (!r.CheckKeys(root, "", {"model", "electronics", "omega", "faults"}, &error)) {
-    return std::unexpected(error);
-  }
-  for (std::string_view name : {"model", "electronics", "omega", "faults"}) {
-    const toml::node* node = root.get(name);
-    if (node != nullptr && !node->is_table()) {
-      return std::unexpected(r.Where(node, name) + ": expected a table");
-    }
-  }
-  bool ok = true;
-  if (const toml::table* t = SubTable(root, "model")) {
-    ok = r.CheckKeys(*t, "model.", {"delta", "xi", "sigma", "seed"}, &error) &&
-         r.Vec(*t, "model.", "delta", &o.delta, &error) &&
-         r.Vec(*t, "model.", "xi", &o.xi, &error) &&
-         r.Number(*t, "model.", "sigma", &o.sigma, &error) &&
-         r.Integer(*t, "model.", "seed", &o.seed, 0, INT64_MAX, &error);
-  }
-  if (const toml::table* t = SubTable(root, "electronics"); ok && t != nullptr) {
-    ok = r.CheckKeys(*t, "electronics.",
-                     {"excite_time_s", "resonant_frequency_hz", "temperature_c", "supports_fd"},
-                     &error) &&
-         r.Number(*t, "electronics.", "excite_time_s", &o.excite_time_s, &error) &&
-         r.Number(*t, "electronics.", "resonant_frequency_hz", &o.resonant_frequency_hz, &error) &&
-         r.Number(*t, "electronics.", "temperature_c", &o.temperature_c, &error) &&
-         r.Bool(*t, "electronics.", "supports_fd", &o.supports_fd, &error);
-  }
-  if (const toml::table* t = SubTable(root, "omega"); ok && t != nullptr) {
-    OmegaConfig& w = config.omega;
-    ok = r.CheckKeys(*t, "omega.",
-                     {"source", "omega_rad_s", "modbus_host", "modbus_port", "earth_rate_rad_s",
-                      "poll_period_ms"},
-                     &error) &&
-         r.Number(*t, "omega.", "omega_rad_s", &w.omega_rad_s, &error) &&
-         r.Number(*t, "omega.", "earth_rate_rad_s", &w.earth_rate_rad_s, &error) &&
-         r.Integer(*t, "omega.", "modbus_port", &w.modbus_port, 1, 65535, &error) &&
-         r.Integer(*t, "omega.", "poll_period_ms", &w.poll_period_ms, 1, 10000, &error);
-    if (ok) {
-      if (const toml::node* n = t->get("source")) {
-        const std::string s = n->value_or(std::string());
-        if (s == "constant") {
-          w.source = OmegaConfig::Source::kConstant;
-        } else if (s == "modbus") {
-          w.source = OmegaConfig::Source::kModbus;
-        } else {
-          return std::unexpected(r.Where(n, "omega.source") +
-                                 ": expected \"constant\" or \"modbus\"");
-        }
-      }
-      if (const toml::node* n = t->get("modbus_host")) {
-        if (!n->is_string())
-          return std::unexpected(r.Where(n, "omega.modbus_host") + ": expected a string");
-        w.modbus_host = n->value_or(std::string());
-        bool printable = true;
-        for (const char c : w.modbus_host) {
-          printable = printable && static_cast<unsigned char>(c) >= 0x20 && c != 0x7F;
-        }
-        if (w.modbus_host.empty() || w.modbus_host.size() > kMaxNameBytes || !printable) {
-          return std::unexpected(r.Where(n, "omega.modbus_host") +
-                                 ": expected a host name: 1 to 255 bytes, no control characters");
-        }
-      }
-    }
-  }
-  if (const toml::table* t = SubTable(root, "faults"); ok && t != nullptr) {
-    GyroSimFaults& f = o.faults;
-    ok = r.CheckKeys(*t, "faults.",
-                     {"drop_sample_frames", "drop_every_nth_frame", "corrupt_sample_frames",
-                      "stall_after_samples", "ignore_commands", "no_reply", "bus_off_after_samples",
-                      "fault_bits"},
-                     &error) &&
-         r.Integer(*t, "faults.", "drop_sample_frames", &f.drop_sample_frames, 0, UINT32_MAX,
-                   &error) &&
-         r.Integer(*t, "faults.", "drop_every_nth_frame", &f.drop_every_nth_frame, 0, UINT32_MAX,
-                   &error) &&
-         r.Integer(*t, "faults.", "corrupt_sample_frames", &f.corrupt_sample_frames, 0, UINT32_MAX,
-                   &error) &&
-         r.Integer(*t, "faults.", "stall_after_samples", &f.stall_after_samples, -1, INT64_MAX,
-                   &error) &&
-         r.Integer(*t, "faults.", "ignore_commands", &f.ignore_commands, 0, UINT32_MAX, &error) &&
-         r.Bool(*t, "faults.", "no_reply", &f.no_reply, &error) &&
-         r.Integer(*t, "faults.", "bus_off_after_samples", &f.bus_off_after_samples, -1, INT64_MAX,
-                   &error) &&
-         r.Integer(*t, "faults.", "fault_bits", &f.fault_bits, 0, 255, &error);
-  }
-  if (!ok) return std::unexpected(error);
-  if (std::string why; !o.IsValid(&why)) {
-    return std::unexpected(std::string(source_name) + ": " + why);
-  }
-  return config;
+std::expected<GyroSimFileConfig, ConfigError> ParseGyroSimConfig(
+    std::string_view toml_text, const std::filesystem::path& file) {
+  HRG_TRY(document, ParseTomlText(toml_text, file));
+  return ReadConfig(*document, file);
 }
 
-std::expected<GyroSimFileConfig, std::string> LoadGyroSimConfig(const std::string& path) {
-  // An ifstream opens a directory and reads it as empty, which would load the defaults silently.
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  if (std::filesystem::is_directory(status)) {
-    return std::unexpected(path + ": is a directory, not a file");
-  }
-  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
-    return std::unexpected(path + ": not a regular file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::unexpected(path + ": cannot open");
-  std::string text(kMaxFileBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  if (in.bad()) return std::unexpected(path + ": read error");
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  return ParseGyroSimConfig(text, path);
+std::expected<GyroSimFileConfig, ConfigError> LoadGyroSimConfig(const std::filesystem::path& file) {
+  HRG_TRY(document, LoadTomlFile(file));
+  return ReadConfig(*document, file);
 }
 
 }  // namespace hrgbench::drivers::sim

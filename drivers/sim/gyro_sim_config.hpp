@@ -1,7 +1,11 @@
 #pragma once
 // The hrg-gyro-sim configuration file (TOML; the shipped example is
-// drivers/sim/gyro_sim.example.toml). Declared, validated data (STYLE rule 10): unknown tables and
-// keys are errors, and every error names file, line, key and value.
+// drivers/sim/gyro_sim.example.toml). Declared, validated data (STYLE rule 10), read with the
+// project's one strict config-file reader (hrgbench/config_file/toml_reader.hpp) like the bench's
+// configs: unknown tables and keys are errors, and every error is a ConfigError naming file, line,
+// key and value (`sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: ...)`). The
+// ranges are GyroSimOptions::IsValid's and the integer fields' own; numbers must be finite; a
+// host name is 1 to 255 bytes of printable text; the file is at most 1 MiB and a regular file.
 //
 //   [model]       delta (6 numbers), xi (4), sigma, seed
 //   [electronics] excite_time_s, resonant_frequency_hz, temperature_c, supports_fd
@@ -11,9 +15,11 @@
 
 #include <cstdint>
 #include <expected>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
+#include "hrgbench/config_file/config_error.hpp"
 #include "sim/gyro_sim_options.hpp"
 
 namespace hrgbench::drivers::sim {
@@ -33,9 +39,10 @@ struct GyroSimFileConfig {
   OmegaConfig omega;
 };
 
-// Parses TOML text; `source_name` is used in messages (the file name).
-std::expected<GyroSimFileConfig, std::string> ParseGyroSimConfig(std::string_view toml_text,
-                                                                 std::string_view source_name);
-std::expected<GyroSimFileConfig, std::string> LoadGyroSimConfig(const std::string& path);
+// Parses TOML text; `file` is only used in messages. Allocates; no global state.
+std::expected<GyroSimFileConfig, config_file::ConfigError> ParseGyroSimConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
+std::expected<GyroSimFileConfig, config_file::ConfigError> LoadGyroSimConfig(
+    const std::filesystem::path& file);
 
 }  // namespace hrgbench::drivers::sim

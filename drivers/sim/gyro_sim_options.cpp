@@ -13,7 +13,7 @@ bool GyroSimOptions::IsValid(std::string* why) const {
     return false;
   };
   if (!delta.allFinite()) return fail("delta must be finite");
-  if (!xi.allFinite() || xi.cwiseAbs().maxCoeff() >= 0.25) {
+  if (!xi.allFinite() || xi.cwiseAbs().maxCoeff() >= kMaxAbsXi) {
     return fail("xi must be finite with |xi_i| < 0.25 (the distortion is a small perturbation)");
   }
   if (!std::isfinite(sigma) || sigma < 0) {
@@ -21,7 +21,7 @@ bool GyroSimOptions::IsValid(std::string* why) const {
     os << "sigma must be finite and >= 0, got " << sigma;
     return fail(os.str());
   }
-  if (!std::isfinite(excite_time_s) || excite_time_s < 0 || excite_time_s > 600) {
+  if (!std::isfinite(excite_time_s) || excite_time_s < 0 || excite_time_s > kMaxExciteTimeS) {
     return fail("excite_time_s must be in [0, 600]");
   }
   if (!std::isfinite(resonant_frequency_hz) || resonant_frequency_hz <= 0 ||
@@ -31,7 +31,7 @@ bool GyroSimOptions::IsValid(std::string* why) const {
   if (!std::isfinite(temperature_drift_c_per_s) || std::abs(temperature_drift_c_per_s) > 10.0) {
     return fail("temperature_drift_c_per_s must be within +-10");
   }
-  if (!std::isfinite(temperature_c) || std::abs(temperature_c) > 327.67) {
+  if (!std::isfinite(temperature_c) || std::abs(temperature_c) > kMaxAbsTemperatureC) {
     return fail("temperature_c must be within +-327.67");
   }
   if (poll_period_ns <= 0 || poll_period_ns > 10'000'000) {

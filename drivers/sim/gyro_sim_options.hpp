@@ -11,6 +11,11 @@
 
 namespace hrgbench::drivers::sim {
 
+// Bounds of IsValid that the config file (gyro_sim_config.hpp) checks at their keys as well.
+inline constexpr double kMaxAbsXi = 0.25;              // |xi_i| < this: a small perturbation
+inline constexpr double kMaxExciteTimeS = 600.0;       // excite_time_s in [0, this]
+inline constexpr double kMaxAbsTemperatureC = 327.67;  // the status field's range, 0.01 °C steps
+
 // Failure modes, each off by default. Counts are "the next N"; they decrement as they fire.
 struct GyroSimFaults {
   std::uint32_t drop_sample_frames = 0;     // do not send the next N sample frames (seq advances)

@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     if (!config_path.empty()) {
       auto loaded = drivers::sim::LoadGyroSimConfig(config_path);
       if (!loaded) {
-        std::cerr << "hrg-gyro-sim: " << loaded.error() << "\n";
+        std::cerr << "hrg-gyro-sim: " << loaded.error().ToString() << "\n";
         return 2;
       }
       config = *loaded;

@@ -11,7 +11,7 @@
 #include "app/logging.hpp"
 #include "app/sim_session.hpp"
 #include "app/sim_spec.hpp"
-#include "bench/config/sha256.hpp"
+#include "hrgbench/config_file/sha256.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 
 namespace {
@@ -24,7 +24,7 @@ int Run(const std::filesystem::path& spec_path, const std::filesystem::path& out
     spdlog::error("{}", spec.error().ToString());
     return app::kExitBadInput;
   }
-  auto sha = bench::Sha256FileHex(spec_path);
+  auto sha = config_file::Sha256FileHex(spec_path);
   if (!sha) {
     spdlog::error("{}", sha.error());
     return app::kExitBadInput;

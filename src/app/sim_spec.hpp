@@ -15,15 +15,15 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 
 namespace hrgbench::app {
 
 // The project's config error (file, line, key, value, message); see
-// hrgbench/bench/config_error.hpp.
-using ConfigError = bench::ConfigError;
+// hrgbench/config_file/config_error.hpp.
+using ConfigError = config_file::ConfigError;
 
 struct SimSpec {
   std::filesystem::path file;  // where it was loaded from (for messages and provenance)

@@ -7,26 +7,28 @@
 #include <utility>
 
 #include "app/sim_spec.hpp"
-#include "bench/config/toml_reader.hpp"
-#include "hrgbench/bench/config_bounds.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
+#include "hrgbench/config_file/toml_reader.hpp"
 
 namespace hrgbench::app {
 namespace {
 
 using estimator::RunPlan;
-namespace toml_util = bench::toml_util;
 
-using toml_util::kAnyFinite;
-using toml_util::kNonNegative;
-using toml_util::kPositive;
-using toml_util::NumberFrom;
-using toml_util::OptionalNumber;
-using toml_util::OptionalString;
-using toml_util::Range;
-using toml_util::RequiredVector;
-using toml_util::Source;
-using toml_util::SubTable;
-using toml_util::TableReader;
+using config_file::kAnyFinite;
+using config_file::kMaxRuns;
+using config_file::kMaxTotalFreeRunS;
+using config_file::kMaxTotalSamples;
+using config_file::kNonNegative;
+using config_file::kPositive;
+using config_file::NumberFrom;
+using config_file::OptionalNumber;
+using config_file::OptionalString;
+using config_file::Range;
+using config_file::RequiredVector;
+using config_file::Source;
+using config_file::SubTable;
+using config_file::TableReader;
 
 // The run keys, with the range each must satisfy; [defaults] may supply any of them but Ω.
 struct RunKey {
@@ -123,7 +125,7 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
   TableReader reader(root, "", source);
 
   auto description =
-      OptionalString(reader, "description", "", false, toml_util::StringKind::kDescription);
+      OptionalString(reader, "description", "", false, config_file::StringKind::kDescription);
   if (!description) return std::unexpected(description.error());
   spec.description = *description;
 
@@ -189,12 +191,12 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
         reader.Error(*runs_node, "runs", "wrong type: expected one or more [[runs]] tables"));
   }
   // Checked before reading any run: 100 000 runs would otherwise all be read first.
-  if (runs->size() > bench::kMaxRuns) {
+  if (runs->size() > kMaxRuns) {
     // At the first [[runs]] header; the value (every run) is too long to quote.
-    return std::unexpected(ConfigError{file, toml_util::LineOf(*runs->get(0)), "runs", "",
+    return std::unexpected(ConfigError{file, config_file::LineOf(*runs->get(0)), "runs", "",
                                        "out of range: " + std::to_string(runs->size()) +
                                            " [[runs]] tables; a spec has at most " +
-                                           std::to_string(bench::kMaxRuns)});
+                                           std::to_string(kMaxRuns)});
   }
   double total_duration_s = 0.0;
   double total_samples = 0.0;
@@ -204,7 +206,7 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
     if (!run) return std::unexpected(run.error());
     total_duration_s += run->duration_s;
     total_samples += std::round(run->duration_s * run->sample_rate_hz);
-    if (total_duration_s > bench::kMaxTotalFreeRunS || total_samples > bench::kMaxTotalSamples) {
+    if (total_duration_s > kMaxTotalFreeRunS || total_samples > kMaxTotalSamples) {
       // Named at this run's duration_s (or the default it took): the run that crossed the bound.
       const std::string run_path = "runs[" + std::to_string(i) + "]";
       const toml::node* node = table.get("duration_s");
@@ -215,7 +217,7 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
         node = (*defaults)[6]->node;
         from.emplace(**defaults_table, "defaults", source);
       }
-      const std::string what = total_duration_s > bench::kMaxTotalFreeRunS
+      const std::string what = total_duration_s > kMaxTotalFreeRunS
                                    ? "runs[0.." + std::to_string(i) + "] last " +
                                          std::to_string(static_cast<long long>(total_duration_s)) +
                                          " s in total; a spec simulates at most 86400 s (a day)"
@@ -244,13 +246,13 @@ std::vector<double> SimSpec::Omegas() const {
 
 std::expected<SimSpec, ConfigError> ParseSimSpec(std::string_view toml_text,
                                                  const std::filesystem::path& file) {
-  auto document = toml_util::ParseTomlText(toml_text, file);
+  auto document = config_file::ParseTomlText(toml_text, file);
   if (!document) return std::unexpected(document.error());
   return ReadSpec(document->root, Source(file, document->text));
 }
 
 std::expected<SimSpec, ConfigError> LoadSimSpec(const std::filesystem::path& file) {
-  auto document = toml_util::LoadTomlFile(file);
+  auto document = config_file::LoadTomlFile(file);
   if (!document) return std::unexpected(document.error());
   return ReadSpec(document->root, Source(file, document->text));
 }

@@ -64,7 +64,7 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.gyro.resonant_frequency_hz = sim.resonant_frequency_hz;
   o.gyro.temperature_c = sim.temperature_c;
   o.gyro.temperature_drift_c_per_s = sim.temperature_drift_c_per_s;
-  o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config);
+  o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
   o.table_physics.stable_tolerance_rad_s = sim.table_stable_tolerance_rad_s;

@@ -16,10 +16,10 @@
 #include <expected>
 #include <filesystem>
 
-#include "hrgbench/bench/config_error.hpp"
 #include "hrgbench/bench/limits_config.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 #include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
 namespace hrgbench::bench {
 
@@ -30,11 +30,11 @@ struct BenchConfigs {
 };
 
 // `limits_path` empty: no limits file (`hrg-bench run` without --limits; nothing is judged).
-std::expected<BenchConfigs, ConfigError> LoadBenchConfigs(
+std::expected<BenchConfigs, config_file::ConfigError> LoadBenchConfigs(
     const std::filesystem::path& station_path, const std::filesystem::path& sequence_path,
     const std::filesystem::path& limits_path);
 
 // The cross-file checks alone, on configs already loaded (for configs parsed from memory).
-std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs);
+std::expected<void, config_file::ConfigError> CheckBenchConfigs(const BenchConfigs& configs);
 
 }  // namespace hrgbench::bench

@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
 namespace hrgbench::bench {
 
@@ -58,8 +58,9 @@ struct LimitsConfig {
       limits;  // in the order of LimitedQuantity; each quantity at most once
 };
 
-std::expected<LimitsConfig, ConfigError> LoadLimitsConfig(const std::filesystem::path& file);
-std::expected<LimitsConfig, ConfigError> ParseLimitsConfig(std::string_view toml_text,
-                                                           const std::filesystem::path& file);
+std::expected<LimitsConfig, config_file::ConfigError> LoadLimitsConfig(
+    const std::filesystem::path& file);
+std::expected<LimitsConfig, config_file::ConfigError> ParseLimitsConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 
 namespace hrgbench::bench {
@@ -108,8 +108,9 @@ struct SequenceConfig {
   double TotalFreeRunS() const;
 };
 
-std::expected<SequenceConfig, ConfigError> LoadSequenceConfig(const std::filesystem::path& file);
-std::expected<SequenceConfig, ConfigError> ParseSequenceConfig(std::string_view toml_text,
-                                                               const std::filesystem::path& file);
+std::expected<SequenceConfig, config_file::ConfigError> LoadSequenceConfig(
+    const std::filesystem::path& file);
+std::expected<SequenceConfig, config_file::ConfigError> ParseSequenceConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

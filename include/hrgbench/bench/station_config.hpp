@@ -20,7 +20,8 @@
 #include <string>
 #include <string_view>
 
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/bench/site.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 
 namespace hrgbench::bench {
@@ -30,19 +31,6 @@ std::string_view ToString(StationKind kind) noexcept;  // "simulated", "real"
 
 enum class TableTransport { kTcp, kRtu };
 std::string_view ToString(TableTransport transport) noexcept;  // "tcp", "rtu"
-
-// Earth's sidereal rotation rate (WGS-84 / IERS value), rad/s.
-inline constexpr double kEarthRateRadS = 7.2921150e-5;
-
-// Where the station stands and how its sensitive axis points. The gyro's sensitive axis is the
-// table's rotation axis (that is what makes the table rate Ω), fixed in the local level frame, so
-// the Earth-rate component on it is a constant per station.
-struct SiteConfig {
-  double latitude_deg = 0.0;  // geodetic latitude φ, [-90, 90], north positive
-  // Unit vector of the sensitive axis in the local level frame (east, north, up); normalised by
-  // the loader. Default: the axis points up (a table with a vertical axis).
-  std::array<double, 3> axis_enu = {0.0, 0.0, 1.0};
-};
 
 // [gyro]: the gyro electronics' link. Timeouts apply to the simulated station too (its simulated
 // electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
@@ -132,26 +120,17 @@ struct StationConfig {
   std::string name;  // [station] name, recorded in the session (required)
   std::string description;
   StationKind kind = StationKind::kSimulated;
-  SiteConfig site;
+  SiteConfig site;  // where it stands; its Earth rate: EarthRateOnAxisRadS(site) (site.hpp)
   GyroLinkConfig gyro;
   TableLinkConfig table;
   SimulatedStationConfig simulated;  // meaningful only for kind = kSimulated
   RealtimeConfig realtime;
 };
 
-// Ω_earth on the sensitive axis, rad/s: the Earth-rate vector in the local level frame (east,
-// north, up) is Ω_E·(0, cos φ, sin φ), so its component on the unit axis u is
-// Ω_E·(u_n·cos φ + u_u·sin φ). Axis up at 45° N: Ω_E·sin 45°; axis north at the equator: Ω_E.
-double EarthRateOnAxisRadS(const StationConfig& station);
-double EarthRateOnAxisRadS(double latitude_deg, const std::array<double, 3>& axis_enu);
-
-// Unit vector in (east, north, up) from elevation above the horizon and azimuth clockwise from
-// north (navigation convention): (cos el·sin az, cos el·cos az, sin el).
-std::array<double, 3> AxisFromElevationAzimuth(double elevation_deg, double azimuth_deg);
-
-std::expected<StationConfig, ConfigError> LoadStationConfig(const std::filesystem::path& file);
+std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(
+    const std::filesystem::path& file);
 // The same from text in memory; `file` is only used in messages.
-std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view toml_text,
-                                                             const std::filesystem::path& file);
+std::expected<StationConfig, config_file::ConfigError> ParseStationConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
 
 }  // namespace hrgbench::bench

@@ -12,6 +12,8 @@
 namespace hrgbench::bench {
 namespace {
 
+using config_file::ConfigError;
+
 // The loaded value, as close to the written one as a double allows.
 std::string Shortest(double v) { return session::NumberText(v); }
 
@@ -45,7 +47,7 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
 
 std::expected<void, ConfigError> CheckIdentifiable(const BenchConfigs& configs) {
   // The estimator sees table rate + Earth rate, so the plan is judged on those.
-  const double earth_rad_s = EarthRateOnAxisRadS(configs.station);
+  const double earth_rad_s = EarthRateOnAxisRadS(configs.station.site);
   std::vector<double> omegas;
   for (const SequenceRun& run : configs.sequence.runs)
     omegas.push_back(run.omega_rad_s + earth_rad_s);

@@ -3,13 +3,13 @@
 #include <string>
 #include <utility>
 
-#include "bench/config/toml_reader.hpp"
 #include "hrgbench/bench/limits_config.hpp"
+#include "hrgbench/config_file/toml_reader.hpp"
 
 namespace hrgbench::bench {
 namespace {
 
-using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
 std::expected<ParameterLimit, ConfigError> ReadLimit(const TableReader& reader,
                                                      const toml::node& node,

@@ -6,15 +6,15 @@
 #include <string>
 #include <utility>
 
-#include "bench/config/toml_reader.hpp"
-#include "hrgbench/bench/config_bounds.hpp"
-#include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
+#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 
 namespace hrgbench::bench {
 namespace {
 
-using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
 // The fastest any gyro link carries (CAN FD); the station's own link is judged by the cross-check.
 constexpr double kMaxSampleRateHz = hw::kMaxSampleRateCanFdHz;

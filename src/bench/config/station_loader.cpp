@@ -7,15 +7,15 @@
 #include <string>
 #include <utility>
 
-#include "bench/config/toml_reader.hpp"
-#include "hrgbench/bench/config_bounds.hpp"
 #include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
+#include "hrgbench/config_file/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 
 namespace hrgbench::bench {
 namespace {
 
-using namespace toml_util;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::string_view kRealOnly = "applies only to kind = \"real\"";

@@ -213,7 +213,7 @@ void Begin(SessionContext& ctx, const BenchConfigs& configs, const BenchHardware
   ctx.hw = &hw;
   ctx.options = &options;
   ctx.recorder = recorder;
-  ctx.earth_rate_rad_s = EarthRateOnAxisRadS(configs.station);
+  ctx.earth_rate_rad_s = EarthRateOnAxisRadS(configs.station.site);
   ctx.start_ns = hw.clock->NowNs();
   const std::int64_t unix_now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                     std::chrono::system_clock::now().time_since_epoch())

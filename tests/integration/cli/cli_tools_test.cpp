@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "bench/config/sha256.hpp"
+#include "hrgbench/config_file/sha256.hpp"
 
 namespace {
 
@@ -91,7 +91,7 @@ void ExpectRelative(double actual, double expected, double tolerance, const char
 TEST_F(CliTest, SimThenMaximumLikelihoodRecoversTheTruth) {
   const fs::path session = SimulatePaper();
   const nlohmann::json doc = nlohmann::json::parse(ReadAll(session / "session.json"));
-  EXPECT_EQ(doc["spec_sha256"], hrgbench::bench::Sha256FileHex(PaperSpec()).value());
+  EXPECT_EQ(doc["spec_sha256"], hrgbench::config_file::Sha256FileHex(PaperSpec()).value());
   EXPECT_TRUE(doc["software_version"].is_string());
   EXPECT_EQ(doc["simulation"]["runs"].size(), 5u);
 

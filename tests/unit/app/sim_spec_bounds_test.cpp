@@ -1,5 +1,5 @@
-// The config bounds (hrgbench/bench/config_bounds.hpp) applied to simulation specs: a serial is a
-// name, at most 1000 runs and a day of simulated free run, a path that is a directory says so.
+// The config bounds (hrgbench/config_file/config_bounds.hpp) applied to simulation specs: a serial
+// is a name, at most 1000 runs and a day of simulated free run, a path that is a directory says so.
 
 #include <gtest/gtest.h>
 #include <unistd.h>

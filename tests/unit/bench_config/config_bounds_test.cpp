@@ -1,9 +1,9 @@
-// The bounds on what a config file may say (hrgbench/bench/config_bounds.hpp): names without
+// The bounds on what a config file may say (hrgbench/config_file/config_bounds.hpp): names without
 // control characters and of a sane length, waits and free-run time of at most a day, at most 1000
 // runs, files of at most 1 MiB, and a path that is a directory named as such. Each error names
 // file, line, key and value like every other config error.
 
-#include "hrgbench/bench/config_bounds.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,6 +16,10 @@
 
 namespace hrgbench::bench {
 namespace {
+
+using config_file::ConfigError;
+using config_file::kMaxConfigFileBytes;
+using config_file::kMaxRuns;
 
 namespace fs = std::filesystem;
 

@@ -27,6 +27,8 @@
 namespace hrgbench::bench {
 namespace {
 
+using config_file::ConfigError;
+
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t kSeed = 0xC0F1'6F22'2026;

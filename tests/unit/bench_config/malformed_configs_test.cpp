@@ -14,6 +14,8 @@
 namespace hrgbench::bench {
 namespace {
 
+using config_file::ConfigError;
+
 const std::string kStationText = R"([station]
 name = "t"
 kind = "real"

@@ -1,4 +1,4 @@
-#include "bench/config/toml_reader.hpp"
+#include "hrgbench/config_file/toml_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,9 +8,9 @@
 #include <system_error>
 #include <utility>
 
-#include "bench/config/sha256.hpp"
+#include "hrgbench/config_file/sha256.hpp"
 
-namespace hrgbench::bench::toml_util {
+namespace hrgbench::config_file {
 
 Source::Source(std::filesystem::path file, std::string_view text)
     : file_(std::move(file)), text_(text) {}
@@ -322,4 +322,4 @@ std::optional<ConfigError> Forbid(TableReader& reader, std::string_view key,
   return reader.Error(*node, key, "not allowed here: " + std::string(reason));
 }
 
-}  // namespace hrgbench::bench::toml_util
+}  // namespace hrgbench::config_file

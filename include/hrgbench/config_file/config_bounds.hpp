@@ -8,7 +8,7 @@
 
 #include <cstddef>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 
 // A config file's size. The shipped files are under 4 KiB; a sequence of kMaxRuns runs written
 // out one key per line is about 150 KiB.
@@ -38,4 +38,4 @@ inline constexpr double kMaxWaitS = 3'600.0;
 // fault-injection times of the simulated station: a day.
 inline constexpr double kMaxLongWaitS = 86'400.0;
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

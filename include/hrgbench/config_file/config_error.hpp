@@ -1,7 +1,8 @@
 #pragma once
 // ConfigError: what is wrong with a config file (STYLE rule 10: every error names file, line, key
 // and value). One type for every TOML file the project reads (station, sequence, limits, simulation
-// specs), so the tools print them the same way and a test can check each part.
+// specs, hrg-gyro-sim's config), so the tools print them the same way and a test can check each
+// part.
 //
 // Loaders stop at the first error: a user fixes one line at a time, and a later error may be a
 // consequence of an earlier one.
@@ -10,7 +11,7 @@
 #include <filesystem>
 #include <string>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 
 struct ConfigError {
   std::filesystem::path file;
@@ -23,4 +24,4 @@ struct ConfigError {
   std::string ToString() const;
 };
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

@@ -1,6 +1,6 @@
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 
 std::string ConfigError::ToString() const {
   std::string text = file.string();
@@ -14,4 +14,4 @@ std::string ConfigError::ToString() const {
   return text + message;
 }
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

@@ -1,11 +1,11 @@
-#include "bench/config/sha256.hpp"
+#include "hrgbench/config_file/sha256.hpp"
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <vector>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 namespace {
 
 constexpr std::array<std::uint32_t, 64> kRoundConstants = {
@@ -145,4 +145,4 @@ std::expected<std::string, std::string> Sha256FileHex(const std::filesystem::pat
   return ToHex(hasher.Finish());
 }
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

@@ -1,6 +1,7 @@
 #pragma once
 // Strict reading of TOML config files (STYLE rule 10), shared by every loader in the project: the
-// bench's station, sequence and limits files (src/bench/config) and the simulation specs (src/app).
+// bench's station, sequence and limits files (src/bench/config), the simulation specs (src/app)
+// and hrg-gyro-sim's config file (drivers/sim/gyro_sim_config.cpp).
 //
 // Strict means: a key nobody asked for is an error (TableReader::Unknown), a value of the wrong
 // type or outside its range is an error, and every error is a ConfigError naming the file, the
@@ -25,8 +26,8 @@
 #include <string_view>
 #include <utility>
 
-#include "hrgbench/bench/config_bounds.hpp"
-#include "hrgbench/bench/config_error.hpp"
+#include "hrgbench/config_file/config_bounds.hpp"
+#include "hrgbench/config_file/config_error.hpp"
 
 // Loader shorthand: `HRG_TRY(v, Expr());` declares v = Expr() and returns its error from the
 // enclosing function (whose return type is a std::expected<_, ConfigError>) when it has one;
@@ -38,7 +39,7 @@
 #define HRG_CHECK(opt_error) \
   if (auto hrg_error_ = (opt_error)) return std::unexpected(std::move(*hrg_error_))
 
-namespace hrgbench::bench::toml_util {
+namespace hrgbench::config_file {
 
 // The file's text, kept so that messages quote a value exactly as the user wrote it ("0.3", not the
 // "0.29999999999999999" a re-print of the double gives). Owns a copy: safe to move.
@@ -204,4 +205,4 @@ std::expected<Eigen::Matrix<double, N, 1>, ConfigError> RequiredVector(TableRead
   return VectorFrom<N>(reader, *node, key, range);
 }
 
-}  // namespace hrgbench::bench::toml_util
+}  // namespace hrgbench::config_file

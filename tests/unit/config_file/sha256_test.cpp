@@ -1,4 +1,4 @@
-#include "bench/config/sha256.hpp"
+#include "hrgbench/config_file/sha256.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 namespace {
 
 // FIPS 180-2, Appendix B (SHA-256 examples).
@@ -66,4 +66,4 @@ TEST(Sha256, FileMatchesBytes) {
 }
 
 }  // namespace
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace hrgbench::bench {
+namespace hrgbench::config_file {
 
 class Sha256 {
  public:
@@ -42,4 +42,4 @@ std::string Sha256Hex(std::string_view bytes);
 // Hex SHA-256 of a file's bytes; the error says which file could not be read and why.
 std::expected<std::string, std::string> Sha256FileHex(const std::filesystem::path& path);
 
-}  // namespace hrgbench::bench
+}  // namespace hrgbench::config_file

@@ -1,7 +1,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/bench/site.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -15,8 +15,8 @@ double EarthRateOnAxisRadS(double latitude_deg, const std::array<double, 3>& axi
   return kEarthRateRadS * (axis_enu[1] * std::cos(phi) + axis_enu[2] * std::sin(phi));
 }
 
-double EarthRateOnAxisRadS(const StationConfig& station) {
-  return EarthRateOnAxisRadS(station.site.latitude_deg, station.site.axis_enu);
+double EarthRateOnAxisRadS(const SiteConfig& site) {
+  return EarthRateOnAxisRadS(site.latitude_deg, site.axis_enu);
 }
 
 std::array<double, 3> AxisFromElevationAzimuth(double elevation_deg, double azimuth_deg) {
