@@ -26,9 +26,9 @@ namespace hrgbench::drivers::sim_station {
 struct SimulatedStationOptions {
   bool faster_than_real_time = true;
   double time_scale = 1.0;  // used only when !faster_than_real_time; > 0
-  // VirtualTimeClock: a thread not waiting on the clock this long (wall) stops holding time back.
-  // 5 s: a loaded CI machine can starve a thread for hundreds of ms, and a parked capture thread
-  // loses its run (time runs on without it). The cost of a long value is only felt by a thread
+  // VirtualTimeClock: a thread asleep off the clock this long (wall) stops holding time back (a
+  // thread that is working or waiting for a CPU never does). 5 s: a thread asleep that long is
+  // blocked, not briefly waiting for a lock; the cost of a long value is only felt by a thread
   // that blocks off the clock without detaching, which the bench does not do.
   std::int64_t park_after_wall_ns = 5'000'000'000;
   // VirtualTimeClock: how far time may run on past a frame before the thread it woke has handled
