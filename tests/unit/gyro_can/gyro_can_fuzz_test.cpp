@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_text.hpp"
 #include "gyro_can/gyro_codec.hpp"
 #include "gyro_can/sample_stream_decoder.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
@@ -29,16 +30,7 @@ constexpr std::uint64_t kSeed = 0xCA4F'2A3E'0001;
 constexpr int kFrames = 200'000;
 constexpr int kTexts = 100'000;
 
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : engine_(seed) {}
-  std::uint64_t Bits() { return engine_(); }
-  std::size_t Below(std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(engine_() % n); }
-  bool OneIn(std::size_t n) { return Below(n) == 0; }
-
- private:
-  std::mt19937_64 engine_;
-};
+using hrgbench::testing::Draw;
 
 bool SameFrame(const hw::CanFrame& a, const hw::CanFrame& b) {
   if (a.id != b.id || a.extended != b.extended || a.fd != b.fd || a.remote != b.remote ||
