@@ -179,32 +179,25 @@ SessionResult RunPlanned(SessionContext& ctx, const std::filesystem::path& dir,
     step = internal::RunOne(ctx, seq.runs[static_cast<std::size_t>(ids[i] - 1)], ids[i]);
   }
   result.warnings = ctx.warnings;
-  if (!step.ok()) {
-    internal::MakeSafe(*ctx.hw);
-    // The safe-state commands and whatever came before them, in the log before it closes; a log
-    // that cannot be written now changes nothing (the session already stops with its reason).
-    (void)ctx.PumpCanLog();
-    ctx.Log("stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
-    SessionOutcome outcome;
-    outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
-    outcome.reason = step.reason;
-    result.outcome = outcome.kind;
-    result.reason = step.reason;
-    if (auto closed = ctx.recorder->Close(outcome); !closed)
-      result.reason += "; record: cannot close: " + closed.error().ToString();
-    return Finish(std::move(result));
+  if (step.ok()) {
+    // Normal end: bring the table to rest before the (long) estimate, the log complete first.
+    if (auto stopped = ctx.hw->table->Stop(); !stopped) ctx.hw->table->SafeStop();
+    step = ctx.PumpCanLog();
+    if (step.ok()) return EstimateAndClose(ctx, dir, std::move(result));
   }
-  // Normal end: bring the table to rest before the (long) estimate.
-  if (auto stopped = ctx.hw->table->Stop(); !stopped) ctx.hw->table->SafeStop();
-  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) {
-    result.outcome = OutcomeKind::kError;
-    result.reason = pumped.reason;
-    SessionOutcome outcome{OutcomeKind::kError, pumped.reason, {}, std::nullopt};
-    if (auto closed = ctx.recorder->Close(outcome); !closed)
-      result.reason += "; record: cannot close: " + closed.error().ToString();
-    return Finish(std::move(result));
-  }
-  return EstimateAndClose(ctx, dir, std::move(result));
+  internal::MakeSafe(*ctx.hw);
+  // The safe-state commands and whatever came before them, in the log before it closes; a log
+  // that cannot be written now changes nothing (the session already stops with its reason).
+  (void)ctx.PumpCanLog();
+  ctx.Log("stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
+  SessionOutcome outcome;
+  outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
+  outcome.reason = step.reason;
+  result.outcome = outcome.kind;
+  result.reason = step.reason;
+  if (auto closed = ctx.recorder->Close(outcome); !closed)
+    result.reason += "; record: cannot close: " + closed.error().ToString();
+  return Finish(std::move(result));
 }
 
 void Begin(SessionContext& ctx, const BenchConfigs& configs, const BenchHardware& hw,
