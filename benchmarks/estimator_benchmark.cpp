@@ -27,7 +27,8 @@ double MedianMs(int repeats, const std::function<void()>& fn) {
   for (int i = 0; i < repeats; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     fn();
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
   std::sort(ms.begin(), ms.end());
   return ms[ms.size() / 2];
@@ -85,7 +86,9 @@ int main(int argc, char** argv) {
 
   std::printf("## 1. The paper's design: 5 runs × 10 s × 100 Hz (5 000 samples)\n\n");
   std::printf("Noise-free; σ = 1e-4: std of δ2 and RMS of ‖δ*−δ0‖/‖δ0‖ over %d seeds.\n\n", seeds);
-  std::printf("| method | time, ms | δ2 (noise-free) | ξ1 (noise-free) | ‖δ*−δ0‖/‖δ0‖ noise-free | δ2 std, σ=1e-4 | ‖δ*−δ0‖/‖δ0‖ RMS, σ=1e-4 |\n");
+  std::printf(
+      "| method | time, ms | δ2 (noise-free) | ξ1 (noise-free) | ‖δ*−δ0‖/‖δ0‖ noise-free | δ2 std, "
+      "σ=1e-4 | ‖δ*−δ0‖/‖δ0‖ RMS, σ=1e-4 |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
   const std::vector<RunData> clean = SimulateRuns(PaperDesign(), paper_truth);
   std::vector<double> times;
@@ -111,10 +114,14 @@ int main(int argc, char** argv) {
     std::printf("| %s | %.2f | %.7f | %.7f | %.2e | %.2e | %.2e |\n", m.name, ms,
                 s.delta[kScaleFactor], s.xi[kGainMismatch], dev, std_dev, std::sqrt(dev2 / seeds));
   }
-  std::printf("\nSpeed ratio, paper ξ1 grid / ml with all four ξ: **%.0f×**\n\n", times[1] / times[3]);
+  std::printf("\nSpeed ratio, paper ξ1 grid / ml with all four ξ: **%.0f×**\n\n",
+              times[1] / times[3]);
 
-  std::printf("## 2. Production-size session: 6 runs × 100 s × 1 kHz = 600 000 samples, σ = 1e-4\n\n");
-  std::printf("| threads | ml (all ξ) time, ms | iterations | δ2 | δ2 std | ξ1 std |\n|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "## 2. Production-size session: 6 runs × 100 s × 1 kHz = 600 000 samples, σ = 1e-4\n\n");
+  std::printf(
+      "| threads | ml (all ξ) time, ms | iterations | δ2 | δ2 std | ξ1 std "
+      "|\n|---:|---:|---:|---:|---:|---:|\n");
   SimulationOptions table_truth;
   table_truth.delta << -0.0008, 0.31, -1e-6, 2e-6, -3e-6, 1e-6;
   table_truth.xi << -0.005, 0.002, -0.004, 0.007;
@@ -125,14 +132,17 @@ int main(int argc, char** argv) {
     MlOptions options;
     options.num_threads = threads;
     EstimateSummary s;
-    const double ms = MedianMs(quick ? 1 : 3, [&] { s = EstimateMaximumLikelihood(production, options); });
-    std::printf("| %s | %.0f | %d | %.10f | %.2e | %.2e |\n", threads == 0 ? "all (2 here)" : "1", ms,
-                s.iterations, s.delta[kScaleFactor], s.delta_std[kScaleFactor],
+    const double ms =
+        MedianMs(quick ? 1 : 3, [&] { s = EstimateMaximumLikelihood(production, options); });
+    std::printf("| %s | %.0f | %d | %.10f | %.2e | %.2e |\n", threads == 0 ? "all (2 here)" : "1",
+                ms, s.iterations, s.delta[kScaleFactor], s.delta_std[kScaleFactor],
                 s.xi_std[kGainMismatch]);
   }
 
   std::printf("\n## 3. Scaling with the number of samples (ml, all ξ, 6 runs at 1 kHz)\n\n");
-  std::printf("| run length, s | samples | time, ms | ns per sample | iterations |\n|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "| run length, s | samples | time, ms | ns per sample | iterations "
+      "|\n|---:|---:|---:|---:|---:|\n");
   for (double duration : {12.5, 25.0, 50.0, 100.0, 200.0}) {
     if (quick && duration > 50.0) break;
     const std::vector<RunData> runs = SimulateRuns(RateTableDesign(duration), table_truth);
@@ -140,8 +150,8 @@ int main(int argc, char** argv) {
     for (const RunData& r : runs) n += static_cast<std::size_t>(r.size());
     EstimateSummary s;
     const double ms = MedianMs(7, [&] { s = EstimateMaximumLikelihood(runs); });
-    std::printf("| %.1f | %zu | %.0f | %.0f | %d |\n", duration, n, ms, 1e6 * ms / static_cast<double>(n),
-                s.iterations);
+    std::printf("| %.1f | %zu | %.0f | %.0f | %d |\n", duration, n, ms,
+                1e6 * ms / static_cast<double>(n), s.iterations);
   }
   return 0;
 }

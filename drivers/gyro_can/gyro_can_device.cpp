@@ -73,14 +73,16 @@ bool GyroCanDeviceConfig::IsValid(std::string* why) const {
     return false;
   };
   if (clock == nullptr) return fail("clock must be set (the transport's time base)");
-  if (ack_timeout_ns <= 0) return fail(hw::ErrorText("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
+  if (ack_timeout_ns <= 0)
+    return fail(hw::ErrorText("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
   if (command_attempts < 1 || command_attempts > 10) {
     return fail(hw::ErrorText("command_attempts must be in 1..10, got ", command_attempts));
   }
-  if (status_poll_ns <= 0) return fail(hw::ErrorText("status_poll_ns must be > 0, got ", status_poll_ns));
+  if (status_poll_ns <= 0)
+    return fail(hw::ErrorText("status_poll_ns must be > 0, got ", status_poll_ns));
   if (sample_buffer_capacity < kSamplesPerFdFrame) {
     return fail(hw::ErrorText("sample_buffer_capacity must be >= ", kSamplesPerFdFrame, ", got ",
-                    sample_buffer_capacity));
+                              sample_buffer_capacity));
   }
   return true;
 }
@@ -252,21 +254,22 @@ std::expected<Ack, GyroError> GyroCanDevice::Transact(Command command, Encode en
     counters_.timeouts.fetch_add(1, std::memory_order_relaxed);
   }
   if (!ack_received_) {
-    return Fail(
-        GyroErrorCode::kTimeout,
-        hw::ErrorText(CommandName(command), " (token ", static_cast<int>(token), "): no ack after ",
-            config_.command_attempts, " attempts of ", config_.ack_timeout_ns / 1'000'000, " ms"));
+    return Fail(GyroErrorCode::kTimeout,
+                hw::ErrorText(CommandName(command), " (token ", static_cast<int>(token),
+                              "): no ack after ", config_.command_attempts, " attempts of ",
+                              config_.ack_timeout_ns / 1'000'000, " ms"));
   }
   if (ack_.result != AckResult::kOk) {
     counters_.nacks.fetch_add(1, std::memory_order_relaxed);
     if (ack_.result == AckResult::kFaulted) {
       SetState(GyroMode::kFaulted);
-      return Fail(GyroErrorCode::kFaulted, hw::ErrorText(CommandName(command), ": electronics faulted (mode ",
-                                               hw::ToString(ack_.mode), ")"));
+      return Fail(GyroErrorCode::kFaulted,
+                  hw::ErrorText(CommandName(command), ": electronics faulted (mode ",
+                                hw::ToString(ack_.mode), ")"));
     }
     return Fail(GyroErrorCode::kRejected,
                 hw::ErrorText(CommandName(command), ": rejected (", ResultName(ack_.result),
-                    ") in electronics mode ", hw::ToString(ack_.mode)));
+                              ") in electronics mode ", hw::ToString(ack_.mode)));
   }
   return ack_;
 }
@@ -282,10 +285,10 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   const std::uint32_t max_rate =
       format == FrameFormat::kFd ? kMaxFdSampleRateHz : kMaxClassicSampleRateHz;
   if (config.sample_rate_hz < 1 || config.sample_rate_hz > max_rate) {
-    return Fail(
-        GyroErrorCode::kInvalidArgument,
-        hw::ErrorText("sample_rate_hz must be in 1..", max_rate, " on ",
-            format == FrameFormat::kFd ? "FD" : "classic", " CAN, got ", config.sample_rate_hz));
+    return Fail(GyroErrorCode::kInvalidArgument,
+                hw::ErrorText("sample_rate_hz must be in 1..", max_rate, " on ",
+                              format == FrameFormat::kFd ? "FD" : "classic", " CAN, got ",
+                              config.sample_rate_hz));
   }
   const ConfigureCommand command{
       .token = 0,
@@ -299,9 +302,10 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   });
   if (!ack) return std::unexpected(ack.error());
   if (ack->arg != config.sample_rate_hz || ack->mode != GyroMode::kConfigured) {
-    return Fail(GyroErrorCode::kReadBackMismatch,
-                hw::ErrorText("configure: asked ", config.sample_rate_hz, " Hz, electronics acknowledged ",
-                    ack->arg, " Hz in mode ", hw::ToString(ack->mode)));
+    return Fail(
+        GyroErrorCode::kReadBackMismatch,
+        hw::ErrorText("configure: asked ", config.sample_rate_hz, " Hz, electronics acknowledged ",
+                      ack->arg, " Hz in mode ", hw::ToString(ack->mode)));
   }
   format_ = format;
   sample_rate_hz_ = config.sample_rate_hz;
@@ -316,9 +320,10 @@ std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target
   if (!std::isfinite(target.a) || !std::isfinite(target.b) || !std::isfinite(target.theta_rad) ||
       target.a <= 0 || target.a > a_max || std::abs(target.b) >= target.a ||
       std::abs(target.b) > bt_max || std::abs(target.theta_rad) > bt_max) {
-    return Fail(GyroErrorCode::kInvalidArgument,
-                hw::ErrorText("excite: need 0 < a <= ", a_max, ", |b| < a, |b|, |theta| <= ", bt_max,
-                    "; got a=", target.a, " b=", target.b, " theta_rad=", target.theta_rad));
+    return Fail(
+        GyroErrorCode::kInvalidArgument,
+        hw::ErrorText("excite: need 0 < a <= ", a_max, ", |b| < a, |b|, |theta| <= ", bt_max,
+                      "; got a=", target.a, " b=", target.b, " theta_rad=", target.theta_rad));
   }
   ExciteCommand command;
   command.a_raw = static_cast<std::uint16_t>(std::lround(target.a / kExciteLsb));
@@ -373,7 +378,7 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t t
       SetState(GyroMode::kFaulted);
       return Fail(GyroErrorCode::kFaulted,
                   hw::ErrorText("wait ready: electronics report mode ", hw::ToString(status->mode),
-                      " with fault bits 0x", Hex2(status->fault_bits)));
+                                " with fault bits 0x", Hex2(status->fault_bits)));
     }
     if (status->mode == GyroMode::kReady && status->ready) {
       SetState(GyroMode::kReady);
@@ -382,8 +387,8 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t t
     const std::int64_t now = clock_.NowNs();
     if (now >= deadline_ns) {
       return Fail(GyroErrorCode::kTimeout,
-                  hw::ErrorText("wait ready: not ready after ", timeout_ns / 1'000'000, " ms (mode ",
-                      hw::ToString(status->mode), ")"));
+                  hw::ErrorText("wait ready: not ready after ", timeout_ns / 1'000'000,
+                                " ms (mode ", hw::ToString(status->mode), ")"));
     }
     // Keep consuming frames (periodic status) while waiting for the next poll.
     const CanStatus waited =

@@ -80,7 +80,7 @@ inline constexpr int kSamplesPerFdFrame = 5;
 inline constexpr std::uint16_t kMaxClassicSampleRateHz = 2000;
 inline constexpr std::uint16_t kMaxFdSampleRateHz = 10000;
 static_assert(kMaxClassicSampleRateHz == hw::kMaxSampleRateClassicCanHz &&
-              kMaxFdSampleRateHz == hw::kMaxSampleRateCanFdHz,
+                  kMaxFdSampleRateHz == hw::kMaxSampleRateCanFdHz,
               "the bench judges plans by hw/gyro_electronics.hpp's limits: keep them the same");
 static_assert(((1 << 24) - 1) * kFrequencyLsbHz == hw::kMaxReportedResonantFrequencyHz);
 inline constexpr std::uint8_t kDefaultStatusRateHz = 10;

@@ -20,14 +20,14 @@ std::expected<void, hw::RateTableError> RequireLinkState(TableLinkState state, b
                                                          std::string_view table) {
   switch (state) {
     case TableLinkState::kDisconnected:
-      return std::unexpected(hw::RateTableError{
-          hw::RateTableErrorCode::kNotConnected,
-          std::string(table) + " is not connected (call Connect)"});
+      return std::unexpected(
+          hw::RateTableError{hw::RateTableErrorCode::kNotConnected,
+                             std::string(table) + " is not connected (call Connect)"});
     case TableLinkState::kFaulted:
       if (!allow_faulted) {
-        return std::unexpected(
-            hw::RateTableError{hw::RateTableErrorCode::kFaulted,
-                               "rate table is faulted; ResetFault() and read a clean status first"});
+        return std::unexpected(hw::RateTableError{
+            hw::RateTableErrorCode::kFaulted,
+            "rate table is faulted; ResetFault() and read a clean status first"});
       }
       break;
     case TableLinkState::kConnected:

@@ -31,9 +31,9 @@
 #include <memory>
 #include <span>
 
-#include "modbus_rate_table/link_state.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/rate_table.hpp"
+#include "modbus_rate_table/link_state.hpp"
 #include "modbus_rate_table/modbus_config.hpp"
 
 namespace hrgbench::drivers::modbus_rate_table {

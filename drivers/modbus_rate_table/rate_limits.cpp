@@ -12,7 +12,8 @@ bool RateLimits::IsValid(std::string* why) const {
     return false;
   }
   if (!(std::isfinite(max_accel_rad_s2) && max_accel_rad_s2 > 0.0)) {
-    if (why != nullptr) *why = hw::ErrorText("max_accel_rad_s2 must be > 0, got ", max_accel_rad_s2);
+    if (why != nullptr)
+      *why = hw::ErrorText("max_accel_rad_s2 must be > 0, got ", max_accel_rad_s2);
     return false;
   }
   return true;
@@ -23,7 +24,7 @@ std::expected<void, hw::RateTableError> CheckRate(const RateLimits& limits, doub
     return std::unexpected(hw::RateTableError{
         hw::RateTableErrorCode::kLimitExceeded,
         hw::ErrorText("rate ", rate_rad_s, " rad/s is outside the software limit max_rate_rad_s = ",
-            limits.max_rate_rad_s, " rad/s")});
+                      limits.max_rate_rad_s, " rad/s")});
   }
   return {};
 }
@@ -35,8 +36,8 @@ std::expected<void, hw::RateTableError> CheckAcceleration(const RateLimits& limi
     return std::unexpected(hw::RateTableError{
         hw::RateTableErrorCode::kLimitExceeded,
         hw::ErrorText("acceleration ", accel_rad_s2,
-            " rad/s^2 is outside the software limit max_accel_rad_s2 = ", limits.max_accel_rad_s2,
-            " rad/s^2 (and must be > 0)")});
+                      " rad/s^2 is outside the software limit max_accel_rad_s2 = ",
+                      limits.max_accel_rad_s2, " rad/s^2 (and must be > 0)")});
   }
   return {};
 }

@@ -7,10 +7,10 @@
 namespace hrgbench::drivers::sim {
 namespace {
 
-using drivers::gyro_can::Ack;
-using drivers::gyro_can::AckResult;
-using drivers::gyro_can::Command;
-using drivers::gyro_can::FrameFormat;
+using gyro_can::Ack;
+using gyro_can::AckResult;
+using gyro_can::Command;
+using gyro_can::FrameFormat;
 using hw::GyroMode;
 
 constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
@@ -88,27 +88,27 @@ void GyroSimNode::Send(const hw::CanFrame& frame) noexcept {
 }
 
 void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept {
-  if (!drivers::gyro_can::IsCommandId(frame.id) || frame.extended) return;  // not addressed to us
+  if (!gyro_can::IsCommandId(frame.id) || frame.extended) return;  // not addressed to us
   Command command = Command::kStatusRequest;
   std::uint8_t token = 0;
-  drivers::gyro_can::DecodeStatus status = drivers::gyro_can::DecodeStatus::kWrongId;
-  if (frame.id == drivers::gyro_can::can_id::kConfigure) {
-    drivers::gyro_can::ConfigureCommand c;
-    status = drivers::gyro_can::DecodeConfigure(frame, &c);
+  gyro_can::DecodeStatus status = gyro_can::DecodeStatus::kWrongId;
+  if (frame.id == gyro_can::can_id::kConfigure) {
+    gyro_can::ConfigureCommand c;
+    status = gyro_can::DecodeConfigure(frame, &c);
     command = Command::kConfigure;
     token = c.token;
-  } else if (frame.id == drivers::gyro_can::can_id::kExcite) {
-    drivers::gyro_can::ExciteCommand c;
-    status = drivers::gyro_can::DecodeExcite(frame, &c);
+  } else if (frame.id == gyro_can::can_id::kExcite) {
+    gyro_can::ExciteCommand c;
+    status = gyro_can::DecodeExcite(frame, &c);
     command = Command::kExcite;
     token = c.token;
   } else {
-    drivers::gyro_can::SimpleCommand c;
-    status = drivers::gyro_can::DecodeSimpleCommand(frame, &c);
+    gyro_can::SimpleCommand c;
+    status = gyro_can::DecodeSimpleCommand(frame, &c);
     command = c.command;
     token = c.token;
   }
-  if (status != drivers::gyro_can::DecodeStatus::kOk) {
+  if (status != gyro_can::DecodeStatus::kOk) {
     ++statistics_.bad_frames;  // a real node ignores it; the host's retry recovers
     return;
   }
@@ -124,7 +124,7 @@ void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) no
     if (command == Command::kRelease && ack.result == AckResult::kOk) {
       ack.arg = static_cast<std::uint32_t>((now_ns - release_ns_) / 1000);
     }
-    Send(drivers::gyro_can::EncodeAck(ack));
+    Send(gyro_can::EncodeAck(ack));
     if (command == Command::kStatusRequest) SendStatus();
     return;
   }
@@ -137,12 +137,12 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
   const bool faulted = mode_ == GyroMode::kFaulted;
   switch (command) {
     case Command::kConfigure: {
-      drivers::gyro_can::ConfigureCommand c;
-      drivers::gyro_can::DecodeConfigure(frame, &c);
+      gyro_can::ConfigureCommand c;
+      gyro_can::DecodeConfigure(frame, &c);
       const bool fd_ok = options_.supports_fd && bus_.SupportsFd();
       const std::uint16_t max_rate = c.format == FrameFormat::kFd
-                                         ? drivers::gyro_can::kMaxFdSampleRateHz
-                                         : drivers::gyro_can::kMaxClassicSampleRateHz;
+                                         ? gyro_can::kMaxFdSampleRateHz
+                                         : gyro_can::kMaxClassicSampleRateHz;
       if (faulted) {
         ack.result = AckResult::kFaulted;
       } else if (mode_ != GyroMode::kIdle && mode_ != GyroMode::kConfigured &&
@@ -162,8 +162,8 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
       break;
     }
     case Command::kExcite: {
-      drivers::gyro_can::ExciteCommand c;
-      drivers::gyro_can::DecodeExcite(frame, &c);
+      gyro_can::ExciteCommand c;
+      gyro_can::DecodeExcite(frame, &c);
       if (faulted) {
         ack.result = AckResult::kFaulted;
       } else if (mode_ != GyroMode::kConfigured && mode_ != GyroMode::kReady) {
@@ -171,8 +171,8 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
       } else if (c.a_raw == 0 || std::abs(static_cast<int>(c.b_raw)) >= c.a_raw) {
         ack.result = AckResult::kBadArgument;
       } else {
-        orbit_ = {c.a_raw * drivers::gyro_can::kExciteLsb, c.b_raw * drivers::gyro_can::kExciteLsb,
-                  c.theta_raw * drivers::gyro_can::kExciteLsb, 0.0};
+        orbit_ = {c.a_raw * gyro_can::kExciteLsb, c.b_raw * gyro_can::kExciteLsb,
+                  c.theta_raw * gyro_can::kExciteLsb, 0.0};
         mode_ = GyroMode::kExciting;
         excite_done_ns_ = now_ns + static_cast<std::int64_t>(options_.excite_time_s * 1e9);
       }
@@ -209,7 +209,7 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
   last_command_ = command;
   last_token_ = token;
   have_last_ = true;
-  Send(drivers::gyro_can::EncodeAck(ack));
+  Send(gyro_can::EncodeAck(ack));
   if (command == Command::kStatusRequest) SendStatus();
   Advance(now_ns);
 }
@@ -257,20 +257,20 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
   std::int32_t raw[4];
   for (int c = 0; c < 4; ++c) {
     const double noise = options_.sigma > 0 ? options_.sigma * noise_->Next() : 0.0;
-    raw[c] = drivers::gyro_can::QuantiseY(y(c) + noise);
+    raw[c] = gyro_can::QuantiseY(y(c) + noise);
   }
   const std::uint64_t k = next_sample_++;
   ++statistics_.samples;
   if (format_ == FrameFormat::kClassic) {
     const auto seq = static_cast<std::uint8_t>(k & 0xFFu);
-    SendSampleFrame(drivers::gyro_can::EncodeSampleHalf({0, seq, {raw[0], raw[1]}}));
-    SendSampleFrame(drivers::gyro_can::EncodeSampleHalf({1, seq, {raw[2], raw[3]}}));
+    SendSampleFrame(gyro_can::EncodeSampleHalf({0, seq, {raw[0], raw[1]}}));
+    SendSampleFrame(gyro_can::EncodeSampleHalf({1, seq, {raw[2], raw[3]}}));
     return;
   }
   if (fd_block_.count == 0) fd_block_.seq = static_cast<std::uint16_t>(k & 0xFFFFu);
   fd_block_.y_raw[fd_block_.count] = {raw[0], raw[1], raw[2], raw[3]};
-  if (++fd_block_.count == drivers::gyro_can::kSamplesPerFdFrame) {
-    SendSampleFrame(drivers::gyro_can::EncodeSampleFd(fd_block_));
+  if (++fd_block_.count == gyro_can::kSamplesPerFdFrame) {
+    SendSampleFrame(gyro_can::EncodeSampleFd(fd_block_));
     fd_block_ = {};
   }
 }
@@ -293,7 +293,7 @@ void GyroSimNode::SendSampleFrame(hw::CanFrame frame) noexcept {
 }
 
 void GyroSimNode::SendStatus() noexcept {
-  drivers::gyro_can::StatusMessage status;
+  gyro_can::StatusMessage status;
   status.mode = mode_;
   status.fault_bits = fault_bits_;
   status.pll_lock =
@@ -307,7 +307,7 @@ void GyroSimNode::SendStatus() noexcept {
       std::clamp(options_.temperature_c + options_.temperature_drift_c_per_s * since_power_on_s,
                  -327.67, 327.67);
   status.temperature_centi_c = static_cast<std::int16_t>(std::lround(temperature_c * 100));
-  Send(drivers::gyro_can::EncodeStatus(status));
+  Send(gyro_can::EncodeStatus(status));
 }
 
 }  // namespace hrgbench::drivers::sim

@@ -69,7 +69,7 @@ class GyroSimNode final : public SimulationParticipant {
 
  private:
   void HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept;
-  void Execute(drivers::gyro_can::Command command, std::uint8_t token, const hw::CanFrame& frame,
+  void Execute(gyro_can::Command command, std::uint8_t token, const hw::CanFrame& frame,
                std::int64_t now_ns) noexcept;
   void Advance(std::int64_t now_ns) noexcept;
   void EmitSample(std::int64_t t_ns) noexcept;
@@ -91,8 +91,8 @@ class GyroSimNode final : public SimulationParticipant {
   hw::GyroMode mode_ = hw::GyroMode::kIdle;
   std::uint8_t fault_bits_ = 0;
   std::uint16_t sample_rate_hz_ = 0;
-  drivers::gyro_can::FrameFormat format_ = drivers::gyro_can::FrameFormat::kClassic;
-  std::uint8_t status_rate_hz_ = drivers::gyro_can::kDefaultStatusRateHz;
+  gyro_can::FrameFormat format_ = gyro_can::FrameFormat::kClassic;
+  std::uint8_t status_rate_hz_ = gyro_can::kDefaultStatusRateHz;
   estimator::Orbit orbit_;
   std::int64_t excite_done_ns_ = 0;
 
@@ -103,14 +103,14 @@ class GyroSimNode final : public SimulationParticipant {
   std::int64_t anchor_ns_ = 0;
   double anchor_omega_ = 0.0;
   std::optional<estimator::NormalGenerator> noise_;
-  drivers::gyro_can::SampleFdBlock fd_block_;
+  gyro_can::SampleFdBlock fd_block_;
   std::uint64_t sample_frames_ = 0;  // sample frames produced this run (for drop_every_nth)
 
   // Retry detection: the last command and its Ack.
   bool have_last_ = false;
-  drivers::gyro_can::Command last_command_ = drivers::gyro_can::Command::kStatusRequest;
+  gyro_can::Command last_command_ = gyro_can::Command::kStatusRequest;
   std::uint8_t last_token_ = 0;
-  drivers::gyro_can::Ack last_ack_;
+  gyro_can::Ack last_ack_;
 
   std::int64_t next_status_ns_ = 0;
   std::int64_t next_poll_ns_ = 0;

@@ -1,7 +1,7 @@
 #pragma once
 // HOST:PORT on the simulators' command lines (hrg-table-sim --tcp, hrg-gyro-sim --table). The port
-// is the text after the last ':' and must be all digits in 1..65535 ("1502x" is refused, not read as
-// 1502); the host is everything before it and must not be empty.
+// is the text after the last ':' and must be all digits in 1..65535 ("1502x" is refused, not read
+// as 1502); the host is everything before it and must not be empty.
 
 #include <optional>
 #include <string>

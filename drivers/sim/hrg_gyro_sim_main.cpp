@@ -29,7 +29,6 @@ namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop.store(true); }
 
-
 }  // namespace
 
 int main(int argc, char** argv) {

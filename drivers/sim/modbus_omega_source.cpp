@@ -42,8 +42,8 @@ void ModbusOmegaSource::Poll() {
       }
     }
     std::uint16_t regs[2] = {0, 0};
-    if (modbus_read_input_registers(ctx, drivers::modbus_rate_table::input::kMeasuredRate, 2, regs) == 2) {
-      const double rate = drivers::modbus_rate_table::DecodeFloat32(regs[0], regs[1]);
+    if (modbus_read_input_registers(ctx, modbus_rate_table::input::kMeasuredRate, 2, regs) == 2) {
+      const double rate = modbus_rate_table::DecodeFloat32(regs[0], regs[1]);
       omega_rad_s_.store(rate + earth_rate_rad_s_, std::memory_order_release);
       reads_.fetch_add(1, std::memory_order_relaxed);
     } else {

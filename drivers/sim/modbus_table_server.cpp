@@ -19,8 +19,8 @@
 namespace hrgbench::drivers::sim {
 
 namespace {
-namespace holding = drivers::modbus_rate_table::holding;
-namespace input = drivers::modbus_rate_table::input;
+namespace holding = modbus_rate_table::holding;
+namespace input = modbus_rate_table::input;
 
 constexpr std::uint8_t kFnReadHolding = 0x03;
 constexpr std::uint8_t kFnReadInput = 0x04;
@@ -30,12 +30,13 @@ constexpr std::uint8_t kFnMaskWrite = 0x16;
 constexpr std::uint8_t kFnWriteAndRead = 0x17;
 
 // The register map's exception numbers are the protocol's, which libmodbus names.
-static_assert(drivers::modbus_rate_table::exception_code::kIllegalFunction == MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
-static_assert(drivers::modbus_rate_table::exception_code::kIllegalDataAddress ==
+static_assert(modbus_rate_table::exception_code::kIllegalFunction ==
+              MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
+static_assert(modbus_rate_table::exception_code::kIllegalDataAddress ==
               MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
-static_assert(drivers::modbus_rate_table::exception_code::kIllegalDataValue ==
+static_assert(modbus_rate_table::exception_code::kIllegalDataValue ==
               MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
-static_assert(drivers::modbus_rate_table::exception_code::kServerDeviceFailure ==
+static_assert(modbus_rate_table::exception_code::kServerDeviceFailure ==
               MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
 
 // Big-endian 16-bit field of a Modbus PDU (libmodbus' macros trip -Wconversion).
@@ -84,7 +85,8 @@ std::expected<void, std::string> ModbusTableServer::Open() {
     CloseAll();
     return std::unexpected("modbus_mapping_new failed");
   }
-  const auto accel = drivers::modbus_rate_table::EncodeFloat32(static_cast<float>(physics_.accel_limit_rad_s2()));
+  const auto accel =
+      modbus_rate_table::EncodeFloat32(static_cast<float>(physics_.accel_limit_rad_s2()));
   mapping_->tab_registers[holding::kAccelLimit] = accel[0];
   mapping_->tab_registers[holding::kAccelLimit + 1] = accel[1];
   mapping_->tab_registers[holding::kWatchdogMs] = physics_.watchdog_ms();
@@ -166,7 +168,7 @@ bool ModbusTableServer::TakeFault(RegisterTable table, int address, int count, F
 }
 
 void ModbusTableServer::RefreshInputRegisters() {
-  const auto block = drivers::modbus_rate_table::EncodeStatusBlock(physics_.Status());
+  const auto block = modbus_rate_table::EncodeStatusBlock(physics_.Status());
   std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
 }
 
@@ -188,36 +190,38 @@ int ModbusTableServer::CheckWrite(const std::uint8_t* query, int function, int a
   // libmodbus' own checks, in its order, made here because the registers are decoded below.
   if (function == kFnWriteMultiple &&
       (count < 1 || count > MODBUS_MAX_WRITE_REGISTERS || query[hl + 5] != 2 * count)) {
-    return drivers::modbus_rate_table::exception_code::kIllegalDataValue;
+    return modbus_rate_table::exception_code::kIllegalDataValue;
   }
-  if (address + count > holding::kCount) return drivers::modbus_rate_table::exception_code::kIllegalDataAddress;
+  if (address + count > holding::kCount)
+    return modbus_rate_table::exception_code::kIllegalDataAddress;
   const auto covers = [&](int reg) { return reg >= address && reg < address + count; };
   // A float32 is one value in two registers: half of it would command a torn value (a new high
   // word with the old low word), which a real controller refuses as an address error.
   for (int first : holding::kFloatPairs) {
     if (covers(first) != covers(first + 1)) {
-      return drivers::modbus_rate_table::exception_code::kIllegalDataAddress;
+      return modbus_rate_table::exception_code::kIllegalDataAddress;
     }
   }
   // Every value of the register image the write would leave must be in range.
   const auto regs = ImageAfterWrite(query, function, address, count);
   const auto& o = physics_.options();
-  const double rate =
-      drivers::modbus_rate_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]);
+  const double rate = modbus_rate_table::DecodeFloat32(regs[holding::kRateCommand],
+                                                       regs[holding::kRateCommand + 1]);
   const double accel =
-      drivers::modbus_rate_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]);
-  const bool in_range =
-      regs[holding::kMode] <= 1 && regs[holding::kReserved1] == 0 && std::isfinite(rate) &&
-      std::abs(rate) <= o.max_rate_rad_s && std::isfinite(accel) && accel > 0.0 &&
-      accel <= o.max_accel_rad_s2 && regs[holding::kWatchdogMs] >= drivers::modbus_rate_table::kMinWatchdogMs &&
-      regs[holding::kWatchdogMs] <= drivers::modbus_rate_table::kMaxWatchdogMs && regs[holding::kFaultReset] <= 1;
-  if (!in_range) return drivers::modbus_rate_table::exception_code::kIllegalDataValue;
+      modbus_rate_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]);
+  const bool in_range = regs[holding::kMode] <= 1 && regs[holding::kReserved1] == 0 &&
+                        std::isfinite(rate) && std::abs(rate) <= o.max_rate_rad_s &&
+                        std::isfinite(accel) && accel > 0.0 && accel <= o.max_accel_rad_s2 &&
+                        regs[holding::kWatchdogMs] >= modbus_rate_table::kMinWatchdogMs &&
+                        regs[holding::kWatchdogMs] <= modbus_rate_table::kMaxWatchdogMs &&
+                        regs[holding::kFaultReset] <= 1;
+  if (!in_range) return modbus_rate_table::exception_code::kIllegalDataValue;
   // A well-formed motion command the table cannot carry out now. A stop (mode 0, rate 0) is never
   // refused: it is what a faulted table does anyway, and a safe stop must always be possible.
   const bool commands_motion = (covers(holding::kMode) && regs[holding::kMode] == 1) ||
                                (covers(holding::kRateCommand) && rate != 0.0);
   if (commands_motion && physics_.LatchedFaultCode() != 0) {
-    return drivers::modbus_rate_table::exception_code::kServerDeviceFailure;
+    return modbus_rate_table::exception_code::kServerDeviceFailure;
   }
   return 0;
 }
@@ -229,15 +233,16 @@ bool ModbusTableServer::ApplyWrite(const std::uint8_t* query, int function, int 
   // The command first: the physics may still refuse it (the interlock is open, which trips
   // fault 3, or a fault tripped since CheckWrite), and then nothing of the request is applied.
   if (covers(holding::kMode) || covers(holding::kRateCommand)) {
-    const bool accepted = physics_.Command(
-        static_cast<hw::RateTableMode>(regs[holding::kMode]),
-        drivers::modbus_rate_table::DecodeFloat32(regs[holding::kRateCommand], regs[holding::kRateCommand + 1]));
+    const bool accepted =
+        physics_.Command(static_cast<hw::RateTableMode>(regs[holding::kMode]),
+                         modbus_rate_table::DecodeFloat32(regs[holding::kRateCommand],
+                                                          regs[holding::kRateCommand + 1]));
     if (!accepted) return false;
   }
   std::copy(regs.begin(), regs.end(), mapping_->tab_registers);
   if (covers(holding::kAccelLimit)) {
-    physics_.SetAccelLimit(
-        drivers::modbus_rate_table::DecodeFloat32(regs[holding::kAccelLimit], regs[holding::kAccelLimit + 1]));
+    physics_.SetAccelLimit(modbus_rate_table::DecodeFloat32(regs[holding::kAccelLimit],
+                                                            regs[holding::kAccelLimit + 1]));
   }
   if (covers(holding::kWatchdogMs)) physics_.SetWatchdogMs(regs[holding::kWatchdogMs]);
   if (covers(holding::kHeartbeat)) {
@@ -260,16 +265,16 @@ void ModbusTableServer::Refuse(const std::uint8_t* query, int exception_code) {
   {
     std::lock_guard lock(mutex_);
     switch (exception_code) {
-      case drivers::modbus_rate_table::exception_code::kIllegalFunction:
+      case modbus_rate_table::exception_code::kIllegalFunction:
         ++counters_.illegal_functions;
         break;
-      case drivers::modbus_rate_table::exception_code::kIllegalDataAddress:
+      case modbus_rate_table::exception_code::kIllegalDataAddress:
         ++counters_.illegal_addresses;
         break;
-      case drivers::modbus_rate_table::exception_code::kIllegalDataValue:
+      case modbus_rate_table::exception_code::kIllegalDataValue:
         ++counters_.rejected_writes;
         break;
-      case drivers::modbus_rate_table::exception_code::kServerDeviceFailure:
+      case modbus_rate_table::exception_code::kServerDeviceFailure:
         ++counters_.refused_commands;
         break;
     }
@@ -298,7 +303,7 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
     case kFnWriteAndRead:
       // libmodbus would serve them straight from the register map, around every check here; the
       // register map does not offer them, as many controllers do not.
-      Refuse(query, drivers::modbus_rate_table::exception_code::kIllegalFunction);
+      Refuse(query, modbus_rate_table::exception_code::kIllegalFunction);
       return;
     default:
       modbus_reply(ctx_, query, length, mapping_);
@@ -335,7 +340,7 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
     // load).
     if (!ApplyWrite(query, function, address, count)) {
       RefreshHoldingRegisters();
-      Refuse(query, drivers::modbus_rate_table::exception_code::kServerDeviceFailure);
+      Refuse(query, modbus_rate_table::exception_code::kServerDeviceFailure);
       return;
     }
   }

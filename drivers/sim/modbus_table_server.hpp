@@ -86,7 +86,7 @@ class ModbusTableServer {
   void Serve(std::uint8_t* query, int length);
   bool TakeFault(RegisterTable table, int address, int count, FaultRule* fault);
   // The holding registers as a write (FC 06 / FC 16, already within 0..8) would leave them.
-  std::array<std::uint16_t, drivers::modbus_rate_table::holding::kCount> ImageAfterWrite(
+  std::array<std::uint16_t, modbus_rate_table::holding::kCount> ImageAfterWrite(
       const std::uint8_t* query, int function, int address, int count) const;
   // 0 when the write may be applied, else the exception code to answer with.
   int CheckWrite(const std::uint8_t* query, int function, int address, int count);

@@ -4,7 +4,8 @@
 
 namespace hrgbench::drivers::sim_station {
 
-hw::CanStatus ClockedCanEndpoint::Send(const hw::CanFrame& frame, std::int64_t timeout_ns) noexcept {
+hw::CanStatus ClockedCanEndpoint::Send(const hw::CanFrame& frame,
+                                       std::int64_t timeout_ns) noexcept {
   const hw::CanStatus status = endpoint_.Send(frame, timeout_ns);
   if (status == hw::CanStatus::kOk) {
     try {

@@ -30,8 +30,8 @@ namespace hrgbench::drivers::sim_station {
 
 class ClockedCanEndpoint final : public hw::CanBus {
  public:
-  ClockedCanEndpoint(drivers::can_virtual::VirtualCanBus& bus,
-                     drivers::can_virtual::VirtualCanEndpoint& endpoint, VirtualTimeClock& clock)
+  ClockedCanEndpoint(can_virtual::VirtualCanBus& bus, can_virtual::VirtualCanEndpoint& endpoint,
+                     VirtualTimeClock& clock)
       : bus_(bus), endpoint_(endpoint), clock_(clock) {}
 
   hw::CanStatus Send(const hw::CanFrame& frame, std::int64_t timeout_ns) noexcept override;
@@ -45,8 +45,8 @@ class ClockedCanEndpoint final : public hw::CanBus {
   bool SupportsFd() const noexcept override { return endpoint_.SupportsFd(); }
 
  private:
-  drivers::can_virtual::VirtualCanBus& bus_;
-  drivers::can_virtual::VirtualCanEndpoint& endpoint_;
+  can_virtual::VirtualCanBus& bus_;
+  can_virtual::VirtualCanEndpoint& endpoint_;
   VirtualTimeClock& clock_;
   std::atomic<std::uint64_t> timeouts_{0};
 };

@@ -34,15 +34,16 @@ bool InProcessRateTableConfig::IsValid(std::string* why) const {
   if (!limits.IsValid(why)) return false;
   if (!(std::isfinite(accel_limit_rad_s2) && accel_limit_rad_s2 > 0.0 &&
         accel_limit_rad_s2 <= limits.max_accel_rad_s2)) {
-    return fail(hw::ErrorText("accel_limit_rad_s2 must be in (0, max_accel_rad_s2 = ", limits.max_accel_rad_s2,
-                    "], got ", accel_limit_rad_s2));
+    return fail(hw::ErrorText("accel_limit_rad_s2 must be in (0, max_accel_rad_s2 = ",
+                              limits.max_accel_rad_s2, "], got ", accel_limit_rad_s2));
   }
   if (watchdog_timeout_ms < 100 || watchdog_timeout_ms > 60000) {
-    return fail(hw::ErrorText("watchdog_timeout_ms must be in [100, 60000], got ", watchdog_timeout_ms));
+    return fail(
+        hw::ErrorText("watchdog_timeout_ms must be in [100, 60000], got ", watchdog_timeout_ms));
   }
   if (heartbeat_period_ms <= 0 || 2 * heartbeat_period_ms > watchdog_timeout_ms) {
     return fail(hw::ErrorText("heartbeat_period_ms must be in (0, watchdog_timeout_ms / 2 = ",
-                    watchdog_timeout_ms / 2, "], got ", heartbeat_period_ms));
+                              watchdog_timeout_ms / 2, "], got ", heartbeat_period_ms));
   }
   if (response_timeout_ms <= 0) {
     return fail(hw::ErrorText("response_timeout_ms must be > 0, got ", response_timeout_ms));
@@ -60,8 +61,8 @@ bool InProcessRateTableConfig::IsValid(std::string* why) const {
   return true;
 }
 
-InProcessRateTable::InProcessRateTable(InProcessRateTableConfig config,
-                                       drivers::sim::TablePhysics& physics, hw::Clock& clock)
+InProcessRateTable::InProcessRateTable(InProcessRateTableConfig config, sim::TablePhysics& physics,
+                                       hw::Clock& clock)
     : config_(std::move(config)),
       physics_(physics),
       clock_(clock),
@@ -75,8 +76,12 @@ InProcessTableCounters InProcessRateTable::counters() const noexcept {
   const auto get = [](const std::atomic<std::uint64_t>& c) {
     return c.load(std::memory_order_relaxed);
   };
-  return {get(counters_.calls),      get(counters_.timeouts),   get(counters_.connection_losses),
-          get(counters_.limit_rejections), get(counters_.refusals), get(counters_.heartbeats),
+  return {get(counters_.calls),
+          get(counters_.timeouts),
+          get(counters_.connection_losses),
+          get(counters_.limit_rejections),
+          get(counters_.refusals),
+          get(counters_.heartbeats),
           get(counters_.faults_injected)};
 }
 
@@ -126,8 +131,8 @@ std::expected<void, RateTableError> InProcessRateTable::Transact(const char* wha
     ++counters_.timeouts;
     return Fail(RateTableErrorCode::kTimeout,
                 hw::ErrorText(what, ": no reply within ", config_.response_timeout_ms, " ms after ",
-                    config_.transaction_attempts, " attempts (injected",
-                    unresponsive ? ": table unresponsive)" : ")"));
+                              config_.transaction_attempts, " attempts (injected",
+                              unresponsive ? ": table unresponsive)" : ")"));
   }
   if (clock_.NowNs() - last_heartbeat_ns_ >= config_.heartbeat_period_ms * kNsPerMs) {
     physics_.Heartbeat(++heartbeat_value_);
@@ -144,7 +149,7 @@ std::expected<void, RateTableError> InProcessRateTable::Refused(const char* what
     state_.store(TableLinkState::kFaulted, std::memory_order_release);
     return Fail(RateTableErrorCode::kFaulted,
                 hw::ErrorText(what, " refused: table reports fault '",
-                    hw::RateTableFaultName(status.fault_code), "'"));
+                              hw::RateTableFaultName(status.fault_code), "'"));
   }
   return Fail(RateTableErrorCode::kExceptionReply,
               hw::ErrorText(what, " refused by the table (beyond its hardware limits)"));
@@ -170,9 +175,9 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
       physics_.watchdog_ms() != config_.watchdog_timeout_ms) {
     Disconnect();
     return Fail(RateTableErrorCode::kReadBackMismatch,
-                hw::ErrorText("connect: wrote accel ", config_.accel_limit_rad_s2, " rad/s^2, watchdog ",
-                    config_.watchdog_timeout_ms, " ms; read back ", physics_.accel_limit_rad_s2(),
-                    ", ", physics_.watchdog_ms()));
+                hw::ErrorText("connect: wrote accel ", config_.accel_limit_rad_s2,
+                              " rad/s^2, watchdog ", config_.watchdog_timeout_ms, " ms; read back ",
+                              physics_.accel_limit_rad_s2(), ", ", physics_.watchdog_ms()));
   }
   const hw::RateTableStatus status = physics_.Status();
   target_rate_rad_s_ = status.commanded_rate_rad_s;
@@ -183,7 +188,7 @@ std::expected<void, RateTableError> InProcessRateTable::Connect() {
 }
 
 std::expected<void, RateTableError> InProcessRateTable::SetRate(double rate_rad_s) {
-  if (auto ok = drivers::modbus_rate_table::CheckRate(config_.limits, rate_rad_s); !ok) {
+  if (auto ok = modbus_rate_table::CheckRate(config_.limits, rate_rad_s); !ok) {
     ++counters_.limit_rejections;
     return ok;
   }
@@ -197,7 +202,7 @@ std::expected<void, RateTableError> InProcessRateTable::SetRate(double rate_rad_
 }
 
 std::expected<void, RateTableError> InProcessRateTable::SetAccelerationLimit(double accel_rad_s2) {
-  if (auto ok = drivers::modbus_rate_table::CheckAcceleration(config_.limits, accel_rad_s2); !ok) {
+  if (auto ok = modbus_rate_table::CheckAcceleration(config_.limits, accel_rad_s2); !ok) {
     ++counters_.limit_rejections;
     return ok;
   }
@@ -207,7 +212,7 @@ std::expected<void, RateTableError> InProcessRateTable::SetAccelerationLimit(dou
   if (physics_.accel_limit_rad_s2() != accel_rad_s2) {
     return Fail(RateTableErrorCode::kReadBackMismatch,
                 hw::ErrorText("acceleration limit: wrote ", accel_rad_s2, " rad/s^2, read back ",
-                    physics_.accel_limit_rad_s2()));
+                              physics_.accel_limit_rad_s2()));
   }
   return {};
 }
@@ -217,8 +222,7 @@ std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::ReadStatu
   if (auto ok = Transact("read status"); !ok) return std::unexpected(ok.error());
   hw::RateTableStatus status = physics_.Status();
   if (never_stable_) status.rate_stable = false;
-  state_.store(status.fault || status.estop ? TableLinkState::kFaulted
-                                            : TableLinkState::kConnected,
+  state_.store(status.fault || status.estop ? TableLinkState::kFaulted : TableLinkState::kConnected,
                std::memory_order_release);
   return status;
 }
@@ -226,8 +230,8 @@ std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::ReadStatu
 std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::WaitUntilStable(
     const hw::StableCriteria& criteria) {
   if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());
-  return drivers::modbus_rate_table::WaitForStableRate([this] { return ReadStatus(); }, clock_,
-                                         target_rate_rad_s_, criteria);
+  return modbus_rate_table::WaitForStableRate([this] { return ReadStatus(); }, clock_,
+                                              target_rate_rad_s_, criteria);
 }
 
 std::expected<void, RateTableError> InProcessRateTable::Heartbeat() {

@@ -14,8 +14,8 @@
 //
 // Failure injection (STYLE rule 6), explicit and counted: never stable, a fault latched at a
 // scheduled time, the next K calls failing (timeout or lost connection), unresponsive from a
-// scheduled time on. A timeout costs transaction_attempts x response_timeout_ms of the clock's time,
-// as on the wire, so the bench's time budgets see it.
+// scheduled time on. A timeout costs transaction_attempts x response_timeout_ms of the clock's
+// time, as on the wire, so the bench's time budgets see it.
 //
 // Units: rad/s, rad/s^2, ms / s / ns as named. Time base: the injected Clock (the station's).
 // Threads: owned by one thread (the sequencer's). counters(), state() and SenseTrueRateRadS() may
@@ -37,16 +37,16 @@ namespace hrgbench::drivers::sim_station {
 // Every injected failure is off by default. Times are seconds on the clock from the table's
 // construction (the station's start); < 0 means never.
 struct InProcessTableFaults {
-  bool never_stable = false;          // the table's own at-rate bit never comes (a hunting loop)
-  double fault_after_s = -1.0;        // the drive faults (kDrive, latched) at this time
-  double unresponsive_after_s = -1.0; // from this time on every call times out
-  std::uint32_t fail_next_calls = 0;  // the next N calls fail with fail_code (then recover)
+  bool never_stable = false;           // the table's own at-rate bit never comes (a hunting loop)
+  double fault_after_s = -1.0;         // the drive faults (kDrive, latched) at this time
+  double unresponsive_after_s = -1.0;  // from this time on every call times out
+  std::uint32_t fail_next_calls = 0;   // the next N calls fail with fail_code (then recover)
   hw::RateTableErrorCode fail_code = hw::RateTableErrorCode::kTimeout;  // or kConnectionLost
 };
 
 struct InProcessRateTableConfig {
-  drivers::modbus_rate_table::RateLimits limits;       // software limits (the bench's ceiling)
-  double accel_limit_rad_s2 = 1.0;       // written and read back at Connect
+  modbus_rate_table::RateLimits limits;      // software limits (the bench's ceiling)
+  double accel_limit_rad_s2 = 1.0;           // written and read back at Connect
   std::uint16_t watchdog_timeout_ms = 1000;  // written and read back at Connect (100..60000)
   std::int64_t heartbeat_period_ms = 200;    // every call heartbeats when this has passed
   std::int64_t response_timeout_ms = 200;    // what one timed-out attempt costs
@@ -86,8 +86,7 @@ class InProcessRateTable final : public hw::RateTable {
  public:
   // `physics` and `clock` must outlive this; `clock` must be the physics' clock. The config is
   // validated by Connect() (kInvalidConfig).
-  InProcessRateTable(InProcessRateTableConfig config, drivers::sim::TablePhysics& physics,
-                     hw::Clock& clock);
+  InProcessRateTable(InProcessRateTableConfig config, sim::TablePhysics& physics, hw::Clock& clock);
 
   std::expected<void, hw::RateTableError> Connect() override;
   std::expected<void, hw::RateTableError> SetRate(double rate_rad_s) override;
@@ -127,7 +126,7 @@ class InProcessRateTable final : public hw::RateTable {
   void FireScheduledFault() noexcept;  // any thread
 
   InProcessRateTableConfig config_;
-  drivers::sim::TablePhysics& physics_;
+  sim::TablePhysics& physics_;
   hw::Clock& clock_;
   const std::int64_t fault_at_ns_;         // INT64_MAX: never
   const std::int64_t unresponsive_at_ns_;  // INT64_MAX: never

@@ -28,7 +28,7 @@ std::expected<void, std::string> SimulatedStation::Build() {
     clock_ = virtual_clock_.get();
   }
 
-  physics_ = std::make_unique<drivers::sim::TablePhysics>(options_.table_physics, *clock_);
+  physics_ = std::make_unique<sim::TablePhysics>(options_.table_physics, *clock_);
   table_ = std::make_unique<InProcessRateTable>(options_.table, *physics_, *clock_);
 
   can_virtual::VirtualCanBusOptions bus_options;
@@ -58,15 +58,16 @@ std::expected<void, std::string> SimulatedStation::Build() {
   InProcessRateTable* table = table_.get();
   const double earth_rate_rad_s = options_.earth_rate_rad_s;
   can_virtual::VirtualCanBus* shorted_bus = bus_.get();
-  node_ = std::make_unique<drivers::sim::GyroSimNode>(
+  node_ = std::make_unique<sim::GyroSimNode>(
       *node_endpoint_, *clock_, options_.gyro,
       [table, earth_rate_rad_s] { return table->SenseTrueRateRadS() + earth_rate_rad_s; },
       [shorted_bus] { shorted_bus->SetBusOff(true); });
 
-  drivers::gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
+  gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
   link.clock = clock_;
-  auto device = drivers::gyro_can::GyroCanDevice::Create(*host_bus_, link);
-  if (!device) return std::unexpected("simulated station: gyro driver: " + device.error().ToString());
+  auto device = gyro_can::GyroCanDevice::Create(*host_bus_, link);
+  if (!device)
+    return std::unexpected("simulated station: gyro driver: " + device.error().ToString());
   device_ = std::move(*device);
 
   if (virtual_clock_) {
@@ -90,8 +91,8 @@ SimulatedTruth SimulatedStation::truth() const {
           options_.earth_rate_rad_s};
 }
 
-drivers::sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
-  drivers::sim::GyroSimStatistics statistics;
+sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
+  sim::GyroSimStatistics statistics;
   if (virtual_clock_) {
     virtual_clock_->WithParticipantsLocked([&] { statistics = node_->Statistics(); });
   } else {
@@ -100,8 +101,7 @@ drivers::sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
   return statistics;
 }
 
-bool SimulatedStation::InjectGyroFaults(
-    const std::function<void(drivers::sim::GyroSimFaults&)>& change) {
+bool SimulatedStation::InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change) {
   if (!virtual_clock_) return false;
   virtual_clock_->WithParticipantsLocked([&] { change(node_->faults()); });
   return true;

@@ -37,12 +37,12 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/hw/rate_table.hpp"
+#include "sim/gyro_sim_node.hpp"
+#include "sim/table_physics.hpp"
 #include "sim_station/clocked_can_endpoint.hpp"
 #include "sim_station/in_process_rate_table.hpp"
 #include "sim_station/simulated_station_options.hpp"
 #include "sim_station/virtual_time_clock.hpp"
-#include "sim/gyro_sim_node.hpp"
-#include "sim/table_physics.hpp"
 
 namespace hrgbench::drivers::sim_station {
 
@@ -69,16 +69,16 @@ class SimulatedStation {
 
   // The concrete parts, for tests and the app's diagnostics.
   InProcessRateTable& in_process_table() noexcept { return *table_; }
-  drivers::gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
-  drivers::can_virtual::VirtualCanBus& bus() noexcept { return *bus_; }
+  gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
+  can_virtual::VirtualCanBus& bus() noexcept { return *bus_; }
   VirtualTimeClock* virtual_clock() noexcept { return virtual_clock_.get(); }  // null: real time
   // The simulated electronics' counters. In real time they are read racily (diagnostics only).
-  drivers::sim::GyroSimStatistics gyro_sim_statistics() const;
+  sim::GyroSimStatistics gyro_sim_statistics() const;
 
   // Changes the simulated electronics' failure modes while running, safely with respect to the
   // thread that drives the node. False in real time (the node's thread owns them; set them in
   // the options instead).
-  bool InjectGyroFaults(const std::function<void(drivers::sim::GyroSimFaults&)>& change);
+  bool InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change);
 
  private:
   explicit SimulatedStation(const SimulatedStationOptions& options);
@@ -90,18 +90,18 @@ class SimulatedStation {
   std::unique_ptr<VirtualTimeClock> virtual_clock_;
   hw::SteadyClock steady_clock_;
   hw::Clock* clock_ = nullptr;
-  std::unique_ptr<drivers::sim::TablePhysics> physics_;
+  std::unique_ptr<sim::TablePhysics> physics_;
   std::unique_ptr<InProcessRateTable> table_;
-  std::unique_ptr<drivers::can_virtual::VirtualCanBus> bus_;
-  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> host_endpoint_;
-  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> node_endpoint_;
-  std::unique_ptr<drivers::can_virtual::VirtualCanEndpoint> monitor_endpoint_;
+  std::unique_ptr<can_virtual::VirtualCanBus> bus_;
+  std::unique_ptr<can_virtual::VirtualCanEndpoint> host_endpoint_;
+  std::unique_ptr<can_virtual::VirtualCanEndpoint> node_endpoint_;
+  std::unique_ptr<can_virtual::VirtualCanEndpoint> monitor_endpoint_;
   std::unique_ptr<ClockedCanEndpoint> host_clocked_;     // faster than real time only
   std::unique_ptr<ClockedCanEndpoint> monitor_clocked_;  // faster than real time only
   hw::CanBus* host_bus_ = nullptr;
   hw::CanBus* monitor_bus_ = nullptr;
-  std::unique_ptr<drivers::sim::GyroSimNode> node_;
-  std::unique_ptr<drivers::gyro_can::GyroCanDevice> device_;
+  std::unique_ptr<sim::GyroSimNode> node_;
+  std::unique_ptr<gyro_can::GyroCanDevice> device_;
   std::atomic<bool> stop_node_{false};
   std::thread node_thread_;  // real time only
 };

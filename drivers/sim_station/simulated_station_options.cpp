@@ -22,7 +22,7 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
   if (!gyro.IsValid(&part)) return fail("gyro: " + part);
   if (!table_physics.IsValid(&part)) return fail("table_physics: " + part);
   if (!table.IsValid(&part)) return fail("table: " + part);
-  drivers::gyro_can::GyroCanDeviceConfig link = gyro_link;
+  gyro_can::GyroCanDeviceConfig link = gyro_link;
   hw::SteadyClock placeholder;  // the station supplies its clock; validate the rest
   link.clock = &placeholder;
   if (!link.IsValid(&part)) return fail("gyro_link: " + part);

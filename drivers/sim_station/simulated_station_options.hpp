@@ -17,9 +17,9 @@
 #include <string>
 
 #include "gyro_can/gyro_can_device.hpp"
-#include "sim_station/in_process_rate_table.hpp"
 #include "sim/gyro_sim_options.hpp"
 #include "sim/table_physics.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 
 namespace hrgbench::drivers::sim_station {
 
@@ -37,23 +37,23 @@ struct SimulatedStationOptions {
 
   // The simulated electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes
   // (gyro.faults). Defaults: the paper's experiment, noise-free; set sigma for realism.
-  drivers::sim::GyroSimOptions gyro;
+  sim::GyroSimOptions gyro;
   // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
   // axis (bench::EarthRateOnAxisRadS of the station's site), rad/s.
   double earth_rate_rad_s = 0.0;
 
   // The rate table: its physics (drivers/sim) and the in-process driver (limits, heartbeat,
   // watchdog, failure modes in table.faults).
-  drivers::sim::TablePhysicsOptions table_physics;
+  sim::TablePhysicsOptions table_physics;
   InProcessRateTableConfig table;
 
   // The host side of the gyro link (GyroCanDevice); its clock is the station's (ignored here).
-  drivers::gyro_can::GyroCanDeviceConfig gyro_link;
+  gyro_can::GyroCanDeviceConfig gyro_link;
 
   // The in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
   std::int64_t can_bit_rate_bps = 1'000'000;
-  bool can_fd = false;                        // FD bus (5 Mbit/s data phase); gyro_link.prefer_fd
-  std::size_t host_queue_frames = 4096;       // the gyro driver's receive queue (2 s at 1 kHz)
+  bool can_fd = false;                   // FD bus (5 Mbit/s data phase); gyro_link.prefer_fd
+  std::size_t host_queue_frames = 4096;  // the gyro driver's receive queue (2 s at 1 kHz)
   // The raw-frame tap's queue: 64 Ki frames is 32 s of a 1 kHz classic stream, so a recorder
   // that writes in bursts does not lose frames. Oldest dropped when full (counted).
   std::size_t monitor_queue_frames = 65536;

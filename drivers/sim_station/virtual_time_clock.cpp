@@ -99,7 +99,7 @@ struct VirtualTimeClock::Core {
   WallClock::time_point anchor_wall;
   std::int64_t anchor_sim_ns = 0;
   std::map<std::thread::id, ThreadRecord> threads;
-  std::vector<drivers::sim::SimulationParticipant*> participants;
+  std::vector<sim::SimulationParticipant*> participants;
   VirtualTimeClockStatistics statistics;
 };
 
@@ -124,7 +124,7 @@ bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   for (const auto& [id, record] : threads) {
     if (record.state == ThreadRecord::State::kWaiting) next = std::min(next, record.deadline_ns);
   }
-  for (drivers::sim::SimulationParticipant* p : participants) {
+  for (sim::SimulationParticipant* p : participants) {
     next = std::min(next, std::max(p->NextEventNs(), now));
   }
   if (next == kNever || !MayAdvanceTo(next)) return false;
@@ -152,7 +152,7 @@ bool VirtualTimeClock::Core::AdvanceOnce(std::unique_lock<std::mutex>& lock) {
   now_ns.store(next, std::memory_order_release);
   ++statistics.advances;
   bool output = false;
-  for (drivers::sim::SimulationParticipant* p : participants) {
+  for (sim::SimulationParticipant* p : participants) {
     if (p->NextEventNs() > next) continue;
     ++statistics.services;
     output = p->Service(next) || output;
@@ -271,12 +271,12 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
   self.running_since = WallClock::now();
 }
 
-void VirtualTimeClock::AddParticipant(drivers::sim::SimulationParticipant* participant) {
+void VirtualTimeClock::AddParticipant(sim::SimulationParticipant* participant) {
   std::lock_guard lock(core_->mutex);
   core_->participants.push_back(participant);
 }
 
-void VirtualTimeClock::RemoveParticipant(drivers::sim::SimulationParticipant* participant) {
+void VirtualTimeClock::RemoveParticipant(sim::SimulationParticipant* participant) {
   std::lock_guard lock(core_->mutex);
   std::erase(core_->participants, participant);
 }

@@ -84,11 +84,11 @@ struct VirtualTimeClockOptions {
 };
 
 struct VirtualTimeClockStatistics {
-  std::uint64_t advances = 0;   // time jumps
-  std::uint64_t services = 0;   // participant Service calls
-  std::uint64_t outputs = 0;    // output notifications (participant output or NotifyOutput)
-  std::uint64_t parks = 0;      // threads parked after park_after_wall_ns
-  std::uint64_t park_deferrals = 0;  // park checks that found the thread working, not blocked
+  std::uint64_t advances = 0;          // time jumps
+  std::uint64_t services = 0;          // participant Service calls
+  std::uint64_t outputs = 0;           // output notifications (participant output or NotifyOutput)
+  std::uint64_t parks = 0;             // threads parked after park_after_wall_ns
+  std::uint64_t park_deferrals = 0;    // park checks that found the thread working, not blocked
   std::uint64_t attached_threads = 0;  // threads attached now
 };
 
@@ -111,8 +111,8 @@ class VirtualTimeClock final : public hw::Clock {
 
   // Participants are not owned; they are served under the clock's mutex. Remove before
   // destroying them.
-  void AddParticipant(drivers::sim::SimulationParticipant* participant);
-  void RemoveParticipant(drivers::sim::SimulationParticipant* participant);
+  void AddParticipant(sim::SimulationParticipant* participant);
+  void RemoveParticipant(sim::SimulationParticipant* participant);
   // Runs `f` under the clock's mutex: the participants are not being served meanwhile (e.g. to
   // change a GyroSimNode's faults from a test).
   void WithParticipantsLocked(const std::function<void()>& f);

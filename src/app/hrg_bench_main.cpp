@@ -8,17 +8,16 @@
 // (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
 // 4 usage or config error (nothing was started).
 #include <signal.h>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
 #include <string>
-
-#include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"

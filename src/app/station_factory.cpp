@@ -1,8 +1,8 @@
 #include "app/station_factory.hpp"
 
 #include "gyro_can/gyro_can_device.hpp"
-#include "sim_station/simulated_station.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
+#include "sim_station/simulated_station.hpp"
 #include "socketcan/socket_can_bus.hpp"
 
 namespace hrgbench::app {
@@ -126,8 +126,9 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
 
   drivers::modbus_rate_table::ModbusRateTableConfig table;
   const bench::TableLinkConfig& t = config.table;
-  table.transport = t.transport == bench::TableTransport::kTcp ? drivers::modbus_rate_table::ModbusTransport::kTcp
-                                                               : drivers::modbus_rate_table::ModbusTransport::kRtu;
+  table.transport = t.transport == bench::TableTransport::kTcp
+                        ? drivers::modbus_rate_table::ModbusTransport::kTcp
+                        : drivers::modbus_rate_table::ModbusTransport::kRtu;
   table.host = t.host;
   table.port = static_cast<int>(t.port);
   table.serial_device = t.device;
@@ -147,7 +148,8 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
   table.limits.max_rate_rad_s = t.max_rate_rad_s;
   table.limits.max_accel_rad_s2 = t.max_accel_rad_s2;
   table.safe_stop_budget_ms = static_cast<int>(t.safe_stop_budget_ms);
-  station->table = std::make_unique<drivers::modbus_rate_table::ModbusRateTable>(table, station->clock);
+  station->table =
+      std::make_unique<drivers::modbus_rate_table::ModbusRateTable>(table, station->clock);
   if (auto connected = station->table->Connect(); !connected)
     return std::unexpected(Where(config) + "rate table (" + table.Describe() +
                            "): " + connected.error().ToString());

@@ -1,7 +1,8 @@
 #pragma once
 // The one place that picks concrete drivers (STYLE: app → bench → interfaces ← drivers): a station
 // config becomes the hardware a bench session runs on.
-//   simulated: the in-process simulated station (drivers/sim_station): the real gyro driver and protocol on
+//   simulated: the in-process simulated station (drivers/sim_station): the real gyro driver and
+//   protocol on
 //              a virtual CAN bus with the simulated electronics, the table physics behind an
 //              in-process RateTable; faster than real time or paced.
 //   real:      SocketCAN on the station's interface (a second socket taps every frame for the
@@ -9,10 +10,9 @@
 
 #include <expected>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/bench/sequencer.hpp"
 #include "hrgbench/bench/station_config.hpp"

@@ -246,8 +246,9 @@ std::optional<std::string> StringProblem(std::string_view value, StringKind kind
       char code[8];
       std::snprintf(code, sizeof(code), "U+%04X", c);
       return std::string("out of range: control character ") + code + " at byte " +
-             std::to_string(i) + (name ? "; a name is printable text on one line"
-                                       : "; a description may hold only tabs and line feeds");
+             std::to_string(i) +
+             (name ? "; a name is printable text on one line"
+                   : "; a description may hold only tabs and line feeds");
     }
   }
   return std::nullopt;

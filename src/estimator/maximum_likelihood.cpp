@@ -169,7 +169,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     p = internal::Pack(free.delta_fixed, free.xi_fixed);
     double best_cost = std::numeric_limits<double>::infinity();
     const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
-                                                      options.min_samples_for_threads);
+                                                     options.min_samples_for_threads);
     std::vector<Eigen::Vector4d> w0;
     for (const XiMask& xi_in_start : {free.xi, kNoXi}) {
       internal::IntegralEquationResult iee;
@@ -198,7 +198,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   std::vector<int> indices = free.Indices();
   for (;;) {
     internal::OutputErrorProblem problem(runs, indices, options.num_threads,
-                                                options.min_samples_for_threads);
+                                         options.min_samples_for_threads);
     if (!problem.SolveInitialStates(p, &x0)) {
       s.termination = Termination::kNumericalFailure;
       s.message = "initial states cannot be solved for: a run carries no signal";
@@ -238,7 +238,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     indices = free.Indices();
   }
   const internal::OutputErrorProblem problem(runs, indices, options.num_threads,
-                                                options.min_samples_for_threads);
+                                             options.min_samples_for_threads);
   const auto n_obs = static_cast<double>(problem.NumObservations());
   const double dof = std::max(1.0, n_obs - static_cast<double>(indices.size()) -
                                        4.0 * static_cast<double>(runs.size()));

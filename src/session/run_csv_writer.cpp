@@ -51,12 +51,13 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
   }
 
   if (names.size() > kMaxRunCsvColumns) {
-    return Fail(path, 0, "", std::to_string(names.size()) + " columns (at most " +
-                                 std::to_string(kMaxRunCsvColumns) + ")");
+    return Fail(path, 0, "",
+                std::to_string(names.size()) + " columns (at most " +
+                    std::to_string(kMaxRunCsvColumns) + ")");
   }
   if (n > kMaxRunCsvSamples) {
-    return Fail(path, 0, "t_s", std::to_string(n) + " samples (at most " +
-                                    std::to_string(kMaxRunCsvSamples) + ")");
+    return Fail(path, 0, "t_s",
+                std::to_string(n) + " samples (at most " + std::to_string(kMaxRunCsvSamples) + ")");
   }
 
   std::string out;
@@ -66,9 +67,9 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     out += names[c];
   }
   if (out.size() > kMaxRunCsvLineBytes) {
-    return Fail(path, 1, "", "header line is " + std::to_string(out.size()) +
-                                 " bytes long (at most " + std::to_string(kMaxRunCsvLineBytes) +
-                                 ")");
+    return Fail(path, 1, "",
+                "header line is " + std::to_string(out.size()) + " bytes long (at most " +
+                    std::to_string(kMaxRunCsvLineBytes) + ")");
   }
   out += '\n';
   const double* const y = samples.y.data();
@@ -76,9 +77,9 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
     const std::size_t line = k + 2;
     const double t = samples.t_s[k];
     if (k > 0 && !(t > samples.t_s[k - 1])) {
-      return Fail(
-          path, line, "t_s",
-          "time not strictly increasing: " + NumberText(t) + " after " + NumberText(samples.t_s[k - 1]));
+      return Fail(path, line, "t_s",
+                  "time not strictly increasing: " + NumberText(t) + " after " +
+                      NumberText(samples.t_s[k - 1]));
     }
     for (std::size_t c = 0; c < names.size(); ++c) {
       const double value = c == 0 ? t : c < 5 ? y[4 * k + (c - 1)] : columns[c - 5][k];
@@ -92,8 +93,9 @@ std::expected<void, SessionError> WriteRunCsv(const fs::path& path, const RunSam
   }
 
   if (out.size() > kMaxRunCsvBytes) {
-    return Fail(path, 0, "", "file would be " + std::to_string(out.size()) + " bytes (at most " +
-                                 std::to_string(kMaxRunCsvBytes) + ")");
+    return Fail(path, 0, "",
+                "file would be " + std::to_string(out.size()) + " bytes (at most " +
+                    std::to_string(kMaxRunCsvBytes) + ")");
   }
   if (auto created = CreateDirectoriesDurably(path.parent_path()); !created) {
     return created;

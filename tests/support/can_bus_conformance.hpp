@@ -89,7 +89,8 @@ class CanBusConformanceTest : public ::testing::TestWithParam<CanBusConformanceP
 
   // Sends on `from` and expects exactly that frame next on `to`.
   void ExpectRoundTrip(hw::CanBus& from, hw::CanBus& to, const hw::CanFrame& frame) {
-    ASSERT_EQ(from.Send(frame, kReceiveTimeoutNs), hw::CanStatus::kOk) << hw::CanFrameToString(frame);
+    ASSERT_EQ(from.Send(frame, kReceiveTimeoutNs), hw::CanStatus::kOk)
+        << hw::CanFrameToString(frame);
     hw::CanFrame received;
     ASSERT_EQ(to.Receive(&received, kReceiveTimeoutNs, nullptr), hw::CanStatus::kOk)
         << "waiting for " << hw::CanFrameToString(frame);

@@ -4,10 +4,10 @@
 // or HRGBENCH_STRICT=1 (which scripts/run-tests.sh, the README's test command, sets), because there
 // scripts/setup-debian.sh has installed everything and a skip would report an untested part green.
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <string_view>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::testing {
 
@@ -22,13 +22,13 @@ inline bool StrictRun() {
 
 // Use at the top of a TEST body (or SetUp): skips, or fails in a strict run, when `available` is
 // false. `what` says what is missing and how to get it.
-#define HRGBENCH_REQUIRE(available, what)                                                      \
-  do {                                                                                         \
-    if (!(available)) {                                                                        \
-      if (::hrgbench::testing::StrictRun()) {                                                  \
-        GTEST_FAIL() << what << " (required: CI=true or HRGBENCH_STRICT=1; "                   \
-                     << "scripts/setup-debian.sh installs it)";                                \
-      }                                                                                        \
-      GTEST_SKIP() << what;                                                                    \
-    }                                                                                          \
+#define HRGBENCH_REQUIRE(available, what)                                    \
+  do {                                                                       \
+    if (!(available)) {                                                      \
+      if (::hrgbench::testing::StrictRun()) {                                \
+        GTEST_FAIL() << what << " (required: CI=true or HRGBENCH_STRICT=1; " \
+                     << "scripts/setup-debian.sh installs it)";              \
+      }                                                                      \
+      GTEST_SKIP() << what;                                                  \
+    }                                                                        \
   } while (false)

@@ -2,8 +2,8 @@
 // The bench session: the sequence of free runs at set Ω on whatever hardware it is given, recorded
 // so that nothing is lost, estimated and judged against the limits.
 //
-// Per run (issue 4 §2): table to Ω → wait until rate stable (or time out) → configure and excite the
-// wave → wait until the electronics report ready → note measured table rate, temperature and
+// Per run (issue 4 §2): table to Ω → wait until rate stable (or time out) → configure and excite
+// the wave → wait until the electronics report ready → note measured table rate, temperature and
 // resonant frequency → release (the acknowledged, timestamped release is t = 0) → capture for the
 // run's length on the capture thread (bench/capture.hpp) while this thread streams the samples and
 // every raw CAN frame to the record, keeps the table's heartbeat and averages its measured rate →
@@ -13,8 +13,8 @@
 //
 // Safety (§5): on any fault, timeout or the first interrupt the table is commanded to zero rate
 // (RateTable::SafeStop), the gyro to its safe state (Stop), the open run is closed as aborted and
-// the session closed with the reason. Outcomes: PASS (every limit met), FAIL (a parameter out of its
-// limits: the record names which), ERROR (the bench: timeout, bus-off, Modbus failure, too many
+// the session closed with the reason. Outcomes: PASS (every limit met), FAIL (a parameter out of
+// its limits: the record names which), ERROR (the bench: timeout, bus-off, Modbus failure, too many
 // drops, disk), ABORTED (operator). Exit codes in session_outcome.hpp.
 //
 // Threads: RunSession runs on the caller's thread (plus the capture thread it starts per run).
@@ -25,12 +25,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/session_outcome.hpp"
@@ -60,14 +59,14 @@ struct BenchHardware {
 
 // What the operator sees, handed to RunnerOptions::on_progress about every progress_period_s.
 struct Progress {
-  int run = 0;         // 1-based index of the current run in the plan (0 before the first)
-  int run_count = 0;   // runs in this invocation (a resume counts only the remaining ones)
-  int run_id = 0;      // the run's id in the session
+  int run = 0;        // 1-based index of the current run in the plan (0 before the first)
+  int run_count = 0;  // runs in this invocation (a resume counts only the remaining ones)
+  int run_id = 0;     // the run's id in the session
   double omega_rad_s = 0.0;
-  std::string_view phase;  // "warm-up", "table", "excite", "capture", "estimate"
-  double elapsed_s = 0.0;      // since the session (or the resume) started, on the hardware clock
-  double remaining_s = 0.0;    // rough: the free-run time still to capture plus settling
-  std::uint64_t samples = 0;   // captured in the current run
+  std::string_view phase;     // "warm-up", "table", "excite", "capture", "estimate"
+  double elapsed_s = 0.0;     // since the session (or the resume) started, on the hardware clock
+  double remaining_s = 0.0;   // rough: the free-run time still to capture plus settling
+  std::uint64_t samples = 0;  // captured in the current run
   std::uint64_t samples_expected = 0;
   std::uint64_t samples_lost = 0;  // sequence gaps + ring overruns in the current run
 };

@@ -1,7 +1,7 @@
 #pragma once
 // CAN frames in can-utils notation (cansend / candump, STYLE rule 7): the one formatter and parser
-// of frames as text, for the bench's candump log, golden-frame tests and failure messages, so that a
-// frame in a log or a message can be pasted into `cansend`:
+// of frames as text, for the bench's candump log, golden-frame tests and failure messages, so that
+// a frame in a log or a message can be pasted into `cansend`:
 //   123#DEADBEEF        standard id (3 hex digits), classic data
 //   1ABCDEF0#00         extended id (8 hex digits)
 //   123#R  123#R4       remote frame, optional length (written when 1..8)

@@ -21,10 +21,10 @@ class Clock {
   // Blocks the calling thread for `duration_ns` of this clock's time. Not real-time safe. A
   // ManualClock returns once another thread has advanced it far enough.
   virtual void SleepForNs(std::int64_t duration_ns) = 0;
-  // For simulated clocks that advance only when every thread using them waits (drivers/sim_station's
-  // VirtualTimeClock): a new thread calls AttachCurrentThread() first thing, so time does not run
-  // on while it starts, and DetachCurrentThread() before it ends or blocks elsewhere for long.
-  // Real clocks ignore both. Not real-time safe (may take a lock).
+  // For simulated clocks that advance only when every thread using them waits
+  // (drivers/sim_station's VirtualTimeClock): a new thread calls AttachCurrentThread() first thing,
+  // so time does not run on while it starts, and DetachCurrentThread() before it ends or blocks
+  // elsewhere for long. Real clocks ignore both. Not real-time safe (may take a lock).
   virtual void AttachCurrentThread() {}
   virtual void DetachCurrentThread() {}
 };

@@ -3,8 +3,8 @@
 //
 //   <session>/session.json            {"format": "hrgbench-session", "version": 1, ...}
 //   <session>/runs/run-001.csv, ...   header containing at least t_s,y1,y2,y3,y4 (any order, other
-//                                     columns allowed), one line per sample, t_s strictly increasing,
-//                                     values with round-trip precision
+//                                     columns allowed), one line per sample, t_s strictly
+//                                     increasing, values with round-trip precision
 //
 // Run CSV, exactly: comma-separated, no quoting, no spaces around fields; line 1 is the header
 // (non-empty, unique column names; a UTF-8 BOM is ignored); every further line is one sample with
@@ -15,10 +15,10 @@
 // Python's repr), which round-trips exactly just as %.17g does but keeps "0.01" as "0.01".
 //
 // session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
-// omega_rad_s, status}. Every other key (station, config hashes, temperature, "simulation" truth...)
-// is kept verbatim in `document` and written back unchanged. Runs whose status is not "complete" are
-// skipped with a warning. Every error names the file, the line (1-based, 0 when not applicable) and
-// the field.
+// omega_rad_s, status}. Every other key (station, config hashes, temperature, "simulation"
+// truth...) is kept verbatim in `document` and written back unchanged. Runs whose status is not
+// "complete" are skipped with a warning. Every error names the file, the line (1-based, 0 when not
+// applicable) and the field.
 //
 // Bounds (refused with an error naming the file, before anything large is allocated or any
 // recursive parse starts): see the constants below. The reader refuses what exceeds them and the

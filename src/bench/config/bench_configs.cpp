@@ -36,10 +36,10 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
           sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
           std::to_string(run.sample_rate_hz),
           "out of range for station '" + station.name + "' (" + station.file.string() + "): " +
-              (station.gyro.fd ? "CAN FD carries at most " + std::to_string(max_rate_hz) +
-                                     " samples/s"
-                               : "classic CAN carries at most " + std::to_string(max_rate_hz) +
-                                     " samples/s; more needs gyro.fd = true")});
+              (station.gyro.fd
+                   ? "CAN FD carries at most " + std::to_string(max_rate_hz) + " samples/s"
+                   : "classic CAN carries at most " + std::to_string(max_rate_hz) +
+                         " samples/s; more needs gyro.fd = true")});
     }
   }
   return {};

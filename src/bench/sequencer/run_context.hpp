@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "hrgbench/bench/capture.hpp"
-#include "hrgbench/bench/session_recorder.hpp"
 #include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/bench/session_recorder.hpp"
 
 namespace hrgbench::bench::internal {
 

@@ -25,7 +25,8 @@ void SessionContext::Log(std::string_view line) const {
 void SessionContext::ReportProgress(const Progress& progress, bool force) {
   if (!options->on_progress) return;
   const std::int64_t now = hw->clock->NowNs();
-  if (!force && now - last_progress_ns < static_cast<std::int64_t>(options->progress_period_s * 1e9))
+  if (!force &&
+      now - last_progress_ns < static_cast<std::int64_t>(options->progress_period_s * 1e9))
     return;
   last_progress_ns = now;
   Progress p = progress;
@@ -172,7 +173,8 @@ SessionResult RunPlanned(SessionContext& ctx, const std::filesystem::path& dir,
   result.dir = dir;
   const SequenceConfig& seq = ctx.configs->sequence;
   ctx.run_count = static_cast<int>(ids.size());
-  for (int id : ids) ctx.remaining_free_run_s += seq.runs[static_cast<std::size_t>(id - 1)].free_run_s;
+  for (int id : ids)
+    ctx.remaining_free_run_s += seq.runs[static_cast<std::size_t>(id - 1)].free_run_s;
   StepOutcome step = warm_up ? internal::WaitForWarmup(ctx) : StepOutcome::Ok();
   for (std::size_t i = 0; i < ids.size() && step.ok(); ++i) {
     ctx.run_index = static_cast<int>(i) + 1;

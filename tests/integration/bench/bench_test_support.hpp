@@ -2,14 +2,14 @@
 // Shared by the bench tests: shipped configs, temporary session directories, one session run on
 // the in-process simulated station.
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"

@@ -8,7 +8,6 @@
 // parameter with fixed seeds, i.e. never for a given build).
 #include <cmath>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
@@ -145,13 +144,12 @@ TEST(BenchEndToEnd, OutOfLimitsIsAFailThatNamesTheParameter) {
 // rank-deficient: the estimator holds what it cannot determine at its given value. The limits
 // judge those parameters, so the session is the bench's ERROR naming them, never PASS (it was).
 TEST(BenchEndToEnd, ALimitThatCouldNotBeJudgedIsAnErrorNotAPass) {
-  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "limits-example.toml",
-                                             [](auto& c) {
-                                               for (std::size_t i = 0; i < c.sequence.runs.size(); ++i)
-                                                 c.sequence.runs[i].omega_rad_s =
-                                                     i % 2 == 0 ? 0.3 : 0.300000001;
-                                               c.sequence.settle.rate_tolerance_rad_s = 1e-3;
-                                             });
+  const BenchRun run =
+      RunOnSimulatedStation("sequence-paper.toml", "limits-example.toml", [](auto& c) {
+        for (std::size_t i = 0; i < c.sequence.runs.size(); ++i)
+          c.sequence.runs[i].omega_rad_s = i % 2 == 0 ? 0.3 : 0.300000001;
+        c.sequence.settle.rate_tolerance_rad_s = 1e-3;
+      });
   ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
   const estimator::EstimateSummary& s = *run.result.estimate;
   ASSERT_FALSE(s.xi_estimated[1]) << "the design was meant to leave xi2 undetermined\n"

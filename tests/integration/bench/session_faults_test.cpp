@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
-#include "sim_station/in_process_rate_table.hpp"
 #include "hrgbench/session/session.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 
 namespace hrgbench::testing {
 namespace {
@@ -32,7 +32,8 @@ void ExpectStoppedSafely(const BenchRun& run, const Expectation& expected) {
   // The table was commanded to zero (SafeStop), whatever state the link is in now: asked of the
   // simulated table's own record of what it was sent, since an unresponsive table cannot be read.
   ASSERT_TRUE(run.station);
-  const auto* table = dynamic_cast<const drivers::sim_station::InProcessRateTable*>(run.station->hardware().table);
+  const auto* table =
+      dynamic_cast<const drivers::sim_station::InProcessRateTable*>(run.station->hardware().table);
   ASSERT_NE(table, nullptr);
   const drivers::sim_station::SentTableCommand& last = table->last_command();
   EXPECT_TRUE(last.safe_stop);

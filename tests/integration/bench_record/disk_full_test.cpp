@@ -134,8 +134,10 @@ TEST(RecorderDiskFull, UnwritableDirectoryIsAnErrorNotAThrow) {
   std::optional<TmpfsMount> mount;
   if (::geteuid() == 0) {
     mount.emplace(scratch.path(), "size=64k", MS_RDONLY);
-    HRGBENCH_REQUIRE(mount->mounted(), "root bypasses chmod and a read-only tmpfs cannot be "
-                                       "mounted (" << mount->error() << ")");
+    HRGBENCH_REQUIRE(mount->mounted(),
+                     "root bypasses chmod and a read-only tmpfs cannot be "
+                     "mounted ("
+                         << mount->error() << ")");
   } else {
     fs::permissions(scratch.path(), fs::perms::owner_read | fs::perms::owner_exec);
   }

@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "sim_station/in_process_rate_table.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "modbus_rate_table/register_map.hpp"
+#include "sim_station/in_process_rate_table.hpp"
 #include "sim_table_fixture.hpp"
 
 namespace hrgbench::drivers::modbus_rate_table {
@@ -346,15 +346,15 @@ TEST_F(DriverAgainstRefusals, StopAndSafeStopAreAcceptedByAFaultedTable) {
   EXPECT_EQ(s.commanded_rate_rad_s, 0.0);
 }
 
-// The in-process table (drivers/sim_station) claims the Modbus table's observable semantics: the same
-// refused command gives the same error code and state, and leaves the table where it was.
+// The in-process table (drivers/sim_station) claims the Modbus table's observable semantics: the
+// same refused command gives the same error code and state, and leaves the table where it was.
 TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModbusTableDoes) {
   ModbusRateTable modbus(QuietConfig(), clock_);
   ASSERT_TRUE(modbus.Connect());
-  drivers::sim::TablePhysics physics(testing::FastTable(), clock_);
-  drivers::sim_station::InProcessRateTableConfig in_process_config;
+  sim::TablePhysics physics(testing::FastTable(), clock_);
+  sim_station::InProcessRateTableConfig in_process_config;
   in_process_config.accel_limit_rad_s2 = 2.0;
-  drivers::sim_station::InProcessRateTable in_process(in_process_config, physics, clock_);
+  sim_station::InProcessRateTable in_process(in_process_config, physics, clock_);
   ASSERT_TRUE(in_process.Connect());
 
   sim_.physics().InjectFault(hw::RateTableFault::kDrive);
@@ -372,7 +372,7 @@ TEST_F(DriverAgainstRefusals, InProcessTableRefusesACommandWhileFaultedAsTheModb
     EXPECT_NE(message->find("drive"), std::string::npos) << *message;
   }
   EXPECT_EQ(modbus.state(), TableLinkState::kFaulted);
-  EXPECT_EQ(in_process.state(), drivers::modbus_rate_table::TableLinkState::kFaulted);
+  EXPECT_EQ(in_process.state(), modbus_rate_table::TableLinkState::kFaulted);
   EXPECT_EQ(modbus.target_rate_rad_s(), in_process.target_rate_rad_s());
   // Stop is accepted by both while faulted.
   EXPECT_TRUE(modbus.Stop());

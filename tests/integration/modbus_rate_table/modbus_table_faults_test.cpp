@@ -13,16 +13,16 @@ namespace hrgbench::drivers::modbus_rate_table {
 namespace {
 
 using hw::RateTableErrorCode;
-using drivers::sim::FaultKind;
-using drivers::sim::FaultRule;
-using drivers::sim::RegisterTable;
+using sim::FaultKind;
+using sim::FaultRule;
+using sim::RegisterTable;
 using testing::SimTable;
 using Seconds = std::chrono::duration<double>;
 
 class ModbusTableFaults : public ::testing::Test {
  protected:
   void SetUp() override {
-    drivers::sim::TableServerOptions server;
+    sim::TableServerOptions server;
     server.late_reply_ms = 600;
     sim_ = std::make_unique<SimTable>(testing::FastTable(), server);
     ASSERT_EQ(sim_->Start(), "");

@@ -86,10 +86,11 @@ class ModbusTableRtu : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::string socat = FindSocat();
-    HRGBENCH_REQUIRE(!socat.empty(), "socat not installed: RTU test skipped (apt-get install socat)");
+    HRGBENCH_REQUIRE(!socat.empty(),
+                     "socat not installed: RTU test skipped (apt-get install socat)");
     ASSERT_EQ(ptys_.Start(socat), "");
-    drivers::sim::TableServerOptions server;
-    server.transport = drivers::sim::TableServerOptions::Transport::kRtu;
+    sim::TableServerOptions server;
+    server.transport = sim::TableServerOptions::Transport::kRtu;
     server.serial_device = ptys_.a();
     server.baud = 115200;
     server.unit_id = 7;
@@ -138,7 +139,7 @@ TEST_F(ModbusTableRtu, LateReplyTimesOutThenTheLineResynchronises) {
   ModbusRateTable table(config_, clock_);
   ASSERT_TRUE(table.Connect());
   sim_->server().AddFault(
-      {drivers::sim::RegisterTable::kInput, input::kStatusBits, drivers::sim::FaultKind::kLateReply, 1});
+      {sim::RegisterTable::kInput, input::kStatusBits, sim::FaultKind::kLateReply, 1});
   const auto r = table.ReadStatus();
   // Attempt 1 times out; the driver waits for the line to go quiet, flushes, and retries.
   // Depending on timing the retry catches the server still asleep (timeout) or succeeds.

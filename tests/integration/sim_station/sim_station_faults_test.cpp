@@ -12,11 +12,11 @@
 namespace hrgbench::testing {
 namespace {
 
+using drivers::sim_station::SimulatedStation;
+using drivers::sim_station::SimulatedStationOptions;
 using hw::GyroErrorCode;
 using hw::GyroReadStatus;
 using hw::RateTableErrorCode;
-using drivers::sim_station::SimulatedStation;
-using drivers::sim_station::SimulatedStationOptions;
 
 const hw::WaveState kWave{1.0, 0.2, 0.3};
 

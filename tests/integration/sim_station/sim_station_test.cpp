@@ -99,7 +99,9 @@ TEST(SimStationTest, RawFrameTapSeesBothDirectionsInBusOrder) {
     last_ns = info.timestamp_ns;
     if (drivers::gyro_can::IsCommandId(frame.id)) ++commands;
     if (frame.id == drivers::gyro_can::can_id::kAck) ++acks;
-    if (frame.id == drivers::gyro_can::can_id::kSampleA || frame.id == drivers::gyro_can::can_id::kSampleB) ++samples;
+    if (frame.id == drivers::gyro_can::can_id::kSampleA ||
+        frame.id == drivers::gyro_can::can_id::kSampleB)
+      ++samples;
   }
   EXPECT_GE(commands, 4u);  // Configure, Excite, Release, Stop (+ status requests)
   EXPECT_EQ(acks, commands);

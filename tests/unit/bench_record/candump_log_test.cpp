@@ -1,8 +1,9 @@
 // candump -L formatting: golden lines after can-utils candump.c, a round trip through the
 // independent test-side parser for random frames, and the log writer's append/trim behaviour.
 
-#include <gtest/gtest.h>
+#include "hrgbench/bench/candump_log.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -13,7 +14,6 @@
 
 #include "can_frame_assertions.hpp"
 #include "candump_log_parser.hpp"
-#include "hrgbench/bench/candump_log.hpp"
 
 namespace hrgbench::bench {
 namespace {

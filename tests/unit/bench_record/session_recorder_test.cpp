@@ -1,8 +1,10 @@
 // SessionRecorder on a healthy disk: a full session reads back exactly through the session
 // library, files are final at EndRun, session.json is only ever replaced by rename.
 
-#include <gtest/gtest.h>
+#include "hrgbench/bench/session_recorder.hpp"
+
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -11,9 +13,8 @@
 #include <sstream>
 #include <thread>
 
-#include "candump_log_parser.hpp"
 #include "can_frame_assertions.hpp"
-#include "hrgbench/bench/session_recorder.hpp"
+#include "candump_log_parser.hpp"
 #include "hrgbench/session/session.hpp"
 #include "record_test_dir.hpp"
 #include "synthetic_gyro_record.hpp"

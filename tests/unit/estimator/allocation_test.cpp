@@ -3,11 +3,11 @@
 //    Eigen heap allocation inside a NoAllocationScope aborts the test;
 //  - a counting global operator new: a pass over the data must allocate the same number of times for
 //    1 000 and for 100 000 samples per run (std containers, lambdas, anything else).
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
-
-#include <gtest/gtest.h>
 
 #include "estimator/output_error_problem.hpp"
 #include "hrgbench/estimator/simulation.hpp"

@@ -19,9 +19,9 @@ TEST(HostPortTest, HostAndPort) {
 
 TEST(HostPortTest, RefusesWhatIsNotHostColonPort) {
   // "1502x" and "+1502" were read as 1502 by std::stoi; an empty host or port, 0 and 65536 too.
-  for (const char* text : {"1502", ":1502", "localhost:", "localhost:1502x", "localhost:+1502",
-                           "localhost: 1502", "localhost:0", "localhost:65536", "localhost:-1",
-                           "localhost:99999999999", ""}) {
+  for (const char* text :
+       {"1502", ":1502", "localhost:", "localhost:1502x", "localhost:+1502", "localhost: 1502",
+        "localhost:0", "localhost:65536", "localhost:-1", "localhost:99999999999", ""}) {
     EXPECT_FALSE(ParseHostPort(text).has_value()) << "'" << text << "'";
   }
 }

@@ -14,10 +14,10 @@ using hw::RateTableErrorCode;
 constexpr std::int64_t kNsPerS = 1'000'000'000;
 
 struct Rig {
-  explicit Rig(InProcessRateTableConfig config = {}, drivers::sim::TablePhysicsOptions physics = {})
+  explicit Rig(InProcessRateTableConfig config = {}, sim::TablePhysicsOptions physics = {})
       : physics_model(physics, clock), table(config, physics_model, clock) {}
   hw::ManualClock clock{0, /*auto_advance=*/true};
-  drivers::sim::TablePhysics physics_model;
+  sim::TablePhysics physics_model;
   InProcessRateTable table;
 };
 
@@ -66,7 +66,7 @@ TEST(InProcessRateTableTest, SoftwareLimitsAreCheckedBeforeCommanding) {
 }
 
 TEST(InProcessRateTableTest, HardwareLimitIsTheTablesRefusal) {
-  drivers::sim::TablePhysicsOptions physics;
+  sim::TablePhysicsOptions physics;
   physics.max_rate_rad_s = 2.0;  // tighter than the software limit
   Rig rig({}, physics);
   ASSERT_TRUE(rig.table.Connect().has_value());

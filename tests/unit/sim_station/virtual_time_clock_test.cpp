@@ -25,7 +25,7 @@ double WallSince(std::chrono::steady_clock::time_point start) {
 }
 
 // Fires every period_ns; output on every event.
-class Ticker final : public drivers::sim::SimulationParticipant {
+class Ticker final : public sim::SimulationParticipant {
  public:
   explicit Ticker(std::int64_t period_ns) : period_ns_(period_ns), next_ns_(period_ns) {}
   std::int64_t NextEventNs() const noexcept override { return next_ns_; }
