@@ -64,16 +64,30 @@ class CommonPhase {
  private:
   static constexpr int kResync = 64;
 
-  // factor_[j] = e^{i·Δ^jψ(t)} with forward differences of step step_.
+  // factor_[j] = e^{i·Δ^jψ(t)} with forward differences of step step_. The differences are taken
+  // on the polynomial's coefficients (binomial expansion of ψ(t + h) − ψ(t)), not by subtracting
+  // values of ψ, which would cancel all but a few digits of Δ³ψ = 6·q3·h³.
   void Resync(double t) noexcept {
-    std::array<double, kMaxPhaseDegree + 1> diff{};
-    for (int i = 0; i <= degree_; ++i)
-      diff[static_cast<std::size_t>(i)] = Psi(t + static_cast<double>(i) * step_);
+    std::array<double, kMaxPhaseDegree + 1> c{};  // ψ(t) = Σ c[m]·t^m, c[0] = 0
+    for (int j = 1; j <= degree_; ++j) c[static_cast<std::size_t>(j)] = q_[static_cast<std::size_t>(j - 1)];
+    int top = degree_;
     for (int j = 0; j <= degree_; ++j) {
-      factor_[static_cast<std::size_t>(j)] = std::polar(1.0, diff[0]);
-      for (int i = 0; i < degree_ - j; ++i)
-        diff[static_cast<std::size_t>(i)] =
-            diff[static_cast<std::size_t>(i + 1)] - diff[static_cast<std::size_t>(i)];
+      double value = 0.0;
+      for (int m = top; m >= 0; --m) value = value * t + c[static_cast<std::size_t>(m)];
+      factor_[static_cast<std::size_t>(j)] = std::polar(1.0, value);
+      // c ← Δc: d[m] = Σ_{k>m} c[k]·C(k, m)·h^{k−m}.
+      std::array<double, kMaxPhaseDegree + 1> d{};
+      for (int m = 0; m < top; ++m) {
+        double binomial = 1.0;  // C(k, m), starting at k = m
+        double power = 1.0;     // h^{k−m}
+        for (int k = m + 1; k <= top; ++k) {
+          binomial = binomial * k / (k - m);
+          power *= step_;
+          d[static_cast<std::size_t>(m)] += c[static_cast<std::size_t>(k)] * binomial * power;
+        }
+      }
+      c = d;
+      --top;
     }
     since_sync_ = 0;
   }

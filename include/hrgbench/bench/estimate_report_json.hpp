@@ -26,7 +26,8 @@
 //                                  max_abs_residual_in_sigma, excess_kurtosis, outliers_removed,
 //                                  largest_outlier_in_sigma, common_frequency_rad_s,
 //                                  common_frequency_drift_rad_s2, omega_offset_rad_s,
-//                                  omega_offset_in_std}]}
+//                                  omega_offset_data_rad_s, omega_offset_in_std,
+//                                  noise_free}]}
 //   truth                object   only when the session has "simulation": {delta, xi, sigma, seed}
 //
 // JSON has no NaN: every non-finite number is written as null.

@@ -34,7 +34,7 @@ namespace hrgbench::estimator {
 struct FitQualityLimits {
   double residual_ratio_max = 1.05;  // residual RMS / model-free noise σ
   double whiteness_z_max = 6.0;      // Ljung–Box normal score
-  double omega_offset_max_in_std = 4.0;  // |Ω fitted − Ω recorded| / σ_Ω
+  double omega_offset_max_in_std = 4.0;  // |Ω the data say − Ω recorded| in std of the difference
 
   bool IsValid(std::string* why) const;
 };
@@ -57,7 +57,13 @@ struct RunFitDiagnostics {
   double common_frequency_rad_s = kNaN;     // fitted common phase: dψ/dt at the start (q_1)
   double common_frequency_drift_rad_s2 = kNaN;  // 2·q_2 (NaN when the degree is below 2)
   double omega_offset_rad_s = kNaN;   // fitted Ω − recorded Ω (NaN when Ω was held)
-  double omega_offset_in_std = kNaN;  // ... in units of the recorded σ_Ω
+  double omega_offset_data_rad_s = kNaN;  // what the data alone say it is (without the prior)
+  // The data's offset in std of (recorded error ⊕ data error): N(0, 1) when the recorded Ω is right
+  // within its recorded std; large when the data contradict it.
+  double omega_offset_in_std = kNaN;
+  // The data carry no measurable noise (a noise-free simulation): whiteness is not judged and the
+  // ratio is taken against 1e-10 of the signal.
+  bool noise_free = false;
 };
 
 struct FitDiagnostics {

@@ -91,9 +91,9 @@ struct RunEntry {
   int id = 0;
   std::string file;           // relative to the session directory, e.g. "runs/run-001.csv"
   double omega_rad_s = 0.0;
+  std::string status = "complete";
   // end.omega_std_error_rad_s when the bench recorded it (the standard error of Ω); NaN otherwise.
   double omega_std_rad_s = std::numeric_limits<double>::quiet_NaN();
-  std::string status = "complete";
 };
 
 struct Session {

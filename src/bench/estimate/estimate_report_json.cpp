@@ -46,6 +46,7 @@ nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary) {
   for (const estimator::RunFitDiagnostics& r : d.runs) {
     runs.push_back({
         {"run", r.run_id},
+        {"noise_free", r.noise_free},
         {"samples", r.samples},
         {"noise_sigma", NumberOrNull(r.noise_sigma)},
         {"residual_rms", NumberOrNull(r.residual_rms)},
@@ -62,6 +63,7 @@ nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary) {
         {"common_frequency_rad_s", NumberOrNull(r.common_frequency_rad_s)},
         {"common_frequency_drift_rad_s2", NumberOrNull(r.common_frequency_drift_rad_s2)},
         {"omega_offset_rad_s", NumberOrNull(r.omega_offset_rad_s)},
+        {"omega_offset_data_rad_s", NumberOrNull(r.omega_offset_data_rad_s)},
         {"omega_offset_in_std", NumberOrNull(r.omega_offset_in_std)},
     });
   }
