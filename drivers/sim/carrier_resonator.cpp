@@ -12,11 +12,12 @@ CarrierResonator::CarrierResonator(const estimator::ResonatorParameters& resonat
   Rebuild();
 }
 
-void CarrierResonator::SetConditions(double omega_rad_s, double frequency_scale) noexcept {
-  if (omega_rad_s == omega_rad_s_ && frequency_scale == frequency_scale_) return;
+bool CarrierResonator::SetConditions(double omega_rad_s, double frequency_scale) noexcept {
+  if (omega_rad_s == omega_rad_s_ && frequency_scale == frequency_scale_) return false;
   omega_rad_s_ = omega_rad_s;
   frequency_scale_ = frequency_scale;
   Rebuild();
+  return true;
 }
 
 void CarrierResonator::Rebuild() noexcept {

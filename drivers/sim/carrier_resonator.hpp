@@ -34,8 +34,9 @@ class CarrierResonator {
   // `step_s` > 0 is the time step of Step(). The resonator must be valid (IsValid).
   CarrierResonator(const estimator::ResonatorParameters& resonator, double step_s);
 
-  // Ω [rad/s] and f(T)/f0 from now on. Recomputes F and Φ only when either differs from before.
-  void SetConditions(double omega_rad_s, double frequency_scale) noexcept;
+  // Ω [rad/s] and f(T)/f0 from now on. Recomputes F and Φ only when either differs from before;
+  // true when it did.
+  bool SetConditions(double omega_rad_s, double frequency_scale) noexcept;
   // The state of the wave (a, b, θ, φ) at release, under the current conditions.
   void Release(const estimator::Orbit& orbit) noexcept;
 
