@@ -3,12 +3,14 @@
 // closes, and the default estimator finds the truth the physical parameters map to
 // (estimator/physical_parameters.hpp) -- from data it did not generate itself.
 //
-// Tolerances: not the reported std alone. The slow model lacks terms the carrier chain has (the
-// filter's release transient, the averaging error O(|A|/ω0) ≈ 3e-5 of the amplitude, a common
-// phase drift Δω²/(8ω0)); drivers/sim/README.md's accuracy table measures their effect. What this
-// test holds: the estimate is within max(6 std, 1e-6 absolute) for δ1, δ2 and within 1e-6
-// absolute for the anisotropies (1/s, rad/s), and ξ within 1e-4 -- an order of magnitude above
-// the table's worst production-design errors, far below the parameters' own size.
+// Tolerances: not the reported std alone. The slow model lacks terms the carrier chain has, and
+// drivers/sim/README.md's accuracy table measures them: chiefly the common frequency drift
+// ν ≈ (2kΩ)²/(2ω0) of the modes (5.7e-6 rad/s at Ω = 1), which biases δ2 by about −2.5e-7 whatever
+// the run length (56 reported std at 100 s runs), and the filter's release transient. Measured
+// here (seed 12345): δ2 −2.4e-7, every other δ within 1e-7, every ξ within 3e-7. Held: δ1, δ2
+// within max(6 std, 1e-6), δ3…δ6 within 1e-6 (1/s, rad/s), ξ within 5e-6 -- 4× to 20× the
+// measured errors, so a regression of the chain or the mapping (a sign, a factor 2: δ5 is 5.8e-4,
+// ξ1 1.0e-2) fails, while the known model gap does not.
 
 #include <cmath>
 
@@ -44,7 +46,7 @@ TEST(CarrierSession, ProductionSequenceCompletesAndIsEstimated) {
   }
   for (int k = 0; k < 4; ++k) {
     const double t = truth.at("xi").at(static_cast<std::size_t>(k)).get<double>();
-    EXPECT_NEAR(s.xi[k], t, 1e-4) << "xi" << k + 1;
+    EXPECT_NEAR(s.xi[k], t, 5e-6) << "xi" << k + 1;
   }
   // The converters' noise comes out near 1e-4 on y (white_noise_std 1.1e-3 through the 200 Hz
   // filter: 1.1e-3·√(4·205/1e5) = 1.0e-4), plus the model error the residual carries.
