@@ -68,7 +68,7 @@ struct Design {
   double temperature_rate_c_per_s = 0.0;
   // Per run, set the free-running reference to the mean of the two modes' exact frequencies under
   // that run's Ω (eigenvalues of the oscillator), i.e. remove the common drift
-  // ν ≈ ((2kΩ)² + (πΔf)²)/(2ω0) that the slow model has no term for (a diagnostic).
+  // ν ≈ (2kΩ)²/(2ω0) that the slow model has no term for (a diagnostic).
   bool lock_to_mean_mode_frequency = false;
 };
 

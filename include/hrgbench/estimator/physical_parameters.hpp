@@ -43,10 +43,17 @@
 //   δ3 = −(Δ(1/τ)/2)·cos2θ_τ       δ4 = −(Δ(1/τ)/2)·sin2θ_τ
 //   δ5 = π·Δf·cos2θ_ω              δ6 = π·Δf·sin2θ_ω
 //
-// exact in the eigenvalues (the modes' frequencies are ω0 ± Δω/2, so the slow modes rotate at ±Δω/2
-// exactly; the averaged i·Δω²/(8ω0)·I is the O(Δf/f0) averaging error, a common phase drift that
-// MODEL.md's A has no term for). Everything the averaging drops is O(|A|/ω0): for f0 = 5 kHz,
-// Δf = 0.1 Hz, Ω = 1 rad/s, |A|/ω0 ≈ 2e-5. f0 does not appear in δ: the map back needs it given.
+// with the split exact in the eigenvalues: the modes vibrate at ω0 ± Δω/2, so the slow modes turn
+// at ±iΔω/2 exactly (the first-order average's i·Δω²/(8ω0)·I cancels at second order). What the
+// averaging drops is O(|A|/ω0) (for f0 = 5 kHz, Δf = 0.1 Hz, Ω = 1 rad/s: |A|/ω0 ≈ 2e-5), and two
+// second-order effects have no term in MODEL.md's A (drivers/sim/README.md measures both):
+//   - under rotation the two modes' mean frequency is exactly √(ω0² + (2kΩ)²) (undamped; whatever
+//     the split: the roots of (ω1² − ω²)(ω2² − ω²) = (4kΩω)² sum to that), a common drift
+//     ν ≈ (2kΩ)²/(2ω0) of the slow variables' phase (5.7e-6 rad/s at Ω = 1, 5 kHz);
+//   - the Coriolis force acts at each mode's own frequency ω0 + s, not at ω0: a term
+//     i·s·4kΩ·J/(2ω0) that turns the slow modes' shapes by ~kΩ·Δω/(ω0·|gap|), which C(ξ) and the
+//     per-run x0 absorb (an "effective" ξ).
+// f0 does not appear in δ: the map back needs it given.
 //
 // ## The pick-off path at the carrier
 // A real pick-off path multiplies each channel's carrier by a gain and delays it; at the carrier a

@@ -13,6 +13,7 @@
 
 #include "hrgbench/estimator/simulation.hpp"
 #include "sim/butterworth_low_pass.hpp"
+#include "sim/carrier_pickoff.hpp"
 #include "sim/carrier_simulation.hpp"
 
 namespace hrgbench::drivers::sim {
@@ -229,6 +230,34 @@ TEST(CarrierSimulationTest, PathDelaysRealiseThePickoffAtTheCarrier) {
     worst = std::max(worst, (run.y[k] - expected).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(worst, 2e-4);  // 1.7 × the ideal bound
+}
+
+TEST(CarrierPickoffTest, ConverterNoiseHasItsStdAndCorrelation) {
+  // With the oscillator at rest the channels carry the noise alone. White: std σ_w, uncorrelated;
+  // AR(1): stationary std σ_c, lag-1 correlation ρ = e^{−dt/τc} (here e^{−0.1} = 0.905).
+  // 200 000 samples: the std of each estimate is ~0.3 % (white), ~1 % (AR(1), 100 correlation
+  // times per 1000 samples); tolerance 3 %, and 0.01 on ρ.
+  estimator::ResonatorParameters resonator;
+  CarrierResonator rest(resonator, 1e-5);
+  for (const bool coloured : {false, true}) {
+    CarrierPickoffOptions options;
+    (coloured ? options.coloured_noise_std : options.white_noise_std) = 2e-3;
+    options.coloured_noise_time_s = 1e-4;
+    CarrierPickoff pickoff(options, resonator.frequency_hz);
+    pickoff.Configure(rest);
+    pickoff.Reset(5);
+    const int n = 200000;
+    double sum2 = 0.0, lag1 = 0.0, previous = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double s = pickoff.Sample(CarrierState::Zero())[0];
+      sum2 += s * s;
+      lag1 += s * previous;
+      previous = s;
+    }
+    const double std = std::sqrt(sum2 / n);
+    EXPECT_NEAR(std, 2e-3, 0.03 * 2e-3) << coloured;
+    EXPECT_NEAR(lag1 / sum2, coloured ? std::exp(-0.1) : 0.0, 0.01) << coloured;
+  }
 }
 
 TEST(CarrierOptionsTest, ValidationNamesTheField) {
