@@ -12,6 +12,7 @@
 
 #include "hrgbench/config_file/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "sim/carrier_config.hpp"
 
 namespace hrgbench::drivers::sim {
 namespace {
@@ -64,11 +65,23 @@ std::expected<void, ConfigError> ReadVector(TableReader& reader, std::string_vie
 }
 
 std::expected<void, ConfigError> ReadModel(TableReader& reader, GyroSimOptions* o) {
-  HRG_TRY(delta, ReadVector<6>(reader, "delta", kAnyFinite, &o->delta));
-  HRG_TRY(xi, ReadVector<4>(reader, "xi", kXi, &o->xi));
-  HRG_TRY(sigma, ReadNumber(reader, "sigma", kNonNegative, &o->sigma));
+  HRG_TRY(physics,
+          Choice(reader, "physics", {"slow", "carrier"}, o->physics == GyroPhysics::kSlow ? 0 : 1));
+  o->physics = *physics == 0 ? GyroPhysics::kSlow : GyroPhysics::kCarrier;
+  if (o->physics == GyroPhysics::kSlow) {
+    HRG_TRY(delta, ReadVector<6>(reader, "delta", kAnyFinite, &o->delta));
+    HRG_TRY(xi, ReadVector<4>(reader, "xi", kXi, &o->xi));
+    HRG_TRY(sigma, ReadNumber(reader, "sigma", kNonNegative, &o->sigma));
+  } else {
+    // The carrier physics has its own truth and noise ([carrier]); these would be ignored.
+    for (std::string_view key : {"delta", "xi", "sigma"}) {
+      HRG_CHECK(Forbid(reader, key,
+                       "applies only to physics = \"slow\" (physics = \"carrier\" takes its "
+                       "parameters from [carrier])"));
+    }
+  }
   HRG_TRY(seed, ReadInteger(reader, "seed", 0, kInt64Max, &o->seed));
-  HRG_CHECK(reader.Unknown("delta, xi, sigma, seed"));
+  HRG_CHECK(reader.Unknown("physics, delta, xi, sigma, seed"));
   return {};
 }
 
@@ -137,12 +150,22 @@ std::expected<GyroSimFileConfig, ConfigError> ReadConfig(const TomlDocument& doc
     TableReader reader(**omega, "omega", source);
     HRG_TRY(omega_read, ReadOmega(reader, &config.omega));
   }
+  const bool carrier = config.options.physics == GyroPhysics::kCarrier;
+  if (carrier) {
+    HRG_TRY(carrier_table, SubTable(root, "carrier", false));
+    if (*carrier_table != nullptr) {
+      TableReader reader(**carrier_table, "carrier", source);
+      HRG_TRY(carrier_read, ReadCarrierTable(reader, &config.options.carrier));
+    }
+  } else {
+    HRG_CHECK(Forbid(root, "carrier", "[carrier] applies only to [model] physics = \"carrier\""));
+  }
   HRG_TRY(faults, SubTable(root, "faults", false));
   if (*faults != nullptr) {
     TableReader reader(**faults, "faults", source);
     HRG_TRY(faults_read, ReadFaults(reader, &config.options.faults));
   }
-  HRG_CHECK(root.Unknown("[model], [electronics], [omega], [faults]"));
+  HRG_CHECK(root.Unknown("[model], [electronics], [omega], [carrier], [faults]"));
   // Every range IsValid checks was checked above at its key; this is the options' own contract.
   if (std::string why; !config.options.IsValid(&why))
     return std::unexpected(ConfigError{file, 0, "", "", std::move(why)});

@@ -7,7 +7,10 @@
 // ranges are GyroSimOptions::IsValid's and the integer fields' own; numbers must be finite; a
 // host name is 1 to 255 bytes of printable text; the file is at most 1 MiB and a regular file.
 //
-//   [model]       delta (6 numbers), xi (4), sigma, seed
+//   [model]       physics = "slow" (default) | "carrier"; delta (6 numbers), xi (4), sigma (slow
+//                 only), seed
+//   [carrier]     physics = "carrier" only: the mode, pick-off path and electronics
+//                 (carrier_config.hpp; keys in drivers/sim/README.md)
 //   [electronics] excite_time_s, resonant_frequency_hz, temperature_c, supports_fd
 //   [omega]       source = "constant" | "modbus", omega_rad_s (constant), modbus_host,
 //                 modbus_port, earth_rate_rad_s (added to the table's rate), poll_period_ms

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/carrier_source.hpp"
+#include "sim/slow_model_source.hpp"
+
 namespace hrgbench::drivers::sim {
 namespace {
 
@@ -15,6 +18,11 @@ using hw::GyroMode;
 
 constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
 
+std::unique_ptr<FreeRunSource> MakeSource(const GyroSimOptions& o) {
+  if (o.physics == GyroPhysics::kCarrier) return std::make_unique<CarrierSource>(o.carrier, o.seed);
+  return std::make_unique<SlowModelSource>(o.delta, o.xi, o.sigma, o.seed, o.resonant_frequency_hz);
+}
+
 }  // namespace
 
 GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimOptions& options,
@@ -24,7 +32,7 @@ GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimO
       options_(options),
       omega_(std::move(omega)),
       short_bus_(std::move(short_bus)),
-      distortion_(estimator::Matrix4::Identity() + estimator::DistortionMatrix(options.xi)) {
+      source_(MakeSource(options)) {
   const std::int64_t now = clock_.NowNs();
   power_on_ns_ = now;
   next_poll_ns_ = now;
@@ -190,10 +198,8 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
         next_sample_ = 0;
         sample_frames_ = 0;
         fd_block_ = {};
-        anchor_x_ = estimator::OrbitToState(orbit_);
-        anchor_ns_ = now_ns;
-        anchor_omega_ = omega_ ? omega_() : 0.0;
-        noise_.emplace(options_.seed + statistics_.runs);
+        source_->Release({orbit_, omega_ ? omega_() : 0.0, static_cast<double>(sample_rate_hz_),
+                          statistics_.runs, TemperatureC(), options_.temperature_drift_c_per_s});
         ++statistics_.runs;
       }
       break;
@@ -244,21 +250,9 @@ void GyroSimNode::Advance(std::int64_t now_ns) noexcept {
 
 void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
   const double omega = omega_ ? omega_() : 0.0;
-  if (omega != anchor_omega_) {
-    // Ω changed: carry the state to now under the old Ω, continue from here under the new one.
-    anchor_x_ = estimator::PropagateExact(anchor_omega_, options_.delta, anchor_x_,
-                                          static_cast<double>(t_ns - anchor_ns_) * 1e-9);
-    anchor_ns_ = t_ns;
-    anchor_omega_ = omega;
-  }
-  const estimator::State x = estimator::PropagateExact(
-      anchor_omega_, options_.delta, anchor_x_, static_cast<double>(t_ns - anchor_ns_) * 1e-9);
-  estimator::Observation y = distortion_ * x;
+  const estimator::Observation y = source_->Sample(next_sample_, t_ns - release_ns_, omega);
   std::int32_t raw[4];
-  for (int c = 0; c < 4; ++c) {
-    const double noise = options_.sigma > 0 ? options_.sigma * noise_->Next() : 0.0;
-    raw[c] = gyro_can::QuantiseY(y(c) + noise);
-  }
+  for (int c = 0; c < 4; ++c) raw[c] = gyro_can::QuantiseY(y(c));
   const std::uint64_t k = next_sample_++;
   ++statistics_.samples;
   if (format_ == FrameFormat::kClassic) {
@@ -292,6 +286,12 @@ void GyroSimNode::SendSampleFrame(hw::CanFrame frame) noexcept {
   Send(frame);
 }
 
+double GyroSimNode::TemperatureC() const noexcept {
+  const double since_power_on_s = static_cast<double>(clock_.NowNs() - power_on_ns_) * 1e-9;
+  return std::clamp(options_.temperature_c + options_.temperature_drift_c_per_s * since_power_on_s,
+                    -327.67, 327.67);
+}
+
 void GyroSimNode::SendStatus() noexcept {
   gyro_can::StatusMessage status;
   status.mode = mode_;
@@ -300,12 +300,9 @@ void GyroSimNode::SendStatus() noexcept {
       (mode_ == GyroMode::kExciting || mode_ == GyroMode::kReady || mode_ == GyroMode::kFreeRun) &&
       (fault_bits_ & hw::gyro_fault::kPllUnlock) == 0;
   status.ready = mode_ == GyroMode::kReady;
-  status.frequency_mhz =
-      static_cast<std::uint32_t>(std::lround(options_.resonant_frequency_hz * 1e3));
-  const double since_power_on_s = static_cast<double>(clock_.NowNs() - power_on_ns_) * 1e-9;
-  const double temperature_c =
-      std::clamp(options_.temperature_c + options_.temperature_drift_c_per_s * since_power_on_s,
-                 -327.67, 327.67);
+  const double temperature_c = TemperatureC();
+  status.frequency_mhz = static_cast<std::uint32_t>(std::clamp(
+      std::lround(source_->ReportedFrequencyHz(temperature_c) * 1e3), 0l, (1l << 24) - 1));
   status.temperature_centi_c = static_cast<std::int16_t>(std::lround(temperature_c * 100));
   Send(gyro_can::EncodeStatus(status));
 }

@@ -2,10 +2,12 @@
 // GyroSimNode: simulated HRG electronics, a CAN node on any hw::CanBus speaking protocol v1
 // (drivers/gyro_can/README.md): it answers every command with its Ack (re-acknowledging a
 // repeated token without re-executing), sends Status at the configured rate, excites to the
-// commanded wave state, and in free run streams y = (I + C(ξ))·x(t) + σ·n with x(t) from the
-// exact closed-form propagation of the model (estimator::PropagateExact from
-// OrbitToState(a, b, θ, φ = 0) at the release instant). Ω is read from an injected source at every
-// sample; when it changes, the state is re-anchored (exact for piecewise-constant Ω).
+// commanded wave state, and in free run streams the y samples of its physics (free_run_source.hpp):
+// physics = kSlow, y = (I + C(ξ))·x(t) + σ·n with x(t) the exact closed-form propagation of the
+// model from OrbitToState(a, b, θ, φ = 0) at the release instant (slow_model_source.hpp); or
+// physics = kCarrier, the 2-DOF resonator at its carrier seen through pick-off channels and
+// demodulating electronics (carrier_source.hpp). Ω is read from an injected source at every
+// sample and held until the next.
 //
 // Time: everything runs on the injected Clock. Two ways to drive it:
 //   - Service(now) / NextEventNs() (SimulationParticipant): a SimulationClock calls them, so a
@@ -23,12 +25,14 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
+#include "sim/free_run_source.hpp"
 #include "sim/gyro_sim_options.hpp"
 #include "sim/simulation_clock.hpp"
 
@@ -66,6 +70,8 @@ class GyroSimNode final : public SimulationParticipant {
   GyroSimStatistics Statistics() const noexcept { return statistics_; }
   // The wave state commanded by the last Excite (quantised as on the wire).
   estimator::Orbit commanded_orbit() const noexcept { return orbit_; }
+  // The physics behind the samples (for tests and diagnostics).
+  const FreeRunSource& source() const noexcept { return *source_; }
 
  private:
   void HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept;
@@ -79,14 +85,15 @@ class GyroSimNode final : public SimulationParticipant {
   std::int64_t NextTimedEventNs() const noexcept;  // samples and status, without the poll tick
   std::int64_t SampleDueNs(std::uint64_t k) const noexcept;
   std::int64_t StatusPeriodNs() const noexcept;
+  double TemperatureC() const noexcept;  // housing temperature now
 
   hw::CanBus& bus_;
   const hw::Clock& clock_;
   GyroSimOptions options_;
   OmegaSource omega_;
   std::function<void()> short_bus_;
-  estimator::Matrix4 distortion_;  // I + C(ξ)
-  std::int64_t power_on_ns_ = 0;   // temperature drift counts from here
+  std::unique_ptr<FreeRunSource> source_;
+  std::int64_t power_on_ns_ = 0;  // temperature drift counts from here
 
   hw::GyroMode mode_ = hw::GyroMode::kIdle;
   std::uint8_t fault_bits_ = 0;
@@ -99,10 +106,6 @@ class GyroSimNode final : public SimulationParticipant {
   // Free run.
   std::int64_t release_ns_ = 0;
   std::uint64_t next_sample_ = 0;
-  estimator::State anchor_x_ = estimator::State::Zero();
-  std::int64_t anchor_ns_ = 0;
-  double anchor_omega_ = 0.0;
-  std::optional<estimator::NormalGenerator> noise_;
   gyro_can::SampleFdBlock fd_block_;
   std::uint64_t sample_frames_ = 0;  // sample frames produced this run (for drop_every_nth)
 

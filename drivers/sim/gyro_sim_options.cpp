@@ -34,6 +34,13 @@ bool GyroSimOptions::IsValid(std::string* why) const {
   if (!std::isfinite(temperature_c) || std::abs(temperature_c) > kMaxAbsTemperatureC) {
     return fail("temperature_c must be within +-327.67");
   }
+  if (physics == GyroPhysics::kCarrier) {
+    std::string part;
+    if (!carrier.IsValid(&part)) return fail("carrier: " + part);
+    if (carrier.resonator.frequency_hz > hw::kMaxReportedResonantFrequencyHz) {
+      return fail("carrier frequency_hz must be <= 16777.215 (the status field's range)");
+    }
+  }
   if (poll_period_ns <= 0 || poll_period_ns > 10'000'000) {
     return fail("poll_period_ns must be in (0, 10 ms]");
   }

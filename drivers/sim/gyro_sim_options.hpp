@@ -1,6 +1,7 @@
 #pragma once
-// Options of the simulated HRG electronics (GyroSimNode): the resonator model (δ, ξ, σ, seed; see
-// ../shared/MODEL.md and estimator/simulation.hpp), the electronics' behaviour, and explicit
+// Options of the simulated HRG electronics (GyroSimNode): which physics makes the samples (the slow
+// model's δ, ξ, σ, see ../shared/MODEL.md and estimator/simulation.hpp; or the carrier-level
+// resonator and electronics, carrier_options.hpp), the electronics' behaviour, and explicit
 // failure modes (STYLE rule 6). Plain data with in-class defaults; the program reads it from TOML
 // (gyro_sim_config.hpp).
 
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "hrgbench/estimator/parameters.hpp"
+#include "sim/carrier_options.hpp"
 
 namespace hrgbench::drivers::sim {
 
@@ -31,12 +33,23 @@ struct GyroSimFaults {
                                             // its target (mode stays Exciting, ready never set)
 };
 
+// Where the free-run samples come from (free_run_source.hpp).
+enum class GyroPhysics {
+  kSlow,     // the estimator's own model: y = (I + C(ξ))·exp(A·t)·x0 + σ·n (delta, xi, sigma)
+  kCarrier,  // the 2-DOF resonator at its carrier and real electronics (carrier)
+};
+
 struct GyroSimOptions {
-  // The resonator. δ defaults to the paper's experiment (MODEL.md): δ1 = −0.001 1/s, δ2 = 0.3.
+  GyroPhysics physics = GyroPhysics::kSlow;
+  // physics = kSlow: the resonator. δ defaults to the paper's experiment (MODEL.md): δ1 = −0.001
+  // 1/s, δ2 = 0.3.
   estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
   estimator::Xi xi = estimator::Xi::Zero();
   double sigma = 0.0;      // noise std per channel of y (amplitude units); the paper's 1e-4
   std::uint64_t seed = 1;  // run r (0-based, per release) uses NormalGenerator(seed + r)
+  // physics = kCarrier: the mode, the pick-off path and the electronics (seeded with seed + r as
+  // well). Its frequency is what Status reports (resonant_frequency_hz is the slow physics').
+  CarrierOptions carrier;
 
   // The electronics.
   double excite_time_s = 0.2;             // from Excite to "ready" (control loops settling)

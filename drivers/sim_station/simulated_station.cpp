@@ -87,7 +87,20 @@ SimulatedStation::~SimulatedStation() {
 }
 
 SimulatedTruth SimulatedStation::truth() const {
-  return {options_.gyro.delta, options_.gyro.xi, options_.gyro.sigma, options_.gyro.seed,
+  if (options_.gyro.physics == sim::GyroPhysics::kCarrier) {
+    const sim::CarrierOptions& c = options_.gyro.carrier;
+    return {true,
+            estimator::DeltaFromResonator(c.resonator),
+            estimator::XiFromPickoff(c.pickoff.errors),
+            0.0,
+            options_.gyro.seed,
+            options_.earth_rate_rad_s};
+  }
+  return {false,
+          options_.gyro.delta,
+          options_.gyro.xi,
+          options_.gyro.sigma,
+          options_.gyro.seed,
           options_.earth_rate_rad_s};
 }
 

@@ -64,6 +64,9 @@ struct SimulatedStationOptions {
 
 // What the simulated gyro follows, for comparing estimates with the truth.
 struct SimulatedTruth {
+  // physics = carrier: δ and ξ are the physical parameters' mapping (estimator/physical_parameters)
+  // and hold to the averaging error; the noise is the converters', sigma is 0.
+  bool carrier = false;
   estimator::Delta delta = estimator::Delta::Zero();
   estimator::Xi xi = estimator::Xi::Zero();
   double sigma = 0.0;      // noise std per channel of y (before quantisation to the wire's LSB)

@@ -24,7 +24,12 @@ class SimulatedStationAdapter final : public Station {
   std::optional<nlohmann::json> simulation() const override {
     const drivers::sim_station::SimulatedTruth truth = station_->truth();
     nlohmann::json j;
-    j["generator"] = "hrgbench in-process simulated station (drivers/sim_station), exact model";
+    j["generator"] =
+        truth.carrier ? "hrgbench in-process simulated station (drivers/sim_station), "
+                        "carrier-level resonator and electronics (delta, xi mapped from the "
+                        "physical parameters; sigma is not a y-level parameter there)"
+                      : "hrgbench in-process simulated station (drivers/sim_station), exact model";
+    j["physics"] = truth.carrier ? "carrier" : "slow";
     j["delta"] = std::vector<double>(truth.delta.data(), truth.delta.data() + 6);
     j["xi"] = std::vector<double>(truth.xi.data(), truth.xi.data() + 4);
     j["sigma"] = truth.sigma;
@@ -51,11 +56,36 @@ class RealStation final : public Station {
   bench::BenchHardware hardware_;
 };
 
+drivers::sim::CarrierOptions MapCarrier(const bench::SimulatedCarrierConfig& c) {
+  drivers::sim::CarrierOptions o;
+  o.resonator = c.resonator;
+  o.frequency_temperature_coefficient_per_c = c.frequency_temperature_coefficient_per_c;
+  o.reference_temperature_c = c.reference_temperature_c;
+  o.pickoff.errors = c.pickoff;
+  o.pickoff.common_gain = c.common_gain;
+  o.pickoff.common_delay_s = c.common_delay_s;
+  o.pickoff.white_noise_std = c.white_noise_std;
+  o.pickoff.coloured_noise_std = c.coloured_noise_std;
+  o.pickoff.coloured_noise_time_s = c.coloured_noise_time_s;
+  o.sample_rate_hz = c.sample_rate_hz;
+  o.electronics.reference.mode = c.tracking_reference ? drivers::sim::ReferenceMode::kTracking
+                                                      : drivers::sim::ReferenceMode::kFreeRunning;
+  o.electronics.reference.offset_hz = c.reference_offset_hz;
+  o.electronics.reference.pll_bandwidth_hz = c.pll_bandwidth_hz;
+  o.electronics.filter_order = static_cast<int>(c.filter_order);
+  o.electronics.filter_cutoff_hz = c.filter_cutoff_hz;
+  return o;
+}
+
 drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
   const bench::SimulatedStationConfig& sim = config.simulated;
   drivers::sim_station::SimulatedStationOptions o;
   o.faster_than_real_time = sim.faster_than_real_time;
   o.time_scale = sim.time_scale;
+  if (sim.physics == bench::SimulatedPhysics::kCarrier) {
+    o.gyro.physics = drivers::sim::GyroPhysics::kCarrier;
+    o.gyro.carrier = MapCarrier(sim.carrier);
+  }
   o.gyro.delta = sim.delta;
   o.gyro.xi = sim.xi;
   o.gyro.sigma = sim.sigma;

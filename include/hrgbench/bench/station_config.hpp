@@ -23,6 +23,7 @@
 #include "hrgbench/bench/site.hpp"
 #include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
+#include "hrgbench/estimator/physical_parameters.hpp"
 
 namespace hrgbench::bench {
 
@@ -83,6 +84,33 @@ struct SimulatedFaults {
   bool gyro_never_ready = false;                // excitation never reports ready
 };
 
+// [simulated] physics: where the simulated gyro's samples come from.
+enum class SimulatedPhysics {
+  kSlow,     // the estimator's own model (delta, xi, sigma)
+  kCarrier,  // the 2-DOF resonator at its carrier and real electronics ([simulated.carrier])
+};
+
+// [simulated.carrier]: the carrier-level resonator, pick-off path and electronics; the same keys,
+// defaults and bounds as hrg-gyro-sim's [carrier] (drivers/sim/carrier_config.hpp), mapped by
+// src/app onto drivers/sim's CarrierOptions.
+struct SimulatedCarrierConfig {
+  estimator::ResonatorParameters resonator;  // frequency_hz ... angular_gain
+  double frequency_temperature_coefficient_per_c = 0.0;
+  double reference_temperature_c = 25.0;
+  estimator::PickoffParameters pickoff;  // gain_ratio, phase_mismatch_rad, cross_talk, ...
+  double common_gain = 1.0;
+  double common_delay_s = 0.0;
+  double white_noise_std = 0.0;
+  double coloured_noise_std = 0.0;
+  double coloured_noise_time_s = 1e-3;
+  double sample_rate_hz = 100000.0;
+  bool tracking_reference = false;  // reference = "tracking" (else "free-running")
+  double reference_offset_hz = 0.0;
+  double pll_bandwidth_hz = 2.0;
+  std::int64_t filter_order = 4;
+  double filter_cutoff_hz = 200.0;
+};
+
 // [simulated]: the in-process simulated station (drivers/sim physics, seeded, reproducible).
 struct SimulatedStationConfig {
   // true: simulated time on a manual clock, advanced as fast as the CPU allows (CI);
@@ -98,6 +126,8 @@ struct SimulatedStationConfig {
   double temperature_c = 25.0;             // resonator housing at the start
   double temperature_drift_c_per_s = 0.0;  // linear drift (tests the warm-up and drift checks)
   double excite_time_s = 0.2;              // time from Excite to "ready"
+  SimulatedPhysics physics = SimulatedPhysics::kSlow;
+  SimulatedCarrierConfig carrier;  // physics = kCarrier only
   // Table physics (drivers/sim/table_physics.hpp).
   double table_settle_time_constant_s = 0.05;
   double table_noise_rad_s = 2e-5;  // measured-rate noise, 1 σ

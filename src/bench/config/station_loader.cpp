@@ -5,8 +5,10 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <string_view>
 #include <utility>
 
+#include "bench/config/simulated_carrier_table.hpp"
 #include "hrgbench/bench/station_config.hpp"
 #include "hrgbench/config_file/config_bounds.hpp"
 #include "hrgbench/config_file/toml_reader.hpp"
@@ -247,13 +249,33 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
                                   sim.time_scale));
     sim.time_scale = *scale;
   }
-  if (reader.table().get("delta") != nullptr) {
+  HRG_TRY(physics, Choice(reader, "physics", {"slow", "carrier"}, 0));
+  sim.physics = *physics == 0 ? SimulatedPhysics::kSlow : SimulatedPhysics::kCarrier;
+  const bool carrier = sim.physics == SimulatedPhysics::kCarrier;
+  if (carrier) {
+    // The carrier physics takes its truth, noise and frequency from [simulated.carrier].
+    for (std::string_view key : {"delta", "xi", "sigma", "resonant_frequency_hz"}) {
+      HRG_CHECK(Forbid(reader, key,
+                       "applies only to physics = \"slow\" (physics = \"carrier\" takes it "
+                       "from [simulated.carrier])"));
+    }
+    HRG_TRY(carrier_table, SubTable(reader, "carrier", false));
+    if (*carrier_table != nullptr) {
+      TableReader carrier_reader(**carrier_table, reader.KeyPath("carrier"), reader.source());
+      HRG_TRY(carrier_config, internal::ReadSimulatedCarrier(carrier_reader));
+      sim.carrier = *carrier_config;
+    }
+  } else {
+    HRG_CHECK(
+        Forbid(reader, "carrier", "[simulated.carrier] applies only to physics = \"carrier\""));
+  }
+  if (!carrier && reader.table().get("delta") != nullptr) {
     HRG_TRY(delta, RequiredVector<6>(reader, "delta", kAnyFinite));
     sim.delta = *delta;
-  } else {
+  } else if (!carrier) {
     reader.Find("delta");
   }
-  if (reader.table().get("xi") != nullptr) {
+  if (!carrier && reader.table().get("xi") != nullptr) {
     // Each |ξi| < 1/4 keeps I + C(ξ) invertible (estimator/model.hpp).
     HRG_TRY(xi, RequiredVector<4>(reader, "xi",
                                   {-0.25, 0.25, false,
@@ -261,18 +283,23 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
                                    "invertible",
                                    false}));
     sim.xi = *xi;
-  } else {
+  } else if (!carrier) {
     reader.Find("xi");
   }
-  HRG_TRY(sigma, OptionalNumber(reader, "sigma", {0.0, 1.0, true, "in [0, 1]"}, sim.sigma));
-  sim.sigma = *sigma;
+  if (!carrier) {
+    HRG_TRY(sigma, OptionalNumber(reader, "sigma", {0.0, 1.0, true, "in [0, 1]"}, sim.sigma));
+    sim.sigma = *sigma;
+  }
   HRG_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(), 1));
   sim.seed = static_cast<std::uint64_t>(*seed);
   // The electronics report it in a 24-bit mHz field: the simulated ones refuse more.
-  HRG_TRY(f, OptionalNumber(reader, "resonant_frequency_hz",
-                            {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
-                            sim.resonant_frequency_hz));
-  sim.resonant_frequency_hz = *f;
+  if (!carrier) {
+    HRG_TRY(f,
+            OptionalNumber(reader, "resonant_frequency_hz",
+                           {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
+                           sim.resonant_frequency_hz));
+    sim.resonant_frequency_hz = *f;
+  }
   HRG_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},
                             sim.temperature_c));
   sim.temperature_c = *t;
@@ -301,9 +328,10 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
     sim.faults = *faults;
   }
   HRG_CHECK(reader.Unknown(
-      "faster_than_real_time, time_scale, delta, xi, sigma, seed, resonant_frequency_hz, "
+      "faster_than_real_time, time_scale, physics, delta, xi, sigma, seed, resonant_frequency_hz, "
       "temperature_c, temperature_drift_c_per_s, excite_time_s, table_settle_time_constant_s, "
-      "table_noise_rad_s, table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.faults]"));
+      "table_noise_rad_s, table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], "
+      "[simulated.faults]"));
   return sim;
 }
 

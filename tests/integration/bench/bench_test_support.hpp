@@ -34,15 +34,16 @@ struct BenchRun {
   std::unique_ptr<app::Station> station;  // kept, so a test can look at the hardware afterwards
 };
 
-// Loads the shipped configs, lets `edit` change them (faults, shorter runs), opens the station and
-// runs the session. `interrupt_when` (optional) is asked at every progress report whether to press
-// Ctrl-C now.
+// Loads the shipped configs (the station: station-sim.toml unless `station_file` says otherwise),
+// lets `edit` change them (faults, shorter runs), opens the station and runs the session.
+// `interrupt_when` (optional) is asked at every progress report whether to press Ctrl-C now.
 inline BenchRun RunOnSimulatedStation(
     const std::string& sequence, const std::string& limits,
     const std::function<void(bench::BenchConfigs&)>& edit = {},
-    const std::function<bool(const bench::Progress&)>& interrupt_when = {}) {
+    const std::function<bool(const bench::Progress&)>& interrupt_when = {},
+    const std::string& station_file = "station-sim.toml") {
   BenchRun run;
-  auto configs = bench::LoadBenchConfigs(ConfigPath("station-sim.toml"), ConfigPath(sequence),
+  auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
                                          limits.empty() ? "" : ConfigPath(limits));
   EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
   if (!configs) return run;

@@ -10,6 +10,7 @@
 
 #include "gyro_rig.hpp"
 #include "hrgbench/estimator/simulation.hpp"
+#include "sim/carrier_simulation.hpp"
 
 namespace hrgbench::testing {
 namespace {
@@ -95,6 +96,42 @@ TEST(GyroCanDeviceTest, TenSecondsAtOneKilohertzMatchTheModel) {
   EXPECT_NEAR(status.resonant_frequency_hz, 5000.0, 1e-9);
   EXPECT_NEAR(status.temperature_c, 25.0, 1e-9);
   std::printf("[ info ] 10 s of 1 kHz samples (20 000 frames) in %.3f s wall time\n", wall_s);
+}
+
+// physics = "carrier": the same protocol and frames carry the carrier-level chain's samples, bit
+// for bit what CarrierSimulation gives for the same wave, Ω, seed and run; Status reports the
+// mode's frequency at the housing temperature, f(T) = f0·(1 + α·(T − T0)).
+TEST(GyroCanDeviceTest, CarrierPhysicsStreamsTheChainsSamples) {
+  GyroRigOptions options;
+  options.sim.physics = drivers::sim::GyroPhysics::kCarrier;
+  options.sim.seed = 77;
+  drivers::sim::CarrierOptions& carrier = options.sim.carrier;
+  carrier.resonator.frequency_split_hz = 0.01;
+  carrier.resonator.frequency_axis_rad = 0.3;
+  carrier.pickoff.errors = {0.98, 0.002, 0.001, 0.002};
+  carrier.pickoff.white_noise_std = 1e-3;
+  carrier.frequency_temperature_coefficient_per_c = 5e-5;
+  carrier.reference_temperature_c = 20.0;
+  options.sim.temperature_c = 30.0;
+  GyroRig rig(options);
+  rig.StartRun(1000, kWave);
+  const std::vector<GyroSample> samples = ReadN(*rig.device, 2000);
+  ASSERT_EQ(samples.size(), 2000u);
+
+  drivers::sim::CarrierSimulation chain(carrier);
+  drivers::sim::CarrierRelease release;
+  release.orbit = rig.node->commanded_orbit();
+  release.omega_rad_s = options.omega_rad_s;
+  release.output_rate_hz = 1000.0;
+  release.seed = 77;  // seed + run 0
+  release.temperature_c = 30.0;
+  chain.Release(release);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const estimator::Observation y = chain.Next(options.omega_rad_s);
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(samples[k].y[c], y(c)) << k << " " << c;
+  }
+  ASSERT_TRUE(rig.device->Stop().has_value());
+  EXPECT_NEAR(rig.device->LastStatus().resonant_frequency_hz, 5000.0 * (1 + 5e-5 * 10.0), 1e-3);
 }
 
 TEST(GyroCanDeviceTest, CanFdPacksFiveSamplesPerFrame) {

@@ -19,6 +19,76 @@ TEST(GyroSimConfigTest, ShippedExampleLoads) {
   EXPECT_EQ(config->options.faults.stall_after_samples, -1);
 }
 
+TEST(GyroSimConfigTest, ShippedCarrierExampleLoads) {
+  const auto config =
+      LoadGyroSimConfig(HRGBENCH_SOURCE_DIR "/drivers/sim/gyro_sim_carrier.example.toml");
+  ASSERT_TRUE(config.has_value()) << config.error().ToString();
+  const GyroSimOptions& o = config->options;
+  EXPECT_EQ(o.physics, GyroPhysics::kCarrier);
+  EXPECT_DOUBLE_EQ(o.carrier.resonator.decay_time_s, 1000.0);
+  EXPECT_DOUBLE_EQ(o.carrier.resonator.frequency_split_hz, 0.01);
+  EXPECT_DOUBLE_EQ(o.carrier.pickoff.errors.gain_ratio, 0.98);
+  EXPECT_DOUBLE_EQ(o.carrier.pickoff.common_delay_s, 2e-6);
+  EXPECT_EQ(o.carrier.electronics.reference.mode, ReferenceMode::kFreeRunning);
+  EXPECT_EQ(o.carrier.electronics.filter_order, 4);
+}
+
+TEST(GyroSimConfigTest, PhysicsDefaultsToSlowAndCarrierKeysAreStrict) {
+  const auto plain = ParseGyroSimConfig("[model]\nseed = 3\n", "sim.toml");
+  ASSERT_TRUE(plain.has_value()) << plain.error().ToString();
+  EXPECT_EQ(plain->options.physics, GyroPhysics::kSlow);
+
+  const auto tracking = ParseGyroSimConfig(
+      "[model]\nphysics = \"carrier\"\n[carrier]\nreference = \"tracking\"\n"
+      "pll_bandwidth_hz = 5\n",
+      "sim.toml");
+  ASSERT_TRUE(tracking.has_value()) << tracking.error().ToString();
+  EXPECT_EQ(tracking->options.carrier.electronics.reference.mode, ReferenceMode::kTracking);
+  EXPECT_DOUBLE_EQ(tracking->options.carrier.electronics.reference.pll_bandwidth_hz, 5.0);
+
+  struct Case {
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      // [carrier] without the carrier physics, slow keys with it.
+      {"[carrier]\nfrequency_hz = 5000\n", "[carrier] applies only to [model] physics"},
+      {"[model]\nphysics = \"carrier\"\nsigma = 1e-4\n",
+       "sim.toml:3: key 'model.sigma' = 1e-4: not allowed here: applies only to physics = "
+       "\"slow\""},
+      {"[model]\nphysics = \"fast\"\n", "sim.toml:2: key 'model.physics' = \"fast\""},
+      // Bounds at the key, with the value as written.
+      {"[model]\nphysics = \"carrier\"\n[carrier]\ndecay_time_s = -1\n",
+       "sim.toml:4: key 'carrier.decay_time_s' = -1: out of range: must be in (0, 1e7] s"},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\nfilter_order = 5\n",
+       "sim.toml:4: key 'carrier.filter_order' = 5: out of range: must be even"},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\nsample_rate_hz = 12000\n",
+       "sim.toml:4: key 'carrier.sample_rate_hz' = 12000: out of range: must be >= 4 * "
+       "frequency_hz"},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\nfilter_cutoff_hz = 2000\n",
+       "sim.toml:4: key 'carrier.filter_cutoff_hz' = 2000: out of range: must be <= frequency_hz / "
+       "4"},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\ngain_ratio = 3\n",
+       "sim.toml:4: key 'carrier.gain_ratio' = 3: out of range"},
+      // Keys of the other reference mode, and misspelt keys.
+      {"[model]\nphysics = \"carrier\"\n[carrier]\npll_bandwidth_hz = 3\n",
+       "key 'carrier.pll_bandwidth_hz' = 3: not allowed here: applies only to reference = "
+       "\"tracking\""},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\nreference = \"tracking\"\n"
+       "reference_offset_hz = 0.1\n",
+       "key 'carrier.reference_offset_hz' = 0.1: not allowed here: applies only to reference = "
+       "\"free-running\""},
+      {"[model]\nphysics = \"carrier\"\n[carrier]\ndecay_time = 10\n",
+       "sim.toml:4: key 'carrier.decay_time' = 10: unknown key (allowed here: frequency_hz"},
+  };
+  for (const Case& c : cases) {
+    const auto config = ParseGyroSimConfig(c.text, "sim.toml");
+    ASSERT_FALSE(config.has_value()) << c.text;
+    EXPECT_NE(config.error().ToString().find(c.message), std::string::npos)
+        << c.text << "\n -> " << config.error().ToString();
+  }
+}
+
 TEST(GyroSimConfigTest, FaultsAndOmegaAreRead) {
   const auto config = ParseGyroSimConfig(
       "[omega]\nsource = \"modbus\"\nmodbus_port = 1502\nearth_rate_rad_s = 7.3e-5\n"
@@ -35,9 +105,9 @@ TEST(GyroSimConfigTest, FaultsAndOmegaAreRead) {
 TEST(GyroSimConfigTest, ErrorsNameFileLineKeyAndValue) {
   const auto unknown = ParseGyroSimConfig("[model]\nsigma = 1e-4\nsigmaa = 2\n", "sim.toml");
   ASSERT_FALSE(unknown.has_value());
-  EXPECT_EQ(
-      unknown.error().ToString(),
-      "sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: delta, xi, sigma, seed)");
+  EXPECT_EQ(unknown.error().ToString(),
+            "sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: physics, delta, xi, "
+            "sigma, seed)");
   const auto wrong = ParseGyroSimConfig("[model]\ndelta = [1, 2]\n", "sim.toml");
   ASSERT_FALSE(wrong.has_value());
   EXPECT_NE(wrong.error().ToString().find("sim.toml:2: key 'model.delta'"), std::string::npos)

@@ -1,0 +1,89 @@
+#include "sim/carrier_pickoff.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace hrgbench::drivers::sim {
+
+bool CarrierPickoffOptions::IsValid(std::string* why) const {
+  const auto fail = [why](const char* message) {
+    if (why != nullptr) *why = message;
+    return false;
+  };
+  std::string part;
+  if (!errors.IsValid(&part)) {
+    if (why != nullptr) *why = "pick-off errors: " + part;
+    return false;
+  }
+  if (!(std::isfinite(common_gain) && common_gain > 0.0)) {
+    return fail("common_gain must be finite and > 0");
+  }
+  if (!(std::isfinite(common_delay_s) && common_delay_s >= 0.0)) {
+    return fail("common_delay_s must be finite and >= 0");
+  }
+  if (!(std::isfinite(white_noise_std) && white_noise_std >= 0.0) ||
+      !(std::isfinite(coloured_noise_std) && coloured_noise_std >= 0.0)) {
+    return fail("white_noise_std and coloured_noise_std must be finite and >= 0");
+  }
+  if (!(std::isfinite(coloured_noise_time_s) && coloured_noise_time_s > 0.0)) {
+    return fail("coloured_noise_time_s must be finite and > 0");
+  }
+  return true;
+}
+
+CarrierPickoff::CarrierPickoff(const CarrierPickoffOptions& options, double design_frequency_hz)
+    : options_(options),
+      design_rad_s_(2.0 * std::numbers::pi * design_frequency_hz),
+      xi_(estimator::XiFromPickoff(options.errors)) {
+  const std::complex<double> common =
+      std::polar(options.common_gain, -design_rad_s_ * options.common_delay_s);
+  gain_ = common * estimator::ComplexDistortion(xi_);
+  Reset(1);
+}
+
+void CarrierPickoff::Configure(const CarrierResonator& resonator) noexcept {
+  output_.setZero();
+  for (int c = 0; c < 2; ++c) {
+    for (int j = 0; j < 2; ++j) {
+      const std::complex<double> h = gain_(c, j);
+      const double magnitude = std::abs(h);
+      if (magnitude == 0.0) continue;
+      const double delay_s = -std::arg(h) / design_rad_s_;
+      // q_j(t − τ) = row j of exp(−F·τ)·X(t).
+      if (delay_s == 0.0) {
+        output_(c, j) += magnitude;
+      } else {
+        output_.row(c) += magnitude * resonator.Transition(-delay_s).row(j);
+      }
+    }
+  }
+  rho_ = std::exp(-resonator.step_s() / options_.coloured_noise_time_s);
+  drive_ = std::sqrt(1.0 - rho_ * rho_) * options_.coloured_noise_std;
+}
+
+void CarrierPickoff::Reset(std::uint64_t seed) noexcept {
+  white_.emplace(seed);
+  coloured_noise_.emplace(seed + kColouredStream);
+  for (double& n : coloured_) n = options_.coloured_noise_std * coloured_noise_->Next();
+}
+
+estimator::Observation CarrierPickoff::HeldObservation(const estimator::State& x,
+                                                       double frequency_rad_s,
+                                                       double velocity_scale_rad_s) const noexcept {
+  // A steady tone X(t) = (Re[u·e^{iωt}], Re[iω·u·e^{iωt}]/ω0) gives s_c = Re[(P_q + i(ω/ω0)·P_v)·u·
+  // e^{iωt}], which demodulates (2·LPF[s·e^{−iωt}]) to (P_q + i(ω/ω0)·P_v)·u.
+  const std::complex<double> u[2] = {{x[0], x[1]}, {x[2], x[3]}};
+  const double v = frequency_rad_s / velocity_scale_rad_s;
+  estimator::Observation y;
+  for (int c = 0; c < 2; ++c) {
+    std::complex<double> w = 0.0;
+    for (int j = 0; j < 2; ++j) {
+      w += std::complex<double>(output_(c, j), v * output_(c, 2 + j)) * u[j];
+    }
+    y[2 * c] = w.real();
+    y[2 * c + 1] = w.imag();
+  }
+  return y;
+}
+
+}  // namespace hrgbench::drivers::sim

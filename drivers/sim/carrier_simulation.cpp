@@ -1,0 +1,60 @@
+#include "sim/carrier_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace hrgbench::drivers::sim {
+
+CarrierSimulation::CarrierSimulation(const CarrierOptions& options)
+    : options_(options), pickoff_(options.pickoff, options.resonator.frequency_hz) {
+  Release({});
+}
+
+double CarrierSimulation::FrequencyScale(double t_s) const noexcept {
+  const double temperature = release_.temperature_c + release_.temperature_rate_c_per_s * t_s;
+  return 1.0 + options_.frequency_temperature_coefficient_per_c *
+                   (temperature - options_.reference_temperature_c);
+}
+
+void CarrierSimulation::Release(const CarrierRelease& release) noexcept {
+  release_ = release;
+  decimation_ =
+      std::max(1, static_cast<int>(std::lround(options_.sample_rate_hz / release.output_rate_hz)));
+  const double rate_hz = decimation_ * release.output_rate_hz;
+  if (!resonator_ || resonator_->step_s() != 1.0 / rate_hz) {
+    resonator_.emplace(options_.resonator, 1.0 / rate_hz);
+  }
+  electronics_.emplace(options_.electronics, rate_hz, decimation_);
+  resonator_->SetConditions(release.omega_rad_s, FrequencyScale(0.0));
+  pickoff_.Configure(*resonator_);
+  pickoff_.Reset(release.seed);
+  resonator_->Release(release.orbit);
+  const double wave_rad_s = resonator_->mean_frequency_rad_s();
+  electronics_->Release(wave_rad_s / (2.0 * std::numbers::pi),
+                        pickoff_.HeldObservation(estimator::OrbitToState(release.orbit), wave_rad_s,
+                                                 resonator_->velocity_scale_rad_s()));
+  k_ = 0;
+}
+
+estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
+  const double t_mid = (static_cast<double>(k_) + 0.5) / release_.output_rate_hz;
+  if (resonator_->SetConditions(omega_rad_s, FrequencyScale(t_mid))) {
+    pickoff_.Configure(*resonator_);
+  }
+  estimator::Observation y = estimator::Observation::Zero();
+  for (int n = 0; n < decimation_; ++n) {
+    electronics_->Push(pickoff_.Sample(resonator_->state()), &y);
+    resonator_->Step();
+  }
+  ++k_;
+  return y;
+}
+
+estimator::Delta CarrierSimulation::delta() const noexcept {
+  return estimator::DeltaFromResonator(options_.resonator);
+}
+
+double CarrierSimulation::group_delay_s() const noexcept { return electronics_->group_delay_s(); }
+
+}  // namespace hrgbench::drivers::sim

@@ -1,0 +1,71 @@
+#pragma once
+// CarrierSimulation: the carrier-level chain of one simulated gyro — CarrierResonator (the mode at
+// its carrier, exact in time) → CarrierPickoff (two channels, their errors and noise, at the
+// converter rate) → CarrierElectronics (reference, I/Q demodulation, Butterworth, decimation,
+// quantisation) — producing the y samples the gyro streams, one output sample per Next().
+//
+// Time: output sample k of a run is at t = k/output_rate after release (k = 0 is the release
+// instant itself, as the protocol's sample 0). The converters run at decimation × output rate.
+// Temperature T(t) = T(release) + rate·t enters through f(T) = f0·(1 + α·(T − T0)), held
+// piecewise constant over each output period (its mid-point value), as is Ω (the value passed to
+// Next for the period that follows sample k). The transition is recomputed only when one changed.
+//
+// Truth: y ≈ c·(I + C(ξ))·exp(A(Ω, δ)·t)·x0 with δ = DeltaFromResonator(resonator),
+// ξ = XiFromPickoff(pickoff errors), to the averaging error O(|A|/ω0), plus what the real chain
+// adds and the slow model has no term for (drivers/sim/README.md).
+//
+// Threads: one thread. Real-time: Next() is allocation-free and noexcept; it costs decimation ×
+// (a 4×4 and a 2×4 product, the mixer and the filter), ~20 ns per converter sample.
+
+#include <cstdint>
+#include <optional>
+
+#include "hrgbench/estimator/model.hpp"
+#include "sim/carrier_electronics.hpp"
+#include "sim/carrier_options.hpp"
+#include "sim/carrier_pickoff.hpp"
+#include "sim/carrier_resonator.hpp"
+
+namespace hrgbench::drivers::sim {
+
+struct CarrierRelease {
+  estimator::Orbit orbit;                 // the commanded wave state at release
+  double omega_rad_s = 0.0;               // Ω at release
+  double output_rate_hz = 1000.0;         // the protocol's sample rate, > 0
+  std::uint64_t seed = 1;                 // the converters' noise
+  double temperature_c = 25.0;            // at release
+  double temperature_rate_c_per_s = 0.0;  // linear ramp from release on
+};
+
+class CarrierSimulation {
+ public:
+  explicit CarrierSimulation(const CarrierOptions& options);  // options.IsValid() must hold
+
+  void Release(const CarrierRelease& release) noexcept;
+  // The next output sample (the first after Release is sample 0, at the release instant), with Ω
+  // held at `omega_rad_s` from it to the next.
+  estimator::Observation Next(double omega_rad_s) noexcept;
+
+  estimator::Delta delta() const noexcept;  // the truth the slow model should find
+  const estimator::Xi& xi() const noexcept { return pickoff_.xi(); }
+  std::uint64_t samples() const noexcept { return k_; }  // output samples this run
+  int decimation() const noexcept { return decimation_; }
+  double converter_rate_hz() const noexcept { return decimation_ * release_.output_rate_hz; }
+  double group_delay_s() const noexcept;
+  const CarrierOptions& options() const noexcept { return options_; }
+  const CarrierResonator& resonator() const noexcept { return *resonator_; }
+  const CarrierElectronics& electronics() const noexcept { return *electronics_; }
+
+ private:
+  double FrequencyScale(double t_s) const noexcept;
+
+  CarrierOptions options_;
+  CarrierPickoff pickoff_;
+  std::optional<CarrierResonator> resonator_;
+  std::optional<CarrierElectronics> electronics_;
+  CarrierRelease release_;
+  int decimation_ = 1;
+  std::uint64_t k_ = 0;
+};
+
+}  // namespace hrgbench::drivers::sim
