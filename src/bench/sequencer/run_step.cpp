@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bench/sequencer/run_context.hpp"
+#include "hrgbench/bench/run_omega.hpp"
 
 namespace hrgbench::bench::internal {
 namespace {
@@ -77,6 +78,80 @@ std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const
   }
 }
 
+// The run's Ω measured both ways (bench/run_omega.hpp), from the table's readings during the run:
+// its rate at every table read of the run loop; its angle at the release, at every table read and
+// after the capture. Both are kept; the station's omega_source says which one the estimator gets.
+class RunOmegaReadings {
+ public:
+  RunOmegaReadings(OmegaSourceSetting setting, std::size_t expected_reads) : setting_(setting) {
+    angle_.Reserve(expected_reads);
+  }
+
+  void AddRate(double measured_rate_rad_s) { rate_.Add(measured_rate_rad_s); }
+
+  // One angle read; a table without an angle (kNotSupported) is not asked again this run.
+  StepOutcome ReadAngle(hw::RateTable& table, int run_id) {
+    if (!angle_reported_) return StepOutcome::Ok();
+    auto angle = table.ReadAngle();
+    if (angle) {
+      angle_.Add(*angle);
+      return StepOutcome::Ok();
+    }
+    if (angle.error().code == hw::RateTableErrorCode::kNotSupported) {
+      angle_reported_ = false;
+      no_angle_reason_ = angle.error().message;
+      if (setting_ != OmegaSourceSetting::kAngle) return StepOutcome::Ok();
+      return StepOutcome::Error("omega_source = \"angle\", but the rate table reports no angle: " +
+                                no_angle_reason_);
+    }
+    return StepOutcome::Error("rate table angle during run " + std::to_string(run_id) + ": " +
+                              angle.error().ToString());
+  }
+
+  // Fills the Ω fields of `end` (each + the Earth-rate component). An error when the station
+  // asks for the angle and there is no Ω from it.
+  StepOutcome Finish(double earth_rate_rad_s, double measured_at_start_rad_s, RunEnd& end) const {
+    const OmegaEstimate by_rate = rate_.Result();
+    const OmegaEstimate by_angle = angle_.Result();
+    end.omega_rate_rad_s = by_rate.omega_rad_s + earth_rate_rad_s;
+    end.omega_rate_std_error_rad_s = by_rate.std_error_rad_s;
+    end.omega_rate_readings = by_rate.readings;
+    end.omega_angle_rad_s = by_angle.omega_rad_s + earth_rate_rad_s;
+    end.omega_angle_std_error_rad_s = by_angle.std_error_rad_s;
+    end.omega_angle_readings = by_angle.readings;
+    if (setting_ != OmegaSourceSetting::kRate && by_angle.valid()) {
+      end.omega_source = std::string(ToString(OmegaSource::kAngle));
+      end.omega_rad_s = end.omega_angle_rad_s;
+      end.omega_std_error_rad_s = by_angle.std_error_rad_s;
+      end.omega_readings = by_angle.readings;
+      return StepOutcome::Ok();
+    }
+    end.omega_source = std::string(ToString(OmegaSource::kRate));
+    end.omega_rad_s =
+        (by_rate.valid() ? by_rate.omega_rad_s : measured_at_start_rad_s) + earth_rate_rad_s;
+    end.omega_std_error_rad_s = by_rate.std_error_rad_s;
+    end.omega_readings = by_rate.readings;
+    if (setting_ != OmegaSourceSetting::kAngle) return StepOutcome::Ok();
+    return StepOutcome::Error("omega_source = \"angle\", but there is no Ω from the angle: " +
+                              NoAngleReason());
+  }
+
+  // Why the angle gave no Ω, for the log.
+  std::string NoAngleReason() const {
+    if (!no_angle_reason_.empty()) return no_angle_reason_;
+    if (!angle_.problem().empty()) return angle_.problem();
+    return std::to_string(angle_.valid_readings()) + " valid angle readings (" +
+           std::to_string(angle_.invalid_readings()) + " invalid), at least 2 at 2 instants needed";
+  }
+
+ private:
+  OmegaSourceSetting setting_;
+  bool angle_reported_ = true;
+  std::string no_angle_reason_;
+  RateReadingsMean rate_;
+  AngleRateFit angle_;
+};
+
 double RelativeChange(double start, double end) {
   if (!std::isfinite(start) || !std::isfinite(end) || start == 0.0) return 0.0;
   return std::abs(end - start) / std::abs(start);
@@ -118,6 +193,14 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
   // too; deadlines and progress run on the bench's clock, so note the release there as well.
   const std::int64_t released_at = hw.clock->NowNs();
+  RunOmegaReadings omega(ctx.configs->station.table.omega_source,
+                         static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) * 1e9 /
+                                                  static_cast<double>(kTableReadPeriodNs)) +
+                             8);
+  if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
+    MakeSafe(hw);
+    return read;
+  }
   start.release_t_ns = *release;
   if (auto begun = ctx.recorder->BeginRun(run_id, start); !begun)
     return StepOutcome::Error("record: " + begun.error().ToString());
@@ -141,9 +224,6 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   progress.phase = "capture";
   std::vector<hw::GyroSample> drained;
   std::vector<GyroSampleRecord> records;
-  double omega_sum = 0.0;
-  double omega_sum2 = 0.0;
-  int omega_reads = 0;
   std::int64_t next_table_read = 0;
   StepOutcome outcome = StepOutcome::Ok();
   const auto drain = [&]() -> bool {
@@ -179,9 +259,11 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
                                      ": " + hw::RateTableFaultName(table->fault_code));
         break;
       }
-      omega_sum += table->measured_rate_rad_s;
-      omega_sum2 += table->measured_rate_rad_s * table->measured_rate_rad_s;
-      ++omega_reads;
+      omega.AddRate(table->measured_rate_rad_s);
+      if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
+        outcome = read;
+        break;
+      }
     }
     if (ctx.Interrupted()) {
       outcome = StepOutcome::Aborted("operator interrupt during run " + std::to_string(run_id));
@@ -204,6 +286,10 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   while (capture.Running()) hw.clock->SleepForNs(kLoopPeriodNs);
   const CaptureResult result = capture.Join();
   if (outcome.ok()) drain();
+  // The angle once more, now that the capture is over: the fit spans the whole run.
+  if (outcome.ok()) {
+    if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) outcome = read;
+  }
   if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
 
   RunEnd end;
@@ -221,15 +307,9 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The run's closing frames (status request, Stop and their acks) belong to this run's record,
   // not the next one's, and the last run's would otherwise never be logged.
   if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
-  end.omega_rad_s = (omega_reads > 0 ? omega_sum / omega_reads : start.measured_omega_rad_s) +
-                    ctx.earth_rate_rad_s;
-  end.omega_readings = static_cast<std::uint64_t>(omega_reads);
-  if (omega_reads > 1) {
-    // Readings 20 ms apart are treated as independent (the readout noise, not the rate, varies).
-    const double n = omega_reads;
-    const double mean = omega_sum / n;
-    const double variance = std::max(0.0, (omega_sum2 - n * mean * mean) / (n - 1));
-    end.omega_std_error_rad_s = std::sqrt(variance / n);
+  if (StepOutcome measured = omega.Finish(ctx.earth_rate_rad_s, start.measured_omega_rad_s, end);
+      !measured.ok() && outcome.ok()) {
+    outcome = measured;
   }
 
   if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
@@ -284,7 +364,12 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   if (outcome.ok()) {
     ctx.Log("run " + std::to_string(run_id) + " " + (end.status == kRunComplete ? "complete" : end.status) +
             ": " + std::to_string(progress.samples) + " samples, Ω = " +
-            Format("%.9g", end.omega_rad_s) + " rad/s");
+            Format("%.12g", end.omega_rad_s) + " ± " + Format("%.2g", end.omega_std_error_rad_s) +
+            " rad/s from the " + end.omega_source +
+            (end.omega_source == "rate" && ctx.configs->station.table.omega_source !=
+                                               OmegaSourceSetting::kRate
+                 ? " readings (" + omega.NoAngleReason() + ")"
+                 : ""));
   }
   return outcome;
 }
