@@ -15,6 +15,7 @@
 #include "candump_log_parser.hpp"
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/session/session.hpp"
+#include "rate_table_without_angle.hpp"
 
 namespace hrgbench::testing {
 namespace {
@@ -162,6 +163,40 @@ TEST(BenchEndToEnd, OmegaFromTheRateReadingsWhenTheStationSaysSoWithTheAngleStil
     ExpectBothOmegas(r, "rate");
     EXPECT_EQ(r.at("omega_rad_s"), r.at("end").at("omega_rate_rad_s"));  // what the estimator got
   }
+  std::filesystem::remove_all(run.dir);
+}
+
+TEST(BenchEndToEnd, ATableWithoutAnAngleGivesOmegaFromItsRateReadings) {
+  // Absent omega_source: the angle when the table reports one, else the rate readings.
+  const BenchRun run = RunOnSimulatedStation(
+      "sequence-paper.toml", "", {}, {},
+      [](hw::RateTable& table) { return std::make_unique<RateTableWithoutAngle>(table); });
+  ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  for (const nlohmann::json& r : session->document.at("runs")) {
+    const nlohmann::json& end = r.at("end");
+    EXPECT_EQ(end.at("omega_source"), "rate");
+    EXPECT_EQ(end.at("omega_rad_s"), end.at("omega_rate_rad_s"));
+    EXPECT_EQ(end.at("omega_angle_readings"), 0);
+    EXPECT_TRUE(end.at("omega_angle_rad_s").is_null());
+    EXPECT_GT(end.at("omega_rate_readings").get<int>(), 10);
+  }
+  // Asked once per run (at the release), never again in that run.
+  EXPECT_EQ(static_cast<const RateTableWithoutAngle&>(*run.table).refused_angle_reads(), 5u);
+  std::filesystem::remove_all(run.dir);
+}
+
+TEST(BenchEndToEnd, AStationThatAsksForTheAngleOfATableWithoutOneIsAnError) {
+  const BenchRun run = RunOnSimulatedStation(
+      "sequence-paper.toml", "",
+      [](bench::BenchConfigs& c) { c.station.table.omega_source = bench::OmegaSourceSetting::kAngle; },
+      {}, [](hw::RateTable& table) { return std::make_unique<RateTableWithoutAngle>(table); });
+  EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kError);
+  EXPECT_NE(run.result.reason.find("omega_source = \"angle\""), std::string::npos)
+      << run.result.reason;
+  EXPECT_NE(run.result.reason.find("no encoder angle"), std::string::npos) << run.result.reason;
+  EXPECT_EQ(run.result.complete_runs, 0);
   std::filesystem::remove_all(run.dir);
 }
 
