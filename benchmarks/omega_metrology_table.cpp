@@ -158,8 +158,8 @@ int main(int argc, char** argv) {
       for (std::size_t k = 0; k < runs.size(); ++k) {
         const bench::OmegaEstimate e = omega_of(k);
         runs[k].omega_rad_s = e.omega_rad_s;
-        row.omega_error_sum2 += (e.omega_rad_s - plans[k].omega_rad_s) *
-                                (e.omega_rad_s - plans[k].omega_rad_s);
+        row.omega_error_sum2 +=
+            (e.omega_rad_s - plans[k].omega_rad_s) * (e.omega_rad_s - plans[k].omega_rad_s);
         row.reported_std_sum += std::isfinite(e.std_error_rad_s) ? e.std_error_rad_s : 0.0;
         ++row.omegas;
       }
@@ -188,8 +188,8 @@ int main(int argc, char** argv) {
       "estimate minus the truth (δ3…δ6 true 0); Ω error RMS over runs and seeds.\n\n",
       seeds, run_s);
   std::printf(
-      "| Ω given to the estimator | Ω error RMS, rad/s | reported Ω std, rad/s | δ3 bias | δ3 std | "
-      "δ4 bias | δ4 std | δ5 bias | δ5 std | δ6 bias | δ6 std |\n"
+      "| Ω given to the estimator | Ω error RMS, rad/s | reported Ω std, rad/s "
+      "| δ3 bias | δ3 std | δ4 bias | δ4 std | δ5 bias | δ5 std | δ6 bias | δ6 std |\n"
       "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const Row* row : {&exact, &by_angle, &by_rate_low, &by_rate_high}) Print(*row, truth.delta);
   std::printf("\n(%.0f s on this machine)\n", seconds);

@@ -33,8 +33,8 @@ std::uint16_t PackStatusBits(const hw::RateTableStatus& status) noexcept {
   return bits;
 }
 
-std::array<std::uint16_t, input::kStatusCount> EncodeStatusBlock(const hw::RateTableStatus& status,
-                                                                std::uint16_t map_version) noexcept {
+std::array<std::uint16_t, input::kStatusCount> EncodeStatusBlock(
+    const hw::RateTableStatus& status, std::uint16_t map_version) noexcept {
   std::array<std::uint16_t, input::kStatusCount> regs{};
   const auto put_float = [&regs](int address, double value) {
     const auto words = EncodeFloat32(static_cast<float>(value));

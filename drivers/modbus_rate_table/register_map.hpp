@@ -120,6 +120,7 @@ hw::RateTableStatus DecodeStatusBlock(
 // are left 0; the reader stamps them).
 std::array<std::uint16_t, input::kAngleCount> EncodeAngleBlock(
     const hw::RateTableAngle& angle) noexcept;
-hw::RateTableAngle DecodeAngleBlock(std::span<const std::uint16_t, input::kAngleCount> regs) noexcept;
+hw::RateTableAngle DecodeAngleBlock(
+    std::span<const std::uint16_t, input::kAngleCount> regs) noexcept;
 
 }  // namespace hrgbench::drivers::modbus_rate_table

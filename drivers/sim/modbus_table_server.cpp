@@ -102,7 +102,7 @@ std::expected<void, std::string> ModbusTableServer::Open() {
 
 int ModbusTableServer::InputCount() const {
   return options_.map_version >= modbus_rate_table::kFirstMapVersionWithAngle ? input::kCount
-                                                                             : input::kStatusCount;
+                                                                              : input::kStatusCount;
 }
 
 void ModbusTableServer::CloseAll() noexcept {
@@ -179,7 +179,9 @@ bool ModbusTableServer::TakeFault(RegisterTable table, int address, int count, F
 }
 
 void ModbusTableServer::RefreshInputRegisters(int address, int count) {
-  const auto covers = [&](int first, int n) { return address < first + n && first < address + count; };
+  const auto covers = [&](int first, int n) {
+    return address < first + n && first < address + count;
+  };
   if (covers(0, input::kStatusCount)) {
     const auto block = modbus_rate_table::EncodeStatusBlock(
         physics_.Status(), static_cast<std::uint16_t>(options_.map_version));

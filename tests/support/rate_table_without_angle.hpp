@@ -27,9 +27,9 @@ class RateTableWithoutAngle final : public hw::RateTable {
   }
   std::expected<hw::RateTableAngle, hw::RateTableError> ReadAngle() override {
     ++refused_angle_reads_;
-    return std::unexpected(hw::RateTableError{
-        hw::RateTableErrorCode::kNotSupported,
-        "test table speaks register map version 1, which has no encoder angle"});
+    return std::unexpected(
+        hw::RateTableError{hw::RateTableErrorCode::kNotSupported,
+                           "test table speaks register map version 1, which has no encoder angle"});
   }
   std::expected<hw::RateTableStatus, hw::RateTableError> WaitUntilStable(
       const hw::StableCriteria& criteria) override {

@@ -88,11 +88,11 @@ struct RateTableStatus {
 // time error is therefore at most window_ns / 2, and |Ω| · window_ns / sqrt(12) rad of angle when
 // it is taken as uniform in the window.
 struct RateTableAngle {
-  std::int64_t t_ns = 0;              // bench clock, midpoint of the read
-  std::int64_t window_ns = 0;         // reply time - request time, >= 0
-  std::uint32_t count = 0;            // encoder count, modulo 2^32
-  std::uint32_t counts_per_rev = 0;   // encoder resolution as the table reports it (> 0 if valid)
-  bool valid = false;                 // the table vouches for the position (no encoder error)
+  std::int64_t t_ns = 0;             // bench clock, midpoint of the read
+  std::int64_t window_ns = 0;        // reply time - request time, >= 0
+  std::uint32_t count = 0;           // encoder count, modulo 2^32
+  std::uint32_t counts_per_rev = 0;  // encoder resolution as the table reports it (> 0 if valid)
+  bool valid = false;                // the table vouches for the position (no encoder error)
 
   double RadPerCount() const noexcept {
     return counts_per_rev == 0 ? 0.0 : 2.0 * std::numbers::pi / counts_per_rev;

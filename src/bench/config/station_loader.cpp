@@ -300,9 +300,9 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   HRG_TRY(counts, OptionalInteger(reader, "table_encoder_counts_per_rev", 1 << 12,
                                   std::int64_t{1} << 31, sim.table_encoder_counts_per_rev));
   sim.table_encoder_counts_per_rev = *counts;
-  HRG_TRY(encoder_noise, OptionalNumber(reader, "table_encoder_noise_rad",
-                                        {0.0, 1e-3, true, "in [0, 1e-3]"},
-                                        sim.table_encoder_noise_rad));
+  HRG_TRY(encoder_noise,
+          OptionalNumber(reader, "table_encoder_noise_rad", {0.0, 1e-3, true, "in [0, 1e-3]"},
+                         sim.table_encoder_noise_rad));
   sim.table_encoder_noise_rad = *encoder_noise;
   HRG_TRY(tolerance, OptionalNumber(reader, "table_stable_tolerance_rad_s", kPositive,
                                     sim.table_stable_tolerance_rad_s));

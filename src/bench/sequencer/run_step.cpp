@@ -193,10 +193,10 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
   // too; deadlines and progress run on the bench's clock, so note the release there as well.
   const std::int64_t released_at = hw.clock->NowNs();
-  RunOmegaReadings omega(ctx.configs->station.table.omega_source,
-                         static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) * 1e9 /
-                                                  static_cast<double>(kTableReadPeriodNs)) +
-                             8);
+  // One table read per loop period for the run and its margin, the release and the end.
+  const auto table_reads = static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) *
+                                                    1e9 / static_cast<double>(kTableReadPeriodNs));
+  RunOmegaReadings omega(ctx.configs->station.table.omega_source, table_reads + 8);
   if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
     MakeSafe(hw);
     return read;
@@ -362,12 +362,13 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     outcome = StepOutcome::Error("record: " + ended.error().ToString());
   ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
   if (outcome.ok()) {
-    ctx.Log("run " + std::to_string(run_id) + " " + (end.status == kRunComplete ? "complete" : end.status) +
-            ": " + std::to_string(progress.samples) + " samples, Ω = " +
-            Format("%.12g", end.omega_rad_s) + " ± " + Format("%.2g", end.omega_std_error_rad_s) +
-            " rad/s from the " + end.omega_source +
-            (end.omega_source == "rate" && ctx.configs->station.table.omega_source !=
-                                               OmegaSourceSetting::kRate
+    ctx.Log("run " + std::to_string(run_id) + " " +
+            (end.status == kRunComplete ? "complete" : end.status) + ": " +
+            std::to_string(progress.samples) + " samples, Ω = " + Format("%.12g", end.omega_rad_s) +
+            " ± " + Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " +
+            end.omega_source +
+            (end.omega_source == "rate" &&
+                     ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
                  ? " readings (" + omega.NoAngleReason() + ")"
                  : ""));
   }

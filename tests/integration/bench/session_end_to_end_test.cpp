@@ -8,8 +8,8 @@
 // parameter with fixed seeds, i.e. never for a given build).
 #include <cmath>
 #include <fstream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "bench_test_support.hpp"
 #include "candump_log_parser.hpp"
@@ -124,8 +124,6 @@ void ExpectCompleteRecord(const std::filesystem::path& dir, std::size_t runs,
   }
 }
 
-
-
 TEST(BenchEndToEnd, PaperSequenceAgreesWithTheSimulatorsTruth) {
   const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "");
   ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
@@ -150,10 +148,9 @@ TEST(BenchEndToEnd, ProductionSequenceAgreesWithTheTruthAndPasses) {
 }
 
 TEST(BenchEndToEnd, OmegaFromTheRateReadingsWhenTheStationSaysSoWithTheAngleStillRecorded) {
-  const BenchRun run =
-      RunOnSimulatedStation("sequence-paper.toml", "", [](bench::BenchConfigs& c) {
-        c.station.table.omega_source = bench::OmegaSourceSetting::kRate;
-      });
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](bench::BenchConfigs& c) {
+    c.station.table.omega_source = bench::OmegaSourceSetting::kRate;
+  });
   ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
   auto session = session::ReadSession(run.dir);
   ASSERT_TRUE(session) << session.error().ToString();
@@ -190,7 +187,9 @@ TEST(BenchEndToEnd, ATableWithoutAnAngleGivesOmegaFromItsRateReadings) {
 TEST(BenchEndToEnd, AStationThatAsksForTheAngleOfATableWithoutOneIsAnError) {
   const BenchRun run = RunOnSimulatedStation(
       "sequence-paper.toml", "",
-      [](bench::BenchConfigs& c) { c.station.table.omega_source = bench::OmegaSourceSetting::kAngle; },
+      [](bench::BenchConfigs& c) {
+        c.station.table.omega_source = bench::OmegaSourceSetting::kAngle;
+      },
       {}, [](hw::RateTable& table) { return std::make_unique<RateTableWithoutAngle>(table); });
   EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kError);
   EXPECT_NE(run.result.reason.find("omega_source = \"angle\""), std::string::npos)

@@ -142,8 +142,8 @@ TEST(ModbusTableAngle, DriverReadsTheAngleAndItsTimeAgreesWithTheRate) {
       (omega * static_cast<double>(first->window_ns + second->window_ns) * 1e-9 / 2 +
        2 * first->RadPerCount() + 2 * 6 * physics.encoder_noise_rad) /
       dt;
-  EXPECT_NEAR(omega_read, omega, bound) << "dt " << dt << " s, windows " << first->window_ns
-                                        << " and " << second->window_ns << " ns";
+  EXPECT_NEAR(omega_read, omega, bound)
+      << "dt " << dt << " s, windows " << first->window_ns << " and " << second->window_ns << " ns";
   const auto c = table.counters();
   EXPECT_EQ(c.timeouts + c.bad_replies + c.exception_replies, 0u);
 }

@@ -107,9 +107,10 @@ double TrialError(const TrialSetup& s, std::mt19937_64& rng, double* std_error) 
   for (int i = 0; i < s.readings; ++i) {
     const std::int64_t stamp = i * s.period_ns;
     const auto window = static_cast<std::int64_t>(unit(rng) * static_cast<double>(s.max_window_ns));
-    const double sampled_s = (static_cast<double>(stamp) + (unit(rng) - 0.5) * static_cast<double>(window)) * 1e-9;
-    fit.Add(Reading(stamp, phi0 + s.omega * sampled_s + s.read_noise_rad * normal(rng), s.cpr,
-                    window));
+    const double sampled_s =
+        (static_cast<double>(stamp) + (unit(rng) - 0.5) * static_cast<double>(window)) * 1e-9;
+    fit.Add(
+        Reading(stamp, phi0 + s.omega * sampled_s + s.read_noise_rad * normal(rng), s.cpr, window));
   }
   const OmegaEstimate e = fit.Result();
   *std_error = e.std_error_rad_s;

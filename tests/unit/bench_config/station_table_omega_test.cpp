@@ -29,7 +29,8 @@ kind = "simulated"
 [site]
 latitude_deg = 45.0
 [table]
-)" + table_line + "\n[simulated]\nfaster_than_real_time = true\n";
+)" + table_line +
+         "\n[simulated]\nfaster_than_real_time = true\n";
 }
 
 TEST(StationTableOmega, AbsentMeansTheAngleWhenTheTableReportsOne) {
@@ -72,7 +73,8 @@ TEST(StationTableOmega, AnythingElseIsAnErrorNamingFileLineKeyAndValue) {
 
 TEST(StationTableOmega, TheSimulatedEncoderIsBounded) {
   auto ok = ParseStationConfig(
-      kSimulated + "table_encoder_counts_per_rev = 36000000\ntable_encoder_noise_rad = 0.0\n", kFile);
+      kSimulated + "table_encoder_counts_per_rev = 36000000\ntable_encoder_noise_rad = 0.0\n",
+      kFile);
   ASSERT_TRUE(ok) << ok.error().ToString();
   EXPECT_EQ(ok->simulated.table_encoder_counts_per_rev, 36000000);
   EXPECT_EQ(ok->simulated.table_encoder_noise_rad, 0.0);
@@ -80,13 +82,13 @@ TEST(StationTableOmega, TheSimulatedEncoderIsBounded) {
     const char* line;
     const char* key;
   };
-  for (const Case& c : {Case{"table_encoder_counts_per_rev = 4095", "table_encoder_counts_per_rev"},
-                        Case{"table_encoder_counts_per_rev = 2147483649",
-                             "table_encoder_counts_per_rev"},
-                        Case{"table_encoder_counts_per_rev = 1.5", "table_encoder_counts_per_rev"},
-                        Case{"table_encoder_noise_rad = -1e-6", "table_encoder_noise_rad"},
-                        Case{"table_encoder_noise_rad = 0.01", "table_encoder_noise_rad"},
-                        Case{"table_encoder_noise_rad = nan", "table_encoder_noise_rad"}}) {
+  for (const Case& c :
+       {Case{"table_encoder_counts_per_rev = 4095", "table_encoder_counts_per_rev"},
+        Case{"table_encoder_counts_per_rev = 2147483649", "table_encoder_counts_per_rev"},
+        Case{"table_encoder_counts_per_rev = 1.5", "table_encoder_counts_per_rev"},
+        Case{"table_encoder_noise_rad = -1e-6", "table_encoder_noise_rad"},
+        Case{"table_encoder_noise_rad = 0.01", "table_encoder_noise_rad"},
+        Case{"table_encoder_noise_rad = nan", "table_encoder_noise_rad"}}) {
     auto station = ParseStationConfig(kSimulated + c.line + "\n", kFile);
     ASSERT_FALSE(station) << c.line;
     EXPECT_EQ(station.error().line, 8u) << station.error().ToString();

@@ -73,7 +73,7 @@ TEST(RegisterCodec, StatusBlockLayoutAndRoundTrip) {
   EXPECT_EQ(regs[7], 0xBEEF);
   EXPECT_EQ(regs[8], 0x3DCC);  // 0.1 °C
   EXPECT_EQ(regs[9], 0xCCCD);
-  EXPECT_EQ(regs[10], 2);  // the map with the angle block
+  EXPECT_EQ(regs[10], 2);                     // the map with the angle block
   EXPECT_EQ(EncodeStatusBlock(s, 1)[10], 1);  // a simulator may serve the first map
 
   const auto back = DecodeStatusBlock(regs);

@@ -30,7 +30,7 @@ TablePhysicsOptions Quiet() {
 
 // Advances in steps of `step_ms` up to `total_ms`, heartbeating on the way.
 void RunFor(hw::ManualClock& clock, TablePhysics& table, std::int64_t total_ms,
-         std::int64_t step_ms = 100) {
+            std::int64_t step_ms = 100) {
   for (std::int64_t t = 0; t < total_ms; t += step_ms) {
     clock.Advance(step_ms * kMs);
     table.Heartbeat(static_cast<std::uint16_t>(t / step_ms));
