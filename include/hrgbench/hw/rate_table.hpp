@@ -76,7 +76,7 @@ struct RateTableStatus {
 // One read of the table top's encoder angle. A table knows its mean rate over a run far better
 // from its angle than from its rate readings: (angle_end - angle_start) / (t_end - t_start) is the
 // exact mean of the true rate, whatever the rate did in between, and its error does not grow with
-// the run (bench/omega_from_angle.hpp turns a run's readings into Ω and its standard error).
+// the run (bench/run_omega.hpp turns a run's readings into Ω and its standard error).
 //
 // The count is the encoder's, modulo 2^32: it wraps, so use differences of successive readings
 // (exact while the table turns less than 2^31 counts between them: 256 revolutions at 2^23
