@@ -60,14 +60,19 @@ void ExpectBothOmegas(const nlohmann::json& run, const std::string& used) {
   EXPECT_EQ(angle_readings, rate_readings + 2);
   // Its standard error, from the model of run_omega.hpp: per reading sqrt(noise^2 + q^2 / 12)
   // (the read noise enters through the residuals), N readings evenly over T: sigma sqrt(12 / N)
-  // / T; within a factor 2 (the span is T plus the loop's last period, the residuals scatter).
+  // / T; but no better than the end points, q / (sqrt(6) T), when the table turns less than 10
+  // counts between readings (the paper's runs at |Ω| <= 1e-4 rad/s: 2.7 counts in 20 ms). Within
+  // a factor 2 (the span is T plus the loop's last period, the residuals scatter).
   const double q = 2 * std::numbers::pi / 8388608.0;
   const double sigma = std::sqrt(1e-12 + q * q / 12);
-  const double model_se = sigma * std::sqrt(12 / angle_readings) / free_run_s;
+  double model_se = sigma * std::sqrt(12 / angle_readings) / free_run_s;
+  if (std::abs(commanded) * 0.02 / q < 10) {
+    model_se = std::max(model_se, q / (std::sqrt(6.0) * free_run_s));
+  }
   const double angle_se = end.at("omega_angle_std_error_rad_s").get<double>();
   EXPECT_GT(angle_se, 0.5 * model_se);
   EXPECT_LT(angle_se, 2 * model_se);
-  EXPECT_LT(angle_se, rate_se);  // 3x better at 10 s (paper), 30x at 100 s (production)
+  EXPECT_LT(angle_se, rate_se);  // 1.5-3x better at 10 s (paper), 30x at 100 s (production)
   // The simulated table turns at exactly the commanded rate once settled: each estimate is within
   // 5 of its standard errors of it (Earth rate added to both).
   EXPECT_NEAR(end.at("omega_angle_rad_s").get<double>(), commanded + earth, 5 * angle_se);
