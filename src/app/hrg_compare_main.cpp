@@ -66,9 +66,15 @@ int Run(const std::string& dir) {
     const char* label;
     bench::MethodRequest request;
   };
-  const Row rows[] = {{"paper (no xi)", {bench::Method::kPaper, std::nullopt}},
-                      {"paper xi1 grid", {bench::Method::kPaperXiGrid, std::nullopt}},
-                      {"ML (all xi)", {bench::Method::kMl, estimator::kAllXi}}};
+  const auto request = [](bench::Method method, std::optional<estimator::XiMask> xi) {
+    bench::MethodRequest r;
+    r.method = method;
+    r.xi = xi;
+    return r;
+  };
+  const Row rows[] = {{"paper (no xi)", request(bench::Method::kPaper, std::nullopt)},
+                      {"paper xi1 grid", request(bench::Method::kPaperXiGrid, std::nullopt)},
+                      {"ML (all xi)", request(bench::Method::kMl, estimator::kAllXi)}};
 
   std::printf("session: %s (%zu runs)\n", dir.c_str(), runs.size());
   if (truth) {

@@ -21,12 +21,18 @@ struct Arguments {
   std::string method = "ml";
   std::string xi;  // empty: the method's default
   bool json = false;
+  int phase_degree = estimator::MlOptions{}.phase_degree;
+  bool omega_exact = false;
+  std::string covariance = "auto";
 };
 
 int Run(const Arguments& args) {
   bench::MethodRequest request;
   request.method = *bench::ParseMethod(args.method);  // CLI11 checked membership
   if (!args.xi.empty()) request.xi = bench::ParseXiSet(args.xi);
+  request.phase_degree = args.phase_degree;
+  request.omega_uncertainty = !args.omega_exact;
+  request.covariance = *bench::ParseCovariance(args.covariance);  // CLI11 checked membership
   if (const std::string problem = bench::CheckRequest(request); !problem.empty()) {
     spdlog::error("{}", problem);
     return app::kExitBadInput;
@@ -89,6 +95,17 @@ int main(int argc, char** argv) {
   cli.add_option("--xi", args.xi, "which xi to estimate: none | xi1 | all")
       ->check(CLI::IsMember({"none", "xi1", "all"}));
   cli.add_flag("--json", args.json, "print one JSON object on stdout instead of the report");
+  cli.add_option("--phase-degree", args.phase_degree,
+                 "ml: degree of each run's common phase nuisance (0 = the demodulation reference "
+                 "is the wave's phase, 1 = plus a frequency offset, 2 = plus a frequency ramp; "
+                 "default 2)")
+      ->check(CLI::Range(0, 3));
+  cli.add_flag("--omega-exact", args.omega_exact,
+               "ml: take each run's recorded rate as exact (ignore its recorded standard error)");
+  cli.add_option("--covariance", args.covariance,
+                 "ml: auto (white-noise covariance, the sandwich when residuals are not white) | "
+                 "white | sandwich")
+      ->check(CLI::IsMember({"auto", "white", "sandwich"}));
   hrgbench::app::AddCommonFlags(cli, &quiet);
   return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-estimate", quiet, [&] { return Run(args); });
 }

@@ -19,6 +19,10 @@ bool DesignSpec::IsValid(std::string* why) const {
     if (why) *why = "the design has no runs";
     return false;
   }
+  if (phase_degree < 0 || phase_degree > 3) {
+    if (why) *why = "phase_degree must be 0 ... 3, got " + std::to_string(phase_degree);
+    return false;
+  }
   SimulationOptions truth;
   truth.delta = delta;
   truth.xi = xi;
@@ -52,11 +56,16 @@ CrlbResult CramerRaoBound(const DesignSpec& design, const IdentifiabilityOptions
   std::array<bool, 6> delta_free = result.identifiability.delta_identifiable;
   XiMask xi_free = result.identifiability.IdentifiableXi(design.xi_unknown);
 
-  std::vector<Eigen::Vector4d> x0;
-  for (const RunPlan& r : design.runs)
-    x0.push_back(OrbitToState(Orbit{r.a, r.b, r.theta_rad, r.phi_rad}));
+  internal::NuisanceModel model;
+  model.phase_degree = design.phase_degree;
   const internal::FullParameters p = internal::Pack(design.delta, design.xi);
-  for (Eigen::Vector4d& x : x0) x = internal::ObservedInitialState(p, x);
+  std::vector<internal::RunNuisance> x0;
+  for (const RunPlan& r : design.runs) {
+    internal::RunNuisance n = internal::RunNuisance::Zero(model.Size(x0.size()));
+    n.head<4>() = internal::ObservedInitialState(
+        p, OrbitToState(Orbit{r.a, r.b, r.theta_rad, r.phi_rad}));
+    x0.push_back(n);
+  }
   Eigen::MatrixXd information;
   std::vector<int> indices;
   for (;;) {
@@ -65,7 +74,7 @@ CrlbResult CramerRaoBound(const DesignSpec& design, const IdentifiabilityOptions
       if (delta_free[j]) indices.push_back(j);
     for (int k = 0; k < 4; ++k)
       if (xi_free[k]) indices.push_back(internal::kXiOffset + k);
-    internal::OutputErrorProblem problem(runs, indices);
+    internal::OutputErrorProblem problem(runs, indices, 1, 0, model);
     internal::NormalEquations ne;
     problem.Linearize(p, x0, &ne);
     if (indices.empty() || !internal::ReducedInformation(ne, &information)) break;

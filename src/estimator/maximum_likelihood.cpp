@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "common_phase.hpp"
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "output_error_problem.hpp"
@@ -116,6 +117,13 @@ bool MlOptions::IsValid(std::string* why) const {
   if (!xi_fixed.allFinite() || !delta_fixed.allFinite()) return fail("fixed values must be finite");
   if (use_initial_guess && (!initial_delta.allFinite() || !initial_xi.allFinite()))
     return fail("the initial guess must be finite");
+  if (phase_degree < 0 || phase_degree > internal::kMaxPhaseDegree)
+    return fail("phase_degree must be 0 ... 3");
+  if (!(outlier_threshold_sigma >= 0.0)) return fail("outlier_threshold_sigma must be >= 0");
+  if (max_outlier_passes < 0 || max_outlier_passes > 10)
+    return fail("max_outlier_passes must be 0 ... 10");
+  if (whiteness_lags < 1 || whiteness_lags > 1000) return fail("whiteness_lags must be 1 ... 1000");
+  if (!fit_quality.IsValid(why)) return false;
   return identifiability.IsValid(why);
 }
 
@@ -143,42 +151,48 @@ EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
   return s;
 }
 
-EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
-                                          const MlOptions& options) {
-  EstimateSummary s;
-  s.method = "ml";
-  s.message.clear();
-  FreeSet free;
-  if (!Prepare(runs, options, &s, &free)) return s;
-  s.samples_used = internal::CountSamples(runs);
+namespace {
 
-  // 1. Starting point.
+// Where one fit ended: the parameters, every run's nuisance, and the normal equations there.
+struct FitState {
   FullParameters p;
-  if (options.use_initial_guess) {
+  std::vector<internal::RunNuisance> nuisance;
+  internal::NormalEquations ne;
+  std::vector<int> indices;
+  double dof = 1.0;
+  int threads = 1;
+};
+
+// Steps 1–3 of the header on `runs`. Fills termination, message, warnings and iterations of `s`;
+// false when no estimate could be made.
+bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
+         const internal::NuisanceModel& model, const FullParameters* start, FreeSet* free,
+         FitState* state, EstimateSummary* s) {
+  // 1. Starting point.
+  FullParameters& p = state->p;
+  if (start != nullptr) {
+    p = *start;
+  } else if (options.use_initial_guess) {
     p = internal::Pack(options.initial_delta, options.initial_xi);
-    for (int j = 0; j < 6; ++j)
-      if (!free.delta[j]) p[j] = free.delta_fixed[j];
-    for (int k = 0; k < 4; ++k)
-      if (!free.xi[k]) p[internal::kXiOffset + k] = free.xi_fixed[k];
   } else {
     // Two starting points from the integral equation error: with ξ through its first-order effect,
     // and with ξ held at its given value (physically |ξ| ≪ 1). On strong designs the first is
     // within rounding of the optimum; on weak ones (the paper's: condition ~3e4) under noise it can
     // land at |ξ| ~ 0.4, outside the region where the model is nearly linear in ξ. The output-error
     // cost itself decides between them.
-    p = internal::Pack(free.delta_fixed, free.xi_fixed);
+    p = internal::Pack(free->delta_fixed, free->xi_fixed);
     double best_cost = std::numeric_limits<double>::infinity();
     const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
-                                                     options.min_samples_for_threads);
-    std::vector<Eigen::Vector4d> w0;
-    for (const XiMask& xi_in_start : {free.xi, kNoXi}) {
+                                                     options.min_samples_for_threads, model);
+    std::vector<internal::RunNuisance> nuisance;
+    for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
-      if (!internal::IntegralEquationError(runs, free.delta, free.delta_fixed, xi_in_start,
-                                           free.xi_fixed, &iee, start_problem.Threads()))
+      if (!internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
+                                           free->xi_fixed, &iee, start_problem.Threads()))
         continue;
       const FullParameters candidate = internal::Pack(iee.delta, iee.xi);
-      if (!start_problem.SolveInitialStates(candidate, &w0)) continue;
-      const double cost = start_problem.Cost(candidate, w0);
+      if (!start_problem.SolveInitialStates(candidate, &nuisance)) continue;
+      const double cost = start_problem.Cost(candidate, nuisance);
       if (cost < best_cost) {
         best_cost = cost;
         p = candidate;
@@ -186,62 +200,69 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       if (xi_in_start == kNoXi) break;
     }
     if (!std::isfinite(best_cost)) {
-      s.termination = Termination::kNumericalFailure;
-      s.message = "the starting point (integral equation error) is singular";
-      return s;
+      s->termination = Termination::kNumericalFailure;
+      s->message = "the starting point (integral equation error) is singular";
+      return false;
     }
   }
-  std::vector<Eigen::Vector4d> x0;
+  for (int j = 0; j < 6; ++j)
+    if (!free->delta[j]) p[j] = free->delta_fixed[j];
+  for (int k = 0; k < 4; ++k)
+    if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
+  std::vector<internal::RunNuisance>& x0 = state->nuisance;
+  x0.clear();
 
   // 2. Numerical identifiability at the starting point; drop what the data cannot determine.
-  internal::NormalEquations ne;
-  std::vector<int> indices = free.Indices();
+  internal::NormalEquations& ne = state->ne;
+  std::vector<int>& indices = state->indices;
+  indices = free->Indices();
   for (;;) {
     internal::OutputErrorProblem problem(runs, indices, options.num_threads,
-                                         options.min_samples_for_threads);
+                                         options.min_samples_for_threads, model);
     if (!problem.SolveInitialStates(p, &x0)) {
-      s.termination = Termination::kNumericalFailure;
-      s.message = "initial states cannot be solved for: a run carries no signal";
-      return s;
+      s->termination = Termination::kNumericalFailure;
+      s->message = "initial states cannot be solved for: a run carries no signal";
+      return false;
     }
     problem.Linearize(p, x0, &ne);
     Eigen::MatrixXd h_reduced;
     if (indices.empty() || !internal::ReducedInformation(ne, &h_reduced)) break;
     IdentifiabilityReport numeric;
-    const std::array<bool, 6> delta_before = free.delta;
-    const XiMask xi_before = free.xi;
+    const std::array<bool, 6> delta_before = free->delta;
+    const XiMask xi_before = free->xi;
     const double condition =
-        CheckInformation(h_reduced, free.delta, free.xi, options.identifiability, &numeric);
-    for (int j = 0; j < 6; ++j) free.delta[j] = free.delta[j] && numeric.delta_identifiable[j];
-    free.xi = numeric.IdentifiableXi(free.xi);
-    if (free.delta == delta_before && free.xi == xi_before) {
+        CheckInformation(h_reduced, free->delta, free->xi, options.identifiability, &numeric);
+    for (int j = 0; j < 6; ++j) free->delta[j] = free->delta[j] && numeric.delta_identifiable[j];
+    free->xi = numeric.IdentifiableXi(free->xi);
+    if (free->delta == delta_before && free->xi == xi_before) {
       if (condition > 1e6) {
         char buffer[200];
         std::snprintf(buffer, sizeof buffer,
                       "weakly determined parameters: scaled information condition %.2g "
                       "(more distinct or larger rates would help)",
                       condition);
-        s.warnings.emplace_back(buffer);
+        s->warnings.emplace_back(buffer);
       }
       break;
     }
-    for (const std::string& reason : numeric.reasons) s.warnings.push_back(reason);
+    for (const std::string& reason : numeric.reasons) s->warnings.push_back(reason);
     if (options.unidentifiable == UnidentifiablePolicy::kRefuse) {
-      s.termination = Termination::kNotIdentifiable;
-      s.message = numeric.reasons.empty() ? "not identifiable" : numeric.reasons.front();
-      return s;
+      s->termination = Termination::kNotIdentifiable;
+      s->message = numeric.reasons.empty() ? "not identifiable" : numeric.reasons.front();
+      return false;
     }
     for (int j = 0; j < 6; ++j)
-      if (!free.delta[j]) p[j] = free.delta_fixed[j];
+      if (!free->delta[j]) p[j] = free->delta_fixed[j];
     for (int k = 0; k < 4; ++k)
-      if (!free.xi[k]) p[internal::kXiOffset + k] = free.xi_fixed[k];
-    indices = free.Indices();
+      if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
+    indices = free->Indices();
   }
   const internal::OutputErrorProblem problem(runs, indices, options.num_threads,
-                                             options.min_samples_for_threads);
+                                             options.min_samples_for_threads, model);
   const auto n_obs = static_cast<double>(problem.NumObservations());
-  const double dof = std::max(1.0, n_obs - static_cast<double>(indices.size()) -
-                                       4.0 * static_cast<double>(runs.size()));
+  state->dof = std::max(1.0, n_obs - static_cast<double>(indices.size()) -
+                                 static_cast<double>(problem.NumNuisanceDegreesOfFreedom()));
+  const double dof = state->dof;
   double y_scale2 = 0.0;
   for (const RunData& r : runs) y_scale2 += r.y.squaredNorm();
   // Below this cost the residual is rounding noise of the model evaluation: nothing left to fit.
@@ -250,20 +271,20 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   // 3. Levenberg–Marquardt, one linearisation per iteration (the trial point's linearisation is the
   // next iteration's when accepted).
   double lambda = options.initial_damping;
-  s.termination = Termination::kMaxIterations;
-  s.message = "stopped at max_iterations";
+  s->termination = Termination::kMaxIterations;
+  s->message = "stopped at max_iterations";
   int iteration = 0;
   for (; iteration < options.max_iterations; ++iteration) {
     if (ne.cost <= cost_floor) {
-      s.termination = Termination::kConverged;
-      s.message = "residual at rounding level";
+      s->termination = Termination::kConverged;
+      s->message = "residual at rounding level";
       break;
     }
     Eigen::VectorXd dp;
-    std::vector<Eigen::Vector4d> dx0;
+    std::vector<internal::RunNuisance> dx0;
     internal::NormalEquations trial;
     FullParameters p_trial;
-    std::vector<Eigen::Vector4d> x0_trial(x0.size());
+    std::vector<internal::RunNuisance> x0_trial(x0.size());
     bool accepted = false;
     bool linearized = false;
     // The first trial of an iteration is usually accepted, so it is linearised at once (its normal
@@ -300,8 +321,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     }
     if (accepted && !linearized) problem.Linearize(p_trial, x0_trial, &trial);
     if (!accepted) {
-      s.termination = Termination::kNoProgress;
-      s.message = "no step reduces the cost (at the minimum up to rounding)";
+      s->termination = Termination::kNoProgress;
+      s->message = "no step reduces the cost (at the minimum up to rounding)";
       break;
     }
     const double decrease = (ne.cost - trial.cost) / std::max(ne.cost, 1e-300);
@@ -315,38 +336,318 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
         (internal::ReducedInformation(ne, &h_reduced) &&
          StepSmall(dp, h_reduced, s2, options.step_tolerance_in_std))) {
       ++iteration;
-      s.termination = Termination::kConverged;
-      s.message = decrease <= options.cost_tolerance ? "relative cost decrease below tolerance"
-                                                     : "step below tolerance (in units of std)";
+      s->termination = Termination::kConverged;
+      s->message = decrease <= options.cost_tolerance ? "relative cost decrease below tolerance"
+                                                      : "step below tolerance (in units of std)";
       break;
     }
   }
-  s.iterations = iteration;
-  s.threads_used = problem.Threads();
-  if (s.termination == Termination::kNoProgress && ne.cost <= 1e3 * cost_floor) {
-    s.termination = Termination::kConverged;
-    s.message = "residual at rounding level";
+  s->iterations += iteration;
+  state->threads = problem.Threads();
+  if (s->termination == Termination::kNoProgress && ne.cost <= 1e3 * cost_floor) {
+    s->termination = Termination::kConverged;
+    s->message = "residual at rounding level";
   }
+  return true;
+}
+
+// The samples of `run` without those listed (ascending).
+RunData WithoutSamples(const RunData& run, const std::vector<Eigen::Index>& removed) {
+  RunData kept;
+  kept.id = run.id;
+  kept.omega_rad_s = run.omega_rad_s;
+  kept.omega_std_rad_s = run.omega_std_rad_s;
+  const Eigen::Index n = run.size() - static_cast<Eigen::Index>(removed.size());
+  kept.t_s.reserve(static_cast<std::size_t>(n));
+  kept.y.resize(4, n);
+  std::size_t next = 0;
+  Eigen::Index out = 0;
+  for (Eigen::Index k = 0; k < run.size(); ++k) {
+    if (next < removed.size() && removed[next] == k) {
+      ++next;
+      continue;
+    }
+    kept.t_s.push_back(run.t_s[static_cast<std::size_t>(k)]);
+    kept.y.col(out++) = run.y.col(k);
+  }
+  return kept;
+}
+
+std::string Format(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buffer[320];
+  std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
+  return buffer;
+}
+
+}  // namespace
+
+EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
+                                          const MlOptions& options) {
+  EstimateSummary s;
+  s.method = "ml";
+  s.message.clear();
+  FreeSet free;
+  if (!Prepare(runs, options, &s, &free)) return s;
+  s.samples_used = internal::CountSamples(runs);
+  FitDiagnostics& diagnostics = s.diagnostics;
+  diagnostics.limits = options.fit_quality;
+  diagnostics.phase_degree = options.phase_degree;
+
+  // The noise the data carry, from the data alone: it weighs the priors on Ω, and the residuals are
+  // judged against it.
+  std::vector<double> noise_sigma(runs.size());
+  double noise_sum2 = 0.0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    noise_sigma[r] = DifferenceNoiseSigma(runs[r].y);
+    if (std::isfinite(noise_sigma[r]))
+      noise_sum2 += noise_sigma[r] * noise_sigma[r] * static_cast<double>(runs[r].size());
+  }
+  const double noise_pooled = std::sqrt(noise_sum2 / static_cast<double>(s.samples_used));
+  internal::NuisanceModel model;
+  model.phase_degree = options.phase_degree;
+  model.omega_prior_weight.assign(runs.size(), 0.0);
+  if (options.omega_uncertainty && noise_pooled > 0.0) {
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const double sd = runs[r].omega_std_rad_s;
+      if (std::isfinite(sd) && sd > 0.0) {
+        model.omega_prior_weight[r] = noise_pooled * noise_pooled / (sd * sd);
+        diagnostics.omega_nuisance = true;
+      }
+    }
+  }
+
+  // Fit; remove outliers; fit again from there.
+  std::vector<RunData> cleaned;
+  const std::vector<RunData>* in_use = &runs;
+  std::vector<std::size_t> removed(runs.size(), 0);
+  std::vector<double> largest_removed(runs.size(), kNaN);
+  FitState state;
+  const std::vector<std::string> prepared_warnings = s.warnings;
+  for (int pass = 0;; ++pass) {
+    s.warnings = prepared_warnings;
+    FreeSet free_pass = free;
+    const FullParameters previous = state.p;
+    if (!Fit(*in_use, options, model, pass == 0 ? nullptr : &previous, &free_pass, &state, &s))
+      return s;
+    if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) {
+      free = free_pass;
+      break;
+    }
+    const internal::OutputErrorProblem problem(*in_use, state.indices, options.num_threads,
+                                               options.min_samples_for_threads, model);
+    std::vector<RunData> next;
+    bool any = false;
+    for (std::size_t r = 0; r < in_use->size(); ++r) {
+      Eigen::Matrix4Xd e;
+      problem.RunResiduals(r, state.p, state.nuisance[r], &e);
+      const ResidualStatistics stats = AnalyseResiduals(e, 1);
+      const double limit = options.outlier_threshold_sigma * stats.robust_sigma;
+      std::vector<Eigen::Index> out;
+      for (Eigen::Index k = 0; k < e.cols(); ++k) {
+        const double worst = e.col(k).cwiseAbs().maxCoeff();
+        if (worst > limit) {
+          out.push_back(k);
+          const double in_sigma = worst / stats.robust_sigma;
+          if (!(in_sigma <= largest_removed[r])) largest_removed[r] = in_sigma;
+        }
+      }
+      // Never thin a run below what the fit needs.
+      if (out.empty() || (*in_use)[r].size() - static_cast<Eigen::Index>(out.size()) <
+                             std::max<Eigen::Index>(kMlMinimumSamples, (*in_use)[r].size() / 2)) {
+        next.push_back((*in_use)[r]);
+        continue;
+      }
+      any = true;
+      removed[r] += out.size();
+      next.push_back(WithoutSamples((*in_use)[r], out));
+    }
+    if (!any) {
+      free = free_pass;
+      break;
+    }
+    cleaned = std::move(next);
+    in_use = &cleaned;
+  }
+  const std::vector<RunData>& used = *in_use;
+  const FullParameters& p = state.p;
+  const internal::NormalEquations& ne = state.ne;
+  const std::vector<int>& indices = state.indices;
+  const internal::OutputErrorProblem problem(used, indices, options.num_threads,
+                                             options.min_samples_for_threads, model);
+  s.threads_used = state.threads;
+  s.samples_used = internal::CountSamples(used);
 
   // 4. Results.
   FillParameters(p, free, &s);
-  for (const Eigen::Vector4d& w0 : x0) s.initial_states.push_back(internal::TrueInitialState(p, w0));
-  s.residual_rms_per_run.resize(runs.size());
-  for (std::size_t r = 0; r < runs.size(); ++r)
+  for (const internal::RunNuisance& n : state.nuisance)
+    s.initial_states.push_back(internal::TrueInitialState(p, n.head<4>()));
+  s.residual_rms_per_run.resize(used.size());
+  for (std::size_t r = 0; r < used.size(); ++r)
     s.residual_rms_per_run[r] =
-        std::sqrt(ne.cost_per_run[r] / (4.0 * static_cast<double>(runs[r].size())));
-  s.residual_rms = std::sqrt(ne.cost / n_obs);
-  const double s2 = ne.cost / dof;
+        std::sqrt(ne.cost_per_run[r] / (4.0 * static_cast<double>(used[r].size())));
+  double samples_cost = 0.0;
+  for (double c : ne.cost_per_run) samples_cost += c;
+  s.residual_rms = std::sqrt(samples_cost / static_cast<double>(problem.NumObservations()));
+  const double s2 = ne.cost / state.dof;
   s.noise_sigma = std::sqrt(s2);
   Eigen::MatrixXd h_reduced;
-  if (!indices.empty() && internal::ReducedInformation(ne, &h_reduced))
-    FillCovariance(h_reduced, indices, s2, &s);
+  const bool have_information = !indices.empty() && internal::ReducedInformation(ne, &h_reduced);
+  if (have_information) FillCovariance(h_reduced, indices, s2, &s);
   if (!p.allFinite()) {
     s.termination = Termination::kNumericalFailure;
     s.message = "non-finite estimate";
+    return s;
   }
   if (s.termination == Termination::kMaxIterations)
     s.warnings.push_back("not converged within max_iterations; the estimate is the best found");
+
+  // 5. Is the fit right? Per run: residuals against the model-free noise, whiteness, outliers, the
+  // common phase and Ω offsets.
+  std::vector<double> integrated_correlation(used.size(), 1.0);
+  bool coloured = false;
+  Eigen::MatrixXd h_reduced_inverse;
+  const bool have_inverse =
+      have_information && internal::InvertScaledSpd(h_reduced, &h_reduced_inverse);
+  for (std::size_t r = 0; r < used.size(); ++r) {
+    Eigen::Matrix4Xd e;
+    problem.RunResiduals(r, p, state.nuisance[r], &e);
+    const ResidualStatistics stats = AnalyseResiduals(e, options.whiteness_lags);
+    RunFitDiagnostics d;
+    d.run_id = used[r].id;
+    d.samples = static_cast<std::size_t>(used[r].size());
+    d.noise_sigma = DifferenceNoiseSigma(used[r].y);
+    d.residual_rms = stats.rms;
+    // Noise-free data (simulation): the noise is rounding, its whiteness means nothing, and the
+    // ratio is taken against a floor of 1e-10 of the signal.
+    const double signal_rms = std::sqrt(used[r].y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
+    d.noise_free = !(d.noise_sigma > 1e-10 * signal_rms);
+    d.residual_ratio = stats.rms / std::max(d.noise_sigma, 1e-10 * signal_rms);
+    d.residual_ratio_threshold = ResidualRatioThreshold(options.fit_quality, d.samples);
+    d.lag1_autocorrelation = stats.lag1_autocorrelation;
+    d.whiteness_lags = stats.lags;
+    d.whiteness_q = stats.ljung_box_q;
+    d.whiteness_z = d.noise_free ? kNaN : stats.ljung_box_z;
+    d.max_abs_residual_in_sigma = stats.max_abs_in_sigma;
+    d.excess_kurtosis = stats.excess_kurtosis;
+    d.outliers_removed = removed[r];
+    d.largest_outlier_in_sigma = largest_removed[r];
+    const internal::RunNuisance& n = state.nuisance[r];
+    if (model.phase_degree >= 1) d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
+    if (model.phase_degree >= 2)
+      d.common_frequency_drift_rad_s2 = 2.0 * n[internal::NuisanceModel::PhaseIndex(2)];
+    if (model.OmegaFree(r)) {
+      // The recorded Ω against what the data alone say: the fitted offset is a compromise between
+      // the prior (variance v_p = σ̂²/w) and the data (variance v_d); the data's own offset is
+      // m = offset·(1/v_p + 1/v_d)·v_d, and under "the recorded Ω is right within its std"
+      // m ~ N(0, v_p + v_d). v_d comes from the posterior variance of the offset,
+      // 1/v_post = 1/v_p + 1/v_d, the (o, o) entry of σ̂²·H⁻¹ (Schur complement).
+      const int o = model.OmegaIndex();
+      d.omega_offset_rad_s = n[o];
+      const double v_p = s2 / model.omega_prior_weight[r];
+      Eigen::MatrixXd h_xx_inverse;
+      double v_d = kNaN;
+      if (internal::InvertScaledSpd(ne.h_xx[r], &h_xx_inverse)) {
+        const Eigen::VectorXd column = h_xx_inverse.col(o);
+        double h_oo = column[o];
+        if (have_inverse) {
+          const Eigen::VectorXd a = ne.h_px[r] * column;
+          h_oo += a.dot(h_reduced_inverse * a);
+        }
+        const double information_data = 1.0 / (s2 * h_oo) - 1.0 / v_p;
+        if (information_data > 0.0) v_d = 1.0 / information_data;
+      }
+      if (std::isfinite(v_d)) {
+        d.omega_offset_data_rad_s = d.omega_offset_rad_s * (1.0 / v_p + 1.0 / v_d) * v_d;
+        d.omega_offset_in_std = d.omega_offset_data_rad_s / std::sqrt(v_p + v_d);
+      } else {
+        d.omega_offset_in_std = d.omega_offset_rad_s / std::sqrt(v_p);
+      }
+    }
+    integrated_correlation[r] = stats.integrated_correlation_samples;
+    const FitQualityLimits& q = options.fit_quality;
+    const double id = static_cast<double>(d.run_id);
+    if (!(d.residual_ratio <= d.residual_ratio_threshold))
+      diagnostics.problems.push_back(Format(
+          "run %.0f: residual RMS %.4g times the noise of the data (%.3g, from 4th differences; "
+          "limit %.4g): the model misses something (a frequency drift, a wrong rate, coloured "
+          "noise?)",
+          id, d.residual_ratio, d.noise_sigma, d.residual_ratio_threshold));
+    if (!d.noise_free && !(d.whiteness_z <= q.whiteness_z_max)) {
+      coloured = true;
+      diagnostics.problems.push_back(
+          Format("run %.0f: residuals not white (Ljung-Box z = %.3g, limit %.3g; lag-1 "
+                 "autocorrelation %.2f): coloured noise or a model error",
+                 id, d.whiteness_z, q.whiteness_z_max, d.lag1_autocorrelation));
+    }
+    if (std::isfinite(d.omega_offset_in_std) &&
+        !(std::abs(d.omega_offset_in_std) <= q.omega_offset_max_in_std))
+      diagnostics.problems.push_back(
+          Format("run %.0f: the data put its rate %.3g rad/s from the recorded one, %.3g std of "
+                 "the difference (limit %.3g): check the rate table's calibration",
+                 id, d.omega_offset_data_rad_s, d.omega_offset_in_std, q.omega_offset_max_in_std));
+    if (d.outliers_removed > 0)
+      s.warnings.push_back(Format(
+          "run %.0f: %.0f samples removed as outliers (beyond %.3g robust sigma; largest %.3g "
+          "sigma) and the fit repeated without them",
+          id, static_cast<double>(d.outliers_removed), options.outlier_threshold_sigma,
+          d.largest_outlier_in_sigma));
+    diagnostics.runs.push_back(d);
+  }
+
+  // The sandwich covariance H⁻¹·S·H⁻¹: S from batch sums of the reduced score, batches long
+  // against the residuals' correlation so that they are nearly independent.
+  Eigen::MatrixXd sandwich;
+  if (have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
+      options.covariance != MlOptions::Covariance::kWhite) {
+    std::vector<Eigen::MatrixXd> projection;
+    Eigen::MatrixXd h_inverse;
+    if (internal::NuisanceProjections(ne, &projection) &&
+        internal::InvertScaledSpd(h_reduced, &h_inverse)) {
+      const auto nf = static_cast<Eigen::Index>(indices.size());
+      Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(nf, nf);
+      std::size_t longest_batch = 0;
+      for (std::size_t r = 0; r < used.size(); ++r) {
+        const auto n = static_cast<std::size_t>(used[r].size());
+        const double wanted = 20.0 * integrated_correlation[r];
+        const std::size_t batch = std::clamp<std::size_t>(
+            static_cast<std::size_t>(wanted), 16, std::max<std::size_t>(16, n / 16));
+        longest_batch = std::max(longest_batch, batch);
+        Eigen::MatrixXd scores;
+        problem.RunBlockScores(r, p, state.nuisance[r], batch, &scores);
+        const Eigen::MatrixXd reduced =
+            scores.topRows(nf) - projection[r] * scores.bottomRows(scores.rows() - nf);
+        meat.noalias() += reduced * reduced.transpose();
+      }
+      sandwich = h_inverse * meat * h_inverse;
+      sandwich = 0.5 * (sandwich + sandwich.transpose()).eval();
+      diagnostics.sandwich_batch_samples = longest_batch;
+      double ratio = 0.0;
+      for (Eigen::Index c = 0; c < nf; ++c)
+        ratio = std::max(ratio, std::sqrt(std::max(0.0, sandwich(c, c)) / s.covariance(c, c)));
+      diagnostics.sandwich_to_white_std_max = ratio;
+    }
+  }
+  const bool use_sandwich =
+      sandwich.size() > 0 && (options.covariance == MlOptions::Covariance::kSandwich ||
+                              (options.covariance == MlOptions::Covariance::kAuto && coloured));
+  if (use_sandwich) {
+    s.covariance = sandwich;
+    diagnostics.covariance_kind = "sandwich";
+    for (std::size_t c = 0; c < indices.size(); ++c) {
+      const double sd = std::sqrt(std::max(0.0, sandwich(static_cast<Eigen::Index>(c),
+                                                         static_cast<Eigen::Index>(c))));
+      if (indices[c] < internal::kXiOffset)
+        s.delta_std[indices[c]] = sd;
+      else
+        s.xi_std[indices[c] - internal::kXiOffset] = sd;
+    }
+    s.warnings.push_back(Format(
+        "residuals are not white: the std are from the sandwich covariance (batches of %.0f "
+        "samples; up to %.3g times the white-noise std)",
+        static_cast<double>(diagnostics.sandwich_batch_samples),
+        diagnostics.sandwich_to_white_std_max));
+  }
+  for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;
 }
 

@@ -4,7 +4,9 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
+#include <type_traits>
 
+#include "common_phase.hpp"
 #include "free_run_propagator.hpp"
 #include "least_squares_util.hpp"
 #include "no_allocation_scope.hpp"
@@ -16,6 +18,153 @@ namespace {
 Delta DeltaOf(const FullParameters& p) { return p.head<6>(); }
 Xi XiOf(const FullParameters& p) { return p.tail<4>(); }
 
+// Number of basis functions of the sample loop for a common phase of degree D (see LinearizeRun).
+constexpr int BasisCount(int degree) { return degree <= 1 ? 5 : 5 + 2 * (degree - 1); }
+constexpr int kMaxBasis = BasisCount(kMaxPhaseDegree);
+using Coefficients = std::array<CVector2, kMaxBasis>;
+
+// Everything about one run's model that is constant over its samples.
+struct RunModel {
+  RunModel(const RunData& run, const FullParameters& p, const RunNuisance& n,
+           const NuisanceModel& model, std::size_t r)
+      : propagator(run.omega_rad_s + (model.OmegaFree(r) ? n[model.OmegaIndex()] : 0.0),
+                   DeltaOf(p)),
+        gain(PickoffGain(XiOf(p))),
+        gain_inv(gain.inverse()),
+        u0(gain_inv * ToComplex(n.head<4>())),
+        bu0(propagator.B() * u0),
+        g_u0(gain * u0),
+        g_bu0(gain * bu0),
+        degree(model.phase_degree) {
+    for (int j = 1; j <= degree; ++j)
+      phase[static_cast<std::size_t>(j - 1)] = n[NuisanceModel::PhaseIndex(j)];
+  }
+  CommonPhase Phase() const { return CommonPhase(phase.data(), degree); }
+
+  FreeRunPropagator propagator;
+  CMatrix2 gain;
+  CMatrix2 gain_inv;
+  CVector2 u0;
+  CVector2 bu0;
+  CVector2 g_u0;
+  CVector2 g_bu0;
+  int degree;
+  std::array<double, kMaxPhaseDegree> phase{};
+};
+
+// The basis functions at one time stamp, before the common phase: e^{αt}·(f0, f1, t·f0, t·f1,
+// ∂f1/∂μ², t²·f0, t²·f1, t³·f0, t³·f1).
+template <int kBasis>
+inline void Basis(const PropagatorScalars& s, double t, Complex* c) {
+  c[0] = s.decay * s.f0;
+  c[1] = s.decay * s.f1;
+  c[2] = t * c[0];
+  c[3] = t * c[1];
+  c[4] = s.decay * s.df1_dmu2;
+  if constexpr (kBasis > 5) {
+    c[5] = t * c[2];
+    c[6] = t * c[3];
+  }
+  if constexpr (kBasis > 7) {
+    c[7] = t * c[5];
+    c[8] = t * c[6];
+  }
+}
+
+// Visits every sample of a run with its basis values and its residual turned back by the common
+// phase, e' = e^{−iψ(t)}·(y − ŷ): every pass over the data is this loop. Does not allocate.
+template <int kBasis, typename Fn>
+void ForEachResidual(const RunData& run, const RunModel& m, Fn fn) {
+  CommonPhase phase = m.Phase();
+  const NoAllocationScope no_allocation;
+  m.propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+    const double t = run.t_s[k];
+    Complex c[kBasis];
+    Basis<kBasis>(s, t, c);
+    const Complex rot = phase.Next(t);
+    const CVector2 y = ToComplex(run.y.col(static_cast<Eigen::Index>(k)));
+    const CVector2 e_turned = std::conj(rot) * y - (c[0] * m.g_u0 + c[1] * m.g_bu0);
+    fn(k, c, rot, e_turned);
+  });
+}
+
+// Coefficient vectors of every Jacobian column of run r over the basis: the free parameters, then
+// the run's nuisance (w0, q_1 … q_D, ΔΩ).
+void ColumnCoefficients(const RunModel& m, const std::vector<int>& free,
+                        const NuisanceModel& model, std::size_t r, const FullParameters& p,
+                        std::vector<Coefficients>* v) {
+  const int nf = static_cast<int>(free.size());
+  v->resize(static_cast<std::size_t>(nf + model.Size(r)));
+  for (Coefficients& column : *v)
+    for (CVector2& entry : column) entry.setZero();
+  const FreeRunPropagator& propagator = m.propagator;
+  const CMatrix2& b = propagator.B();
+  std::array<CVector2, 4> c_u0;   // Ck·u0
+  std::array<CVector2, 4> c_bu0;  // Ck·B·u0
+  XiDerivatives(m.u0, &c_u0);
+  XiDerivatives(m.bu0, &c_bu0);
+  // A parameter entering through B: ∂B = coefficient·σ_pauli, ∂μ² = dmu2.
+  const auto through_b = [&](Complex coefficient, int pauli, Complex dmu2, Coefficients* vc) {
+    (*vc)[3] = (0.5 * dmu2) * m.g_u0;
+    (*vc)[4] = dmu2 * m.g_bu0;
+    (*vc)[1] = m.gain * (coefficient * Pauli(pauli, m.u0));
+  };
+  for (int col = 0; col < nf; ++col) {
+    const int which = free[static_cast<std::size_t>(col)];
+    Coefficients& vc = (*v)[static_cast<std::size_t>(col)];
+    if (which == kDamping) {
+      vc[2] = m.g_u0;
+      vc[3] = m.g_bu0;
+    } else if (which < kXiOffset) {
+      through_b(propagator.BCoefficient(which), propagator.BPauli(which),
+                propagator.Mu2Derivative(which), &vc);
+    } else {
+      const auto k = static_cast<std::size_t>(which - kXiOffset);
+      const CVector2 a = m.gain_inv * c_u0[k];
+      vc[0] = c_u0[k] - m.gain * a;
+      vc[1] = c_bu0[k] - m.gain * (b * a);
+    }
+  }
+  const CMatrix2 g_b_ginv = m.gain * b * m.gain_inv;
+  const Complex i(0, 1);
+  for (int w = 0; w < 2; ++w) {
+    Coefficients& re = (*v)[static_cast<std::size_t>(nf + 2 * w)];
+    Coefficients& im = (*v)[static_cast<std::size_t>(nf + 2 * w + 1)];
+    re[0] = CVector2::Unit(w);
+    re[1] = g_b_ginv.col(w);
+    im[0] = i * re[0];
+    im[1] = i * re[1];
+  }
+  // ∂ŷ/∂q_j = i·t^j·ŷ: t·f0, t·f1 are basis 2, 3; t^j·f0, t^j·f1 are 5 + 2(j − 2), 6 + 2(j − 2).
+  for (int j = 1; j <= model.phase_degree; ++j) {
+    Coefficients& vc = (*v)[static_cast<std::size_t>(nf + NuisanceModel::PhaseIndex(j))];
+    const std::size_t f0_index = j == 1 ? 2 : static_cast<std::size_t>(5 + 2 * (j - 2));
+    vc[f0_index] = i * m.g_u0;
+    vc[f0_index + 1] = i * m.g_bu0;
+  }
+  // ΔΩ enters as βy = i·2Ωδ2: ∂B/∂Ω = i·2δ2·σy, ∂μ²/∂Ω = 2βy·i·2δ2.
+  if (model.OmegaFree(r)) {
+    const Complex coefficient = i * (2.0 * p[kScaleFactor]);
+    through_b(coefficient, 1, 2.0 * propagator.BetaY() * coefficient,
+              &(*v)[static_cast<std::size_t>(nf + model.OmegaIndex())]);
+  }
+}
+
+template <typename Fn>
+void DispatchBasis(int degree, Fn fn) {
+  switch (BasisCount(degree)) {
+    case 5:
+      fn(std::integral_constant<int, 5>{});
+      break;
+    case 7:
+      fn(std::integral_constant<int, 7>{});
+      break;
+    default:
+      fn(std::integral_constant<int, 9>{});
+      break;
+  }
+}
+
 }  // namespace
 
 FullParameters Pack(const Delta& delta, const Xi& xi) {
@@ -25,143 +174,97 @@ FullParameters Pack(const Delta& delta, const Xi& xi) {
 }
 
 OutputErrorProblem::OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free,
-                                       int threads, std::size_t min_samples_for_threads)
-    : runs_(runs), free_(std::move(free)) {
+                                       int threads, std::size_t min_samples_for_threads,
+                                       NuisanceModel nuisance)
+    : runs_(runs), free_(std::move(free)), nuisance_(std::move(nuisance)) {
   for (const RunData& r : runs_) samples_ += static_cast<std::size_t>(r.size());
   threads_ = samples_ < min_samples_for_threads ? 1 : ResolveThreads(threads, runs_.size());
 }
 
-double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<Eigen::Vector4d>& w0,
+int OutputErrorProblem::NumNuisanceDegreesOfFreedom() const {
+  // A free ΔΩ comes with its prior's pseudo-observation: it costs no degree of freedom.
+  return static_cast<int>(runs_.size()) * (4 + nuisance_.phase_degree);
+}
+
+double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<RunNuisance>& nuisance,
                                 std::vector<double>* per_run) const {
-  const CMatrix2 gain = PickoffGain(XiOf(p));
-  const CMatrix2 gain_inv = gain.inverse();
   std::vector<double> sums(runs_.size(), 0.0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
-    const RunData& run = runs_[r];
-    const FreeRunPropagator propagator(run.omega_rad_s, DeltaOf(p));
-    const CVector2 u0 = gain_inv * ToComplex(w0[r]);
+    const RunModel m(runs_[r], p, nuisance[r], nuisance_, r);
     double sum = 0.0;
-    const NoAllocationScope no_allocation;
-    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
-      const CVector2 y = gain * propagator.Propagate(s, u0);
-      sum += (run.y.col(static_cast<Eigen::Index>(k)) - ToReal(y)).squaredNorm();
+    DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
+      ForEachResidual<decltype(basis)::value>(
+          runs_[r], m, [&](std::size_t, const Complex*, Complex, const CVector2& e) {
+            sum += std::norm(e[0]) + std::norm(e[1]);
+          });
     });
     sums[r] = sum;
   });
   double total = 0.0;
-  for (double v : sums) total += v;
+  for (std::size_t r = 0; r < runs_.size(); ++r) {
+    total += sums[r];
+    if (nuisance_.OmegaFree(r)) {
+      const double offset = nuisance[r][nuisance_.OmegaIndex()];
+      total += nuisance_.omega_prior_weight[r] * offset * offset;
+    }
+  }
   if (per_run) *per_run = std::move(sums);
   return total;
 }
 
-// Every Jacobian column, and the model itself, is a combination of five complex functions of time,
-//   c = e^{αt}·(f0, f1, t·f0, t·f1, ∂f1/∂μ²),
-// with coefficient vectors that are constant over a run (see free_run_propagator.hpp):
+// Every Jacobian column, and the model itself, is a combination of a few complex functions of time,
+//   c = e^{αt}·(f0, f1, t·f0, t·f1, ∂f1/∂μ², t²·f0, t²·f1, …),
+// turned by the common phase e^{iψ(t)}, with coefficient vectors that are constant over a run (see
+// free_run_propagator.hpp and ColumnCoefficients):
 //   ŷ      = G·(c0·u0 + c1·B·u0)
 //   ∂/∂δ1  = G·(c2·u0 + c3·B·u0)                                  (t·ŷ)
-//   ∂/∂δj  = G·(∂μ²/∂δj·(c3/2·u0 + c4·B·u0) + c1·βj·σj·u0)         (j ≥ 2)
+//   ∂/∂δj  = G·(∂μ²/∂δj·(c3/2·u0 + c4·B·u0) + c1·βj·σj·u0)         (j ≥ 2; ΔΩ alike)
 //   ∂/∂ξk  = Ck·(c0·u0 + c1·B·u0) − G·(c0·a_k + c1·B·a_k),  a_k = G⁻¹·Ck·u0   (w0 held)
 //   ∂/∂w0  = G·(c0·G⁻¹·e_m + c1·B·G⁻¹·e_m)  (and i times it for the imaginary parts)
-// So JᵀJ = Re Σ_mn S_mn·(V_m^H·V_n) with the 5×5 Gram sums S_mn = Σ_k conj(c_m)·c_n, and
-// Jᵀe = Re Σ_m V_m^H·E_m with E_m = Σ_k conj(c_m)·e_k: the sample loop accumulates 15 + 10 complex
-// products, independent of the number of parameters. The residuals e_k are formed sample by sample,
-// so the gradient (which alone decides the converged point) is as accurate as a direct evaluation.
-void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
-                                      const Eigen::Vector4d& w0, Eigen::MatrixXd* h,
-                                      Eigen::VectorXd* g, double* cost) const {
-  constexpr int kBasis = 5;
-  using Coefficients = std::array<CVector2, kBasis>;
-  const RunData& run = runs_[r];
-  const int nf = NumFree();
-  const FreeRunPropagator propagator(run.omega_rad_s, DeltaOf(p));
-  const CMatrix2& b = propagator.B();
-  const CMatrix2 gain = PickoffGain(XiOf(p));
-  const CMatrix2 gain_inv = gain.inverse();
-  const CVector2 u0 = gain_inv * ToComplex(w0);
-  const CVector2 bu0 = b * u0;
-  const CVector2 g_u0 = gain * u0;
-  const CVector2 g_bu0 = gain * bu0;
-
-  // Sample loop: Gram sums, projected residuals, cost. Fixed-size storage only.
+//   ∂/∂q_j = i·t^j·ŷ
+// So JᵀJ = Re Σ_mn S_mn·(V_m^H·V_n) with the Gram sums S_mn = Σ_k conj(c_m)·c_n (the common phase
+// has modulus 1 and cancels), and Jᵀe = Re Σ_m V_m^H·E_m with E_m = Σ_k conj(c_m)·e^{−iψ}·e_k: the
+// sample loop's work depends on the number of basis functions, not of parameters. The residuals are
+// formed sample by sample, so the gradient (which alone decides the converged point) is as accurate
+// as a direct evaluation.
+template <int kBasis>
+void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParameters& p,
+                                               const RunNuisance& nuisance, Eigen::MatrixXd* h,
+                                               Eigen::VectorXd* g, double* cost) const {
+  const RunModel m(runs_[r], p, nuisance, nuisance_, r);
   Eigen::Matrix<Complex, kBasis, kBasis> gram = Eigen::Matrix<Complex, kBasis, kBasis>::Zero();
-  Coefficients projected;
+  std::array<CVector2, kBasis> projected;
   for (CVector2& e : projected) e.setZero();
   double sum = 0.0;
-  {
-    const NoAllocationScope no_allocation;
-    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
-      const double t = run.t_s[k];
-      Complex c[kBasis];
-      c[0] = s.decay * s.f0;
-      c[1] = s.decay * s.f1;
-      c[2] = t * c[0];
-      c[3] = t * c[1];
-      c[4] = s.decay * s.df1_dmu2;
-      const CVector2 e =
-          ToComplex(run.y.col(static_cast<Eigen::Index>(k))) - (c[0] * g_u0 + c[1] * g_bu0);
-      sum += std::norm(e[0]) + std::norm(e[1]);
-      for (int m = 0; m < kBasis; ++m) {
-        const Complex cm = std::conj(c[m]);
-        projected[static_cast<std::size_t>(m)] += cm * e;
-        for (int n = m; n < kBasis; ++n) gram(m, n) += cm * c[n];
-      }
-    });
-  }
-  for (int m = 0; m < kBasis; ++m)
-    for (int n = 0; n < m; ++n) gram(m, n) = std::conj(gram(n, m));
+  ForEachResidual<kBasis>(runs_[r], m,
+                          [&](std::size_t, const Complex* c, Complex, const CVector2& e) {
+                            sum += std::norm(e[0]) + std::norm(e[1]);
+                            for (int a = 0; a < kBasis; ++a) {
+                              const Complex ca = std::conj(c[a]);
+                              projected[static_cast<std::size_t>(a)] += ca * e;
+                              for (int b = a; b < kBasis; ++b) gram(a, b) += ca * c[b];
+                            }
+                          });
+  for (int a = 0; a < kBasis; ++a)
+    for (int b = 0; b < a; ++b) gram(a, b) = std::conj(gram(b, a));
 
-  // Coefficient vectors of every column: the free parameters, then w0.
-  const int cols = nf + 4;
-  std::array<Coefficients, 14> v;
-  for (Coefficients& column : v)
-    for (CVector2& entry : column) entry.setZero();
-  std::array<CVector2, 4> c_u0;   // Ck·u0
-  std::array<CVector2, 4> c_bu0;  // Ck·B·u0
-  XiDerivatives(u0, &c_u0);
-  XiDerivatives(bu0, &c_bu0);
-  for (int col = 0; col < nf; ++col) {
-    const int which = free_[static_cast<std::size_t>(col)];
-    Coefficients& vc = v[static_cast<std::size_t>(col)];
-    if (which == kDamping) {
-      vc[2] = g_u0;
-      vc[3] = g_bu0;
-    } else if (which < kXiOffset) {
-      const Complex dmu2 = propagator.Mu2Derivative(which);
-      vc[3] = (0.5 * dmu2) * g_u0;
-      vc[4] = dmu2 * g_bu0;
-      vc[1] = gain * (propagator.BCoefficient(which) * Pauli(propagator.BPauli(which), u0));
-    } else {
-      const auto k = static_cast<std::size_t>(which - kXiOffset);
-      const CVector2 a = gain_inv * c_u0[k];
-      vc[0] = c_u0[k] - gain * a;
-      vc[1] = c_bu0[k] - gain * (b * a);
-    }
-  }
-  const CMatrix2 g_b_ginv = gain * b * gain_inv;
-  const Complex i(0, 1);
-  for (int m = 0; m < 2; ++m) {
-    Coefficients& re = v[static_cast<std::size_t>(nf + 2 * m)];
-    Coefficients& im = v[static_cast<std::size_t>(nf + 2 * m + 1)];
-    re[0] = CVector2::Unit(m);
-    re[1] = g_b_ginv.col(m);
-    im[0] = i * re[0];
-    im[1] = i * re[1];
-  }
-
+  std::vector<Coefficients> v;
+  ColumnCoefficients(m, free_, nuisance_, r, p, &v);
+  const auto cols = static_cast<Eigen::Index>(v.size());
   h->resize(cols, cols);
   g->resize(cols);
-  for (int a = 0; a < cols; ++a) {
+  for (Eigen::Index a = 0; a < cols; ++a) {
     const Coefficients& va = v[static_cast<std::size_t>(a)];
     Complex ga = 0.0;
-    for (int m = 0; m < kBasis; ++m)
-      ga += va[static_cast<std::size_t>(m)].dot(projected[static_cast<std::size_t>(m)]);
+    for (int i = 0; i < kBasis; ++i)
+      ga += va[static_cast<std::size_t>(i)].dot(projected[static_cast<std::size_t>(i)]);
     (*g)[a] = ga.real();
-    for (int bb = 0; bb <= a; ++bb) {
+    for (Eigen::Index bb = 0; bb <= a; ++bb) {
       const Coefficients& vb = v[static_cast<std::size_t>(bb)];
       Complex hab = 0.0;
-      for (int m = 0; m < kBasis; ++m)
-        for (int n = 0; n < kBasis; ++n)
-          hab += gram(m, n) * va[static_cast<std::size_t>(m)].dot(vb[static_cast<std::size_t>(n)]);
+      for (int i = 0; i < kBasis; ++i)
+        for (int j = 0; j < kBasis; ++j)
+          hab += gram(i, j) * va[static_cast<std::size_t>(i)].dot(vb[static_cast<std::size_t>(j)]);
       (*h)(a, bb) = hab.real();
       (*h)(bb, a) = hab.real();
     }
@@ -169,7 +272,16 @@ void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
   *cost = sum;
 }
 
-void OutputErrorProblem::Linearize(const FullParameters& p, const std::vector<Eigen::Vector4d>& w0,
+void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
+                                      const RunNuisance& nuisance, Eigen::MatrixXd* h,
+                                      Eigen::VectorXd* g, double* cost) const {
+  DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
+    LinearizeRunWithBasis<decltype(basis)::value>(r, p, nuisance, h, g, cost);
+  });
+}
+
+void OutputErrorProblem::Linearize(const FullParameters& p,
+                                   const std::vector<RunNuisance>& nuisance,
                                    NormalEquations* ne) const {
   const int nf = NumFree();
   const std::size_t n_runs = runs_.size();
@@ -177,7 +289,7 @@ void OutputErrorProblem::Linearize(const FullParameters& p, const std::vector<Ei
   std::vector<Eigen::VectorXd> g(n_runs);
   ne->cost_per_run.assign(n_runs, 0.0);
   ParallelFor(n_runs, threads_, [&](std::size_t r) {
-    LinearizeRun(r, p, w0[r], &h[r], &g[r], &ne->cost_per_run[r]);
+    LinearizeRun(r, p, nuisance[r], &h[r], &g[r], &ne->cost_per_run[r]);
   });
   ne->h_pp = Eigen::MatrixXd::Zero(nf, nf);
   ne->g_p = Eigen::VectorXd::Zero(nf);
@@ -186,59 +298,131 @@ void OutputErrorProblem::Linearize(const FullParameters& p, const std::vector<Ei
   ne->g_x.resize(n_runs);
   ne->cost = 0.0;
   for (std::size_t r = 0; r < n_runs; ++r) {
+    const int nx = nuisance_.Size(r);
     ne->h_pp += h[r].topLeftCorner(nf, nf);
     ne->g_p += g[r].head(nf);
-    ne->h_px[r] = h[r].topRightCorner(nf, 4);
-    ne->h_xx[r] = h[r].bottomRightCorner<4, 4>();
-    ne->g_x[r] = g[r].tail<4>();
+    ne->h_px[r] = h[r].topRightCorner(nf, nx);
+    ne->h_xx[r] = h[r].bottomRightCorner(nx, nx);
+    ne->g_x[r] = g[r].tail(nx);
     ne->cost += ne->cost_per_run[r];
+    if (nuisance_.OmegaFree(r)) {
+      // The prior: a pseudo-observation "ΔΩ = 0" of weight w.
+      const int o = nuisance_.OmegaIndex();
+      const double w = nuisance_.omega_prior_weight[r];
+      const double offset = nuisance[r][o];
+      ne->h_xx[r](o, o) += w;
+      ne->g_x[r][o] -= w * offset;
+      ne->cost += w * offset * offset;
+    }
   }
 }
 
 bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
-                                            std::vector<Eigen::Vector4d>* w0) const {
-  const CMatrix2 gain = PickoffGain(XiOf(p));
-  w0->resize(runs_.size());
+                                            std::vector<RunNuisance>* nuisance) const {
+  nuisance->resize(runs_.size());
   std::vector<char> ok(runs_.size(), 0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
+    RunNuisance& n = (*nuisance)[r];
+    if (n.size() != nuisance_.Size(r)) n = RunNuisance::Zero(nuisance_.Size(r));
     const RunData& run = runs_[r];
-    const FreeRunPropagator propagator(run.omega_rad_s, DeltaOf(p));
-    // The model is complex-linear in u0, so the normal equations are complex 2×2.
+    n.head<4>().setZero();
+    const RunModel m(run, p, n, nuisance_, r);
+    CommonPhase phase = m.Phase();
+    // The model is complex-linear in u0, so the normal equations are complex 2×2 (and the common
+    // phase, of modulus 1, only turns the data).
     CMatrix2 normal = CMatrix2::Zero();
     CVector2 rhs = CVector2::Zero();
-    const NoAllocationScope no_allocation;
-    propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
-      const CMatrix2 gphi = gain * propagator.Transition(s);
-      normal.noalias() += gphi.adjoint() * gphi;
-      rhs.noalias() += gphi.adjoint() * ToComplex(run.y.col(static_cast<Eigen::Index>(k)));
-    });
+    {
+      const NoAllocationScope no_allocation;
+      m.propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+        const Complex rot = phase.Next(run.t_s[k]);
+        const CMatrix2 gphi = m.gain * m.propagator.Transition(s);
+        normal.noalias() += gphi.adjoint() * gphi;
+        rhs.noalias() +=
+            gphi.adjoint() * (std::conj(rot) * ToComplex(run.y.col(static_cast<Eigen::Index>(k))));
+      });
+    }
     if (!(std::abs(normal.determinant()) > 0.0)) return;
     const CVector2 u0 = normal.inverse() * rhs;
     if (!u0.allFinite()) return;
-    (*w0)[r] = ToReal(CVector2(gain * u0));
+    n.head<4>() = ToReal(CVector2(m.gain * u0));
     ok[r] = 1;
   });
   return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
+}
+
+void OutputErrorProblem::RunResiduals(std::size_t r, const FullParameters& p,
+                                      const RunNuisance& nuisance,
+                                      Eigen::Matrix4Xd* residuals) const {
+  const RunData& run = runs_[r];
+  residuals->resize(4, run.size());
+  const RunModel m(run, p, nuisance, nuisance_, r);
+  DispatchBasis(0, [&](auto basis) {
+    ForEachResidual<decltype(basis)::value>(
+        run, m, [&](std::size_t k, const Complex*, Complex rot, const CVector2& e_turned) {
+          residuals->col(static_cast<Eigen::Index>(k)) = ToReal(CVector2(rot * e_turned));
+        });
+  });
+}
+
+void OutputErrorProblem::RunBlockScores(std::size_t r, const FullParameters& p,
+                                        const RunNuisance& nuisance, std::size_t block_length,
+                                        Eigen::MatrixXd* block_scores) const {
+  const RunData& run = runs_[r];
+  const RunModel m(run, p, nuisance, nuisance_, r);
+  std::vector<Coefficients> v;
+  ColumnCoefficients(m, free_, nuisance_, r, p, &v);
+  const auto cols = static_cast<Eigen::Index>(v.size());
+  const std::size_t n = static_cast<std::size_t>(run.size());
+  const std::size_t length = std::max<std::size_t>(1, block_length);
+  const auto blocks = static_cast<Eigen::Index>(std::max<std::size_t>(1, n / length));
+  block_scores->setZero(cols, blocks);
+  DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
+    constexpr int kBasis = decltype(basis)::value;
+    std::array<CVector2, kBasis> projected;
+    for (CVector2& e : projected) e.setZero();
+    Eigen::Index block = 0;
+    std::size_t in_block = 0;
+    const auto flush = [&]() {
+      for (Eigen::Index a = 0; a < cols; ++a) {
+        Complex ga = 0.0;
+        for (int i = 0; i < kBasis; ++i)
+          ga += v[static_cast<std::size_t>(a)][static_cast<std::size_t>(i)].dot(
+              projected[static_cast<std::size_t>(i)]);
+        (*block_scores)(a, block) += ga.real();
+      }
+      for (CVector2& e : projected) e.setZero();
+    };
+    ForEachResidual<kBasis>(run, m, [&](std::size_t, const Complex* c, Complex, const CVector2& e) {
+      for (int a = 0; a < kBasis; ++a) projected[static_cast<std::size_t>(a)] += std::conj(c[a]) * e;
+      if (++in_block == length) {
+        flush();
+        in_block = 0;
+        if (block + 1 < blocks) ++block;
+      }
+    });
+    if (in_block > 0) flush();
+  });
 }
 
 namespace {
 
 // Applies Marquardt damping to a copy of the blocks and eliminates x0.
 bool Reduce(const NormalEquations& ne, double lambda, Eigen::MatrixXd* h_red,
-            Eigen::VectorXd* g_red, std::vector<Eigen::Matrix4d>* h_xx_inv) {
+            Eigen::VectorXd* g_red, std::vector<Eigen::MatrixXd>* h_xx_inv) {
   const Eigen::Index nf = ne.h_pp.rows();
   *h_red = ne.h_pp;
   h_red->diagonal() *= (1.0 + lambda);
   *g_red = ne.g_p;
   h_xx_inv->resize(ne.h_xx.size());
   for (std::size_t r = 0; r < ne.h_xx.size(); ++r) {
-    Eigen::Matrix4d hxx = ne.h_xx[r];
+    Eigen::MatrixXd hxx = ne.h_xx[r];
     hxx.diagonal() *= (1.0 + lambda);
-    Eigen::Matrix4d inv;
+    Eigen::MatrixXd inv;
     if (!InvertScaledSpd(hxx, &inv)) return false;
     (*h_xx_inv)[r] = inv;
     if (nf > 0) {
-      const Eigen::Matrix<double, Eigen::Dynamic, 4> b_inv = ne.h_px[r] * inv;
+      const Eigen::MatrixXd b_inv = ne.h_px[r] * inv;
       h_red->noalias() -= b_inv * ne.h_px[r].transpose();
       g_red->noalias() -= b_inv * ne.g_x[r];
     }
@@ -250,24 +434,34 @@ bool Reduce(const NormalEquations& ne, double lambda, Eigen::MatrixXd* h_red,
 
 bool ReducedInformation(const NormalEquations& ne, Eigen::MatrixXd* h_reduced) {
   Eigen::VectorXd g;
-  std::vector<Eigen::Matrix4d> inv;
+  std::vector<Eigen::MatrixXd> inv;
   if (!Reduce(ne, 0.0, h_reduced, &g, &inv)) return false;
   *h_reduced = 0.5 * (*h_reduced + h_reduced->transpose());
   return true;
 }
 
+bool NuisanceProjections(const NormalEquations& ne, std::vector<Eigen::MatrixXd>* k) {
+  k->resize(ne.h_xx.size());
+  for (std::size_t r = 0; r < ne.h_xx.size(); ++r) {
+    Eigen::MatrixXd inv;
+    if (!InvertScaledSpd(ne.h_xx[r], &inv)) return false;
+    (*k)[r] = ne.h_px[r] * inv;
+  }
+  return true;
+}
+
 bool SolveDamped(const NormalEquations& ne, double lambda, Eigen::VectorXd* dp,
-                 std::vector<Eigen::Vector4d>* dx0) {
+                 std::vector<RunNuisance>* dx0) {
   Eigen::MatrixXd h_red;
   Eigen::VectorXd g_red;
-  std::vector<Eigen::Matrix4d> h_xx_inv;
+  std::vector<Eigen::MatrixXd> h_xx_inv;
   if (!Reduce(ne, lambda, &h_red, &g_red, &h_xx_inv)) return false;
   Eigen::VectorXd step = Eigen::VectorXd::Zero(ne.h_pp.rows());
   if (step.size() > 0 && !SolveScaledSpd(h_red, g_red, &step)) return false;
   *dp = step;
   dx0->resize(ne.h_xx.size());
   for (std::size_t r = 0; r < ne.h_xx.size(); ++r) {
-    Eigen::Vector4d rhs = ne.g_x[r];
+    Eigen::VectorXd rhs = ne.g_x[r];
     if (step.size() > 0) rhs.noalias() -= ne.h_px[r].transpose() * step;
     (*dx0)[r] = h_xx_inv[r] * rhs;
   }

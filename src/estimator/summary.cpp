@@ -57,6 +57,22 @@ std::string EstimateSummary::Report() const {
                   residual_rms_per_run[r]);
     out += buffer;
   }
+  if (!diagnostics.runs.empty()) {
+    std::snprintf(buffer, sizeof buffer,
+                  "  fit: %s; covariance %s; common phase degree %d per run%s\n",
+                  diagnostics.Acceptable() ? "within its model" : "OUTSIDE ITS MODEL",
+                  diagnostics.covariance_kind.c_str(), diagnostics.phase_degree,
+                  diagnostics.omega_nuisance ? "; recorded rate uncertainties included" : "");
+    out += buffer;
+    for (const RunFitDiagnostics& d : diagnostics.runs) {
+      std::snprintf(buffer, sizeof buffer,
+                    "    run %d: residual/noise %.4f (limit %.4f), whiteness z %.2f, lag-1 "
+                    "autocorrelation %+.3f, largest |r| %.1f sigma, %zu outliers removed\n",
+                    d.run_id, d.residual_ratio, d.residual_ratio_threshold, d.whiteness_z,
+                    d.lag1_autocorrelation, d.max_abs_residual_in_sigma, d.outliers_removed);
+      out += buffer;
+    }
+  }
   for (const std::string& w : warnings) out += "  warning: " + w + "\n";
   return out;
 }

@@ -221,6 +221,18 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     const auto omega = check.GetFinite(item, path, "omega_rad_s");
     if (!omega) return std::unexpected(omega.error());
     entry.omega_rad_s = *omega;
+    // How well Ω is known, when the bench recorded it: runs[].end.omega_std_error_rad_s, a number
+    // >= 0 or null (not measured).
+    if (const auto end = item.find("end"); end != item.end() && end->is_object()) {
+      if (const auto sd = end->find("omega_std_error_rad_s"); sd != end->end() && !sd->is_null()) {
+        const std::string sd_path = path + ".end.omega_std_error_rad_s";
+        if (!sd->is_number()) return check.Fail(sd_path, "expected a number, got " + Describe(*sd));
+        const double value = sd->get<double>();
+        if (!std::isfinite(value) || value < 0.0)
+          return check.Fail(sd_path, "expected a finite number >= 0, got " + sd->dump());
+        entry.omega_std_rad_s = value;
+      }
+    }
     const auto status = check.GetName(item, path, "status");
     if (!status) return std::unexpected(status.error());
     entry.status = *status;

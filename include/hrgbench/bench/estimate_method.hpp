@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
@@ -34,7 +35,16 @@ struct MethodRequest {
   // The ξ to estimate; nullopt = the method's default (ML: the identifiable set; paper: none;
   // paper-xi-grid: ξ1). The paper methods accept only their own set.
   std::optional<estimator::XiMask> xi;
+  // ML only: the per-run common phase degree (MlOptions::phase_degree), whether recorded Ω
+  // uncertainties enter the fit, which covariance, and the fit-quality thresholds.
+  int phase_degree = estimator::MlOptions{}.phase_degree;
+  bool omega_uncertainty = true;
+  estimator::MlOptions::Covariance covariance = estimator::MlOptions::Covariance::kAuto;
+  estimator::FitQualityLimits fit_quality;
 };
+
+// "auto", "white", "sandwich".
+std::optional<estimator::MlOptions::Covariance> ParseCovariance(std::string_view name);
 
 // Empty when the request is consistent; else a one-line reason (bad input).
 std::string CheckRequest(const MethodRequest& request);

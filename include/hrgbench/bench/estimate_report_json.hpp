@@ -15,6 +15,19 @@
 //   samples_used         int
 //   residual_rms_per_run [number]
 //   noise_sigma          number   σ̂ from the residuals (null if not computed)
+//   fit                  object   is the fit right? (output-error methods; null otherwise):
+//                                 {acceptable, problems [string], covariance ("white"|"sandwich"),
+//                                  sandwich_batch_samples, sandwich_to_white_std_max, phase_degree,
+//                                  omega_nuisance, limits {residual_ratio_max, whiteness_z_max,
+//                                  omega_offset_max_in_std}, runs [{run, samples, noise_sigma,
+//                                  residual_rms, residual_ratio, residual_ratio_threshold,
+//                                  lag1_autocorrelation,
+//                                  whiteness_lags, whiteness_q, whiteness_z,
+//                                  max_abs_residual_in_sigma, excess_kurtosis, outliers_removed,
+//                                  largest_outlier_in_sigma, common_frequency_rad_s,
+//                                  common_frequency_drift_rad_s2, omega_offset_rad_s,
+//                                  omega_offset_data_rad_s, omega_offset_in_std,
+//                                  noise_free}]}
 //   truth                object   only when the session has "simulation": {delta, xi, sigma, seed}
 //
 // JSON has no NaN: every non-finite number is written as null.
@@ -42,7 +55,11 @@ inline constexpr std::string_view kReportKeys[] = {"method",
                                                    "iterations",
                                                    "samples_used",
                                                    "residual_rms_per_run",
-                                                   "noise_sigma"};
+                                                   "noise_sigma",
+                                                   "fit"};
+
+// The "fit" object alone (null when the summary has no diagnostics).
+nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary);
 
 // `warnings` are the caller's (method selection, session reading), put before the estimator's.
 // `session_document` is the whole session.json; its "simulation" block, if any, gives "truth".

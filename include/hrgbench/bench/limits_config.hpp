@@ -4,6 +4,9 @@
 // noise σ̂. A quantity without a limit is not judged. The verdict (verdict.hpp) applies them to an
 // estimate: outside its range is a FAIL of the unit (STYLE rule 9).
 //
+// The fit itself is always judged: [fit] (optional) sets how far outside the model a fit may be
+// before no limit is trusted (estimator::FitQualityLimits; its defaults when the table is absent).
+//
 // Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
 // for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
 
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "hrgbench/config_file/config_error.hpp"
+#include "hrgbench/estimator/fit_diagnostics.hpp"
 
 namespace hrgbench::bench {
 
@@ -56,6 +60,9 @@ struct LimitsConfig {
   std::string description;
   std::vector<ParameterLimit>
       limits;  // in the order of LimitedQuantity; each quantity at most once
+  // How far outside its model a fit may be ([fit]; the defaults when absent).
+  estimator::FitQualityLimits fit;
+  std::size_t fit_line = 0;  // where [fit] was written; 0 = not in the file (defaults)
 };
 
 std::expected<LimitsConfig, config_file::ConfigError> LoadLimitsConfig(

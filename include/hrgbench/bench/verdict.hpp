@@ -5,6 +5,12 @@
 // held fixed because the sequence cannot determine it, or it is not finite). NOT EVALUATED is not
 // a FAIL: the unit was not shown bad, the bench did not measure it; the app reports it as ERROR.
 //
+// Before any limit, the fit itself is judged (always, with the limits file's [fit] or the
+// defaults): per run, the residual ratio, the whiteness of the residuals and the offset of Ω the
+// data ask for. A fit outside its model makes every estimated value untrustworthy, so then no
+// limit is judged: each becomes NOT EVALUATED (saying what it would have been) and the verdict is
+// NOT EVALUATED. A poor fit is never a PASS, and never a FAIL the unit did not earn.
+//
 // Pure function of its inputs; thread-safe; allocates (not for real-time code).
 
 #include <string>
@@ -29,14 +35,30 @@ struct LimitResult {
   std::string message;  // "delta2 = 0.35 outside [0.29, 0.31] (0.04 above max)", ...
 };
 
+// One check of the fit (per run and statistic), judged against LimitsConfig::fit.
+struct FitCheck {
+  int run_id = 0;                  // 0: the whole estimate (no diagnostics at all)
+  std::string name;                // "residual_ratio", "whiteness_z", "omega_offset_in_std"
+  LimitStatus status = LimitStatus::kNotEvaluated;
+  double value = estimator::kNaN;
+  double max = estimator::kNaN;
+  std::string message;  // "run 3: residual_ratio = 22.1 above 1.05 (the model misses something)"
+};
+
 struct Verdict {
-  // kFail if any limit failed; else kNotEvaluated if any could not be evaluated; else kPass (also
-  // when there are no limits: nothing was required).
+  // kNotEvaluated if the fit failed a check; else kFail if any limit failed; else kNotEvaluated
+  // if any could not be evaluated; else kPass (also when there are no limits: nothing was
+  // required).
   LimitStatus overall = LimitStatus::kPass;
+  std::vector<FitCheck> fit_checks;  // per run: residual ratio, whiteness, Ω offset (when fitted)
+  bool fit_acceptable = true;        // every fit check passed
   std::vector<LimitResult> results;  // one per limit, in the limits file's order
 
   std::vector<std::string_view> FailedNames() const;
-  // One line per limit ("FAIL  delta2 = ..."), then "verdict: FAIL (delta2)".
+  // The failed fit checks' messages, joined by "; " (empty when the fit is acceptable).
+  std::string FitProblems() const;
+  // One line per failed fit check, one per limit ("FAIL  delta2 = ..."), then
+  // "verdict: FAIL (delta2)".
   std::string Report() const;
 };
 

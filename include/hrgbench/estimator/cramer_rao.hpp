@@ -17,6 +17,9 @@ struct DesignSpec {
   Xi xi = Xi::Zero();
   double sigma = 1e-4;          // noise std on each channel of y
   XiMask xi_unknown = kAllXi;   // which ξ are estimated (the rest known)
+  // Degree of the per-run common phase the estimator takes as unknown (MlOptions::phase_degree):
+  // the bound of the estimator that does not depend on the demodulation reference's phase.
+  int phase_degree = 2;
   std::vector<RunPlan> runs;
 
   bool IsValid(std::string* why) const;

@@ -15,6 +15,19 @@
 //     number of samples.
 //  4. Covariance σ̂²·(JᵀJ)⁻¹ of δ and ξ with the initial states eliminated (the CRLB evaluated at the
 //     estimate), residual RMS per run and in total.
+//
+// Outside its own model (fit_diagnostics.hpp, README "Is the fit right?"):
+//  - per run, besides x0, a common phase ψ(t) = q_1·t + … + q_D·t^D of both channels is estimated
+//    (phase_degree, default 2), so the estimate does not depend on what the demodulation
+//    reference's phase and frequency do (a constant offset and a ramp of the frequency);
+//  - each run's Ω is a nuisance with a Gaussian prior of its recorded standard error
+//    (RunData::omega_std_rad_s), so the uncertainty of Ω is in the reported std, and a recorded Ω
+//    the data contradict is reported;
+//  - samples whose residual exceeds outlier_threshold_sigma robust σ are removed and the fit
+//    repeated (stated in the diagnostics and the warnings);
+//  - the residuals are checked against the model-free noise and for whiteness; coloured residuals
+//    switch the reported covariance to the sandwich form; every failed check is a warning and is
+//    listed in diagnostics.problems, which the bench's verdict judges.
 
 #include <array>
 #include <string>
@@ -59,6 +72,27 @@ struct MlOptions {
   // ... but only when the runs hold at least this many samples: below ~20k a pass over the data
   // takes about a millisecond and starting threads costs more than it saves.
   std::size_t min_samples_for_threads = 20000;
+
+  // Degree D of the per-run common phase nuisance ψ(t) = q_1·t + … + q_D·t^D (0 … 3): 0 = the
+  // demodulation reference is taken as exactly the resonator's phase, 1 adds a constant frequency
+  // offset per run, 2 a frequency ramp.
+  int phase_degree = 2;
+  // Each run's Ω as a nuisance parameter with a prior of RunData::omega_std_rad_s (runs without a
+  // finite positive std keep their Ω exact).
+  bool omega_uncertainty = true;
+  // Remove samples with a residual beyond this many robust σ on any channel and fit again (at most
+  // max_outlier_passes times); 0 = keep every sample.
+  double outlier_threshold_sigma = 8.0;
+  int max_outlier_passes = 2;
+  // Lags of the whiteness statistic.
+  int whiteness_lags = 20;
+  enum class Covariance {
+    kAuto,      // white-noise covariance, or the sandwich when a run's residuals are not white
+    kWhite,     // always σ̂²·(JᵀJ)⁻¹
+    kSandwich,  // always the sandwich
+  };
+  Covariance covariance = Covariance::kAuto;
+  FitQualityLimits fit_quality;
 
   // Optional starting point; when not set the integral equation error supplies it.
   bool use_initial_guess = false;

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "hrgbench/estimator/fit_diagnostics.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 
 namespace hrgbench::estimator {
@@ -39,7 +40,9 @@ struct EstimateSummary {
   XiMask xi_estimated = kNoXi;
 
   // Covariance of the estimated components, ordered as δ (estimated ones, in index order) then ξ
-  // (estimated ones). For maximum likelihood: σ̂²·(JᵀJ)⁻¹ with the initial states eliminated.
+  // (estimated ones). For maximum likelihood: σ̂²·(JᵀJ)⁻¹ with the per-run nuisance parameters
+  // eliminated, or the sandwich covariance when the residuals are coloured
+  // (diagnostics.covariance_kind says which).
   Eigen::MatrixXd covariance;
 
   // Initial state x(0) of each run (output-error methods only; empty otherwise).
@@ -50,6 +53,10 @@ struct EstimateSummary {
   std::vector<double> residual_rms_per_run;
   double residual_rms = kNaN;
   double noise_sigma = kNaN;  // σ̂ from the residuals, corrected for the degrees of freedom
+
+  // Output-error methods: is the fit right? Model-free noise, residual ratio, whiteness, outliers,
+  // per run, and the checks that failed (see fit_diagnostics.hpp). Empty for the other methods.
+  FitDiagnostics diagnostics;
 
   int iterations = 0;
   std::size_t samples_used = 0;

@@ -15,8 +15,8 @@
 // Python's repr), which round-trips exactly just as %.17g does but keeps "0.01" as "0.01".
 //
 // session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
-// omega_rad_s, status}. Every other key (station, config hashes, temperature, "simulation"
-// truth...) is kept verbatim in `document` and written back unchanged. Runs whose status is not
+// omega_rad_s, status, end.omega_std_error_rad_s (optional)}. Every other key (station, config
+// hashes, temperature, "simulation" truth...) is kept verbatim in `document` and written back unchanged. Runs whose status is not
 // "complete" are skipped with a warning. Every error names the file, the line (1-based, 0 when not
 // applicable) and the field.
 //
@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <expected>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -91,6 +92,8 @@ struct RunEntry {
   std::string file;           // relative to the session directory, e.g. "runs/run-001.csv"
   double omega_rad_s = 0.0;
   std::string status = "complete";
+  // end.omega_std_error_rad_s when the bench recorded it (the standard error of Ω); NaN otherwise.
+  double omega_std_rad_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Session {

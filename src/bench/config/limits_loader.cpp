@@ -57,7 +57,25 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
   HRG_CHECK(reader.Unknown(
       "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma (each "
       "[min, max])"));
-  HRG_CHECK(root.Unknown("[limits]"));
+
+  HRG_TRY(fit_table, SubTable(root, "fit", false));
+  if (*fit_table != nullptr) {
+    TableReader fit(**fit_table, "fit", source);
+    limits.fit_line = LineOf(**fit_table);
+    // Bounds: a ratio of 1 is a perfect fit and 100 is no check at all; a normal score beyond
+    // 1e6 or a rate offset beyond 1e6 of its std would never be reached either.
+    static constexpr Range kRatio{1.0, 100.0, true, "in [1, 100]"};
+    static constexpr Range kScore{0.0, 1e6, false, "in (0, 1e6]"};
+    HRG_TRY(ratio, OptionalNumber(fit, "residual_ratio_max", kRatio, limits.fit.residual_ratio_max));
+    HRG_TRY(white, OptionalNumber(fit, "whiteness_z_max", kScore, limits.fit.whiteness_z_max));
+    HRG_TRY(omega, OptionalNumber(fit, "omega_offset_max_in_std", kScore,
+                                  limits.fit.omega_offset_max_in_std));
+    limits.fit.residual_ratio_max = *ratio;
+    limits.fit.whiteness_z_max = *white;
+    limits.fit.omega_offset_max_in_std = *omega;
+    HRG_CHECK(fit.Unknown("residual_ratio_max, whiteness_z_max, omega_offset_max_in_std"));
+  }
+  HRG_CHECK(root.Unknown("[limits], [fit]"));
   return limits;
 }
 

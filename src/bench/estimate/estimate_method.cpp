@@ -49,6 +49,14 @@ std::optional<XiMask> ParseXiSet(std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<estimator::MlOptions::Covariance> ParseCovariance(std::string_view name) {
+  using Covariance = estimator::MlOptions::Covariance;
+  if (name == "auto") return Covariance::kAuto;
+  if (name == "white") return Covariance::kWhite;
+  if (name == "sandwich") return Covariance::kSandwich;
+  return std::nullopt;
+}
+
 std::size_t MinimumSamples(Method method) {
   if (method == Method::kMl) return static_cast<std::size_t>(estimator::kMlMinimumSamples);
   return static_cast<std::size_t>(estimator::PaperMinimumSamples(estimator::PaperOptions{}));
@@ -77,6 +85,10 @@ MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const Method
       break;
     case Method::kMl: {
       estimator::MlOptions options;
+      options.phase_degree = request.phase_degree;
+      options.omega_uncertainty = request.omega_uncertainty;
+      options.covariance = request.covariance;
+      options.fit_quality = request.fit_quality;
       if (request.xi) {
         options.xi_estimated = *request.xi;
       } else {

@@ -39,6 +39,52 @@ nlohmann::json NumberOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
 }
 
+nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary) {
+  const estimator::FitDiagnostics& d = summary.diagnostics;
+  if (d.runs.empty()) return nullptr;
+  nlohmann::json runs = nlohmann::json::array();
+  for (const estimator::RunFitDiagnostics& r : d.runs) {
+    runs.push_back({
+        {"run", r.run_id},
+        {"noise_free", r.noise_free},
+        {"samples", r.samples},
+        {"noise_sigma", NumberOrNull(r.noise_sigma)},
+        {"residual_rms", NumberOrNull(r.residual_rms)},
+        {"residual_ratio", NumberOrNull(r.residual_ratio)},
+        {"residual_ratio_threshold", NumberOrNull(r.residual_ratio_threshold)},
+        {"lag1_autocorrelation", NumberOrNull(r.lag1_autocorrelation)},
+        {"whiteness_lags", r.whiteness_lags},
+        {"whiteness_q", NumberOrNull(r.whiteness_q)},
+        {"whiteness_z", NumberOrNull(r.whiteness_z)},
+        {"max_abs_residual_in_sigma", NumberOrNull(r.max_abs_residual_in_sigma)},
+        {"excess_kurtosis", NumberOrNull(r.excess_kurtosis)},
+        {"outliers_removed", r.outliers_removed},
+        {"largest_outlier_in_sigma", NumberOrNull(r.largest_outlier_in_sigma)},
+        {"common_frequency_rad_s", NumberOrNull(r.common_frequency_rad_s)},
+        {"common_frequency_drift_rad_s2", NumberOrNull(r.common_frequency_drift_rad_s2)},
+        {"omega_offset_rad_s", NumberOrNull(r.omega_offset_rad_s)},
+        {"omega_offset_data_rad_s", NumberOrNull(r.omega_offset_data_rad_s)},
+        {"omega_offset_in_std", NumberOrNull(r.omega_offset_in_std)},
+    });
+  }
+  nlohmann::json problems = nlohmann::json::array();
+  for (const std::string& p : d.problems) problems.push_back(p);
+  return {
+      {"acceptable", d.Acceptable()},
+      {"problems", problems},
+      {"covariance", d.covariance_kind},
+      {"sandwich_batch_samples", d.sandwich_batch_samples},
+      {"sandwich_to_white_std_max", NumberOrNull(d.sandwich_to_white_std_max)},
+      {"phase_degree", d.phase_degree},
+      {"omega_nuisance", d.omega_nuisance},
+      {"limits",
+       {{"residual_ratio_max", d.limits.residual_ratio_max},
+        {"whiteness_z_max", d.limits.whiteness_z_max},
+        {"omega_offset_max_in_std", d.limits.omega_offset_max_in_std}}},
+      {"runs", runs},
+  };
+}
+
 nlohmann::json EstimateReportJson(std::string_view method,
                                   const estimator::EstimateSummary& summary,
                                   const std::vector<std::string>& warnings,
@@ -65,6 +111,7 @@ nlohmann::json EstimateReportJson(std::string_view method,
       {"samples_used", summary.samples_used},
       {"residual_rms_per_run", per_run},
       {"noise_sigma", NumberOrNull(summary.noise_sigma)},
+      {"fit", FitDiagnosticsJson(summary)},
   };
   if (nlohmann::json truth = Truth(session_document); !truth.is_null()) report["truth"] = truth;
   return report;

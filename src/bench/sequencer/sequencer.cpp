@@ -107,7 +107,9 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
       outcome.kind = OutcomeKind::kError;
       outcome.reason = "no complete run to estimate from";
     } else {
-      MethodResult estimated = RunMethod(runs, MethodRequest{});
+      MethodRequest request;
+      request.fit_quality = ctx.configs->limits.fit;  // the estimator warns as the verdict judges
+      MethodResult estimated = RunMethod(runs, request);
       std::vector<std::string> warnings = recorded->warnings;
       warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
                       estimated.selection_warnings.end());
@@ -143,12 +145,16 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
             break;
           case LimitStatus::kNotEvaluated:
             outcome.kind = OutcomeKind::kError;
-            outcome.reason = "limits not judged: " + not_judged;
+            outcome.reason = verdict.fit_acceptable
+                                 ? "limits not judged: " + not_judged
+                                 : "the fit is outside its model, no limit judged: " +
+                                       verdict.FitProblems();
             break;
           case LimitStatus::kPass:
             outcome.kind = OutcomeKind::kPass;
-            outcome.reason =
-                ctx.configs->limits.limits.empty() ? "no limits to judge" : "every limit met";
+            outcome.reason = ctx.configs->limits.limits.empty()
+                                 ? "the fit is within its model; no limits to judge"
+                                 : "the fit is within its model and every limit met";
             break;
         }
         result.verdict = std::move(verdict);

@@ -77,6 +77,59 @@ LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSumma
   return result;
 }
 
+FitCheck Check(int run, const char* name, double value, double max, const char* meaning) {
+  FitCheck check;
+  check.run_id = run;
+  check.name = name;
+  check.value = value;
+  check.max = max;
+  const std::string head = "run " + std::to_string(run) + ": " + name + " = ";
+  if (!std::isfinite(value)) {
+    check.status = LimitStatus::kNotEvaluated;
+    check.message = head + "not computed";
+  } else if (value <= max) {
+    check.status = LimitStatus::kPass;
+    check.message = head + Number(value) + " within " + Number(max);
+  } else {
+    check.status = LimitStatus::kFail;
+    check.message = head + Number(value) + " above " + Number(max) + " (" + meaning + ")";
+  }
+  return check;
+}
+
+std::vector<FitCheck> JudgeFit(const estimator::FitQualityLimits& limits,
+                               const estimator::EstimateSummary& estimate) {
+  std::vector<FitCheck> checks;
+  if (!estimate.IsUsable()) return checks;
+  if (estimate.diagnostics.runs.empty()) {
+    FitCheck none;
+    none.name = "fit";
+    none.message = "fit: not judged, the method reports no fit diagnostics";
+    checks.push_back(none);
+    return checks;
+  }
+  for (const estimator::RunFitDiagnostics& run : estimate.diagnostics.runs) {
+    checks.push_back(Check(run.run_id, "residual_ratio", run.residual_ratio,
+                           estimator::ResidualRatioThreshold(limits, run.samples),
+                           "residuals above the noise of the data: the model misses something"));
+    if (run.noise_free) {
+      FitCheck skipped = Check(run.run_id, "whiteness_z", 0.0, limits.whiteness_z_max, "");
+      skipped.value = estimator::kNaN;
+      skipped.message = "run " + std::to_string(run.run_id) +
+                        ": whiteness_z not applicable (noise-free data)";
+      checks.push_back(skipped);
+    } else {
+      checks.push_back(Check(run.run_id, "whiteness_z", run.whiteness_z, limits.whiteness_z_max,
+                             "residuals not white: coloured noise or a model error"));
+    }
+    if (std::isfinite(run.omega_offset_in_std))
+      checks.push_back(Check(run.run_id, "omega_offset_in_std", std::abs(run.omega_offset_in_std),
+                             limits.omega_offset_max_in_std,
+                             "the data contradict the recorded rate"));
+  }
+  return checks;
+}
+
 }  // namespace
 
 std::string_view ToString(LimitStatus status) noexcept {
@@ -98,8 +151,24 @@ std::vector<std::string_view> Verdict::FailedNames() const {
   return names;
 }
 
+std::string Verdict::FitProblems() const {
+  std::string text;
+  for (const FitCheck& c : fit_checks)
+    if (c.status != LimitStatus::kPass) text += (text.empty() ? "" : "; ") + c.message;
+  return text;
+}
+
 std::string Verdict::Report() const {
   std::string text;
+  for (const FitCheck& c : fit_checks) {
+    if (c.status == LimitStatus::kPass) continue;
+    std::string status(ToString(c.status));
+    status.resize(14, ' ');
+    text += status + "fit " + c.message + "\n";
+  }
+  if (!fit_checks.empty() && fit_acceptable)
+    text += "PASS          fit: every run within its limits (" + std::to_string(fit_checks.size()) +
+            " checks)\n";
   for (const LimitResult& r : results) {
     std::string status(ToString(r.status));
     status.resize(14, ' ');
@@ -117,17 +186,27 @@ std::string Verdict::Report() const {
 
 Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSummary& estimate) {
   Verdict verdict;
+  verdict.fit_checks = JudgeFit(limits.fit, estimate);
+  for (const FitCheck& c : verdict.fit_checks)
+    verdict.fit_acceptable = verdict.fit_acceptable && c.status == LimitStatus::kPass;
   bool any_fail = false;
   bool any_not_evaluated = false;
   for (const ParameterLimit& limit : limits.limits) {
-    verdict.results.push_back(Evaluate(limit, estimate));
-    any_fail = any_fail || verdict.results.back().status == LimitStatus::kFail;
-    any_not_evaluated =
-        any_not_evaluated || verdict.results.back().status == LimitStatus::kNotEvaluated;
+    LimitResult result = Evaluate(limit, estimate);
+    if (!verdict.fit_acceptable && result.status != LimitStatus::kNotEvaluated) {
+      result.message = std::string(ToString(limit.quantity)) +
+                       ": not judged, the fit is outside its model (would be " +
+                       std::string(ToString(result.status)) + ": " + result.message + ")";
+      result.status = LimitStatus::kNotEvaluated;
+    }
+    any_fail = any_fail || result.status == LimitStatus::kFail;
+    any_not_evaluated = any_not_evaluated || result.status == LimitStatus::kNotEvaluated;
+    verdict.results.push_back(std::move(result));
   }
-  verdict.overall = any_fail            ? LimitStatus::kFail
-                    : any_not_evaluated ? LimitStatus::kNotEvaluated
-                                        : LimitStatus::kPass;
+  verdict.overall = !verdict.fit_acceptable ? LimitStatus::kNotEvaluated
+                    : any_fail              ? LimitStatus::kFail
+                    : any_not_evaluated     ? LimitStatus::kNotEvaluated
+                                            : LimitStatus::kPass;
   return verdict;
 }
 

@@ -23,6 +23,18 @@ EstimateSummary PaperUnit() {
   s.xi_estimated = estimator::kAllXi;
   s.residual_rms = 1.0e-4;
   s.noise_sigma = 1.0e-4;
+  // Two runs of 100 000 samples, in model: ratio 1.001, white residuals, Ω as recorded.
+  for (int run = 1; run <= 2; ++run) {
+    estimator::RunFitDiagnostics d;
+    d.run_id = run;
+    d.samples = 100000;
+    d.noise_sigma = 1.0e-4;
+    d.residual_rms = 1.001e-4;
+    d.residual_ratio = 1.001;
+    d.whiteness_z = 0.4;
+    d.omega_offset_in_std = -0.7;
+    s.diagnostics.runs.push_back(d);
+  }
   return s;
 }
 
@@ -105,6 +117,85 @@ TEST(Verdict, UnusableEstimateEvaluatesNothing) {
 
 TEST(Verdict, NoLimitsIsPass) {
   EXPECT_EQ(EvaluateLimits(LimitsConfig{}, PaperUnit()).overall, LimitStatus::kPass);
+}
+
+// The fit is judged before any limit, with the defaults when the file has no [fit]: three checks
+// per run here (ratio, whiteness, Ω offset).
+TEST(Verdict, AFitInsideItsModelIsJudgedAndPasses) {
+  const Verdict verdict = EvaluateLimits(Limits(), PaperUnit());
+  ASSERT_EQ(verdict.fit_checks.size(), 6u);
+  EXPECT_TRUE(verdict.fit_acceptable);
+  for (const FitCheck& c : verdict.fit_checks) EXPECT_EQ(c.status, LimitStatus::kPass) << c.message;
+  EXPECT_EQ(verdict.fit_checks[0].name, "residual_ratio");
+  EXPECT_EQ(verdict.fit_checks[0].max, 1.05);  // 1 + 5·0.451/√1e5 = 1.0071 is below the default
+  EXPECT_NE(verdict.Report().find("fit: every run within its limits (6 checks)"), std::string::npos);
+}
+
+// A fit outside its model: no limit is judged, not even one that would fail, and each says what it
+// would have been; the verdict is NOT EVALUATED (the app's ERROR) and names the run and the check.
+TEST(Verdict, AFitOutsideItsModelJudgesNoLimit) {
+  EstimateSummary s = PaperUnit();
+  s.delta[estimator::kScaleFactor] = 0.35;  // would FAIL
+  s.diagnostics.runs[1].residual_ratio = 22.1;
+  const Verdict verdict = EvaluateLimits(Limits(), s);
+  EXPECT_FALSE(verdict.fit_acceptable);
+  EXPECT_EQ(verdict.overall, LimitStatus::kNotEvaluated);
+  for (const LimitResult& r : verdict.results) EXPECT_EQ(r.status, LimitStatus::kNotEvaluated);
+  EXPECT_NE(verdict.results[1].message.find("would be FAIL"), std::string::npos)
+      << verdict.results[1].message;
+  EXPECT_NE(verdict.FitProblems().find("run 2: residual_ratio = 22.1 above 1.05"),
+            std::string::npos)
+      << verdict.FitProblems();
+  EXPECT_TRUE(verdict.FailedNames().empty());
+}
+
+TEST(Verdict, ColouredResidualsAndAContradictedRateAreJudged) {
+  EstimateSummary s = PaperUnit();
+  s.diagnostics.runs[0].whiteness_z = 40.0;
+  EXPECT_FALSE(EvaluateLimits(Limits(), s).fit_acceptable);
+  s = PaperUnit();
+  s.diagnostics.runs[0].omega_offset_in_std = -9.8;  // |offset| is judged
+  const Verdict verdict = EvaluateLimits(Limits(), s);
+  EXPECT_FALSE(verdict.fit_acceptable);
+  EXPECT_NE(verdict.FitProblems().find("run 1: omega_offset_in_std = 9.8 above 4"),
+            std::string::npos)
+      << verdict.FitProblems();
+}
+
+// [fit] in the limits file moves the thresholds; a short run gets five standard errors of room.
+TEST(Verdict, TheLimitsFilesFitTableSetsTheThresholds) {
+  auto limits = ParseLimitsConfig(
+      "[limits]\nname = \"t\"\n[fit]\nresidual_ratio_max = 1.5\nwhiteness_z_max = 50\n", "l.toml");
+  ASSERT_TRUE(limits.has_value()) << limits.error().ToString();
+  EXPECT_EQ(limits->fit_line, 3u);
+  EstimateSummary s = PaperUnit();
+  s.diagnostics.runs[0].residual_ratio = 1.4;
+  s.diagnostics.runs[1].whiteness_z = 40.0;
+  EXPECT_TRUE(EvaluateLimits(*limits, s).fit_acceptable);
+  s.diagnostics.runs[0].samples = 400;  // 1 + 5·0.451/√400 = 1.113
+  s.diagnostics.runs[0].residual_ratio = 1.1;
+  EXPECT_TRUE(EvaluateLimits(LimitsConfig{}, s).fit_acceptable == false);  // whiteness 40 > 6
+  s.diagnostics.runs[1].whiteness_z = 0.0;
+  EXPECT_TRUE(EvaluateLimits(LimitsConfig{}, s).fit_acceptable);
+}
+
+TEST(Verdict, AFitTableOutOfRangeNamesTheKey) {
+  const auto limits =
+      ParseLimitsConfig("[limits]\nname = \"t\"\n[fit]\nresidual_ratio_max = 0.9\n", "l.toml");
+  ASSERT_FALSE(limits.has_value());
+  EXPECT_NE(limits.error().ToString().find("fit.residual_ratio_max"), std::string::npos)
+      << limits.error().ToString();
+  const auto unknown = ParseLimitsConfig("[limits]\nname = \"t\"\n[fit]\nratio = 2\n", "l.toml");
+  ASSERT_FALSE(unknown.has_value());
+}
+
+// An estimate without diagnostics (a method that reports none) cannot PASS.
+TEST(Verdict, AnEstimateWithoutDiagnosticsIsNotJudged) {
+  EstimateSummary s = PaperUnit();
+  s.diagnostics.runs.clear();
+  const Verdict verdict = EvaluateLimits(Limits(), s);
+  EXPECT_EQ(verdict.overall, LimitStatus::kNotEvaluated);
+  EXPECT_NE(verdict.FitProblems().find("no fit diagnostics"), std::string::npos);
 }
 
 }  // namespace

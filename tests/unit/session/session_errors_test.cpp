@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "hrgbench/session/session.hpp"
@@ -191,6 +192,40 @@ TEST(SessionErrorTest, ToStringFormats) {
             "s/session.json:7: field 'runs[1].id': duplicate");
   EXPECT_EQ((SessionError{"s/runs/r.csv", 0, "", "cannot open"}).ToString(),
             "s/runs/r.csv: cannot open");
+}
+
+}  // namespace
+}  // namespace hrgbench::session
+
+namespace hrgbench::session {
+namespace {
+
+// runs[].end.omega_std_error_rad_s, when the bench recorded it, reaches the estimator; a value that
+// is not a finite number >= 0 is refused naming it.
+TEST_F(SessionErrorsTest, TheRecordedStdOfOmegaIsReadAndChecked) {
+  std::string text = kValidJson;
+  const std::string from = "\"omega_rad_s\": 1e-4, ";
+  text.replace(text.find(from), from.size(),
+               from + "\"end\": {\"omega_std_error_rad_s\": 2.5e-7}, ");
+  WriteText(json_file(), text);
+  const auto session = ReadSession(dir_.path());
+  ASSERT_TRUE(session) << session.error().ToString();
+  const std::vector<estimator::RunData> runs = ToRunData(*session);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_TRUE(std::isnan(runs[0].omega_std_rad_s));  // not recorded
+  EXPECT_EQ(runs[1].omega_std_rad_s, 2.5e-7);
+  ExpectError(ReadWith(from, from + "\"end\": {\"omega_std_error_rad_s\": -1}, "), json_file(), 8,
+              "runs[1].end.omega_std_error_rad_s", "expected a finite number >= 0, got -1");
+  ExpectError(ReadWith(from, from + "\"end\": {\"omega_std_error_rad_s\": \"small\"}, "),
+              json_file(), 8, "runs[1].end.omega_std_error_rad_s",
+              "expected a number, got string \"small\"");
+  // null: not measured (the record writes NaN as null).
+  text = kValidJson;
+  text.replace(text.find(from), from.size(), from + "\"end\": {\"omega_std_error_rad_s\": null}, ");
+  WriteText(json_file(), text);
+  const auto unmeasured = ReadSession(dir_.path());
+  ASSERT_TRUE(unmeasured) << unmeasured.error().ToString();
+  EXPECT_TRUE(std::isnan(ToRunData(*unmeasured)[1].omega_std_rad_s));
 }
 
 }  // namespace
