@@ -137,7 +137,7 @@ void PrintTable(const app::SimSpec& plan, double sigma,
   if (!any) std::printf("  every parameter is identifiable in every case\n");
 }
 
-int Run(const std::string& plan_path, double sigma_override, bool json) {
+int Run(const std::string& plan_path, double sigma_override, int phase_degree, bool json) {
   auto plan = app::LoadSimSpec(plan_path);
   if (!plan) {
     spdlog::error("{}", plan.error().ToString());
@@ -160,6 +160,7 @@ int Run(const std::string& plan_path, double sigma_override, bool json) {
     design.sigma = sigma;
     design.xi_unknown = kCases[k].xi_unknown;
     design.runs = plan->runs;
+    design.phase_degree = phase_degree;
     results[k] = estimator::CramerRaoBound(design);
     all_valid = all_valid && results[k].valid;
   }
@@ -167,6 +168,7 @@ int Run(const std::string& plan_path, double sigma_override, bool json) {
   if (json) {
     nlohmann::json out = {{"plan", plan->file.string()},
                           {"sigma", sigma},
+                          {"phase_degree", phase_degree},
                           {"runs", plan->runs.size()},
                           {"truth",
                            {{"delta", std::vector<double>(plan->delta.begin(), plan->delta.end())},
@@ -195,10 +197,15 @@ int main(int argc, char** argv) {
   double sigma = 0.0;
   bool json = false;
   bool quiet = false;
+  int phase_degree = estimator::DesignSpec{}.phase_degree;
   cli.add_option("plan", plan_path, "plan or simulation spec (TOML)")->required();
+  cli.add_option("--phase-degree", phase_degree,
+                 "degree of each run's common phase taken as unknown, as hrg-estimate does "
+                 "(default 2; 0 = the model's own bound, the demodulation reference's phase known)")
+      ->check(CLI::Range(0, 3));
   cli.add_option("--sigma", sigma, "noise std per channel of y (overrides the plan's)")
       ->check(CLI::PositiveNumber);
   cli.add_flag("--json", json, "print one JSON object instead of the table");
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-design", quiet, [&] { return Run(plan_path, sigma, json); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-design", quiet, [&] { return Run(plan_path, sigma, phase_degree, json); });
 }

@@ -90,24 +90,45 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     }
   };
 
-  // Runs are independent: one normal system per run, summed after.
-  std::vector<Eigen::MatrixXd> normals(runs.size(), Eigen::MatrixXd::Zero(n, n));
-  std::vector<Eigen::VectorXd> rhss(runs.size(), Eigen::VectorXd::Zero(n));
+  // Runs are independent: one normal system per run, summed after. Each sample's 4×10 block of
+  // every column (δ1…δ6, then δ2·ξ1…δ2·ξ4) is of fixed size, so its products are unrolled; the
+  // free columns are taken out afterwards, the held δ moved to the right-hand side
+  // (b_F − N_FH·δ_H): the same normal equations as regressing on the free columns alone.
+  using Block = Eigen::Matrix<double, 4, 10>;
+  using Normal = Eigen::Matrix<double, 10, 10>;
+  using Rhs = Eigen::Matrix<double, 10, 1>;
+  std::vector<Normal> normals(runs.size(), Normal::Zero());
+  std::vector<Rhs> rhss(runs.size(), Rhs::Zero());
   ParallelFor(runs.size(), threads, [&](std::size_t r) {
-    Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
-    ForEachEquation(runs[r], xi_removed, [&](Forms lhs, const Matrix46& m) {
-      fill(runs[r].omega_rad_s, m, &lhs, &row_block);
-      normals[r].noalias() += row_block.transpose() * row_block;
-      rhss[r].noalias() += row_block.transpose() * lhs;
+    const double omega = runs[r].omega_rad_s;
+    Block block;
+    ForEachEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
+      block.leftCols<6>() = m;
+      for (int k = 0; k < 4; ++k)
+        block.col(6 + k) = m.col(kXiColumn[static_cast<std::size_t>(k)]) *
+                           (4.0 * omega * kXiSign[static_cast<std::size_t>(k)]);
+      // lazyProduct: a 10×4·4×10 product is too small for Eigen's blocked GEMM, which it would
+      // otherwise call (with its packing) once per sample.
+      normals[r].noalias() += block.transpose().lazyProduct(block);
+      rhss[r].noalias() += block.transpose().lazyProduct(lhs);
     });
   });
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  Normal full_normal = Normal::Zero();
+  Rhs full_rhs = Rhs::Zero();
   out->equations = 0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    normal += normals[r];
-    rhs += rhss[r];
+    full_normal += normals[r];
+    full_rhs += rhss[r];
     out->equations += static_cast<std::size_t>(std::max<Eigen::Index>(0, runs[r].size() - 1));
+  }
+  Eigen::MatrixXd normal(n, n);
+  Eigen::VectorXd rhs(n);
+  for (Eigen::Index a = 0; a < n; ++a) {
+    const int ca = columns[static_cast<std::size_t>(a)];
+    rhs[a] = full_rhs[ca];
+    for (int j = 0; j < 6; ++j)
+      if (!delta_free[j]) rhs[a] -= full_normal(ca, j) * delta_fixed[j];
+    for (Eigen::Index b = 0; b < n; ++b) normal(a, b) = full_normal(ca, columns[static_cast<std::size_t>(b)]);
   }
   Eigen::VectorXd solution = Eigen::VectorXd::Zero(n);
   if (n > 0 && !SolveScaledSpd(normal, rhs, &solution)) return false;
@@ -119,7 +140,7 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   for (const RunData& run : runs) {
     ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
       fill(run.omega_rad_s, m, &lhs, &row_block);
-      out->sse += (lhs - row_block * solution).squaredNorm();
+      out->sse += (lhs - row_block.lazyProduct(solution)).squaredNorm();
     });
   }
   return FinishSolution(columns, solution, delta_fixed, xi_fixed, normal, out);

@@ -218,11 +218,12 @@ theta_rad = 0.7
 }
 
 TEST_F(CliTest, DesignOfThePapersPlan) {
-  const Result r = Run(HRG_DESIGN, Quote(PaperSpec()) + " --sigma 1e-4 --json");
+  const Result r = Run(HRG_DESIGN, Quote(PaperSpec()) + " --sigma 1e-4 --phase-degree 0 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   // tests/data/reference/expected.json, crlb_at_sigma_1e-4 of the paper's design (independent
-  // prototype): δ2 std 0.00429 with ξ known, 0.00678 with all ξ unknown.
+  // prototype, the model's own bound, so --phase-degree 0): δ2 std 0.00429 with ξ known, 0.00678
+  // with all ξ unknown.
   EXPECT_NEAR(j["cases"]["xi_known"]["delta_std"][1].get<double>(), 0.004292, 0.0002);
   EXPECT_NEAR(j["cases"]["all_xi_unknown"]["delta_std"][1].get<double>(), 0.006777, 0.0003);
   EXPECT_TRUE(j["cases"]["xi_known"]["xi_std"][0].is_null());
