@@ -198,14 +198,17 @@ std::expected<void, RateTableError> ModbusRateTable::Connect() {
     Disconnect();
     return std::unexpected(std::move(error));
   };
-  std::array<std::uint16_t, input::kCount> block{};
+  // The status block is the same in every version, so it is read before the version is known.
+  std::array<std::uint16_t, input::kStatusCount> block{};
   if (auto ok = Transact(Op::kReadInput, 0, block); !ok) return fail(ok.error());
-  if (block[input::kMapVersion] != kMapVersion) {
-    return fail(
-        {RateTableErrorCode::kProtocol, config_.Describe() + " reports register map version " +
-                                            std::to_string(block[input::kMapVersion]) +
-                                            ", this driver speaks " + std::to_string(kMapVersion)});
+  const std::uint16_t version = block[input::kMapVersion];
+  if (version < kOldestMapVersion || version > kMapVersion) {
+    return fail({RateTableErrorCode::kProtocol,
+                 config_.Describe() + " reports register map version " + std::to_string(version) +
+                     ", this driver speaks " + std::to_string(kOldestMapVersion) + ".." +
+                     std::to_string(kMapVersion)});
   }
+  map_version_ = version;
   // Acceleration limit (4-5), heartbeat (6) and watchdog timeout (7) in one write, read back.
   const auto accel = EncodeFloat32(static_cast<float>(config_.accel_limit_rad_s2));
   heartbeat_value_ = static_cast<std::uint16_t>(block[input::kHeartbeatEcho] + 1u);
@@ -272,7 +275,7 @@ std::expected<void, RateTableError> ModbusRateTable::SetAccelerationLimit(double
 std::expected<hw::RateTableStatus, RateTableError> ModbusRateTable::ReadStatus() {
   if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());
   if (auto ok = HeartbeatIfDue(); !ok) return std::unexpected(ok.error());
-  std::array<std::uint16_t, input::kCount> block{};
+  std::array<std::uint16_t, input::kStatusCount> block{};
   if (auto ok = Transact(Op::kReadInput, 0, block); !ok) return std::unexpected(ok.error());
   hw::RateTableStatus status = DecodeStatusBlock(block);
   status.t_ns = clock_.NowNs();
@@ -280,6 +283,34 @@ std::expected<hw::RateTableStatus, RateTableError> ModbusRateTable::ReadStatus()
   state_.store(status.fault || status.estop ? TableLinkState::kFaulted : TableLinkState::kConnected,
                std::memory_order_release);
   return status;
+}
+
+std::expected<hw::RateTableAngle, RateTableError> ModbusRateTable::ReadAngle() {
+  if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());
+  if (map_version_ < kFirstMapVersionWithAngle) {
+    return Fail(RateTableErrorCode::kNotSupported,
+                config_.Describe() + " speaks register map version " +
+                    std::to_string(map_version_) + ", which has no encoder angle (version " +
+                    std::to_string(kFirstMapVersionWithAngle) + " has)");
+  }
+  // The heartbeat first, so that the read's time window holds this one transaction only.
+  if (auto ok = HeartbeatIfDue(); !ok) return std::unexpected(ok.error());
+  std::array<std::uint16_t, input::kAngleCount> block{};
+  const std::int64_t sent_ns = clock_.NowNs();
+  if (auto ok = Transact(Op::kReadInput, input::kAngleFirst, block); !ok)
+    return std::unexpected(ok.error());
+  const std::int64_t received_ns = clock_.NowNs();
+  hw::RateTableAngle angle = DecodeAngleBlock(block);
+  if (angle.valid && angle.counts_per_rev == 0) {
+    ++counters_.bad_replies;
+    return Fail(RateTableErrorCode::kBadReply,
+                config_.Describe() + " reports a valid angle with 0 counts per revolution");
+  }
+  // The table sampled its encoder between our request and its reply: stamp the middle, and keep
+  // the window (retries included) for the caller's error budget.
+  angle.t_ns = sent_ns + (received_ns - sent_ns) / 2;
+  angle.window_ns = received_ns - sent_ns;
+  return angle;
 }
 
 std::expected<hw::RateTableStatus, RateTableError> ModbusRateTable::WaitUntilStable(

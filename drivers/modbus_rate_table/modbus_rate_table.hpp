@@ -64,6 +64,9 @@ class ModbusRateTable final : public hw::RateTable {
   std::expected<void, hw::RateTableError> SetRate(double rate_rad_s) override;
   std::expected<void, hw::RateTableError> SetAccelerationLimit(double accel_rad_s2) override;
   std::expected<hw::RateTableStatus, hw::RateTableError> ReadStatus() override;
+  // One FC 04 of the angle block (input 11..15); kNotSupported, without I/O, when the table's map
+  // (read at Connect) is version 1. t_ns is the midpoint of the transaction on `clock`.
+  std::expected<hw::RateTableAngle, hw::RateTableError> ReadAngle() override;
   std::expected<hw::RateTableStatus, hw::RateTableError> WaitUntilStable(
       const hw::StableCriteria& criteria) override;
   std::expected<void, hw::RateTableError> Heartbeat() override;
@@ -77,6 +80,8 @@ class ModbusRateTable final : public hw::RateTable {
   const ModbusRateTableConfig& config() const noexcept { return config_; }
   // The rate last commanded by SetRate/Stop: the target WaitUntilStable compares against.
   double target_rate_rad_s() const noexcept { return target_rate_rad_s_; }
+  // The register map version the table reported at the last Connect (0 before).
+  std::uint16_t map_version() const noexcept { return map_version_; }
 
  private:
   enum class Op { kReadInput, kReadHolding, kWriteHolding };
@@ -101,6 +106,7 @@ class ModbusRateTable final : public hw::RateTable {
   std::int64_t last_heartbeat_ns_ = 0;
   std::uint16_t heartbeat_value_ = 0;
   double target_rate_rad_s_ = 0.0;
+  std::uint16_t map_version_ = 0;
   int last_exception_code_ = 0;  // of the last Transact that failed with an exception, else 0
 
   struct AtomicCounters {

@@ -15,6 +15,14 @@ float DecodeFloat32(std::uint16_t high_word, std::uint16_t low_word) noexcept {
   return std::bit_cast<float>(bits);
 }
 
+std::array<std::uint16_t, 2> EncodeUint32(std::uint32_t value) noexcept {
+  return {static_cast<std::uint16_t>(value >> 16), static_cast<std::uint16_t>(value & 0xFFFFu)};
+}
+
+std::uint32_t DecodeUint32(std::uint16_t high_word, std::uint16_t low_word) noexcept {
+  return (std::uint32_t{high_word} << 16) | std::uint32_t{low_word};
+}
+
 std::uint16_t PackStatusBits(const hw::RateTableStatus& status) noexcept {
   std::uint16_t bits = 0;
   if (status.rate_stable) bits |= status_bit::kRateStable;
@@ -25,9 +33,9 @@ std::uint16_t PackStatusBits(const hw::RateTableStatus& status) noexcept {
   return bits;
 }
 
-std::array<std::uint16_t, input::kCount> EncodeStatusBlock(
-    const hw::RateTableStatus& status) noexcept {
-  std::array<std::uint16_t, input::kCount> regs{};
+std::array<std::uint16_t, input::kStatusCount> EncodeStatusBlock(
+    const hw::RateTableStatus& status, std::uint16_t map_version) noexcept {
+  std::array<std::uint16_t, input::kStatusCount> regs{};
   const auto put_float = [&regs](int address, double value) {
     const auto words = EncodeFloat32(static_cast<float>(value));
     regs[static_cast<std::size_t>(address)] = words[0];
@@ -40,11 +48,12 @@ std::array<std::uint16_t, input::kCount> EncodeStatusBlock(
   regs[input::kMode] = static_cast<std::uint16_t>(status.mode);
   regs[input::kHeartbeatEcho] = status.heartbeat_echo;
   put_float(input::kTemperature, status.temperature_c);
-  regs[input::kMapVersion] = kMapVersion;
+  regs[input::kMapVersion] = map_version;
   return regs;
 }
 
-hw::RateTableStatus DecodeStatusBlock(std::span<const std::uint16_t, input::kCount> regs) noexcept {
+hw::RateTableStatus DecodeStatusBlock(
+    std::span<const std::uint16_t, input::kStatusCount> regs) noexcept {
   const auto get_float = [&regs](int address) {
     const auto i = static_cast<std::size_t>(address);
     return static_cast<double>(DecodeFloat32(regs[i], regs[i + 1]));
@@ -63,6 +72,34 @@ hw::RateTableStatus DecodeStatusBlock(std::span<const std::uint16_t, input::kCou
   status.heartbeat_echo = regs[input::kHeartbeatEcho];
   status.temperature_c = get_float(input::kTemperature);
   return status;
+}
+
+std::array<std::uint16_t, input::kAngleCount> EncodeAngleBlock(
+    const hw::RateTableAngle& angle) noexcept {
+  constexpr std::size_t kStatus = input::kEncoderStatus - input::kAngleFirst;
+  constexpr std::size_t kCountAt = input::kEncoderCount - input::kAngleFirst;
+  constexpr std::size_t kResolutionAt = input::kCountsPerRev - input::kAngleFirst;
+  std::array<std::uint16_t, input::kAngleCount> regs{};
+  regs[kStatus] = angle.valid ? encoder_bit::kPositionValid : 0;
+  const auto count = EncodeUint32(angle.count);
+  regs[kCountAt] = count[0];
+  regs[kCountAt + 1] = count[1];
+  const auto resolution = EncodeUint32(angle.counts_per_rev);
+  regs[kResolutionAt] = resolution[0];
+  regs[kResolutionAt + 1] = resolution[1];
+  return regs;
+}
+
+hw::RateTableAngle DecodeAngleBlock(
+    std::span<const std::uint16_t, input::kAngleCount> regs) noexcept {
+  constexpr std::size_t kStatus = input::kEncoderStatus - input::kAngleFirst;
+  constexpr std::size_t kCountAt = input::kEncoderCount - input::kAngleFirst;
+  constexpr std::size_t kResolutionAt = input::kCountsPerRev - input::kAngleFirst;
+  hw::RateTableAngle angle;
+  angle.valid = (regs[kStatus] & encoder_bit::kPositionValid) != 0;
+  angle.count = DecodeUint32(regs[kCountAt], regs[kCountAt + 1]);
+  angle.counts_per_rev = DecodeUint32(regs[kResolutionAt], regs[kResolutionAt + 1]);
+  return angle;
 }
 
 }  // namespace hrgbench::drivers::modbus_rate_table

@@ -3,8 +3,9 @@
 // keep the two in step) and the pure codec between registers and values. No libmodbus, no I/O:
 // both the driver and the simulator (drivers/sim) use it, so they speak one wire format.
 //
-// 32-bit values are IEEE-754 float32 in two registers, HIGH word first ("ABCD": register n holds
-// bits 31..16, register n+1 bits 15..0; each register big-endian on the wire as Modbus requires).
+// 32-bit values are IEEE-754 float32 or uint32 in two registers, HIGH word first ("ABCD": register
+// n holds bits 31..16, register n+1 bits 15..0; each register big-endian on the wire as Modbus
+// requires).
 
 #include <array>
 #include <cstdint>
@@ -14,7 +15,12 @@
 
 namespace hrgbench::drivers::modbus_rate_table {
 
-inline constexpr std::uint16_t kMapVersion = 1;
+// Version 2 adds the encoder angle (input registers 11..15) after version 1's status block, which
+// is unchanged. The driver accepts both: with version 1 it has no angle (kNotSupported) and the
+// bench measures Ω from the rate readings.
+inline constexpr std::uint16_t kMapVersion = 2;
+inline constexpr std::uint16_t kOldestMapVersion = 1;
+inline constexpr std::uint16_t kFirstMapVersionWithAngle = 2;
 
 // Holding registers: read with FC 03, written with FC 06 / FC 16 (FC 22 mask write and FC 23
 // write-and-read are not implemented: exception 01). A refused write changes nothing. Per register,
@@ -53,7 +59,8 @@ inline constexpr int kIllegalDataValue = 3;     // value out of the register's r
 inline constexpr int kServerDeviceFailure = 4;  // motion refused: fault, e-stop or interlock
 }  // namespace exception_code
 
-// Input registers: read-only status block, read with one FC 04 of kCount registers.
+// Input registers (read-only, FC 04): the status block (0..10, one read of kStatusCount) and,
+// from map version 2, the angle block (11..15, one read of kAngleCount from kAngleFirst).
 namespace input {
 inline constexpr int kStatusBits = 0;     // StatusBit flags
 inline constexpr int kFaultCode = 1;      // RateTableFault
@@ -63,8 +70,19 @@ inline constexpr int kMode = 6;           // RateTableMode actually active
 inline constexpr int kHeartbeatEcho = 7;  // last heartbeat value received
 inline constexpr int kTemperature = 8;    // float32 °C
 inline constexpr int kMapVersion = 10;    // kMapVersion
-inline constexpr int kCount = 11;
+inline constexpr int kStatusCount = 11;   // the status block: registers 0..10 (all of version 1)
+inline constexpr int kEncoderStatus = 11;  // EncoderBit flags
+inline constexpr int kEncoderCount = 12;   // uint32, registers 12-13: count modulo 2^32
+inline constexpr int kCountsPerRev = 14;   // uint32, registers 14-15: encoder resolution
+inline constexpr int kAngleFirst = kEncoderStatus;
+inline constexpr int kAngleCount = 5;  // the angle block: registers 11..15
+inline constexpr int kCount = 16;      // every input register of version 2
 }  // namespace input
+
+// Bits of input::kEncoderStatus.
+namespace encoder_bit {
+inline constexpr std::uint16_t kPositionValid = 1u << 0;  // referenced, no encoder read error
+}  // namespace encoder_bit
 
 // Bits of input::kStatusBits.
 namespace status_bit {
@@ -85,11 +103,24 @@ inline float DecodeFloat32(std::span<const std::uint16_t, 2> words) noexcept {
   return DecodeFloat32(words[0], words[1]);
 }
 
+// uint32 <-> two registers, high word first (the encoder count and resolution).
+std::array<std::uint16_t, 2> EncodeUint32(std::uint32_t value) noexcept;
+std::uint32_t DecodeUint32(std::uint16_t high_word, std::uint16_t low_word) noexcept;
+
 std::uint16_t PackStatusBits(const hw::RateTableStatus& status) noexcept;
 
-// The input register block <-> a status (t_ns is not on the wire and is left 0).
-std::array<std::uint16_t, input::kCount> EncodeStatusBlock(
-    const hw::RateTableStatus& status) noexcept;
-hw::RateTableStatus DecodeStatusBlock(std::span<const std::uint16_t, input::kCount> regs) noexcept;
+// The status block (input 0..10) <-> a status (t_ns is not on the wire and is left 0). The block
+// reports `map_version` in input register 10 (a simulator may serve an older map).
+std::array<std::uint16_t, input::kStatusCount> EncodeStatusBlock(
+    const hw::RateTableStatus& status, std::uint16_t map_version = kMapVersion) noexcept;
+hw::RateTableStatus DecodeStatusBlock(
+    std::span<const std::uint16_t, input::kStatusCount> regs) noexcept;
+
+// The angle block (input 11..15) <-> an angle reading (t_ns and window_ns are not on the wire and
+// are left 0; the reader stamps them).
+std::array<std::uint16_t, input::kAngleCount> EncodeAngleBlock(
+    const hw::RateTableAngle& angle) noexcept;
+hw::RateTableAngle DecodeAngleBlock(
+    std::span<const std::uint16_t, input::kAngleCount> regs) noexcept;
 
 }  // namespace hrgbench::drivers::modbus_rate_table

@@ -48,6 +48,16 @@ int main(int argc, char** argv) {
     app.add_option("--noise", physics.noise_rad_s, "Measured-rate noise (1 sigma), rad/s")
         ->capture_default_str();
     app.add_option("--seed", physics.seed, "Noise seed")->capture_default_str();
+    app.add_option("--encoder-counts", physics.encoder_counts_per_rev,
+                   "Encoder counts per revolution (1..2^32-1)")
+        ->capture_default_str();
+    app.add_option("--encoder-noise", physics.encoder_noise_rad,
+                   "Encoder read noise (1 sigma, before quantisation), rad")
+        ->capture_default_str();
+    app.add_option("--map-version", server.map_version,
+                   "Register map version served: 2, or 1 (no encoder angle)")
+        ->check(CLI::Range(1, 2))
+        ->capture_default_str();
     app.add_option("--watchdog-ms", physics.watchdog_ms, "Power-on watchdog timeout, ms")
         ->capture_default_str();
     app.add_option("--estop-after-s", estop_after_s, "Press the e-stop this long after start");

@@ -80,7 +80,13 @@ std::expected<void, std::string> ModbusTableServer::Open() {
     CloseAll();
     return std::unexpected(error);
   }
-  mapping_ = modbus_mapping_new(0, 0, holding::kCount, input::kCount);
+  if (options_.map_version < modbus_rate_table::kOldestMapVersion ||
+      options_.map_version > modbus_rate_table::kMapVersion) {
+    CloseAll();
+    return std::unexpected("map version " + std::to_string(options_.map_version) +
+                           " is not one this simulator serves (1 or 2)");
+  }
+  mapping_ = modbus_mapping_new(0, 0, holding::kCount, InputCount());
   if (mapping_ == nullptr) {
     CloseAll();
     return std::unexpected("modbus_mapping_new failed");
@@ -90,8 +96,13 @@ std::expected<void, std::string> ModbusTableServer::Open() {
   mapping_->tab_registers[holding::kAccelLimit] = accel[0];
   mapping_->tab_registers[holding::kAccelLimit + 1] = accel[1];
   mapping_->tab_registers[holding::kWatchdogMs] = physics_.watchdog_ms();
-  RefreshInputRegisters();
+  RefreshInputRegisters(0, input::kStatusCount);
   return {};
+}
+
+int ModbusTableServer::InputCount() const {
+  return options_.map_version >= modbus_rate_table::kFirstMapVersionWithAngle ? input::kCount
+                                                                              : input::kStatusCount;
 }
 
 void ModbusTableServer::CloseAll() noexcept {
@@ -167,9 +178,19 @@ bool ModbusTableServer::TakeFault(RegisterTable table, int address, int count, F
   return false;
 }
 
-void ModbusTableServer::RefreshInputRegisters() {
-  const auto block = modbus_rate_table::EncodeStatusBlock(physics_.Status());
-  std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
+void ModbusTableServer::RefreshInputRegisters(int address, int count) {
+  const auto covers = [&](int first, int n) {
+    return address < first + n && first < address + count;
+  };
+  if (covers(0, input::kStatusCount)) {
+    const auto block = modbus_rate_table::EncodeStatusBlock(
+        physics_.Status(), static_cast<std::uint16_t>(options_.map_version));
+    std::copy(block.begin(), block.end(), mapping_->tab_input_registers);
+  }
+  if (InputCount() > input::kAngleFirst && covers(input::kAngleFirst, input::kAngleCount)) {
+    const auto block = modbus_rate_table::EncodeAngleBlock(physics_.Angle());
+    std::copy(block.begin(), block.end(), mapping_->tab_input_registers + input::kAngleFirst);
+  }
 }
 
 std::array<std::uint16_t, holding::kCount> ModbusTableServer::ImageAfterWrite(
@@ -328,7 +349,7 @@ void ModbusTableServer::Serve(std::uint8_t* query, int length) {
     }
   }
   RefreshHoldingRegisters();
-  if (function == kFnReadInput) RefreshInputRegisters();
+  if (function == kFnReadInput) RefreshInputRegisters(address, count);
   const bool write = function == kFnWriteSingle || function == kFnWriteMultiple;
   if (write) {
     if (const int refusal = CheckWrite(query, function, address, count); refusal != 0) {

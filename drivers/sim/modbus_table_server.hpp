@@ -12,6 +12,8 @@
 //                            pressed, or mode 1 with the interlock open (which trips fault 3);
 //                            mode 0 / rate 0 are always accepted (a stop must always be possible);
 //   01 ILLEGAL FUNCTION      FC 22 (mask write) and FC 23 (write and read), not in the map.
+// Reads of the input registers are served from the physics at the moment of the request: the
+// status block (0..10) from Status(), the angle block (11..15, map version 2) from Angle().
 // The holding mode register reads the mode actually active (0 once a fault tripped), so it
 // agrees with the status block.
 //
@@ -49,6 +51,10 @@ struct TableServerOptions {
   int late_reply_ms = 1000;  // "late" faults: well beyond the driver's default 200 ms timeout
   int poll_ms = 20;          // granularity of RequestStop()
   bool debug = false;        // libmodbus' frame dump on stdout
+  // The register map version served: 2 (the current map, with the encoder angle in input
+  // registers 11..15), or 1 (a table of the first map: 11 input registers, no angle; reads past
+  // them get exception 02), to test clients against an older table.
+  int map_version = modbus_rate_table::kMapVersion;
 };
 
 struct TableServerCounters {
@@ -94,7 +100,10 @@ class ModbusTableServer {
   bool ApplyWrite(const std::uint8_t* query, int function, int address, int count);
   void Refuse(const std::uint8_t* query, int exception_code);
   void RefreshHoldingRegisters();
-  void RefreshInputRegisters();
+  // The input registers a read of [address, address + count) covers, from the physics: the status
+  // block draws the rate noise, the angle block the encoder's (each only when read).
+  void RefreshInputRegisters(int address, int count);
+  int InputCount() const;
   void SleepUnlessStopped(int ms);
   void CloseAll() noexcept;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 namespace hrgbench::drivers::sim {
@@ -28,8 +29,20 @@ bool TablePhysicsOptions::IsValid(std::string* why) const {
          positive("motion_threshold_rad_s", motion_threshold_rad_s) &&
          positive("estop_decel_rad_s2", estop_decel_rad_s2) && positive("step_s", step_s) &&
          positive("watchdog_ms", watchdog_ms) &&
-         (noise_rad_s >= 0.0 || positive("noise_rad_s", noise_rad_s));
+         (noise_rad_s >= 0.0 || positive("noise_rad_s", noise_rad_s)) &&
+         positive("encoder_counts_per_rev", encoder_counts_per_rev) &&
+         ((std::isfinite(encoder_noise_rad) && encoder_noise_rad >= 0.0) ||
+          positive("encoder_noise_rad", encoder_noise_rad));
 }
+
+namespace {
+std::mt19937_64 EncoderGenerator(std::uint64_t seed) {
+  // Its own stream, so that angle reads do not shift the rate noise the status reads see.
+  std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                         2u};
+  return std::mt19937_64(sequence);
+}
+}  // namespace
 
 TablePhysics::TablePhysics(TablePhysicsOptions options, const hw::Clock& clock)
     : options_(options),
@@ -38,7 +51,8 @@ TablePhysics::TablePhysics(TablePhysicsOptions options, const hw::Clock& clock)
       watchdog_ms_(options.watchdog_ms),
       t_ns_(clock.NowNs()),
       last_heartbeat_ns_(t_ns_),
-      rng_(options.seed) {}
+      rng_(options.seed),
+      encoder_rng_(EncoderGenerator(options.seed)) {}
 
 void TablePhysics::Trip(RateTableFault fault) {
   if (fault_code_ == 0) fault_code_ = static_cast<std::uint16_t>(fault);  // the first cause
@@ -61,8 +75,12 @@ void TablePhysics::AdvanceTo(std::int64_t now_ns) {
     const double decel = estop_ ? options_.estop_decel_rad_s2 : accel_rad_s2_;
     const double max_step = decel * dt_s;
     ramp_rad_s_ += std::clamp(goal - ramp_rad_s_, -max_step, max_step);
-    rate_rad_s_ +=
-        (ramp_rad_s_ - rate_rad_s_) * (1.0 - std::exp(-dt_s / options_.settle_time_constant_s));
+    const double tau = options_.settle_time_constant_s;
+    const double decay = 1.0 - std::exp(-dt_s / tau);
+    // The angle is the integral of the same solution, w(t) = r + (w0 - r) exp(-t / tau), over the
+    // step; so the mean rate from the angle is exactly the mean of the rate the gyro senses.
+    angle_rad_ += ramp_rad_s_ * dt_s + (rate_rad_s_ - ramp_rad_s_) * tau * decay;
+    rate_rad_s_ += (ramp_rad_s_ - rate_rad_s_) * decay;
     if (std::abs(rate_rad_s_) > 1.1 * options_.max_rate_rad_s) Trip(RateTableFault::kOverspeed);
     const bool at_rate = moving_allowed && ramp_rad_s_ == target_rad_s_ &&
                          std::abs(rate_rad_s_ - target_rad_s_) <= options_.stable_tolerance_rad_s;
@@ -175,6 +193,30 @@ double TablePhysics::TrueRateRadS() {
   std::lock_guard lock(mutex_);
   AdvanceTo(clock_.NowNs());
   return rate_rad_s_;
+}
+
+hw::RateTableAngle TablePhysics::Angle() {
+  std::lock_guard lock(mutex_);
+  AdvanceTo(clock_.NowNs());
+  const double counts_per_rad =
+      static_cast<double>(options_.encoder_counts_per_rev) / (2.0 * std::numbers::pi);
+  const double read_rad = angle_rad_ + options_.encoder_noise_rad * encoder_normal_(encoder_rng_);
+  // floor: an encoder counts edges, so the count changes when the angle crosses one. int64 holds
+  // 1e12 rad of 2^23 counts/rev; the conversion to uint32 is modulo 2^32 (negative angles wrap).
+  const auto count = static_cast<std::int64_t>(std::floor(read_rad * counts_per_rad));
+  hw::RateTableAngle a;
+  a.t_ns = t_ns_;
+  a.window_ns = 0;
+  a.count = static_cast<std::uint32_t>(count);
+  a.counts_per_rev = options_.encoder_counts_per_rev;
+  a.valid = true;
+  return a;
+}
+
+double TablePhysics::TrueAngleRad() {
+  std::lock_guard lock(mutex_);
+  AdvanceTo(clock_.NowNs());
+  return angle_rad_;
 }
 
 hw::RateTableMode TablePhysics::ActiveMode() {

@@ -10,6 +10,12 @@
 //   measured rate:     w + N(0, noise_rad_s^2), drawn per Status() from a mt19937_64 seeded
 //                      with `seed` (libstdc++'s normal_distribution: reproducible on this
 //                      toolchain for the same sequence of calls and times).
+//   table angle:       phi += integral of w over the step, exactly for the lag above with r held:
+//                      r dt + (w - r) tau (1 - exp(-dt / tau))
+//   encoder count:     floor((phi + N(0, encoder_noise_rad^2)) / q) modulo 2^32,
+//                      q = 2 pi / encoder_counts_per_rev; the read noise from a second generator
+//                      (seed_seq {seed, 2}), so reading the angle leaves the rate noise's sequence
+//                      as it was. phi starts at 0 (the count at 0) when the table is made.
 // Target is the commanded rate in rate mode and 0 in idle or when faulted.
 // Safety: watchdog (rate mode without a heartbeat for watchdog_ms -> fault kWatchdog, ramp to 0),
 // e-stop (fault kEStop, ramp to 0 at estop_decel_rad_s2), interlock (commanding motion while open,
@@ -45,6 +51,10 @@ struct TablePhysicsOptions {
   std::uint16_t watchdog_ms = 1000;      // power-on watchdog timeout
   double temperature_c = 25.0;
   double step_s = 1e-3;  // integration step
+  // The table top's encoder: 2^23 counts/rev (0.15 arcsec) is a usual rate-table encoder after
+  // interpolation; its read noise, 1 sigma before quantisation, about 0.2 arcsec.
+  std::uint32_t encoder_counts_per_rev = 1u << 23;
+  double encoder_noise_rad = 1e-6;
 
   bool IsValid(std::string* why) const;
 };
@@ -70,6 +80,11 @@ class TablePhysics {
   hw::RateTableStatus Status();
   // Advances to now; the noiseless table rate (what a gyro on the top senses).
   double TrueRateRadS();
+  // Advances to now and reads the encoder: t_ns = now, window_ns = 0 (sampled at now), the count
+  // with read noise and quantisation, valid = true.
+  hw::RateTableAngle Angle();
+  // Advances to now; the table angle itself (rad since construction, unwrapped, no noise).
+  double TrueAngleRad();
   // Advance to now without drawing noise (the Modbus server asks before every request, and must
   // not change the seeded noise sequence the status reads see). ActiveMode: the mode the table is
   // in (kIdle once a fault trips, whatever was commanded). LatchedFaultCode: the RateTableFault
@@ -92,6 +107,7 @@ class TablePhysics {
   double target_rad_s_ = 0.0;
   double ramp_rad_s_ = 0.0;
   double rate_rad_s_ = 0.0;
+  double angle_rad_ = 0.0;  // relative precision 1e-16: 1e-10 rad after a day at 10 rad/s
   double accel_rad_s2_;
   std::uint16_t watchdog_ms_;
   std::int64_t t_ns_;
@@ -105,6 +121,8 @@ class TablePhysics {
   std::int64_t stable_since_ns_ = 0;
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
+  std::mt19937_64 encoder_rng_;
+  std::normal_distribution<double> encoder_normal_{0.0, 1.0};
 };
 
 }  // namespace hrgbench::drivers::sim

@@ -227,6 +227,12 @@ std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::ReadStatu
   return status;
 }
 
+std::expected<hw::RateTableAngle, RateTableError> InProcessRateTable::ReadAngle() {
+  if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());
+  if (auto ok = Transact("read angle"); !ok) return std::unexpected(ok.error());
+  return physics_.Angle();
+}
+
 std::expected<hw::RateTableStatus, RateTableError> InProcessRateTable::WaitUntilStable(
     const hw::StableCriteria& criteria) {
   if (auto ok = RequireConnected(/*allow_faulted=*/true); !ok) return std::unexpected(ok.error());

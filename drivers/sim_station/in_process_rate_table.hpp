@@ -92,6 +92,10 @@ class InProcessRateTable final : public hw::RateTable {
   std::expected<void, hw::RateTableError> SetRate(double rate_rad_s) override;
   std::expected<void, hw::RateTableError> SetAccelerationLimit(double accel_rad_s2) override;
   std::expected<hw::RateTableStatus, hw::RateTableError> ReadStatus() override;
+  // The physics' encoder (TablePhysics::Angle: quantised, with read noise) sampled at the clock's
+  // now: window_ns = 0, as an ideal time stamp. One call, like ReadStatus (failures injected the
+  // same way).
+  std::expected<hw::RateTableAngle, hw::RateTableError> ReadAngle() override;
   std::expected<hw::RateTableStatus, hw::RateTableError> WaitUntilStable(
       const hw::StableCriteria& criteria) override;
   std::expected<void, hw::RateTableError> Heartbeat() override;

@@ -97,6 +97,9 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
+  o.table_physics.encoder_counts_per_rev =
+      static_cast<std::uint32_t>(sim.table_encoder_counts_per_rev);
+  o.table_physics.encoder_noise_rad = sim.table_encoder_noise_rad;
   o.table_physics.stable_tolerance_rad_s = sim.table_stable_tolerance_rad_s;
   o.table_physics.stable_hold_s = sim.table_stable_hold_s;
   o.table_physics.seed = sim.seed + 1000;

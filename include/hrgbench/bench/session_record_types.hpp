@@ -100,14 +100,27 @@ inline constexpr const char* kRunInterrupted = "interrupted";  // was running wh
 struct RunEnd {
   std::string status = kRunComplete;  // kRunComplete, kRunAborted or kRunRejected
   std::string reason;                 // required unless complete
-  // Ω for the estimator: mean measured table rate over the capture + Earth-rate component.
-  // Must be finite for a complete run; otherwise NaN means "commanded Ω" in session.json.
+  // Ω for the estimator: the table's mean rate over the capture + the Earth-rate component,
+  // measured as omega_source says (below). Must be finite for a complete run; otherwise NaN means
+  // "commanded Ω" in session.json.
   double omega_rad_s = std::numeric_limits<double>::quiet_NaN();
-  // How well that Ω is known: the standard error of the mean of the table's rate readings (rad/s)
-  // and how many there were. With the production sequence, an Ω error of 3e-7 rad/s already
-  // biases δ3…δ6 by ~4 of their std, so the record keeps it. NaN / 0 when not measured.
+  // How well that Ω is known (rad/s) and from how many table readings. With the production
+  // sequence, an Ω error of 3e-7 rad/s already biases δ3…δ6 by ~4 of their std, so the record
+  // keeps it. NaN / 0 when not measured.
   double omega_std_error_rad_s = std::numeric_limits<double>::quiet_NaN();
   std::uint64_t omega_readings = 0;
+  // Which measurement the three above are: "angle" or "rate" (bench/run_omega.hpp); empty when
+  // neither was made (a run that ended before its capture).
+  std::string omega_source;
+  // Both measurements, each + the Earth-rate component, so nothing is lost whichever was used:
+  // the mean of the rate readings and its standard error; the angle's line fit and its standard
+  // error (NaN / 0 when the table reports no angle or it was not read).
+  double omega_rate_rad_s = std::numeric_limits<double>::quiet_NaN();
+  double omega_rate_std_error_rad_s = std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t omega_rate_readings = 0;
+  double omega_angle_rad_s = std::numeric_limits<double>::quiet_NaN();
+  double omega_angle_std_error_rad_s = std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t omega_angle_readings = 0;
   double temperature_start_c = std::numeric_limits<double>::quiet_NaN();
   double temperature_end_c = std::numeric_limits<double>::quiet_NaN();
   double frequency_start_hz = std::numeric_limits<double>::quiet_NaN();

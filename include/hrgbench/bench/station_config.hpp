@@ -33,6 +33,14 @@ std::string_view ToString(StationKind kind) noexcept;  // "simulated", "real"
 enum class TableTransport { kTcp, kRtu };
 std::string_view ToString(TableTransport transport) noexcept;  // "tcp", "rtu"
 
+// [table] omega_source: which of the table's measurements gives a run's Ω (bench/run_omega.hpp).
+// Absent: the angle when the table reports one (register map version 2, the simulated tables),
+// the rate readings otherwise. "angle": the angle, and a run on a table without one is an ERROR.
+// "rate": the rate readings' mean, as before the angle existed. Both are recorded either way.
+enum class OmegaSourceSetting { kAngleWhenReported, kAngle, kRate };
+// "angle when reported" (the default, not a value of the key), "angle", "rate".
+std::string_view ToString(OmegaSourceSetting setting) noexcept;
+
 // [gyro]: the gyro electronics' link. Timeouts apply to the simulated station too (its simulated
 // electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
 struct GyroLinkConfig {
@@ -70,6 +78,7 @@ struct TableLinkConfig {
   double max_rate_rad_s = 10.0;     // software limit: no |Ω| above it is ever commanded
   double max_accel_rad_s2 = 5.0;    // software limit on the acceleration setting
   double accel_rad_s2 = 1.0;        // acceleration limit written at connect, <= max_accel_rad_s2
+  OmegaSourceSetting omega_source = OmegaSourceSetting::kAngleWhenReported;
 };
 
 // [simulated.faults]: failure injection for tests; everything off by default. Absent optionals
@@ -131,6 +140,8 @@ struct SimulatedStationConfig {
   // Table physics (drivers/sim/table_physics.hpp).
   double table_settle_time_constant_s = 0.05;
   double table_noise_rad_s = 2e-5;  // measured-rate noise, 1 σ
+  std::int64_t table_encoder_counts_per_rev = 1 << 23;  // the table top's encoder resolution
+  double table_encoder_noise_rad = 1e-6;  // encoder read noise, 1 σ, before quantisation
   double table_stable_tolerance_rad_s = 1e-3;
   double table_stable_hold_s = 0.2;
   SimulatedFaults faults;

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <expected>
+#include <numbers>
 #include <string>
 
 namespace hrgbench::hw {
@@ -72,6 +73,32 @@ struct RateTableStatus {
   std::uint16_t heartbeat_echo = 0;  // last heartbeat value the table received
 };
 
+// One read of the table top's encoder angle. A table knows its mean rate over a run far better
+// from its angle than from its rate readings: (angle_end - angle_start) / (t_end - t_start) is the
+// exact mean of the true rate, whatever the rate did in between, and its error does not grow with
+// the run (bench/run_omega.hpp turns a run's readings into Ω and its standard error).
+//
+// The count is the encoder's, modulo 2^32: it wraps, so use differences of successive readings
+// (exact while the table turns less than 2^31 counts between them: 256 revolutions at 2^23
+// counts/rev). counts_per_rev need not divide 2^32, so a single count is not an angle modulo 2π.
+//
+// Time: t_ns is on the caller's bench clock (the implementation's injected Clock), the midpoint of
+// the read (request sent .. reply received); the table sampled its encoder somewhere in
+// t_ns ± window_ns / 2 (0 for an in-process table that samples at the clock's now). The angle's
+// time error is therefore at most window_ns / 2, and |Ω| · window_ns / sqrt(12) rad of angle when
+// it is taken as uniform in the window.
+struct RateTableAngle {
+  std::int64_t t_ns = 0;             // bench clock, midpoint of the read
+  std::int64_t window_ns = 0;        // reply time - request time, >= 0
+  std::uint32_t count = 0;           // encoder count, modulo 2^32
+  std::uint32_t counts_per_rev = 0;  // encoder resolution as the table reports it (> 0 if valid)
+  bool valid = false;                // the table vouches for the position (no encoder error)
+
+  double RadPerCount() const noexcept {
+    return counts_per_rev == 0 ? 0.0 : 2.0 * std::numbers::pi / counts_per_rev;
+  }
+};
+
 enum class RateTableErrorCode {
   kInvalidConfig,     // a config value is out of range (message names it)
   kNotConnected,      // called before Connect() or after the link was given up
@@ -85,6 +112,7 @@ enum class RateTableErrorCode {
   kFaulted,           // the table reports a fault (or e-stop); reset it before moving
   kNotStable,         // WaitUntilStable: the stable conditions did not hold within the timeout
   kProtocol,          // the peer is not a table of the documented map (e.g. map version)
+  kNotSupported,      // the table does not offer this (e.g. no angle registers in its map)
 };
 
 struct RateTableError {
@@ -121,6 +149,8 @@ inline const char* RateTableErrorCodeName(RateTableErrorCode code) {
       return "not stable";
     case RateTableErrorCode::kProtocol:
       return "protocol";
+    case RateTableErrorCode::kNotSupported:
+      return "not supported";
   }
   return "unknown";
 }
@@ -191,6 +221,13 @@ class RateTable {
   // ReadStatus, kInvalidConfig (criteria).
   virtual std::expected<RateTableStatus, RateTableError> WaitUntilStable(
       const StableCriteria& criteria) = 0;
+
+  // One read of the encoder angle (one transaction), stamped on the implementation's clock (see
+  // RateTableAngle). A table without an angle readout answers kNotSupported, every time, without
+  // any I/O; the caller then measures Ω from the rate readings. A table fault is not an error
+  // here (the angle of a stopped table is still its angle). Failure: kNotSupported, kNotConnected,
+  // kTimeout, kExceptionReply, kBadReply (e.g. a reported resolution of 0), kConnectionLost.
+  virtual std::expected<RateTableAngle, RateTableError> ReadAngle() = 0;
 
   // Refreshes the table's watchdog. Every other call refreshes it too when it is due; the owner
   // must call some method at least every heartbeat period while the table may move (documented by

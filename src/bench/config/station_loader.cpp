@@ -196,11 +196,18 @@ std::expected<TableLinkConfig, ConfigError> ReadTable(TableReader& reader, Stati
     if (node == nullptr) return std::unexpected(reader.Missing("accel_rad_s2", message));
     return std::unexpected(reader.Error(*node, "accel_rad_s2", message));
   }
+  // Absent is its own setting (the angle when the table reports one), not one of the values.
+  if (reader.table().get("omega_source") != nullptr) {
+    HRG_TRY(source, Choice(reader, "omega_source", {"angle", "rate"}, -1));
+    table.omega_source = *source == 0 ? OmegaSourceSetting::kAngle : OmegaSourceSetting::kRate;
+  } else {
+    reader.Find("omega_source");
+  }
   HRG_CHECK(reader.Unknown(
       "transport, host, port, device, baud, parity, data_bits, stop_bits, unit_id, "
       "response_timeout_ms, byte_timeout_ms, transaction_attempts, connect_attempts, "
       "reconnect_backoff_ms, heartbeat_period_ms, safe_stop_budget_ms, watchdog_ms, "
-      "max_rate_rad_s, max_accel_rad_s2, accel_rad_s2"));
+      "max_rate_rad_s, max_accel_rad_s2, accel_rad_s2, omega_source"));
   return table;
 }
 
@@ -315,6 +322,15 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   HRG_TRY(noise, OptionalNumber(reader, "table_noise_rad_s", {0.0, 1.0, true, "in [0, 1]"},
                                 sim.table_noise_rad_s));
   sim.table_noise_rad_s = *noise;
+  // The encoder: from 2^12 counts/rev (a coarse motor encoder) to 2^31 (the count's signed
+  // difference must hold one revolution); read noise up to 1e-3 rad (3 arcmin).
+  HRG_TRY(counts, OptionalInteger(reader, "table_encoder_counts_per_rev", 1 << 12,
+                                  std::int64_t{1} << 31, sim.table_encoder_counts_per_rev));
+  sim.table_encoder_counts_per_rev = *counts;
+  HRG_TRY(encoder_noise,
+          OptionalNumber(reader, "table_encoder_noise_rad", {0.0, 1e-3, true, "in [0, 1e-3]"},
+                         sim.table_encoder_noise_rad));
+  sim.table_encoder_noise_rad = *encoder_noise;
   HRG_TRY(tolerance, OptionalNumber(reader, "table_stable_tolerance_rad_s", kPositive,
                                     sim.table_stable_tolerance_rad_s));
   sim.table_stable_tolerance_rad_s = *tolerance;
@@ -330,8 +346,8 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   HRG_CHECK(reader.Unknown(
       "faster_than_real_time, time_scale, physics, delta, xi, sigma, seed, resonant_frequency_hz, "
       "temperature_c, temperature_drift_c_per_s, excite_time_s, table_settle_time_constant_s, "
-      "table_noise_rad_s, table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], "
-      "[simulated.faults]"));
+      "table_noise_rad_s, table_encoder_counts_per_rev, table_encoder_noise_rad, "
+      "table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], [simulated.faults]"));
   return sim;
 }
 
@@ -419,6 +435,18 @@ std::string_view ToString(StationKind kind) noexcept {
 
 std::string_view ToString(TableTransport transport) noexcept {
   return transport == TableTransport::kRtu ? "rtu" : "tcp";
+}
+
+std::string_view ToString(OmegaSourceSetting setting) noexcept {
+  switch (setting) {
+    case OmegaSourceSetting::kAngleWhenReported:
+      return "angle when reported";
+    case OmegaSourceSetting::kAngle:
+      return "angle";
+    case OmegaSourceSetting::kRate:
+      return "rate";
+  }
+  return "?";
 }
 
 std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view toml_text,

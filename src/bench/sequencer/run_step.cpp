@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bench/sequencer/run_context.hpp"
+#include "bench/sequencer/run_omega_readings.hpp"
 
 namespace hrgbench::bench::internal {
 namespace {
@@ -118,6 +119,14 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
   // too; deadlines and progress run on the bench's clock, so note the release there as well.
   const std::int64_t released_at = hw.clock->NowNs();
+  // One table read per loop period for the run and its margin, the release and the end.
+  const auto table_reads = static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) *
+                                                    1e9 / static_cast<double>(kTableReadPeriodNs));
+  RunOmegaReadings omega(ctx.configs->station.table.omega_source, table_reads + 8);
+  if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
+    MakeSafe(hw);
+    return read;
+  }
   start.release_t_ns = *release;
   if (auto begun = ctx.recorder->BeginRun(run_id, start); !begun)
     return StepOutcome::Error("record: " + begun.error().ToString());
@@ -141,9 +150,6 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   progress.phase = "capture";
   std::vector<hw::GyroSample> drained;
   std::vector<GyroSampleRecord> records;
-  double omega_sum = 0.0;
-  double omega_sum2 = 0.0;
-  int omega_reads = 0;
   std::int64_t next_table_read = 0;
   StepOutcome outcome = StepOutcome::Ok();
   const auto drain = [&]() -> bool {
@@ -179,9 +185,11 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
                                      ": " + hw::RateTableFaultName(table->fault_code));
         break;
       }
-      omega_sum += table->measured_rate_rad_s;
-      omega_sum2 += table->measured_rate_rad_s * table->measured_rate_rad_s;
-      ++omega_reads;
+      omega.AddRate(table->measured_rate_rad_s);
+      if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
+        outcome = read;
+        break;
+      }
     }
     if (ctx.Interrupted()) {
       outcome = StepOutcome::Aborted("operator interrupt during run " + std::to_string(run_id));
@@ -204,6 +212,10 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   while (capture.Running()) hw.clock->SleepForNs(kLoopPeriodNs);
   const CaptureResult result = capture.Join();
   if (outcome.ok()) drain();
+  // The angle once more, now that the capture is over: the fit spans the whole run.
+  if (outcome.ok()) {
+    if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) outcome = read;
+  }
   if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
 
   RunEnd end;
@@ -221,15 +233,9 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The run's closing frames (status request, Stop and their acks) belong to this run's record,
   // not the next one's, and the last run's would otherwise never be logged.
   if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
-  end.omega_rad_s = (omega_reads > 0 ? omega_sum / omega_reads : start.measured_omega_rad_s) +
-                    ctx.earth_rate_rad_s;
-  end.omega_readings = static_cast<std::uint64_t>(omega_reads);
-  if (omega_reads > 1) {
-    // Readings 20 ms apart are treated as independent (the readout noise, not the rate, varies).
-    const double n = omega_reads;
-    const double mean = omega_sum / n;
-    const double variance = std::max(0.0, (omega_sum2 - n * mean * mean) / (n - 1));
-    end.omega_std_error_rad_s = std::sqrt(variance / n);
+  if (StepOutcome measured = omega.Finish(ctx.earth_rate_rad_s, start.measured_omega_rad_s, end);
+      !measured.ok() && outcome.ok()) {
+    outcome = measured;
   }
 
   if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
@@ -282,9 +288,15 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     outcome = StepOutcome::Error("record: " + ended.error().ToString());
   ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
   if (outcome.ok()) {
-    ctx.Log("run " + std::to_string(run_id) + " " + (end.status == kRunComplete ? "complete" : end.status) +
-            ": " + std::to_string(progress.samples) + " samples, Ω = " +
-            Format("%.9g", end.omega_rad_s) + " rad/s");
+    ctx.Log("run " + std::to_string(run_id) + " " +
+            (end.status == kRunComplete ? "complete" : end.status) + ": " +
+            std::to_string(progress.samples) + " samples, Ω = " + Format("%.12g", end.omega_rad_s) +
+            " ± " + Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " +
+            end.omega_source +
+            (end.omega_source == "rate" &&
+                     ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
+                 ? " readings (" + omega.NoAngleReason() + ")"
+                 : ""));
   }
   return outcome;
 }

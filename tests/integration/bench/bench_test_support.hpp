@@ -32,15 +32,18 @@ struct BenchRun {
   bench::SessionResult result;
   std::filesystem::path dir;
   std::unique_ptr<app::Station> station;  // kept, so a test can look at the hardware afterwards
+  std::unique_ptr<hw::RateTable> table;   // the wrapper the bench used instead, if any
 };
 
 // Loads the shipped configs (the station: station-sim.toml unless `station_file` says otherwise),
 // lets `edit` change them (faults, shorter runs), opens the station and runs the session.
 // `interrupt_when` (optional) is asked at every progress report whether to press Ctrl-C now.
+// `wrap_table` (optional) puts a table of its own between the bench and the station's.
 inline BenchRun RunOnSimulatedStation(
     const std::string& sequence, const std::string& limits,
     const std::function<void(bench::BenchConfigs&)>& edit = {},
     const std::function<bool(const bench::Progress&)>& interrupt_when = {},
+    const std::function<std::unique_ptr<hw::RateTable>(hw::RateTable&)>& wrap_table = {},
     const std::string& station_file = "station-sim.toml") {
   BenchRun run;
   auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
@@ -62,7 +65,12 @@ inline BenchRun RunOnSimulatedStation(
     if (interrupt_when && interrupt_when(p)) interrupts = 1;
   };
   run.dir = FreshDir("session");
-  run.result = bench::RunSession(*configs, run.station->hardware(), run.dir, options);
+  bench::BenchHardware hardware = run.station->hardware();
+  if (wrap_table) {
+    run.table = wrap_table(*hardware.table);
+    hardware.table = run.table.get();
+  }
+  run.result = bench::RunSession(*configs, hardware, run.dir, options);
   return run;
 }
 

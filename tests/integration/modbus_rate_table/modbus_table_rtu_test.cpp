@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <regex>
+#include <thread>
 
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "modbus_rate_table/register_map.hpp"
@@ -119,6 +120,20 @@ TEST_F(ModbusTableRtu, SetRateBecomesStableOverRtu) {
       {.tolerance_rad_s = 2e-3, .dwell_s = 0.2, .timeout_s = 10.0, .poll_period_s = 0.02});
   ASSERT_TRUE(stable) << stable.error().ToString();
   EXPECT_NEAR(stable->measured_rate_rad_s, -0.3, 2e-3);
+  // The angle block over RTU: two reads 0.2 s apart turn the table's way. At 115200 baud one read
+  // takes ~2 ms, which is its window (the bound is loose: the sign and size, not the metrology).
+  const auto first = table.ReadAngle();
+  ASSERT_TRUE(first) << first.error().ToString();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto second = table.ReadAngle();
+  ASSERT_TRUE(second) << second.error().ToString();
+  EXPECT_TRUE(first->valid && second->valid);
+  EXPECT_GT(first->window_ns, 0);
+  const double turned =
+      static_cast<std::int32_t>(second->count - first->count) * first->RadPerCount();
+  const double dt = static_cast<double>(second->t_ns - first->t_ns) * 1e-9;
+  EXPECT_NEAR(turned / dt, -0.3,
+              0.3 * static_cast<double>(first->window_ns + second->window_ns) * 1e-9 / dt + 1e-4);
   table.SafeStop();
   EXPECT_EQ(sim_->physics().Status().mode, hw::RateTableMode::kIdle);
   EXPECT_EQ(table.counters().timeouts, 0u);

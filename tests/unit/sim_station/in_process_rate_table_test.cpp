@@ -205,5 +205,49 @@ TEST(InProcessRateTableTest, SafeStopCommandsZeroFromAnyState) {
   static_assert(noexcept(rig.table.SafeStop()));
 }
 
+TEST(InProcessRateTableTest, ReadAngleIsThePhysicsEncoderAtTheClocksNow) {
+  sim::TablePhysicsOptions physics;
+  physics.encoder_noise_rad = 0.0;
+  physics.noise_rad_s = 0.0;
+  Rig rig({}, physics);
+  EXPECT_EQ(rig.table.ReadAngle().error().code, RateTableErrorCode::kNotConnected);
+  ASSERT_TRUE(rig.table.Connect().has_value());
+  ASSERT_TRUE(rig.table.SetRate(0.5).has_value());
+  ASSERT_TRUE(rig.table.WaitUntilStable(Criteria()).has_value());
+  const auto wait_s = [&rig](int seconds) {  // with heartbeats: the watchdog is 1 s
+    for (int i = 0; i < 10 * seconds; ++i) {
+      rig.clock.Advance(kNsPerS / 10);
+      ASSERT_TRUE(rig.table.Heartbeat().has_value());
+    }
+  };
+  wait_s(2);  // settled to the last bit (40 time constants)
+  const auto first = rig.table.ReadAngle();
+  ASSERT_TRUE(first.has_value()) << first.error().ToString();
+  EXPECT_TRUE(first->valid);
+  EXPECT_EQ(first->t_ns, rig.clock.NowNs());
+  EXPECT_EQ(first->window_ns, 0);  // sampled at the clock's now: no read-time jitter
+  EXPECT_EQ(first->counts_per_rev, physics.encoder_counts_per_rev);
+  wait_s(10);
+  const auto second = rig.table.ReadAngle();
+  ASSERT_TRUE(second.has_value());
+  // 5 rad in 10 s; the two floors leave one count of doubt.
+  const auto counts = static_cast<std::int32_t>(second->count - first->count);
+  EXPECT_NEAR(counts * first->RadPerCount(), 5.0, first->RadPerCount());
+}
+
+TEST(InProcessRateTableTest, ReadAngleFailsAsTheOtherCallsDoAndWorksWhenFaulted) {
+  Rig rig;
+  ASSERT_TRUE(rig.table.Connect().has_value());
+  rig.table.FailNextCalls(1, RateTableErrorCode::kTimeout);
+  const std::int64_t before = rig.clock.NowNs();
+  EXPECT_EQ(rig.table.ReadAngle().error().code, RateTableErrorCode::kTimeout);
+  EXPECT_EQ(rig.clock.NowNs() - before, 2 * 200'000'000);  // two attempts of 200 ms each
+  EXPECT_TRUE(rig.table.ReadAngle().has_value());
+  rig.physics_model.InjectFault(hw::RateTableFault::kDrive);
+  ASSERT_TRUE(rig.table.ReadStatus().has_value());
+  EXPECT_EQ(rig.table.state(), TableLinkState::kFaulted);
+  EXPECT_TRUE(rig.table.ReadAngle().has_value());
+}
+
 }  // namespace
 }  // namespace hrgbench::drivers::sim_station
