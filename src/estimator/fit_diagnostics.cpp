@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hrgbench::estimator {
 namespace {
@@ -16,7 +17,23 @@ double MedianOf(std::vector<double>* values) {
   return *middle;
 }
 
+// |x| of every value, or of an evenly strided subset of kMedianSubset of them.
+constexpr std::size_t kMedianSubset = std::size_t{1} << 16;
+
+double RobustSigmaOf(const double* data, std::size_t count) {
+  if (count == 0) return kNaN;
+  const std::size_t stride = std::max<std::size_t>(1, count / kMedianSubset);
+  std::vector<double> magnitudes;
+  magnitudes.reserve(count / stride + 1);
+  for (std::size_t i = 0; i < count; i += stride) magnitudes.push_back(std::abs(data[i]));
+  return kMadToSigma * MedianOf(&magnitudes);
+}
+
 }  // namespace
+
+double RobustSigma(const Eigen::Matrix4Xd& values) {
+  return RobustSigmaOf(values.data(), static_cast<std::size_t>(values.size()));
+}
 
 bool FitQualityLimits::IsValid(std::string* why) const {
   const auto fail = [why](const char* text) {
@@ -36,26 +53,30 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
   const Eigen::Index n = y.cols();
   if (n < 5) return kNaN;
   // Δ⁴y_k = y_k − 4y_{k+1} + 6y_{k+2} − 4y_{k+3} + y_{k+4}; its variance is (1+16+36+16+1)·σ² = 70σ².
-  std::vector<double> differences;
-  differences.reserve(static_cast<std::size_t>(4 * (n - 4)));
-  for (Eigen::Index k = 0; k + 4 < n; ++k) {
-    const Eigen::Vector4d d = y.col(k) - 4.0 * y.col(k + 1) + 6.0 * y.col(k + 2) -
-                              4.0 * y.col(k + 3) + y.col(k + 4);
-    for (int c = 0; c < 4; ++c) differences.push_back(d[c]);
-  }
-  // A robust scale first (the median of |Δ⁴y|), then the mean square of the differences within
-  // kTrim of it: as efficient as the plain mean square on Gaussian noise (the trimmed share is
-  // ~1e-9), and a spike only touches the differences it is in.
-  std::vector<double> magnitudes(differences.size());
-  for (std::size_t i = 0; i < differences.size(); ++i) magnitudes[i] = std::abs(differences[i]);
+  const auto difference = [&y](Eigen::Index k) -> Eigen::Vector4d {
+    return y.col(k) - 4.0 * y.col(k + 1) + 6.0 * y.col(k + 2) - 4.0 * y.col(k + 3) + y.col(k + 4);
+  };
+  const auto count = static_cast<std::size_t>(n - 4);
+  // A robust scale first (the median of |Δ⁴y| over at most 2^16 strided differences), then the mean
+  // square of the differences within kTrim of it: as efficient as the plain mean square on Gaussian
+  // noise (the trimmed share is ~1e-9), and a spike only touches the differences it is in. Two
+  // passes, nothing stored per sample.
+  const std::size_t stride = std::max<std::size_t>(1, 4 * count / kMedianSubset);
+  std::vector<double> magnitudes;
+  magnitudes.reserve(count / stride + 1);
+  for (std::size_t k = 0; k < count; k += stride)
+    for (const double d : difference(static_cast<Eigen::Index>(k))) magnitudes.push_back(std::abs(d));
   const double robust = kMadToSigma * MedianOf(&magnitudes);
   constexpr double kTrim = 6.0;
+  const double limit = robust > 0.0 ? kTrim * robust : std::numeric_limits<double>::infinity();
   double sum2 = 0.0;
   std::size_t kept = 0;
-  for (double d : differences) {
-    if (robust > 0.0 && std::abs(d) > kTrim * robust) continue;
-    sum2 += d * d;
-    ++kept;
+  for (Eigen::Index k = 0; k + 4 < n; ++k) {
+    for (const double d : difference(k)) {
+      if (std::abs(d) > limit) continue;
+      sum2 += d * d;
+      ++kept;
+    }
   }
   if (kept == 0) return 0.0;
   return std::sqrt(sum2 / static_cast<double>(kept) / 70.0);
@@ -80,11 +101,8 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags)
   if (n < 8) return s;
   const double count = static_cast<double>(4 * n);
   s.rms = std::sqrt(residuals.squaredNorm() / count);
-  std::vector<double> magnitudes(static_cast<std::size_t>(4 * n));
-  Eigen::Map<Eigen::ArrayXd>(magnitudes.data(), 4 * n) =
-      Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).abs();
-  const double largest = *std::max_element(magnitudes.begin(), magnitudes.end());
-  s.robust_sigma = kMadToSigma * MedianOf(&magnitudes);
+  const double largest = residuals.cwiseAbs().maxCoeff();
+  s.robust_sigma = RobustSigma(residuals);
   s.max_abs_in_sigma = s.robust_sigma > 0.0 ? largest / s.robust_sigma : kNaN;
   const double m2 = s.rms * s.rms;
   const double m4 = Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).square().square().sum() /

@@ -90,28 +90,31 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     }
   };
 
-  // Runs are independent: one normal system per run, summed after. Each sample's 4×10 block of
-  // every column (δ1…δ6, then δ2·ξ1…δ2·ξ4) is of fixed size, so its products are unrolled; the
-  // free columns are taken out afterwards, the held δ moved to the right-hand side
-  // (b_F − N_FH·δ_H): the same normal equations as regressing on the free columns alone.
-  using Block = Eigen::Matrix<double, 4, 10>;
+  // Runs are independent: one normal system per run, summed after. Every column is a column of m
+  // (δ1…δ6) or one scaled by the run's constant 4Ω·sign (δ2·ξ1…δ2·ξ4), so the block of all ten is
+  // m·S with S (6×10) constant over a run: the samples accumulate the 6×6 mᵀm and mᵀ·lhs only, and
+  // SᵀmᵀmS follows once per run. The free columns are taken out afterwards, the held δ moved to the
+  // right-hand side (b_F − N_FH·δ_H): the same normal equations as regressing on the free columns
+  // alone.
   using Normal = Eigen::Matrix<double, 10, 10>;
   using Rhs = Eigen::Matrix<double, 10, 1>;
   std::vector<Normal> normals(runs.size(), Normal::Zero());
   std::vector<Rhs> rhss(runs.size(), Rhs::Zero());
   ParallelFor(runs.size(), threads, [&](std::size_t r) {
-    const double omega = runs[r].omega_rad_s;
-    Block block;
+    Eigen::Matrix<double, 6, 6> mm = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> ml = Eigen::Matrix<double, 6, 1>::Zero();
+    // lazyProduct: products this small are faster unrolled than through Eigen's blocked GEMM.
     ForEachEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
-      block.leftCols<6>() = m;
-      for (int k = 0; k < 4; ++k)
-        block.col(6 + k) = m.col(kXiColumn[static_cast<std::size_t>(k)]) *
-                           (4.0 * omega * kXiSign[static_cast<std::size_t>(k)]);
-      // lazyProduct: a 10×4·4×10 product is too small for Eigen's blocked GEMM, which it would
-      // otherwise call (with its packing) once per sample.
-      normals[r].noalias() += block.transpose().lazyProduct(block);
-      rhss[r].noalias() += block.transpose().lazyProduct(lhs);
+      mm.noalias() += m.transpose().lazyProduct(m);
+      ml.noalias() += m.transpose().lazyProduct(lhs);
     });
+    Eigen::Matrix<double, 6, 10> select = Eigen::Matrix<double, 6, 10>::Zero();
+    select.leftCols<6>().setIdentity();
+    for (int k = 0; k < 4; ++k)
+      select(kXiColumn[static_cast<std::size_t>(k)], 6 + k) =
+          4.0 * runs[r].omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
+    normals[r] = select.transpose() * mm * select;
+    rhss[r] = select.transpose() * ml;
   });
   Normal full_normal = Normal::Zero();
   Rhs full_rhs = Rhs::Zero();

@@ -9,6 +9,7 @@
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "output_error_problem.hpp"
+#include "parallel_for.hpp"
 
 namespace hrgbench::estimator {
 namespace {
@@ -423,54 +424,64 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   std::vector<double> largest_removed(runs.size(), kNaN);
   FitState state;
   const std::vector<std::string> prepared_warnings = s.warnings;
+  // Residuals of the latest fit, one matrix per run, computed in parallel: the outlier check and the
+  // diagnostics share them.
+  std::vector<Eigen::Matrix4Xd> residuals;
+  bool residuals_current = false;
+  const auto compute_residuals = [&](const std::vector<RunData>& runs_now) {
+    const internal::OutputErrorProblem problem(runs_now, state.indices, options.num_threads,
+                                               options.min_samples_for_threads, model);
+    residuals.assign(runs_now.size(), Eigen::Matrix4Xd());
+    internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
+      problem.RunResiduals(r, state.p, state.nuisance[r], &residuals[r]);
+    });
+    residuals_current = true;
+  };
   for (int pass = 0;; ++pass) {
     s.warnings = prepared_warnings;
     FreeSet free_pass = free;
     const FullParameters previous = state.p;
+    residuals_current = false;
     if (!Fit(*in_use, options, model, pass == 0 ? nullptr : &previous, &free_pass, &state, &s))
       return s;
-    if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) {
-      free = free_pass;
-      break;
-    }
-    const internal::OutputErrorProblem problem(*in_use, state.indices, options.num_threads,
-                                               options.min_samples_for_threads, model);
-    std::vector<RunData> next;
-    bool any = false;
-    for (std::size_t r = 0; r < in_use->size(); ++r) {
+    free = free_pass;
+    if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) break;
+    compute_residuals(*in_use);
+    std::vector<std::vector<Eigen::Index>> out(in_use->size());
+    internal::ParallelFor(in_use->size(), state.threads, [&](std::size_t r) {
+      const RunData& run = (*in_use)[r];
       // Noise-free data (a simulation) have rounding for residuals: nothing there is an outlier.
-      const double signal_rms = std::sqrt((*in_use)[r].y.squaredNorm() /
-                                          (4.0 * static_cast<double>((*in_use)[r].size())));
-      if (!(noise_sigma[r] > 1e-10 * signal_rms)) {
-        next.push_back((*in_use)[r]);
-        continue;
-      }
-      Eigen::Matrix4Xd e;
-      problem.RunResiduals(r, state.p, state.nuisance[r], &e);
-      const ResidualStatistics stats = AnalyseResiduals(e, 1);
-      const double limit = options.outlier_threshold_sigma * stats.robust_sigma;
-      std::vector<Eigen::Index> out;
+      const double signal_rms =
+          std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
+      if (!(noise_sigma[r] > 1e-10 * signal_rms)) return;
+      const Eigen::Matrix4Xd& e = residuals[r];
+      const double robust = RobustSigma(e);
+      const double limit = options.outlier_threshold_sigma * robust;
       for (Eigen::Index k = 0; k < e.cols(); ++k) {
         const double worst = e.col(k).cwiseAbs().maxCoeff();
         if (worst > limit) {
-          out.push_back(k);
-          const double in_sigma = worst / stats.robust_sigma;
+          out[r].push_back(k);
+          const double in_sigma = worst / robust;
           if (!(in_sigma <= largest_removed[r])) largest_removed[r] = in_sigma;
         }
       }
       // Never thin a run below what the fit needs.
-      if (out.empty() || (*in_use)[r].size() - static_cast<Eigen::Index>(out.size()) <
-                             std::max<Eigen::Index>(kMlMinimumSamples, (*in_use)[r].size() / 2)) {
+      if (run.size() - static_cast<Eigen::Index>(out[r].size()) <
+          std::max<Eigen::Index>(kMlMinimumSamples, run.size() / 2))
+        out[r].clear();
+    });
+    bool any = false;
+    for (const auto& o : out) any = any || !o.empty();
+    if (!any) break;
+    std::vector<RunData> next;
+    for (std::size_t r = 0; r < in_use->size(); ++r) {
+      if (out[r].empty()) {
         next.push_back((*in_use)[r]);
         continue;
       }
-      any = true;
-      removed[r] += out.size();
-      next.push_back(WithoutSamples((*in_use)[r], out));
-    }
-    if (!any) {
-      free = free_pass;
-      break;
+      removed[r] += out[r].size();
+      noise_sigma[r] = kNaN;  // the data changed: computed again for the diagnostics
+      next.push_back(WithoutSamples((*in_use)[r], out[r]));
     }
     cleaned = std::move(next);
     in_use = &cleaned;
@@ -515,14 +526,19 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   Eigen::MatrixXd h_reduced_inverse;
   const bool have_inverse =
       have_information && internal::InvertScaledSpd(h_reduced, &h_reduced_inverse);
+  if (!residuals_current) compute_residuals(used);
+  std::vector<ResidualStatistics> run_stats(used.size());
+  internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
+    run_stats[r] = AnalyseResiduals(residuals[r], options.whiteness_lags);
+    if (!std::isfinite(noise_sigma[r])) noise_sigma[r] = DifferenceNoiseSigma(used[r].y);
+  });
+  residuals.clear();
   for (std::size_t r = 0; r < used.size(); ++r) {
-    Eigen::Matrix4Xd e;
-    problem.RunResiduals(r, p, state.nuisance[r], &e);
-    const ResidualStatistics stats = AnalyseResiduals(e, options.whiteness_lags);
+    const ResidualStatistics& stats = run_stats[r];
     RunFitDiagnostics d;
     d.run_id = used[r].id;
     d.samples = static_cast<std::size_t>(used[r].size());
-    d.noise_sigma = DifferenceNoiseSigma(used[r].y);
+    d.noise_sigma = noise_sigma[r];
     d.residual_rms = stats.rms;
     // Noise-free data (simulation): the noise is rounding, its whiteness means nothing, and the
     // ratio is taken against a floor of 1e-10 of the signal.
@@ -603,9 +619,12 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
 
   // The sandwich covariance H⁻¹·S·H⁻¹: S from batch sums of the reduced score, batches long
   // against the residuals' correlation so that they are nearly independent.
+  // Computed only when it is reported (a pass over the data).
   Eigen::MatrixXd sandwich;
+  const bool sandwich_wanted = options.covariance == MlOptions::Covariance::kSandwich ||
+                               (options.covariance == MlOptions::Covariance::kAuto && coloured);
   if (have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
-      options.covariance != MlOptions::Covariance::kWhite) {
+      sandwich_wanted) {
     std::vector<Eigen::MatrixXd> projection;
     Eigen::MatrixXd h_inverse;
     if (internal::NuisanceProjections(ne, &projection) &&
@@ -613,17 +632,20 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       const auto nf = static_cast<Eigen::Index>(indices.size());
       Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(nf, nf);
       std::size_t longest_batch = 0;
-      for (std::size_t r = 0; r < used.size(); ++r) {
+      std::vector<Eigen::MatrixXd> reduced(used.size());
+      std::vector<std::size_t> batch(used.size());
+      internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
         const auto n = static_cast<std::size_t>(used[r].size());
         const double wanted = 20.0 * integrated_correlation[r];
-        const std::size_t batch = std::clamp<std::size_t>(
-            static_cast<std::size_t>(wanted), 16, std::max<std::size_t>(16, n / 16));
-        longest_batch = std::max(longest_batch, batch);
+        batch[r] = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), 16,
+                                           std::max<std::size_t>(16, n / 16));
         Eigen::MatrixXd scores;
-        problem.RunBlockScores(r, p, state.nuisance[r], batch, &scores);
-        const Eigen::MatrixXd reduced =
-            scores.topRows(nf) - projection[r] * scores.bottomRows(scores.rows() - nf);
-        meat.noalias() += reduced * reduced.transpose();
+        problem.RunBlockScores(r, p, state.nuisance[r], batch[r], &scores);
+        reduced[r] = scores.topRows(nf) - projection[r] * scores.bottomRows(scores.rows() - nf);
+      });
+      for (std::size_t r = 0; r < used.size(); ++r) {
+        longest_batch = std::max(longest_batch, batch[r]);
+        meat.noalias() += reduced[r] * reduced[r].transpose();
       }
       sandwich = h_inverse * meat * h_inverse;
       sandwich = 0.5 * (sandwich + sandwich.transpose()).eval();
@@ -634,9 +656,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       diagnostics.sandwich_to_white_std_max = ratio;
     }
   }
-  const bool use_sandwich =
-      sandwich.size() > 0 && (options.covariance == MlOptions::Covariance::kSandwich ||
-                              (options.covariance == MlOptions::Covariance::kAuto && coloured));
+  const bool use_sandwich = sandwich.size() > 0;
   if (use_sandwich) {
     s.covariance = sandwich;
     diagnostics.covariance_kind = "sandwich";

@@ -106,6 +106,11 @@ struct ResidualStatistics {
   double integrated_correlation_samples = kNaN;  // 1 + 2·Σ_{l≤L} ρ_l (≥ 1): the batch length scale
 };
 
+// 1.4826·median|r| over the four channels: a Gaussian σ that outliers do not move. Above 2^16
+// values the median is taken over an evenly strided subset of 2^16 of them (its relative standard
+// error is then ~0.5 %, ample for a scale that decides 6σ and 8σ thresholds).
+double RobustSigma(const Eigen::Matrix4Xd& values);
+
 // Statistics of one run's residuals (one column per sample) with `lags` lags (clamped to N/4).
 ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags);
 
