@@ -8,9 +8,9 @@
 // twice: "model only" (the estimator as it was: no common phase, Ω exact, no outlier removal,
 // white-noise covariance) and "default" (MlOptions defaults). Per row and fit: the largest
 // |estimate − truth|/std over the ten parameters (averaged over seeds, signed, with the parameter),
-// the RMS of (estimate − truth)/std over parameters and seeds, the share beyond 3 std, and the share
-// of sessions the fit flagged (a problem in diagnostics). --false-alarm N fits N clean sessions and
-// counts the flagged ones.
+// the RMS of (estimate − truth)/std over parameters and seeds, the share beyond 3 std, and the
+// share of sessions the fit flagged (a problem in diagnostics). --false-alarm N fits N clean
+// sessions and counts the flagged ones.
 
 #include <cmath>
 #include <cstdio>
@@ -106,10 +106,14 @@ int main(int argc, char** argv) {
   double rate = 1000.0;
   int false_alarm = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--seeds")) seeds = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--duration")) duration = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--rate")) rate = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--false-alarm")) false_alarm = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--seeds"))
+      seeds = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--duration"))
+      duration = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--rate"))
+      rate = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--false-alarm"))
+      false_alarm = std::atoi(argv[i + 1]);
     else {
       std::fprintf(stderr, "unknown option %s\n", argv[i]);
       return 2;
@@ -135,12 +139,14 @@ int main(int argc, char** argv) {
       const auto runs = simulate(static_cast<std::uint64_t>(seed), {"clean", white});
       const EstimateSummary s = hrgbench::estimator::EstimateMaximumLikelihood(runs, Default());
       Add(s, truth, &t);
-      for (const std::string& p : s.diagnostics.problems) std::printf("seed %d: %s\n", seed, p.c_str());
+      for (const std::string& p : s.diagnostics.problems)
+        std::printf("seed %d: %s\n", seed, p.c_str());
     }
-    std::printf("clean sessions: %d, flagged: %d; RMS z %.3f, beyond 3 std %d of %d; worst residual "
-                "ratio %.4f, worst whiteness z %.2f\n",
-                t.sessions, t.flagged, std::sqrt(t.z2_sum / std::max(1, t.z_count)), t.beyond3,
-                t.z_count, t.worst_ratio, t.worst_whiteness);
+    std::printf(
+        "clean sessions: %d, flagged: %d; RMS z %.3f, beyond 3 std %d of %d; worst residual "
+        "ratio %.4f, worst whiteness z %.2f\n",
+        t.sessions, t.flagged, std::sqrt(t.z2_sum / std::max(1, t.z_count)), t.beyond3, t.z_count,
+        t.worst_ratio, t.worst_whiteness);
     return 0;
   }
 
@@ -182,15 +188,16 @@ int main(int argc, char** argv) {
 
   std::printf("Production design, σ = %g, %g s per run at %g Hz, %d seeds per row.\n\n", kSigma,
               duration, rate, seeds);
-  std::printf("| perturbation | fit | largest mean error, std | RMS error, std | beyond 3 std | "
-              "flagged | worst residual ratio | worst whiteness z |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| perturbation | fit | largest mean error, std | RMS error, std | beyond 3 std | "
+      "flagged | worst residual ratio | worst whiteness z |\n|---|---|---|---|---|---|---|---|\n");
   for (const Perturbation& row : rows) {
     for (int kind = 0; kind < 2; ++kind) {
       Tally t;
       for (int seed = 1; seed <= seeds; ++seed) {
         const auto runs = simulate(static_cast<std::uint64_t>(seed), row);
-        const EstimateSummary s =
-            hrgbench::estimator::EstimateMaximumLikelihood(runs, kind == 0 ? ModelOnly() : Default());
+        const EstimateSummary s = hrgbench::estimator::EstimateMaximumLikelihood(
+            runs, kind == 0 ? ModelOnly() : Default());
         Add(s, truth, &t);
       }
       std::printf("| %s | %s | %s | %.2f | %d %% | %d of %d | %.3f | %.1f |\n", row.name.c_str(),

@@ -207,5 +207,6 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   cli.add_flag("--json", json, "print one JSON object instead of the table");
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-design", quiet, [&] { return Run(plan_path, sigma, phase_degree, json); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-design", quiet,
+                                    [&] { return Run(plan_path, sigma, phase_degree, json); });
 }

@@ -69,7 +69,8 @@ class CommonPhase {
   // values of ψ, which would cancel all but a few digits of Δ³ψ = 6·q3·h³.
   void Resync(double t) noexcept {
     std::array<double, kMaxPhaseDegree + 1> c{};  // ψ(t) = Σ c[m]·t^m, c[0] = 0
-    for (int j = 1; j <= degree_; ++j) c[static_cast<std::size_t>(j)] = q_[static_cast<std::size_t>(j - 1)];
+    for (int j = 1; j <= degree_; ++j)
+      c[static_cast<std::size_t>(j)] = q_[static_cast<std::size_t>(j - 1)];
     int top = degree_;
     for (int j = 0; j <= degree_; ++j) {
       double value = 0.0;

@@ -62,8 +62,8 @@ CrlbResult CramerRaoBound(const DesignSpec& design, const IdentifiabilityOptions
   std::vector<internal::RunNuisance> x0;
   for (const RunPlan& r : design.runs) {
     internal::RunNuisance n = internal::RunNuisance::Zero(model.Size(x0.size()));
-    n.head<4>() = internal::ObservedInitialState(
-        p, OrbitToState(Orbit{r.a, r.b, r.theta_rad, r.phi_rad}));
+    n.head<4>() =
+        internal::ObservedInitialState(p, OrbitToState(Orbit{r.a, r.b, r.theta_rad, r.phi_rad}));
     x0.push_back(n);
   }
   Eigen::MatrixXd information;

@@ -52,7 +52,8 @@ bool FitQualityLimits::IsValid(std::string* why) const {
 double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
   const Eigen::Index n = y.cols();
   if (n < 5) return kNaN;
-  // Δ⁴y_k = y_k − 4y_{k+1} + 6y_{k+2} − 4y_{k+3} + y_{k+4}; its variance is (1+16+36+16+1)·σ² = 70σ².
+  // Δ⁴y_k = y_k − 4y_{k+1} + 6y_{k+2} − 4y_{k+3} + y_{k+4}; its variance is (1+16+36+16+1)·σ² =
+  // 70σ².
   const auto difference = [&y](Eigen::Index k) -> Eigen::Vector4d {
     return y.col(k) - 4.0 * y.col(k + 1) + 6.0 * y.col(k + 2) - 4.0 * y.col(k + 3) + y.col(k + 4);
   };
@@ -65,7 +66,8 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
   std::vector<double> magnitudes;
   magnitudes.reserve(count / stride + 1);
   for (std::size_t k = 0; k < count; k += stride)
-    for (const double d : difference(static_cast<Eigen::Index>(k))) magnitudes.push_back(std::abs(d));
+    for (const double d : difference(static_cast<Eigen::Index>(k)))
+      magnitudes.push_back(std::abs(d));
   const double robust = kMadToSigma * MedianOf(&magnitudes);
   constexpr double kTrim = 6.0;
   const double limit = robust > 0.0 ? kTrim * robust : std::numeric_limits<double>::infinity();
@@ -84,9 +86,8 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
 
 double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t samples) {
   if (samples == 0) return limits.residual_ratio_max;
-  return std::max(limits.residual_ratio_max,
-                  1.0 + 5.0 * kResidualRatioStandardErrorScale /
-                            std::sqrt(static_cast<double>(samples)));
+  return std::max(limits.residual_ratio_max, 1.0 + 5.0 * kResidualRatioStandardErrorScale /
+                                                       std::sqrt(static_cast<double>(samples)));
 }
 
 double ChiSquareNormalScore(double q, double dof) {
@@ -105,8 +106,8 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags)
   s.robust_sigma = RobustSigma(residuals);
   s.max_abs_in_sigma = s.robust_sigma > 0.0 ? largest / s.robust_sigma : kNaN;
   const double m2 = s.rms * s.rms;
-  const double m4 = Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).square().square().sum() /
-                    count;
+  const double m4 =
+      Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).square().square().sum() / count;
   s.excess_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) - 3.0 : kNaN;
 
   s.lags = static_cast<int>(std::clamp<Eigen::Index>(lags, 1, std::max<Eigen::Index>(1, n / 4)));

@@ -66,7 +66,8 @@ class FreeRunPropagator {
   const CMatrix2& B() const noexcept { return b_; }
   Complex Mu2() const noexcept { return mu2_; }
   Complex BetaY() const noexcept { return beta_y_; }  // i·2Ωδ2
-  // ∂B/∂δj = BCoefficient(j)·σ_{BPauli(j)} (0 = σx, 1 = σy, 2 = σz), ∂μ²/∂δj = Mu2Derivative(j), j ≥ 1.
+  // ∂B/∂δj = BCoefficient(j)·σ_{BPauli(j)} (0 = σx, 1 = σy, 2 = σz), ∂μ²/∂δj = Mu2Derivative(j), j
+  // ≥ 1.
   Complex BCoefficient(int j) const noexcept { return coefficient_[static_cast<std::size_t>(j)]; }
   int BPauli(int j) const noexcept { return pauli_[static_cast<std::size_t>(j)]; }
   Complex Mu2Derivative(int j) const noexcept { return dmu2_[static_cast<std::size_t>(j)]; }

@@ -131,7 +131,8 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     rhs[a] = full_rhs[ca];
     for (int j = 0; j < 6; ++j)
       if (!delta_free[j]) rhs[a] -= full_normal(ca, j) * delta_fixed[j];
-    for (Eigen::Index b = 0; b < n; ++b) normal(a, b) = full_normal(ca, columns[static_cast<std::size_t>(b)]);
+    for (Eigen::Index b = 0; b < n; ++b)
+      normal(a, b) = full_normal(ca, columns[static_cast<std::size_t>(b)]);
   }
   Eigen::VectorXd solution = Eigen::VectorXd::Zero(n);
   if (n > 0 && !SolveScaledSpd(normal, rhs, &solution)) return false;

@@ -424,8 +424,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   std::vector<double> largest_removed(runs.size(), kNaN);
   FitState state;
   const std::vector<std::string> prepared_warnings = s.warnings;
-  // Residuals of the latest fit, one matrix per run, computed in parallel: the outlier check and the
-  // diagnostics share them.
+  // Residuals of the latest fit, one matrix per run, computed in parallel: the outlier check and
+  // the diagnostics share them.
   std::vector<Eigen::Matrix4Xd> residuals;
   bool residuals_current = false;
   const auto compute_residuals = [&](const std::vector<RunData>& runs_now) {
@@ -542,7 +542,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     d.residual_rms = stats.rms;
     // Noise-free data (simulation): the noise is rounding, its whiteness means nothing, and the
     // ratio is taken against a floor of 1e-10 of the signal.
-    const double signal_rms = std::sqrt(used[r].y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
+    const double signal_rms =
+        std::sqrt(used[r].y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
     d.noise_free = !(d.noise_sigma > 1e-10 * signal_rms);
     d.residual_ratio = stats.rms / std::max(d.noise_sigma, 1e-10 * signal_rms);
     d.residual_ratio_threshold = ResidualRatioThreshold(options.fit_quality, d.samples);
@@ -555,7 +556,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     d.outliers_removed = removed[r];
     d.largest_outlier_in_sigma = largest_removed[r];
     const internal::RunNuisance& n = state.nuisance[r];
-    if (model.phase_degree >= 1) d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
+    if (model.phase_degree >= 1)
+      d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
     if (model.phase_degree >= 2)
       d.common_frequency_drift_rad_s2 = 2.0 * n[internal::NuisanceModel::PhaseIndex(2)];
     if (model.OmegaFree(r)) {
@@ -661,18 +663,18 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     s.covariance = sandwich;
     diagnostics.covariance_kind = "sandwich";
     for (std::size_t c = 0; c < indices.size(); ++c) {
-      const double sd = std::sqrt(std::max(0.0, sandwich(static_cast<Eigen::Index>(c),
-                                                         static_cast<Eigen::Index>(c))));
+      const double sd = std::sqrt(
+          std::max(0.0, sandwich(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(c))));
       if (indices[c] < internal::kXiOffset)
         s.delta_std[indices[c]] = sd;
       else
         s.xi_std[indices[c] - internal::kXiOffset] = sd;
     }
-    s.warnings.push_back(Format(
-        "residuals are not white: the std are from the sandwich covariance (batches of %.0f "
-        "samples; up to %.3g times the white-noise std)",
-        static_cast<double>(diagnostics.sandwich_batch_samples),
-        diagnostics.sandwich_to_white_std_max));
+    s.warnings.push_back(
+        Format("residuals are not white: the std are from the sandwich covariance (batches of %.0f "
+               "samples; up to %.3g times the white-noise std)",
+               static_cast<double>(diagnostics.sandwich_batch_samples),
+               diagnostics.sandwich_to_white_std_max));
   }
   for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;

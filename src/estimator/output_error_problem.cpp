@@ -90,9 +90,8 @@ void ForEachResidual(const RunData& run, const RunModel& m, Fn fn) {
 
 // Coefficient vectors of every Jacobian column of run r over the basis: the free parameters, then
 // the run's nuisance (w0, q_1 … q_D, ΔΩ).
-void ColumnCoefficients(const RunModel& m, const std::vector<int>& free,
-                        const NuisanceModel& model, std::size_t r, const FullParameters& p,
-                        std::vector<Coefficients>* v) {
+void ColumnCoefficients(const RunModel& m, const std::vector<int>& free, const NuisanceModel& model,
+                        std::size_t r, const FullParameters& p, std::vector<Coefficients>* v) {
   const int nf = static_cast<int>(free.size());
   v->resize(static_cast<std::size_t>(nf + model.Size(r)));
   for (Coefficients& column : *v)
@@ -394,7 +393,8 @@ void OutputErrorProblem::RunBlockScores(std::size_t r, const FullParameters& p,
       for (CVector2& e : projected) e.setZero();
     };
     ForEachResidual<kBasis>(run, m, [&](std::size_t, const Complex* c, Complex, const CVector2& e) {
-      for (int a = 0; a < kBasis; ++a) projected[static_cast<std::size_t>(a)] += std::conj(c[a]) * e;
+      for (int a = 0; a < kBasis; ++a)
+        projected[static_cast<std::size_t>(a)] += std::conj(c[a]) * e;
       if (++in_block == length) {
         flush();
         in_block = 0;

@@ -21,9 +21,9 @@
 //    up as a large fitted ΔΩ/σ_Ω.
 //
 // Linearize() accumulates the normal equations JᵀJ, Jᵀr in the block structure the problem has (the
-// nuisance of one run touches only that run's samples), so the per-run blocks can be eliminated by a
-// Schur complement: the cost is linear in the number of samples, and the linear algebra is at most
-// 18×18. The sample loop works on buffers sized before it starts; it does not allocate.
+// nuisance of one run touches only that run's samples), so the per-run blocks can be eliminated by
+// a Schur complement: the cost is linear in the number of samples, and the linear algebra is at
+// most 18×18. The sample loop works on buffers sized before it starts; it does not allocate.
 //
 // Internal to the estimator library.
 
@@ -44,8 +44,8 @@ FullParameters Pack(const Delta& delta, const Xi& xi);
 // What each run's nuisance vector holds: w0 (4), then q_1 … q_D, then ΔΩ when Ω is a nuisance of
 // that run (omega_prior_weight[r] > 0).
 struct NuisanceModel {
-  int phase_degree = 0;                     // D, 0 … kMaxPhaseDegree
-  std::vector<double> omega_prior_weight;   // per run: σ̂²/σ_Ω² (cost units); empty or 0 = Ω held
+  int phase_degree = 0;                    // D, 0 … kMaxPhaseDegree
+  std::vector<double> omega_prior_weight;  // per run: σ̂²/σ_Ω² (cost units); empty or 0 = Ω held
 
   bool OmegaFree(std::size_t run) const {
     return run < omega_prior_weight.size() && omega_prior_weight[run] > 0.0;
@@ -59,13 +59,13 @@ struct NuisanceModel {
 using RunNuisance = Eigen::VectorXd;
 
 struct NormalEquations {
-  Eigen::MatrixXd h_pp;                  // free × free
-  Eigen::VectorXd g_p;                   // Jᵀ·residual, free part
-  std::vector<Eigen::MatrixXd> h_px;     // per run, free × nuisance
-  std::vector<Eigen::MatrixXd> h_xx;     // per run, nuisance × nuisance
-  std::vector<Eigen::VectorXd> g_x;      // per run
-  double cost = 0.0;                     // Σ residual² (+ the Ω priors)
-  std::vector<double> cost_per_run;      // Σ residual² of each run's samples (no prior)
+  Eigen::MatrixXd h_pp;               // free × free
+  Eigen::VectorXd g_p;                // Jᵀ·residual, free part
+  std::vector<Eigen::MatrixXd> h_px;  // per run, free × nuisance
+  std::vector<Eigen::MatrixXd> h_xx;  // per run, nuisance × nuisance
+  std::vector<Eigen::VectorXd> g_x;   // per run
+  double cost = 0.0;                  // Σ residual² (+ the Ω priors)
+  std::vector<double> cost_per_run;   // Σ residual² of each run's samples (no prior)
 };
 
 class OutputErrorProblem {
@@ -127,7 +127,8 @@ Eigen::Vector4d TrueInitialState(const FullParameters& p, const Eigen::Vector4d&
 Eigen::Vector4d ObservedInitialState(const FullParameters& p, const Eigen::Vector4d& x0);
 
 // Eliminates the per-run nuisance blocks: H_red = H_pp − Σ H_px·H_xx⁻¹·H_xp. This is the
-// information of the free parameters with the nuisance parameters unknown (per unit noise variance).
+// information of the free parameters with the nuisance parameters unknown (per unit noise
+// variance).
 bool ReducedInformation(const NormalEquations& ne, Eigen::MatrixXd* h_reduced);
 
 // H_px·H_xx⁻¹ of each run: maps a run's score onto the reduced score of the free parameters,

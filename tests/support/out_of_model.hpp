@@ -80,7 +80,8 @@ inline void AddNoise(estimator::RunData* run, double sigma, double rho, std::uin
   }
 }
 
-// Adds `count` spikes of ±amplitude (in the same unit as y) at distinct random samples and channels.
+// Adds `count` spikes of ±amplitude (in the same unit as y) at distinct random samples and
+// channels.
 inline void AddSpikes(estimator::RunData* run, int count, double amplitude, std::uint64_t seed) {
   std::mt19937_64 engine(seed);
   std::uniform_int_distribution<Eigen::Index> sample(0, run->size() - 1);

@@ -37,8 +37,8 @@ struct LimitResult {
 
 // One check of the fit (per run and statistic), judged against LimitsConfig::fit.
 struct FitCheck {
-  int run_id = 0;                  // 0: the whole estimate (no diagnostics at all)
-  std::string name;                // "residual_ratio", "whiteness_z", "omega_offset_in_std"
+  int run_id = 0;    // 0: the whole estimate (no diagnostics at all)
+  std::string name;  // "residual_ratio", "whiteness_z", "omega_offset_in_std"
   LimitStatus status = LimitStatus::kNotEvaluated;
   double value = estimator::kNaN;
   double max = estimator::kNaN;

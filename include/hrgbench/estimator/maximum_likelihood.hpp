@@ -1,7 +1,7 @@
 #pragma once
-// The default estimator: output-error maximum likelihood of y(t) = (I + C(ξ))·exp(A(Ω, δ)·t)·x0 over δ,
-// any chosen subset of ξ, and one initial state x0 per run, under white Gaussian noise of equal
-// variance on the four channels (so: nonlinear least squares of y).
+// The default estimator: output-error maximum likelihood of y(t) = (I + C(ξ))·exp(A(Ω, δ)·t)·x0
+// over δ, any chosen subset of ξ, and one initial state x0 per run, under white Gaussian noise of
+// equal variance on the four channels (so: nonlinear least squares of y).
 //
 // How:
 //  1. Starting point without numerical differentiation: the integral equation-error form
@@ -9,11 +9,13 @@
 //     first-order effect as Ω-proportional anisotropies to start ξ (see identifiability.hpp).
 //  2. Identifiability check (identifiability.hpp): parameters the plan cannot determine are held at
 //     their given values with a warning, or the estimate is refused (policy).
-//  3. Levenberg–Marquardt on the exact model: exp(A·t) in closed form at every time stamp (so dropped
+//  3. Levenberg–Marquardt on the exact model: exp(A·t) in closed form at every time stamp (so
+//  dropped
 //     samples and non-uniform time need nothing special), exact distortion, analytic Jacobian; the
 //     per-run initial states are eliminated by a Schur complement, so the cost is linear in the
 //     number of samples.
-//  4. Covariance σ̂²·(JᵀJ)⁻¹ of δ and ξ with the initial states eliminated (the CRLB evaluated at the
+//  4. Covariance σ̂²·(JᵀJ)⁻¹ of δ and ξ with the initial states eliminated (the CRLB evaluated at
+//  the
 //     estimate), residual RMS per run and in total.
 //
 // Outside its own model (fit_diagnostics.hpp, README "Is the fit right?"):

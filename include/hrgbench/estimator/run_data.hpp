@@ -12,7 +12,8 @@ namespace hrgbench::estimator {
 struct RunData {
   int id = 0;                   // run number as recorded in the session (1-based), for messages
   double omega_rad_s = 0.0;     // Ω, rad/s
-  // How well Ω is known: its standard error, rad/s (the bench records it). NaN or 0: taken as exact.
+  // How well Ω is known: its standard error, rad/s (the bench records it). NaN or 0: taken as
+  // exact.
   double omega_std_rad_s = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> t_s;      // sample times, s, strictly increasing; need not be uniform
   Eigen::Matrix4Xd y;           // y(:, k) = (y1, y2, y3, y4) at t_s[k]

@@ -16,9 +16,9 @@
 //
 // session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
 // omega_rad_s, status, end.omega_std_error_rad_s (optional)}. Every other key (station, config
-// hashes, temperature, "simulation" truth...) is kept verbatim in `document` and written back unchanged. Runs whose status is not
-// "complete" are skipped with a warning. Every error names the file, the line (1-based, 0 when not
-// applicable) and the field.
+// hashes, temperature, "simulation" truth...) is kept verbatim in `document` and written back
+// unchanged. Runs whose status is not "complete" are skipped with a warning. Every error names the
+// file, the line (1-based, 0 when not applicable) and the field.
 //
 // Bounds (refused with an error naming the file, before anything large is allocated or any
 // recursive parse starts): see the constants below. The reader refuses what exceeds them and the

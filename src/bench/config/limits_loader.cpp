@@ -66,7 +66,8 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     // 1e6 or a rate offset beyond 1e6 of its std would never be reached either.
     static constexpr Range kRatio{1.0, 100.0, true, "in [1, 100]"};
     static constexpr Range kScore{0.0, 1e6, false, "in (0, 1e6]"};
-    HRG_TRY(ratio, OptionalNumber(fit, "residual_ratio_max", kRatio, limits.fit.residual_ratio_max));
+    HRG_TRY(ratio,
+            OptionalNumber(fit, "residual_ratio_max", kRatio, limits.fit.residual_ratio_max));
     HRG_TRY(white, OptionalNumber(fit, "whiteness_z_max", kScore, limits.fit.whiteness_z_max));
     HRG_TRY(omega, OptionalNumber(fit, "omega_offset_max_in_std", kScore,
                                   limits.fit.omega_offset_max_in_std));

@@ -347,7 +347,8 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
       "faster_than_real_time, time_scale, physics, delta, xi, sigma, seed, resonant_frequency_hz, "
       "temperature_c, temperature_drift_c_per_s, excite_time_s, table_settle_time_constant_s, "
       "table_noise_rad_s, table_encoder_counts_per_rev, table_encoder_noise_rad, "
-      "table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], [simulated.faults]"));
+      "table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], "
+      "[simulated.faults]"));
   return sim;
 }
 

@@ -145,10 +145,10 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
             break;
           case LimitStatus::kNotEvaluated:
             outcome.kind = OutcomeKind::kError;
-            outcome.reason = verdict.fit_acceptable
-                                 ? "limits not judged: " + not_judged
-                                 : "the fit is outside its model, no limit judged: " +
-                                       verdict.FitProblems();
+            outcome.reason =
+                verdict.fit_acceptable
+                    ? "limits not judged: " + not_judged
+                    : "the fit is outside its model, no limit judged: " + verdict.FitProblems();
             break;
           case LimitStatus::kPass:
             outcome.kind = OutcomeKind::kPass;

@@ -115,8 +115,8 @@ std::vector<FitCheck> JudgeFit(const estimator::FitQualityLimits& limits,
     if (run.noise_free) {
       FitCheck skipped = Check(run.run_id, "whiteness_z", 0.0, limits.whiteness_z_max, "");
       skipped.value = estimator::kNaN;
-      skipped.message = "run " + std::to_string(run.run_id) +
-                        ": whiteness_z not applicable (noise-free data)";
+      skipped.message =
+          "run " + std::to_string(run.run_id) + ": whiteness_z not applicable (noise-free data)";
       checks.push_back(skipped);
     } else {
       checks.push_back(Check(run.run_id, "whiteness_z", run.whiteness_z, limits.whiteness_z_max,

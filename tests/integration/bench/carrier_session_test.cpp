@@ -21,8 +21,7 @@ namespace {
 
 TEST(CarrierSession, ProductionSequenceCompletesAndIsEstimated) {
   const BenchRun run =
-      RunOnSimulatedStation("sequence-production.toml", "", {}, {}, {},
-                            "station-sim-carrier.toml");
+      RunOnSimulatedStation("sequence-production.toml", "", {}, {}, {}, "station-sim-carrier.toml");
   ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
   const estimator::EstimateSummary& s = *run.result.estimate;
   const nlohmann::json& truth = run.result.estimate_json.at("truth");

@@ -250,8 +250,7 @@ TEST(BenchEndToEnd, ALimitThatCouldNotBeJudgedIsAnErrorNotAPass) {
   EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kError) << run.result.reason;
   EXPECT_EQ(run.result.exit_code, bench::ExitCode(bench::OutcomeKind::kError));
   EXPECT_NE(run.result.reason.find("limits not judged"), std::string::npos) << run.result.reason;
-  EXPECT_NE(run.result.reason.find("xi" + std::to_string(held + 1) +
-                                   ": not evaluated, held fixed"),
+  EXPECT_NE(run.result.reason.find("xi" + std::to_string(held + 1) + ": not evaluated, held fixed"),
             std::string::npos)
       << run.result.reason;
   auto session = session::ReadSession(run.dir);

@@ -128,7 +128,8 @@ TEST(Verdict, AFitInsideItsModelIsJudgedAndPasses) {
   for (const FitCheck& c : verdict.fit_checks) EXPECT_EQ(c.status, LimitStatus::kPass) << c.message;
   EXPECT_EQ(verdict.fit_checks[0].name, "residual_ratio");
   EXPECT_EQ(verdict.fit_checks[0].max, 1.05);  // 1 + 5·0.451/√1e5 = 1.0071 is below the default
-  EXPECT_NE(verdict.Report().find("fit: every run within its limits (6 checks)"), std::string::npos);
+  EXPECT_NE(verdict.Report().find("fit: every run within its limits (6 checks)"),
+            std::string::npos);
 }
 
 // A fit outside its model: no limit is judged, not even one that would fail, and each says what it

@@ -52,8 +52,8 @@ TEST(MaximumLikelihoodTest, RecoversTheRateTableTruthNoiseFree) {
   ExpectRecovers(s, truth.delta, truth.xi, 1e-8);
 }
 
-// Two correct ML implementations agree to well inside one CRLB std on noisy data (reference README).
-// The prototype fits the model alone: no common phase, Ω exact.
+// Two correct ML implementations agree to well inside one CRLB std on noisy data (reference
+// README). The prototype fits the model alone: no common phase, Ω exact.
 TEST(MaximumLikelihoodTest, AgreesWithThePrototypeOnNoisyData) {
   MlOptions options;
   options.xi_estimated = kXi1Only;

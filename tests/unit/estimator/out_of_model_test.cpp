@@ -1,4 +1,5 @@
-// Outside its own model the estimator is right, or says that it is not (README "Is the fit right?").
+// Outside its own model the estimator is right, or says that it is not (README "Is the fit
+// right?").
 // Each row of the issue's table is a test here: the perturbation is applied to a session simulated
 // by the model (tests/support/out_of_model.hpp, written from the perturbations' definitions, not
 // with the estimator's propagator), and the default estimator must either stay within its reported
@@ -204,12 +205,13 @@ TEST(OutOfModelTest, AnOmegaErrorWithinItsRecordedStdStaysWithinTheReportedStd) 
     return EstimateMaximumLikelihood(clean, o);
   }();
   EXPECT_GT(s_clean.delta_std[kDampingAnisotropyCos] + s_clean.delta_std[kDampingAnisotropySin],
-            1.2 * (exact.delta_std[kDampingAnisotropyCos] + exact.delta_std[kDampingAnisotropySin]));
+            1.2 * (exact.delta_std[kDampingAnisotropyCos] +
+                   exact.delta_std[kDampingAnisotropySin]));
 }
 
 // Ω of run 1 off by 1e-5 rad/s, ten times its recorded std: flagged, naming run 1; the estimate
-// itself stays near the truth (the data pull Ω back). The data alone know run 1's Ω to ~1.2e-6 rad/s
-// here, so their offset is −1e-5 within 3.6e-6 (3 std).
+// itself stays near the truth (the data pull Ω back). The data alone know run 1's Ω to ~1.2e-6
+// rad/s here, so their offset is −1e-5 within 3.6e-6 (3 std).
 TEST(OutOfModelTest, AnOmegaErrorBeyondItsRecordedStdIsFlagged) {
   std::vector<RunData> runs = NoiseFree(10.0);
   AddWhite(&runs, 8);
@@ -270,7 +272,8 @@ TEST(OutOfModelTest, SpikesAreRemovedAndSaid) {
   EXPECT_NEAR(s.diagnostics.runs[0].largest_outlier_in_sigma, 100.0, 15.0);
   EXPECT_TRUE(s.diagnostics.Acceptable()) << s.Report();
   bool said = false;
-  for (const std::string& w : s.warnings) said = said || w.find("removed as outliers") != std::string::npos;
+  for (const std::string& w : s.warnings)
+    said = said || w.find("removed as outliers") != std::string::npos;
   EXPECT_TRUE(said);
   EXPECT_LT(LargestShift(s, s_clean), 0.1);
   // Without removal the spikes are seen as outliers and in the residual ratio.
