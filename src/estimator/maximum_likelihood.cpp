@@ -72,6 +72,20 @@ void FillParameters(const FullParameters& p, const FreeSet& free, EstimateSummar
 }
 
 // σ̂²·H_red⁻¹ into the summary's covariance and std.
+// `covariance` (of the free parameters, in `indices` order) into the summary, and each one's std.
+void SetCovariance(const Eigen::MatrixXd& covariance, const std::vector<int>& indices,
+                   EstimateSummary* s) {
+  s->covariance = covariance;
+  for (std::size_t c = 0; c < indices.size(); ++c) {
+    const auto i = static_cast<Eigen::Index>(c);
+    const double sd = std::sqrt(std::max(0.0, covariance(i, i)));
+    if (indices[c] < internal::kXiOffset)
+      s->delta_std[indices[c]] = sd;
+    else
+      s->xi_std[indices[c] - internal::kXiOffset] = sd;
+  }
+}
+
 void FillCovariance(const Eigen::MatrixXd& h_reduced, const std::vector<int>& indices, double s2,
                     EstimateSummary* s) {
   Eigen::MatrixXd inverse;
@@ -81,15 +95,7 @@ void FillCovariance(const Eigen::MatrixXd& h_reduced, const std::vector<int>& in
     if (!indices.empty()) s->warnings.push_back("information matrix singular: no covariance");
     return;
   }
-  s->covariance = s2 * inverse;
-  for (std::size_t c = 0; c < indices.size(); ++c) {
-    const double sd = std::sqrt(std::max(0.0, s->covariance(static_cast<Eigen::Index>(c),
-                                                            static_cast<Eigen::Index>(c))));
-    if (indices[c] < internal::kXiOffset)
-      s->delta_std[indices[c]] = sd;
-    else
-      s->xi_std[indices[c] - internal::kXiOffset] = sd;
-  }
+  SetCovariance(s2 * inverse, indices, s);
 }
 
 bool StepSmall(const Eigen::VectorXd& step, const Eigen::MatrixXd& h_reduced, double s2,
@@ -628,9 +634,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   if (have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
       sandwich_wanted) {
     std::vector<Eigen::MatrixXd> projection;
-    Eigen::MatrixXd h_inverse;
-    if (internal::NuisanceProjections(ne, &projection) &&
-        internal::InvertScaledSpd(h_reduced, &h_inverse)) {
+    if (have_inverse && internal::NuisanceProjections(ne, &projection)) {
+      const Eigen::MatrixXd& h_inverse = h_reduced_inverse;
       const auto nf = static_cast<Eigen::Index>(indices.size());
       Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(nf, nf);
       std::size_t longest_batch = 0;
@@ -660,16 +665,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   }
   const bool use_sandwich = sandwich.size() > 0;
   if (use_sandwich) {
-    s.covariance = sandwich;
+    SetCovariance(sandwich, indices, &s);
     diagnostics.covariance_kind = "sandwich";
-    for (std::size_t c = 0; c < indices.size(); ++c) {
-      const double sd = std::sqrt(
-          std::max(0.0, sandwich(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(c))));
-      if (indices[c] < internal::kXiOffset)
-        s.delta_std[indices[c]] = sd;
-      else
-        s.xi_std[indices[c] - internal::kXiOffset] = sd;
-    }
     s.warnings.push_back(
         Format("residuals are not white: the std are from the sandwich covariance (batches of %.0f "
                "samples; up to %.3g times the white-noise std)",
