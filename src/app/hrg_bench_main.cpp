@@ -25,6 +25,7 @@
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/bench/verdict_json.hpp"
 
 namespace {
 
@@ -114,22 +115,23 @@ int Report(const bench::SessionResult& result, bool json) {
     out["complete_runs"] = result.complete_runs;
     out["estimate"] = result.estimate_json;
     out["warnings"] = result.warnings;
-    nlohmann::json limits = nlohmann::json::array();
+    // "limits" (each limit) predates "verdict" (the limits and the fit checks): both kept.
     if (result.verdict) {
-      for (const bench::LimitResult& r : result.verdict->results)
-        limits.push_back({{"quantity", std::string(bench::ToString(r.quantity))},
-                          {"status", std::string(bench::ToString(r.status))},
-                          {"value", bench::NumberOrNull(r.value)},
-                          {"std", bench::NumberOrNull(r.std)},
-                          {"min", bench::NumberOrNull(r.min)},
-                          {"max", bench::NumberOrNull(r.max)},
-                          {"message", r.message}});
+      out["verdict"] = bench::VerdictJson(*result.verdict);
+      out["limits"] = out["verdict"]["limits"];
+    } else {
+      out["verdict"] = nullptr;
+      out["limits"] = nlohmann::json::array();
     }
-    out["limits"] = limits;
     std::cout << out.dump(1) << '\n';
     return result.exit_code;
   }
   if (result.estimate) std::cout << result.estimate->Report();
+  if (result.engineering) {
+    std::cout << "in the field's units (f0 = " << result.engineering->frequency_hz
+              << " Hz as reported; angles on the shell):\n"
+              << result.engineering->Report();
+  }
   if (result.verdict) std::cout << result.verdict->Report();
   for (const std::string& w : result.warnings) std::cout << "warning: " << w << '\n';
   std::cout << bench::ToString(result.outcome) << ": " << result.reason << '\n'

@@ -7,9 +7,10 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
+#include "app/logging.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
-#include "app/logging.hpp"
+#include "hrgbench/bench/recorded_frequency.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {
@@ -66,6 +67,11 @@ int Run(const Arguments& args) {
     for (const std::string& w : warnings) std::cout << "warning: " << w << '\n';
     std::cout << result.summary.Report();
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
+    if (result.summary.IsUsable()) {
+      const bench::RecordedFrequency f0 = bench::RecordedResonantFrequency(session->document);
+      std::cout << "in the field's units (f0: " << f0.source << "; angles on the shell):\n"
+                << estimator::ComputeEngineeringQuantities(result.summary, f0.hz).Report();
+    }
     std::cout << "time: " << result.seconds << " s\n";
   }
   if (!result.summary.IsUsable()) {

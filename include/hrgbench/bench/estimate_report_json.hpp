@@ -28,6 +28,10 @@
 //                                  common_frequency_drift_rad_s2, omega_offset_rad_s,
 //                                  omega_offset_data_rad_s, omega_offset_in_std,
 //                                  noise_free}]}
+//   engineering          object   the estimate in the field's units (engineering_quantities.hpp):
+//                                 {frequency_hz (f0 from the record, null if not recorded),
+//                                  frequency_source, quantities [{name, label, unit, value, std,
+//                                  determined, note}] in the estimator's order}
 //   truth                object   only when the session has "simulation": {delta, xi, sigma, seed}
 //
 // JSON has no NaN: every non-finite number is written as null.
@@ -37,6 +41,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::bench {
@@ -56,10 +61,15 @@ inline constexpr std::string_view kReportKeys[] = {"method",
                                                    "samples_used",
                                                    "residual_rms_per_run",
                                                    "noise_sigma",
-                                                   "fit"};
+                                                   "fit",
+                                                   "engineering"};
 
 // The "fit" object alone (null when the summary has no diagnostics).
 nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary);
+
+// The "engineering" object alone, from quantities computed with f0 from `frequency_source`.
+nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineering,
+                               std::string_view frequency_source);
 
 // `warnings` are the caller's (method selection, session reading), put before the estimator's.
 // `session_document` is the whole session.json; its "simulation" block, if any, gives "truth".

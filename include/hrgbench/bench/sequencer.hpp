@@ -90,6 +90,9 @@ struct SessionResult {
   std::filesystem::path dir;
   std::optional<estimator::EstimateSummary> estimate;  // when the estimator ran
   std::optional<Verdict> verdict;                      // when the estimate was usable
+  // The estimate in the field's units (τ, Q, splits, axes, k, pick-off errors), with the f0 the
+  // electronics reported; when the estimate was usable.
+  std::optional<estimator::EngineeringQuantities> engineering;
   nlohmann::json estimate_json;                        // as recorded in session.json (or null)
   std::vector<std::string> warnings;                   // flagged runs, estimator warnings
   int complete_runs = 0;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hrgbench/bench/limits_config.hpp"
+#include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::bench {
@@ -62,6 +63,12 @@ struct Verdict {
   std::string Report() const;
 };
 
+// `engineering`: the estimate's engineering quantities (ComputeEngineeringQuantities with the
+// recorded f0), judged by the limits on them; one not determined (held parameter, unknown f0,
+// the axis of an insignificant split) is NOT EVALUATED with the reason.
+Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSummary& estimate,
+                       const estimator::EngineeringQuantities& engineering);
+// The same with the engineering quantities computed without f0 (a Q limit is then NOT EVALUATED).
 Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSummary& estimate);
 
 }  // namespace hrgbench::bench

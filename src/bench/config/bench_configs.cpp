@@ -60,6 +60,14 @@ std::expected<void, ConfigError> CheckIdentifiable(const BenchConfigs& configs) 
       identifiable = report.delta_identifiable[q];
     } else if (q <= static_cast<std::size_t>(LimitedQuantity::kXi4)) {
       identifiable = report.xi_identifiable[q - static_cast<std::size_t>(LimitedQuantity::kXi1)];
+    } else if (const auto engineering = EngineeringOf(limit.quantity)) {
+      // An engineering quantity needs every parameter it is computed from.
+      for (int i = 0; i < 10; ++i) {
+        if (!estimator::DependsOn(*engineering, i)) continue;
+        identifiable =
+            identifiable && (i < 6 ? report.delta_identifiable[static_cast<std::size_t>(i)]
+                                   : report.xi_identifiable[static_cast<std::size_t>(i - 6)]);
+      }
     }
     if (!identifiable) {
       std::string why;

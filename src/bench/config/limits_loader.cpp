@@ -9,6 +9,15 @@
 namespace hrgbench::bench {
 namespace {
 
+constexpr bool EngineeringNamesAgree() {
+  for (std::size_t i = 0; i < estimator::kEngineeringQuantityCount; ++i)
+    if (kLimitedQuantityNames[kFirstEngineeringLimit + i] !=
+        estimator::kEngineeringQuantities[i].name)
+      return false;
+  return true;
+}
+static_assert(EngineeringNamesAgree(), "limit names must be the estimator's engineering names");
+
 using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
 std::expected<ParameterLimit, ConfigError> ReadLimit(const TableReader& reader,
@@ -55,7 +64,10 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     limits.limits.push_back(*limit);
   }
   HRG_CHECK(reader.Unknown(
-      "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma (each "
+      "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma, "
+      "resonant_frequency_hz, tau_s, q_factor, tau1_s, tau2_s, damping_split_per_s, "
+      "damping_axis_deg, frequency_split_mhz, frequency_axis_deg, angular_gain, "
+      "gain_mismatch_percent, phase_mismatch_deg, cross_talk_percent, electrode_angle_deg (each "
       "[min, max])"));
 
   HRG_TRY(fit_table, SubTable(root, "fit", false));
@@ -85,6 +97,16 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
 std::string_view ToString(LimitedQuantity quantity) noexcept {
   const auto index = static_cast<std::size_t>(quantity);
   return index < kLimitedQuantityCount ? kLimitedQuantityNames[index] : "?";
+}
+
+std::optional<estimator::EngineeringQuantity> EngineeringOf(LimitedQuantity quantity) noexcept {
+  const auto index = static_cast<std::size_t>(quantity);
+  if (index < kFirstEngineeringLimit || index >= kLimitedQuantityCount) return std::nullopt;
+  return static_cast<estimator::EngineeringQuantity>(index - kFirstEngineeringLimit);
+}
+
+LimitedQuantity LimitOf(estimator::EngineeringQuantity quantity) noexcept {
+  return static_cast<LimitedQuantity>(kFirstEngineeringLimit + static_cast<std::size_t>(quantity));
 }
 
 std::expected<LimitsConfig, ConfigError> ParseLimitsConfig(std::string_view toml_text,

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "hrgbench/bench/recorded_frequency.hpp"
+
 namespace hrgbench::bench {
 namespace {
 
@@ -85,6 +87,25 @@ nlohmann::json FitDiagnosticsJson(const estimator::EstimateSummary& summary) {
   };
 }
 
+nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineering,
+                               std::string_view frequency_source) {
+  nlohmann::json quantities = nlohmann::json::array();
+  for (std::size_t k = 0; k < estimator::kEngineeringQuantityCount; ++k) {
+    const estimator::EngineeringQuantityInfo& info = estimator::kEngineeringQuantities[k];
+    const estimator::EngineeringValue& v = engineering.values[k];
+    quantities.push_back({{"name", std::string(info.name)},
+                          {"label", std::string(info.label)},
+                          {"unit", std::string(info.unit)},
+                          {"value", NumberOrNull(v.value)},
+                          {"std", NumberOrNull(v.std)},
+                          {"determined", v.determined},
+                          {"note", v.note}});
+  }
+  return {{"frequency_hz", NumberOrNull(engineering.frequency_hz)},
+          {"frequency_source", std::string(frequency_source)},
+          {"quantities", quantities}};
+}
+
 nlohmann::json EstimateReportJson(std::string_view method,
                                   const estimator::EstimateSummary& summary,
                                   const std::vector<std::string>& warnings,
@@ -113,6 +134,9 @@ nlohmann::json EstimateReportJson(std::string_view method,
       {"noise_sigma", NumberOrNull(summary.noise_sigma)},
       {"fit", FitDiagnosticsJson(summary)},
   };
+  const RecordedFrequency f0 = RecordedResonantFrequency(session_document);
+  report["engineering"] =
+      EngineeringJson(estimator::ComputeEngineeringQuantities(summary, f0.hz), f0.source);
   if (nlohmann::json truth = Truth(session_document); !truth.is_null()) report["truth"] = truth;
   return report;
 }

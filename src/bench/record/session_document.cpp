@@ -91,6 +91,7 @@ json ToJson(const SessionOutcome& outcome) {
            {"reason", outcome.reason},
            {"failed_parameters", std::move(failed)}};
   if (outcome.estimate) out["estimate"] = *outcome.estimate;
+  if (outcome.verdict) out["verdict"] = *outcome.verdict;
   return out;
 }
 

@@ -9,6 +9,8 @@
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/realtime_setup.hpp"
+#include "hrgbench/bench/recorded_frequency.hpp"
+#include "hrgbench/bench/verdict_json.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench {
@@ -122,7 +124,11 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
         outcome.kind = OutcomeKind::kError;
         outcome.reason = "estimate not usable: " + estimated.summary.message;
       } else {
-        Verdict verdict = EvaluateLimits(ctx.configs->limits, estimated.summary);
+        const estimator::EngineeringQuantities engineering =
+            estimator::ComputeEngineeringQuantities(
+                estimated.summary, RecordedResonantFrequency(recorded->document).hz);
+        Verdict verdict = EvaluateLimits(ctx.configs->limits, estimated.summary, engineering);
+        outcome.verdict = VerdictJson(verdict);
         std::string not_judged;  // "xi2: not evaluated, held fixed ...; delta4: ..."
         for (const LimitResult& r : verdict.results) {
           if (r.status == LimitStatus::kFail)
@@ -158,6 +164,7 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
             break;
         }
         result.verdict = std::move(verdict);
+        result.engineering = engineering;
       }
       result.estimate = std::move(estimated.summary);
     }
@@ -282,7 +289,8 @@ SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
     return Refused(dir, "record: " + recorder.error().ToString());
   }
   if (auto saved = internal::SaveConfigs(configs, dir); !saved) {
-    SessionOutcome outcome{OutcomeKind::kError, "record: " + saved.error(), {}, std::nullopt};
+    SessionOutcome outcome{
+        OutcomeKind::kError, "record: " + saved.error(), {}, std::nullopt, std::nullopt};
     (void)recorder->Close(outcome);
     internal::MakeSafe(hw);
     return Refused(dir, outcome.reason);

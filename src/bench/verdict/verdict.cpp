@@ -18,7 +18,14 @@ struct Value {
   bool held_fixed = false;
 };
 
-Value ValueOf(const estimator::EstimateSummary& s, LimitedQuantity q) {
+Value ValueOf(const estimator::EstimateSummary& s,
+              const estimator::EngineeringQuantities& engineering, LimitedQuantity q,
+              std::string* not_determined) {
+  if (const auto e = EngineeringOf(q)) {
+    const estimator::EngineeringValue& v = engineering[*e];
+    if (!v.determined) *not_determined = v.note.empty() ? "not determined" : v.note;
+    return {v.value, v.std, false};
+  }
   const auto index = static_cast<int>(q);
   if (index <= static_cast<int>(LimitedQuantity::kDelta6)) {
     return {s.delta(index), s.delta_std(index),
@@ -32,7 +39,8 @@ Value ValueOf(const estimator::EstimateSummary& s, LimitedQuantity q) {
   return {s.noise_sigma, estimator::kNaN, false};
 }
 
-LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSummary& estimate) {
+LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSummary& estimate,
+                     const estimator::EngineeringQuantities& engineering) {
   LimitResult result;
   result.quantity = limit.quantity;
   result.min = limit.min;
@@ -44,9 +52,17 @@ LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSumma
                      estimator::ToString(estimate.termination) + ")";
     return result;
   }
-  const Value v = ValueOf(estimate, limit.quantity);
+  std::string not_determined;
+  const Value v = ValueOf(estimate, engineering, limit.quantity, &not_determined);
   result.value = v.value;
   result.std = v.std;
+  if (!not_determined.empty()) {
+    // An engineering quantity from a held parameter, an unknown f0, or the axis of a split that
+    // is noise: nothing was measured to judge.
+    result.value = estimator::kNaN;
+    result.message = name + ": not evaluated, " + not_determined;
+    return result;
+  }
   if (v.held_fixed) {
     // A held value is an input, not a measurement: judging it would pass or fail the unit on
     // what the operator assumed.
@@ -185,6 +201,12 @@ std::string Verdict::Report() const {
 }
 
 Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSummary& estimate) {
+  return EvaluateLimits(limits, estimate,
+                        estimator::ComputeEngineeringQuantities(estimate, estimator::kNaN));
+}
+
+Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSummary& estimate,
+                       const estimator::EngineeringQuantities& engineering) {
   Verdict verdict;
   verdict.fit_checks = JudgeFit(limits.fit, estimate);
   for (const FitCheck& c : verdict.fit_checks)
@@ -192,7 +214,7 @@ Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSumm
   bool any_fail = false;
   bool any_not_evaluated = false;
   for (const ParameterLimit& limit : limits.limits) {
-    LimitResult result = Evaluate(limit, estimate);
+    LimitResult result = Evaluate(limit, estimate, engineering);
     if (!verdict.fit_acceptable && result.status != LimitStatus::kNotEvaluated) {
       result.message = std::string(ToString(limit.quantity)) +
                        ": not judged, the fit is outside its model (would be " +

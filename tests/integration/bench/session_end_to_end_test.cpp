@@ -8,6 +8,7 @@
 // parameter with fixed seeds, i.e. never for a given build).
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
@@ -149,6 +150,32 @@ TEST(BenchEndToEnd, ProductionSequenceAgreesWithTheTruthAndPasses) {
   // The production design determines ξ to ~1e-7 (CRLB), five orders better than the paper's.
   EXPECT_LT(run.result.estimate->xi_std[0], 1e-6);
   ExpectCompleteRecord(run.dir, 6, "PASS");
+  // The record carries the unit in the field's units and every limit's verdict: τ = 1000 s and
+  // Q = π·5000 Hz·τ of the simulated unit (station-sim.toml: δ1 = −1e-3, f0 = 5000 Hz) within 5 of
+  // their stds, the gain mismatch of ξ1 = 0.01 ((1 − 0.01)/(1 + 0.01) − 1 = −1.980 %), no axis of
+  // the splits it does not have.
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  const nlohmann::json& outcome = session->document.at("outcome");
+  const nlohmann::json& engineering = outcome.at("estimate").at("engineering");
+  EXPECT_DOUBLE_EQ(engineering.at("frequency_hz").get<double>(), 5000.0);
+  std::map<std::string, nlohmann::json> by_name;
+  for (const nlohmann::json& q : engineering.at("quantities")) by_name[q.at("name")] = q;
+  const auto near_truth = [&](const char* name, double truth) {
+    const nlohmann::json& q = by_name.at(name);
+    ASSERT_TRUE(q.at("value").is_number()) << name;
+    EXPECT_NEAR(q.at("value").get<double>(), truth, 5.0 * q.at("std").get<double>()) << name;
+  };
+  near_truth("tau_s", 1000.0);
+  near_truth("q_factor", 3.14159265358979 * 5000.0 * 1000.0);
+  near_truth("gain_mismatch_percent", 100.0 * (0.99 / 1.01 - 1.0));
+  near_truth("angular_gain", 0.3);
+  EXPECT_EQ(by_name.at("frequency_axis_deg").at("determined"), false);
+  EXPECT_TRUE(by_name.at("frequency_axis_deg").at("value").is_null());
+  const nlohmann::json& verdict = outcome.at("verdict");
+  EXPECT_EQ(verdict.at("overall"), "PASS");
+  ASSERT_EQ(verdict.at("limits").size(), run.result.verdict->results.size());
+  for (const nlohmann::json& limit : verdict.at("limits")) EXPECT_EQ(limit.at("status"), "PASS");
   std::filesystem::remove_all(run.dir);
 }
 
@@ -218,6 +245,10 @@ TEST(BenchEndToEnd, OutOfLimitsIsAFailThatNamesTheParameter) {
             limit.max = 1.0;
           }
         }
+        // Nor the pick-off in the field's units (the same ξ): only δ2 is to fail here.
+        std::erase_if(c.limits.limits, [](const bench::ParameterLimit& limit) {
+          return bench::EngineeringOf(limit.quantity).has_value();
+        });
       });
   EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kFail) << run.result.reason;
   EXPECT_EQ(run.result.exit_code, 1);

@@ -104,7 +104,7 @@ TEST(RecorderCrash, KillDashNineMidRunLeavesTheCompletedRunsAndResumeFinishesThe
   ASSERT_TRUE(resumed->AppendCanFrames(std::span(&after, 1)).has_value());
   auto recorded = RecordRun(*resumed, header.runs[2]);
   ASSERT_TRUE(recorded.has_value()) << recorded.error().ToString();
-  ASSERT_TRUE(resumed->Close({OutcomeKind::kPass, "", {}, {}}).has_value());
+  ASSERT_TRUE(resumed->Close({OutcomeKind::kPass, "", {}, {}, {}}).has_value());
 
   ExpectCompleteRuns(dir, header, {1, 2, 3});
   auto read = session::ReadSession(dir);
@@ -131,13 +131,13 @@ TEST(RecorderCrash, ResumingAClosedErrorSessionKeepsItsOutcome) {
     auto recorder = SessionRecorder::Create(dir, header);
     ASSERT_TRUE(recorder.has_value());
     ASSERT_TRUE(RecordRun(*recorder, header.runs[0]).has_value());
-    ASSERT_TRUE(recorder->Close({OutcomeKind::kError, "Modbus timeout", {}, {}}).has_value());
+    ASSERT_TRUE(recorder->Close({OutcomeKind::kError, "Modbus timeout", {}, {}, {}}).has_value());
   }
   auto resumed = SessionRecorder::OpenForResume(dir);
   ASSERT_TRUE(resumed.has_value()) << resumed.error().ToString();
   EXPECT_EQ(resumed->RemainingRunIds(), std::vector<int>{2});
   ASSERT_TRUE(RecordRun(*resumed, header.runs[1]).has_value());
-  ASSERT_TRUE(resumed->Close({OutcomeKind::kPass, "", {}, {}}).has_value());
+  ASSERT_TRUE(resumed->Close({OutcomeKind::kPass, "", {}, {}, {}}).has_value());
   auto read = session::ReadSession(dir);
   ASSERT_TRUE(read.has_value());
   EXPECT_EQ(read->document["resumed_at"][0]["previous_outcome"]["reason"], "Modbus timeout");

@@ -73,7 +73,7 @@ TEST(RecorderDiskFull, TinyTmpfsFillsMidRunAndRunsOneAndTwoStayIntact) {
   ExpectCompleteRuns(dir, header, {1, 2});
 
   // Closing may itself fail on the full disk; either way the record is not a success.
-  auto closed = recorder->Close({OutcomeKind::kError, failed.error().ToString(), {}, {}});
+  auto closed = recorder->Close({OutcomeKind::kError, failed.error().ToString(), {}, {}, {}});
   auto read = session::ReadSession(dir);
   ASSERT_TRUE(read.has_value()) << read.error().ToString();
   if (closed) {
@@ -110,7 +110,7 @@ TEST(RecorderDiskFull, FileSizeLimitMidRunIsAnErrorAndTheSessionClosesAsError) {
     auto failed = RecordRun(*recorder, header.runs[2], 20'000);
     if (failed) ::_exit(13);
     if (failed.error().kind != RecordErrorKind::kIo) ::_exit(14);
-    if (!recorder->Close({OutcomeKind::kError, failed.error().ToString(), {}, {}})) ::_exit(15);
+    if (!recorder->Close({OutcomeKind::kError, failed.error().ToString(), {}, {}, {}})) ::_exit(15);
     ::_exit(0);
   }
   int status = 0;

@@ -5,6 +5,8 @@
 #include <set>
 #include <string>
 
+#include "hrgbench/bench/recorded_frequency.hpp"
+
 namespace hrgbench::bench {
 namespace {
 
@@ -115,6 +117,42 @@ TEST(EstimateReportJson, TruthFromTheSessionsSimulationBlock) {
   EXPECT_EQ(Keys(j), expected);
   EXPECT_EQ(Keys(j["truth"]), (std::set<std::string>{"delta", "xi", "sigma", "seed"}));
   EXPECT_EQ(j["truth"]["delta"][1].get<double>(), 0.3);
+}
+
+// The engineering quantities, with f0 the mean of the complete runs' recorded resonant frequency
+// (an aborted run's and a missing value are not counted).
+TEST(EstimateReportJson, CarriesTheEngineeringQuantitiesWithTheRecordedFrequency) {
+  const nlohmann::json document = nlohmann::json::parse(R"({"runs": [
+      {"id": 1, "status": "complete", "start": {"resonant_frequency_hz": 5000.002}},
+      {"id": 2, "status": "aborted", "start": {"resonant_frequency_hz": 4000.0}},
+      {"id": 3, "status": "complete", "start": {"resonant_frequency_hz": null}},
+      {"id": 4, "status": "complete", "start": {"resonant_frequency_hz": 5000.004}}]})");
+  const RecordedFrequency f0 = RecordedResonantFrequency(document);
+  EXPECT_EQ(f0.runs, 2);
+  EXPECT_DOUBLE_EQ(f0.hz, 5000.003);
+  EXPECT_NEAR(f0.spread_hz, 0.002, 1e-9);
+
+  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {}, document);
+  const nlohmann::json& e = j["engineering"];
+  EXPECT_DOUBLE_EQ(e["frequency_hz"].get<double>(), 5000.003);
+  EXPECT_NE(e["frequency_source"].get<std::string>().find("2 runs"), std::string::npos);
+  ASSERT_EQ(e["quantities"].size(), estimator::kEngineeringQuantityCount);
+  const nlohmann::json& tau = e["quantities"][1];
+  EXPECT_EQ(tau["name"], "tau_s");
+  EXPECT_EQ(tau["unit"], "s");
+  EXPECT_DOUBLE_EQ(tau["value"].get<double>(), 1000.0);  // −1/δ1
+  EXPECT_EQ(tau["determined"], true);
+  const nlohmann::json& q = e["quantities"][2];
+  EXPECT_NEAR(q["value"].get<double>(), 3.14159265358979 * 5000.003 * 1000.0, 1.0);
+  // ξ3 was held: the cross-talk is its image, not a measurement.
+  const nlohmann::json& cross_talk = e["quantities"][12];
+  EXPECT_EQ(cross_talk["name"], "cross_talk_percent");
+  EXPECT_EQ(cross_talk["determined"], false);
+  EXPECT_TRUE(cross_talk["std"].is_null());
+
+  const nlohmann::json none = EstimateReportJson("ml", Xi1Summary(), {}, nlohmann::json::object());
+  EXPECT_TRUE(none["engineering"]["frequency_hz"].is_null());
+  EXPECT_EQ(none["engineering"]["quantities"][2]["determined"], false);  // Q without f0
 }
 
 }  // namespace

@@ -91,7 +91,7 @@ TEST(SessionRecorderErrors, EndRunRefusalsKeepTheRunOpen) {
   EXPECT_EQ(recorder->open_run_id(), 1);
   end.reason = "table fault";
   EXPECT_TRUE(recorder->EndRun(end).has_value());
-  EXPECT_EQ(recorder->Close({OutcomeKind::kError, "", {}, {}}).error().kind,
+  EXPECT_EQ(recorder->Close({OutcomeKind::kError, "", {}, {}, {}}).error().kind,
             RecordErrorKind::kInvalidArgument);  // ERROR needs a reason
 }
 
