@@ -6,11 +6,12 @@
 //
 //   report_benchmark [SESSION_DIR]     (default: the production session in a temporary directory)
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -57,8 +58,9 @@ bool WriteProductionSession(const fs::path& dir) {
     samples.y = runs[k].y;
     if (!session::WriteRunCsv(dir / entry.file, samples)) return false;
   }
-  s.document = {{"simulation", {{"delta", std::vector<double>(truth.delta.begin(), truth.delta.end())},
-                                {"xi", std::vector<double>(truth.xi.begin(), truth.xi.end())}}}};
+  s.document = {{"simulation",
+                 {{"delta", std::vector<double>(truth.delta.begin(), truth.delta.end())},
+                  {"xi", std::vector<double>(truth.xi.begin(), truth.xi.end())}}}};
   return static_cast<bool>(session::WriteSessionJson(dir, s));
 }
 
@@ -70,7 +72,8 @@ int main(int argc, char** argv) {
   if (argc > 1) {
     dir = argv[1];
   } else {
-    scratch = fs::temp_directory_path() / ("hrgbench_report_benchmark_" + std::to_string(::getpid()));
+    scratch =
+        fs::temp_directory_path() / ("hrgbench_report_benchmark_" + std::to_string(::getpid()));
     dir = scratch;
     std::printf("writing the production session (600 000 samples) to %s ...\n", dir.c_str());
     if (!WriteProductionSession(dir)) {
@@ -86,8 +89,9 @@ int main(int argc, char** argv) {
                       {"+ gnuplot SVG figures", true, false},
                       {"+ PDF (Chromium)", false, true},
                       {"HTML + figures + PDF", true, true}};
-  std::printf("\n| report | read s | estimate s | page s | figures s | PDF s | total s | HTML MB |\n"
-              "|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n| report | read s | estimate s | page s | figures s | PDF s | total s | HTML MB |\n"
+      "|---|---|---|---|---|---|---|---|\n");
   int status = 0;
   for (const Row& row : rows) {
     std::vector<report::ReportResult> results;

@@ -111,13 +111,19 @@ class ProgressPrinter {
 std::string WriteReport(const bench::SessionResult& result) {
   std::error_code ec;
   if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
-  const auto written = report::WriteSessionReport(result.dir);
-  if (!written) {
-    spdlog::error("session report not written: {}", written.error().ToString());
+  try {
+    const auto written = report::WriteSessionReport(result.dir);
+    if (!written) {
+      spdlog::error("session report not written: {}", written.error().ToString());
+      return {};
+    }
+    for (const std::string& w : written->warnings) spdlog::warn("report: {}", w);
+    return written->html.string();
+  } catch (const std::exception& error) {
+    // The session is closed and its outcome decided: nothing the report does may change that.
+    spdlog::error("session report not written: {}", error.what());
     return {};
   }
-  for (const std::string& w : written->warnings) spdlog::warn("report: {}", w);
-  return written->html.string();
 }
 
 int Report(const bench::SessionResult& result, bool json, const std::string& report_path) {

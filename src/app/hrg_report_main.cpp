@@ -56,12 +56,14 @@ int main(int argc, char** argv) {
   Arguments args;
   bool quiet = false;
   cli.add_option("dir", args.dir, "session directory (session.json + runs/)")->required();
-  cli.add_option("-o,--output", args.output, "the HTML file (default SESSION_DIR/report/report.html)");
+  cli.add_option("-o,--output", args.output,
+                 "the HTML file (default SESSION_DIR/report/report.html)");
   cli.add_flag("--no-pdf", args.no_pdf, "do not print the PDF");
   cli.add_flag("--no-figures", args.no_figures, "do not draw the SVG figures");
   cli.add_option("--chart-js", args.chart_js,
                  "Chart.js UMD build to inline (default: Debian's, "
                  "/usr/share/javascript/chart.js/chart.min.js)");
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-report", quiet, [&] { return Run(args); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-report", quiet,
+                                    [&] { return Run(args); });
 }

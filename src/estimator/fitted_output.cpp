@@ -18,8 +18,8 @@ const RunNuisanceEstimate* FindNuisance(const EstimateSummary& summary, int run_
 RunChannels Evaluate(const EstimateSummary& summary, const RunData& run, bool distorted) {
   const RunNuisanceEstimate* n = FindNuisance(summary, run.id);
   if (n == nullptr || !summary.delta.allFinite() || !summary.xi.allFinite() ||
-      !n->initial_state.allFinite() || n->phase_coefficients.size() >
-                                           static_cast<std::size_t>(internal::kMaxPhaseDegree))
+      !n->initial_state.allFinite() ||
+      n->phase_coefficients.size() > static_cast<std::size_t>(internal::kMaxPhaseDegree))
     return RunChannels(0, 4);
   const internal::FreeRunPropagator propagator(run.omega_rad_s + n->omega_offset_rad_s,
                                                summary.delta);

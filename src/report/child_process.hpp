@@ -10,8 +10,8 @@ namespace hrgbench::report::internal {
 struct ChildResult {
   bool started = false;  // false: the program was not found or could not be started
   bool timed_out = false;
-  int exit_code = -1;    // when it exited normally; -1 otherwise (signal, timeout, not started)
-  std::string output;    // its stdout and stderr, the first 4 KiB
+  int exit_code = -1;  // when it exited normally; -1 otherwise (signal, timeout, not started)
+  std::string output;  // its stdout and stderr, the first 4 KiB
   std::string Describe(const std::string& program) const;  // "gnuplot exited with 1: <output>"
 };
 

@@ -17,9 +17,12 @@ using nlohmann::json;
 std::string Quoted(const std::string& text) {
   std::string out = "'";
   for (const char c : text) {
-    if (c == '\'') out += "''";
-    else if (c == '\n') out += ' ';
-    else out += c;
+    if (c == '\'')
+      out += "''";
+    else if (c == '\n')
+      out += ' ';
+    else
+      out += c;
   }
   return out + "'";
 }
@@ -50,8 +53,10 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
          << "set key outside right top\nset grid\nunset logscale\nset size noratio\n"
          << "set xtics auto\n";
   if (f.value("y_log", false)) script << "set logscale y\n";
-  if (square) script << "set size ratio -1\nset xrange [-1.1:1.1]\nset yrange [-1.1:1.1]\n";
-  else script << "set autoscale xy\n";
+  if (square)
+    script << "set size ratio -1\nset xrange [-1.1:1.1]\nset yrange [-1.1:1.1]\n";
+  else
+    script << "set autoscale xy\n";
   if (bar) {
     const std::string file = tmp + "/" + name + ".dat";
     std::ofstream out(file);
@@ -138,7 +143,8 @@ std::string PrintPdf(const std::string& chromium, const std::filesystem::path& h
                      const std::filesystem::path& pdf, double timeout_s) {
   const std::string tmp = MakeTemporaryDirectory("hrg-report-chromium-");
   if (tmp.empty()) return "no temporary directory for Chromium's profile";
-  const std::filesystem::path partial = pdf.parent_path() / ("." + pdf.filename().string() + ".tmp");
+  const std::filesystem::path partial =
+      pdf.parent_path() / ("." + pdf.filename().string() + ".tmp");
   std::error_code ec;
   const std::filesystem::path absolute = std::filesystem::absolute(html, ec);
   const ChildResult run =

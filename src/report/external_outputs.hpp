@@ -5,10 +5,9 @@
 // never an exception. Internal to src/report.
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace hrgbench::report::internal {
 

@@ -19,11 +19,20 @@ std::string Attr(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -92,7 +101,7 @@ void Page::Head() {
   out_ +=
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>HRG session "
       "report " +
-      HtmlEscape(doc_.value("/unit/serial"_json_pointer, std::string("(no serial)"))) +
+      Text("/unit/serial") +
       "</title>\n<style>\n"
       "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1000px;color:#222}\n"
       "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
@@ -111,7 +120,8 @@ void Page::Head() {
 }
 
 void Page::Meta() {
-  out_ += "<h1>HRG session report: unit " + Text("/unit/serial") + "</h1>\n<table class=\"meta\">\n";
+  out_ +=
+      "<h1>HRG session report: unit " + Text("/unit/serial") + "</h1>\n<table class=\"meta\">\n";
   const auto row = [&](const char* name, const std::string& value) {
     out_ += std::string("<tr><th>") + name + "</th><td>" + value + "</td></tr>\n";
   };
@@ -187,8 +197,9 @@ void Page::Estimate() {
     truth_base = "/outcome/estimate/truth/";
   else if (Has("/simulation/delta"))
     truth_base = "/simulation/";
-  out_ += "<table class=\"parameters\"><tr><th>parameter</th><th>meaning</th><th>estimate</th>"
-          "<th>± std</th>";
+  out_ +=
+      "<table class=\"parameters\"><tr><th>parameter</th><th>meaning</th><th>estimate</th>"
+      "<th>± std</th>";
   if (!truth_base.empty()) out_ += "<th>truth (simulated)</th>";
   out_ += "<th>Cramér–Rao std</th></tr>\n";
   static const char* kMeaning[10] = {"damping δ1 [1/s]",
@@ -205,9 +216,9 @@ void Page::Estimate() {
     const bool is_delta = p < 6;
     const std::string i = std::to_string(is_delta ? p : p - 6);
     const std::string key = is_delta ? "delta" : "xi";
-    out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") + std::to_string((is_delta ? p : p - 6) + 1) +
-            "</td><td>" + kMeaning[p] + "</td><td>" + value(base + key + "/" + i) + "</td><td>" +
-            value(base + key + "_std/" + i) + "</td>";
+    out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") +
+            std::to_string((is_delta ? p : p - 6) + 1) + "</td><td>" + kMeaning[p] + "</td><td>" +
+            value(base + key + "/" + i) + "</td><td>" + value(base + key + "_std/" + i) + "</td>";
     if (!truth_base.empty()) out_ += "<td>" + Src(truth_base + key + "/" + i) + "</td>";
     out_ += "<td>" + Der("/derived/crlb/" + key + "_std/" + i) + "</td></tr>\n";
   }
@@ -224,7 +235,8 @@ void Page::Engineering() {
             " (session.json has no outcome.estimate.engineering).</p>\n";
   } else {
     out_ += "<p>Carrier frequency " + Src(base + "/frequency_hz") + " Hz (" +
-            Text(base + "/frequency_source") + ").</p>\n<table class=\"engineering\"><tr><th>"
+            Text(base + "/frequency_source") +
+            ").</p>\n<table class=\"engineering\"><tr><th>"
             "quantity</th><th>value</th><th>± std</th><th>unit</th><th>note</th></tr>\n";
     const std::size_t n = Size(doc_, base + "/quantities");
     for (std::size_t i = 0; i < n; ++i) {
@@ -264,15 +276,17 @@ void Page::Verdict() {
             "</p>\n";
     return;
   }
-  out_ += "<p>Overall " + Text(base + "/overall") + "; the fit within its model: " +
-          Text(base + "/fit_acceptable") + ".</p>\n";
+  out_ += "<p>Overall " + Text(base + "/overall") +
+          "; the fit within its model: " + Text(base + "/fit_acceptable") + ".</p>\n";
   const std::size_t n = Size(doc_, base + "/limits");
-  out_ += "<table class=\"limits\"><tr><th>quantity</th><th>value</th><th>± std</th><th>min</th>"
-          "<th>max</th><th>status</th><th>message</th></tr>\n";
+  out_ +=
+      "<table class=\"limits\"><tr><th>quantity</th><th>value</th><th>± std</th><th>min</th>"
+      "<th>max</th><th>status</th><th>message</th></tr>\n";
   for (std::size_t i = 0; i < n; ++i) {
     const std::string l = base + "/limits/" + std::to_string(i);
     const json* status = At(doc_, l + "/status");
-    const std::string s = status != nullptr && status->is_string() ? status->get<std::string>() : "";
+    const std::string s =
+        status != nullptr && status->is_string() ? status->get<std::string>() : "";
     out_ += "<tr><td>" + Text(l + "/quantity") + "</td><td>" + Src(l + "/value") + "</td><td>" +
             Src(l + "/std") + "</td><td>" + Src(l + "/min") + "</td><td>" + Src(l + "/max") +
             "</td><td class=\"status-" + Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" +
@@ -280,12 +294,14 @@ void Page::Verdict() {
   }
   out_ += "</table>\n<h2>Fit checks</h2>\n";
   const std::size_t m = Size(doc_, base + "/fit_checks");
-  out_ += "<table class=\"fit-checks\"><tr><th>run</th><th>check</th><th>value</th><th>max</th>"
-          "<th>status</th><th>message</th></tr>\n";
+  out_ +=
+      "<table class=\"fit-checks\"><tr><th>run</th><th>check</th><th>value</th><th>max</th>"
+      "<th>status</th><th>message</th></tr>\n";
   for (std::size_t i = 0; i < m; ++i) {
     const std::string c = base + "/fit_checks/" + std::to_string(i);
     const json* status = At(doc_, c + "/status");
-    const std::string s = status != nullptr && status->is_string() ? status->get<std::string>() : "";
+    const std::string s =
+        status != nullptr && status->is_string() ? status->get<std::string>() : "";
     out_ += "<tr><td>" + Text(c + "/run") + "</td><td>" + Text(c + "/name") + "</td><td>" +
             Src(c + "/value") + "</td><td>" + Src(c + "/max") + "</td><td class=\"status-" +
             Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" + Text(c + "/message") + "</td></tr>\n";
@@ -296,7 +312,8 @@ void Page::Verdict() {
 void Page::Figure(const std::string& name, int width, int height) {
   const auto it = captions_.find(name);
   if (it == captions_.end()) {
-    out_ += "<p class=\"na\">Figure " + HtmlEscape(name) + ": not drawn (nothing to draw it from).</p>\n";
+    out_ += "<p class=\"na\">Figure " + HtmlEscape(name) +
+            ": not drawn (nothing to draw it from).</p>\n";
     return;
   }
   out_ += "<figure><canvas data-figure=\"" + Attr(name) + "\" width=\"" + std::to_string(width) +
@@ -310,10 +327,10 @@ void Page::Run(const RunView& run) {
   out_ += "<section class=\"run\" id=\"run-" + id + "\" data-run=\"" + id + "\">\n<h2>Run " + id +
           ": Ω " + Src(r + "/omega_rad_s") + " rad/s, status " + Text(r + "/status") + "</h2>\n";
   Warnings(run.id);
-  if (!run.loaded)
-    out_ += "<p>Not drawn: " + HtmlEscape(run.not_loaded_reason) + ".</p>\n";
-  out_ += "<h3>Capture quality</h3>\n<table class=\"capture\"><tr><th>quantity</th><th>value</th>"
-          "</tr>\n";
+  if (!run.loaded) out_ += "<p>Not drawn: " + HtmlEscape(run.not_loaded_reason) + ".</p>\n";
+  out_ +=
+      "<h3>Capture quality</h3>\n<table class=\"capture\"><tr><th>quantity</th><th>value</th>"
+      "</tr>\n";
   const auto row = [&](const char* name, const std::string& value) {
     out_ += std::string("<tr><td>") + name + "</td><td>" + value + "</td></tr>\n";
   };
@@ -351,13 +368,14 @@ void Page::Run(const RunView& run) {
   for (std::size_t k = 0; k < fits; ++k) {
     const std::string f = "/outcome/estimate/fit/runs/" + std::to_string(k);
     if (NumberAt(doc_, f + "/run") != run.id) continue;
-    out_ += "<h3>Fit</h3>\n<table class=\"fit\"><tr><th>residual RMS</th><th>noise σ</th><th>"
-            "ratio</th><th>whiteness z</th><th>outliers removed</th><th>Ω offset [std]</th></tr>"
-            "<tr><td>" +
-            Src(f + "/residual_rms") + "</td><td>" + Src(f + "/noise_sigma") + "</td><td>" +
-            Src(f + "/residual_ratio") + "</td><td>" + Src(f + "/whiteness_z") + "</td><td>" +
-            Src(f + "/outliers_removed") + "</td><td>" + Src(f + "/omega_offset_in_std") +
-            "</td></tr></table>\n";
+    out_ +=
+        "<h3>Fit</h3>\n<table class=\"fit\"><tr><th>residual RMS</th><th>noise σ</th><th>"
+        "ratio</th><th>whiteness z</th><th>outliers removed</th><th>Ω offset [std]</th></tr>"
+        "<tr><td>" +
+        Src(f + "/residual_rms") + "</td><td>" + Src(f + "/noise_sigma") + "</td><td>" +
+        Src(f + "/residual_ratio") + "</td><td>" + Src(f + "/whiteness_z") + "</td><td>" +
+        Src(f + "/outliers_removed") + "</td><td>" + Src(f + "/omega_offset_in_std") +
+        "</td></tr></table>\n";
   }
   if (run.loaded) {
     for (const char* kind : {"channels", "residuals", "orbit", "forms"})
@@ -367,8 +385,7 @@ void Page::Run(const RunView& run) {
 }
 
 std::string Page::Render(const std::string& chart_js) {
-  for (const json& f : data_["figures"])
-    captions_[f.value("name", "")] = f.value("caption", "");
+  for (const json& f : data_["figures"]) captions_[f.value("name", "")] = f.value("caption", "");
   for (const std::string& w : in_.warnings) {
     int run = WarningRun(w);
     bool known = false;
@@ -384,7 +401,7 @@ std::string Page::Render(const std::string& chart_js) {
   Engineering();
   Verdict();
   for (const RunView& run : in_.runs) Run(run);
-  out_ += "<script type=\"application/json\" id=\"report-data\">" + ScriptSafeJson(data_.dump()) +
+  out_ += "<script type=\"application/json\" id=\"report-data\">" + ScriptSafeJson(data_.dump(-1, ' ', false, json::error_handler_t::replace)) +
           "</script>\n<script>\n" + chart_js + "\n</script>\n<script>" + kPageScript +
           "</script>\n</body>\n</html>\n";
   return std::move(out_);
@@ -397,7 +414,8 @@ int WarningRun(const std::string& warning) {
   std::size_t i = 4;
   int id = 0;
   bool digits = false;
-  while (i < warning.size() && std::isdigit(static_cast<unsigned char>(warning[i])) && id < 100000) {
+  while (i < warning.size() && std::isdigit(static_cast<unsigned char>(warning[i])) &&
+         id < 100000) {
     id = id * 10 + (warning[i] - '0');
     digits = true;
     ++i;

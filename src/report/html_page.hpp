@@ -3,9 +3,8 @@
 // scripts (Chart.js inlined, then the code that draws every figure spec of the data block). The
 // contract is in hrgbench/report/session_report.hpp. Internal to src/report.
 
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "report_inputs.hpp"
 

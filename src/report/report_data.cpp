@@ -1,8 +1,8 @@
 #include "report_data.hpp"
 
 #include <algorithm>
-#include <future>
 #include <cmath>
+#include <future>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -18,8 +18,8 @@
 namespace hrgbench::report::internal {
 namespace {
 
-using nlohmann::json;
 using estimator::kNaN;
+using nlohmann::json;
 
 json Numbers(const std::vector<double>& values) {
   json out = json::array();
@@ -34,9 +34,9 @@ json Series(const std::string& label, const std::vector<double>& y, bool model =
 
 json LineFigure(const std::string& name, const std::string& caption, const std::string& x_label,
                 const std::string& y_label, const std::vector<double>& x) {
-  return json{{"name", name},       {"caption", caption},   {"type", "line"},
-              {"x_label", x_label}, {"y_label", y_label},   {"y_log", false},
-              {"equal_aspect", false}, {"x", Numbers(x)}, {"series", json::array()}};
+  return json{{"name", name},          {"caption", caption}, {"type", "line"},
+              {"x_label", x_label},    {"y_label", y_label}, {"y_log", false},
+              {"equal_aspect", false}, {"x", Numbers(x)},    {"series", json::array()}};
 }
 
 // One run's figures: channels with the model, residuals, orbit elements and principal forms, each
@@ -51,20 +51,24 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   const std::string of_run = " of run " + id;
 
   json channels = LineFigure("channels-run-" + id,
-                             "Run " + id + ": the four channels y1…y4 as recorded and the fitted "
-                             "model (dashed)",
+                             "Run " + id +
+                                 ": the four channels y1…y4 as recorded and the fitted "
+                                 "model (dashed)",
                              "t [s]", "y", decimator.Times());
   json residuals = LineFigure("residuals-run-" + id,
                               "Run " + id + ": residuals y − ŷ of the fitted model, per channel",
                               "t [s]", "y − ŷ", decimator.Times());
-  json orbit = LineFigure("orbit-run-" + id,
-                          "Run " + id + ": orbit elements a, b (amplitude, quadrature) and θ "
-                          "(wave angle, electrical, rad) from the data (undistorted by ξ̂) and the "
-                          "model (dashed)",
-                          "t [s]", "a, b; θ [rad]", decimator.Times());
+  json orbit =
+      LineFigure("orbit-run-" + id,
+                 "Run " + id +
+                     ": orbit elements a, b (amplitude, quadrature) and θ "
+                     "(wave angle, electrical, rad) from the data (undistorted by ξ̂) and the "
+                     "model (dashed)",
+                 "t [s]", "a, b; θ [rad]", decimator.Times());
   json forms = LineFigure("forms-run-" + id,
-                          "Run " + id + ": principal forms Ac, As, K, S (MODEL.md) from the data "
-                          "and the model (dashed)",
+                          "Run " + id +
+                              ": principal forms Ac, As, K, S (MODEL.md) from the data "
+                              "and the model (dashed)",
                           "t [s]", "Ac, As, K, S", decimator.Times());
   const char* y_names[] = {"y1", "y2", "y3", "y4"};
   for (int c = 0; c < 4; ++c)
@@ -97,9 +101,8 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
                                           decimator.Apply(run.fitted_y.data() + c * n, 1), true));
     const Eigen::Matrix4Xd e = d.y - run.fitted_y.transpose();
     for (int c = 0; c < 4; ++c)
-      residuals["series"].push_back(
-          Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
-                 decimator.Apply(e.data() + c, 4)));
+      residuals["series"].push_back(Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
+                                           decimator.Apply(e.data() + c, 4)));
     for (int k = 0; k < 3; ++k)
       orbit["series"].push_back(Series(std::string(orbit_names[k]) + " model",
                                        decimator.Apply(model_elements.data() + k, 7), true));
@@ -126,8 +129,8 @@ json CaptureQuality(const RunView& run, const json& document) {
     std::vector<double> dt(t.size() - 1);
     for (std::size_t k = 1; k < t.size(); ++k) dt[k - 1] = t[k] - t[k - 1];
     std::vector<double> sorted = dt;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
-                     sorted.end());
+    std::nth_element(sorted.begin(),
+                     sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
     const double median = sorted[sorted.size() / 2];
     const double nominal = std::isfinite(rate_hz) && rate_hz > 0.0 ? 1.0 / rate_hz : median;
     double sum = 0.0, sum2 = 0.0, worst = 0.0;
@@ -140,9 +143,8 @@ json CaptureQuality(const RunView& run, const json& document) {
     }
     const double mean = sum / static_cast<double>(dt.size());
     q["sample_interval_s"] = bench::NumberOrNull(mean);
-    q["sample_time_jitter_std_s"] =
-        bench::NumberOrNull(std::sqrt(std::max(0.0, sum2 / static_cast<double>(dt.size()) -
-                                                        mean * mean)));
+    q["sample_time_jitter_std_s"] = bench::NumberOrNull(
+        std::sqrt(std::max(0.0, sum2 / static_cast<double>(dt.size()) - mean * mean)));
     q["sample_time_jitter_max_s"] = bench::NumberOrNull(worst);
     q["time_gaps"] = long_steps;  // steps longer than 1.5 nominal intervals
   }
@@ -200,18 +202,19 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
          {"quality_factor", bench::NumberOrNull(std::isfinite(f0) ? r.QualityFactor() : kNaN)},
          {"frequency_split_hz", bench::NumberOrNull(r.frequency_split_hz)},
          {"frequency_axis_electrical_rad", bench::NumberOrNull(r.frequency_axis_rad)},
-         {"frequency_axis_shell_deg", bench::NumberOrNull(r.frequency_axis_rad / 2 * 180 / std::numbers::pi)},
+         {"frequency_axis_shell_deg",
+          bench::NumberOrNull(r.frequency_axis_rad / 2 * 180 / std::numbers::pi)},
          {"damping_anisotropy_per_s", bench::NumberOrNull(r.damping_anisotropy_per_s)},
          {"damping_axis_electrical_rad", bench::NumberOrNull(r.damping_axis_rad)},
-         {"damping_axis_shell_deg", bench::NumberOrNull(r.damping_axis_rad / 2 * 180 / std::numbers::pi)}};
+         {"damping_axis_shell_deg",
+          bench::NumberOrNull(r.damping_axis_rad / 2 * 180 / std::numbers::pi)}};
   // The polar picture, on the shell (angles half the electrical ones): the two frequency axes
   // (unit length) and the two damping axes (0.75), a circle for the shell.
   json figure{{"name", "anisotropy"},
-              {"caption",
-               "Anisotropy on the shell: frequency axes (f0 ± Δf/2, Δf = " +
-                   Readable(r.frequency_split_hz) + " Hz) and damping axes (Δ(1/τ) = " +
-                   Readable(r.damping_anisotropy_per_s) +
-                   " 1/s) at half the model's electrical angles; from δ at " + source},
+              {"caption", "Anisotropy on the shell: frequency axes (f0 ± Δf/2, Δf = " +
+                              Readable(r.frequency_split_hz) + " Hz) and damping axes (Δ(1/τ) = " +
+                              Readable(r.damping_anisotropy_per_s) +
+                              " 1/s) at half the model's electrical angles; from δ at " + source},
               {"type", "line"},
               {"x_label", "x"},
               {"y_label", "y"},
@@ -277,7 +280,9 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
   if (design.runs.empty() || !design.IsValid(&why))
     return json{{"valid", false}, {"message", why.empty() ? "no run to design from" : why}};
   const estimator::CrlbResult bound = estimator::CramerRaoBound(design);
-  json out{{"valid", bound.valid}, {"message", bound.message}, {"sigma", bench::NumberOrNull(design.sigma)}};
+  json out{{"valid", bound.valid},
+           {"message", bound.message},
+           {"sigma", bench::NumberOrNull(design.sigma)}};
   out["delta_std"] = json::array();
   out["xi_std"] = json::array();
   for (int j = 0; j < 6; ++j) out["delta_std"].push_back(bench::NumberOrNull(bound.delta_std[j]));

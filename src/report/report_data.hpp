@@ -12,7 +12,6 @@
 // Long runs are decimated min/max per bucket (decimate.hpp), values rounded to 6 digits.
 
 #include <cstddef>
-
 #include <nlohmann/json.hpp>
 
 #include "report_inputs.hpp"

@@ -4,11 +4,10 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/run_data.hpp"
@@ -19,12 +18,12 @@ namespace hrgbench::report::internal {
 // One entry of session.json "runs", and what became of it.
 struct RunView {
   int id = 0;
-  std::size_t index = 0;         // position in session.json "runs" (for JSON pointers)
-  std::string status;            // runs[].status as recorded
-  std::string file;              // runs[].file
-  bool loaded = false;           // its samples are in `data`
-  std::string not_loaded_reason; // why not (status, missing file, empty, unreadable)
-  estimator::RunData data;       // id, Ω, t_s, y (when loaded)
+  std::size_t index = 0;          // position in session.json "runs" (for JSON pointers)
+  std::string status;             // runs[].status as recorded
+  std::string file;               // runs[].file
+  bool loaded = false;            // its samples are in `data`
+  std::string not_loaded_reason;  // why not (status, missing file, empty, unreadable)
+  estimator::RunData data;        // id, Ω, t_s, y (when loaded)
   // The fitted model at data.t_s (empty when the estimate has no entry for this run).
   estimator::RunChannels fitted_y;
   estimator::RunChannels fitted_x;

@@ -64,10 +64,10 @@ std::expected<std::string, ReportError> LoadChartJs(const fs::path& requested) {
       return std::unexpected(ReportError{path, "", "contains </script> and cannot be inlined"});
     return script;
   }
-  return std::unexpected(ReportError{
-      requested.empty() ? fs::path(kChartJsCandidates[1]) : requested, "",
-      "Chart.js (UMD build) not found: install Debian's libjs-chart.js "
-      "(scripts/setup-debian.sh) or give its path"});
+  return std::unexpected(
+      ReportError{requested.empty() ? fs::path(kChartJsCandidates[1]) : requested, "",
+                  "Chart.js (UMD build) not found: install Debian's libjs-chart.js "
+                  "(scripts/setup-debian.sh) or give its path"});
 }
 
 void AddWarning(std::vector<std::string>* warnings, std::set<std::string>* seen,
@@ -158,8 +158,7 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   const auto session = session::ReadSession(session_dir, read);
   if (!session)
     return std::unexpected(
-        ReportError{session.error().file,
-                    session.error().field, session.error().message});
+        ReportError{session.error().file, session.error().field, session.error().message});
   ReportInputs in;
   in.session_dir = session_dir;
   in.document = session->document;
@@ -184,10 +183,10 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
       if (!samples) {
         std::error_code ec;
         const bool exists = fs::exists(session_dir / entry.file, ec);
-        v.not_loaded_reason = (exists ? "cannot be read: " : "its file is missing: ") +
-                              samples.error().ToString();
-        const std::string w = "run " + std::to_string(entry.id) + ": not estimated and not drawn, " +
-                              v.not_loaded_reason;
+        v.not_loaded_reason =
+            (exists ? "cannot be read: " : "its file is missing: ") + samples.error().ToString();
+        const std::string w = "run " + std::to_string(entry.id) +
+                              ": not estimated and not drawn, " + v.not_loaded_reason;
         AddWarning(&in.warnings, &seen, w);
         reader_warnings.push_back(w);
       } else {

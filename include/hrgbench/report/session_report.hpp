@@ -32,10 +32,10 @@
 //  - The page's data is one `<script type="application/json" id="report-data">` block.
 //
 // Files: <output> (default SESSION_DIR/report/report.html); beside it, unless disabled,
-// report.pdf and the figures <name>.svg. Each file is written atomically (session::WriteFileAtomic).
-// External programs (gnuplot, chromium) run as subprocesses with their input in temporary files;
-// a missing or failing program is a warning in the result (and in the page for gnuplot), never a
-// failure of the report.
+// report.pdf and the figures <name>.svg. Each file is written atomically
+// (session::WriteFileAtomic). External programs (gnuplot, chromium) run as subprocesses with their
+// input in temporary files; a missing or failing program is a warning in the result (and in the
+// page for gnuplot), never a failure of the report.
 //
 // Threads: WriteSessionReport may be called from any thread; it starts the estimator's threads and
 // child processes and waits for them. Never throws except std::bad_alloc.
@@ -82,8 +82,8 @@ struct ReportError {
 };
 
 struct ReportResult {
-  std::filesystem::path html;                // written
-  std::filesystem::path pdf;                 // empty when not written
+  std::filesystem::path html;  // written
+  std::filesystem::path pdf;   // empty when not written
   std::vector<std::filesystem::path> figures;
   std::size_t html_bytes = 0;
   // Everything the page lists as a warning, and what went wrong with the PDF (not in the page).
@@ -95,8 +95,9 @@ struct ReportResult {
 
 // Refuses (ReportError, nothing written) when session.json cannot be read or is not a session
 // (the error names the file and field), or when Chart.js is missing; everything else the session
-// lacks (run files, an outcome, an estimate, engineering quantities, a verdict) is said in the page.
-std::expected<ReportResult, ReportError> WriteSessionReport(const std::filesystem::path& session_dir,
-                                                            const ReportOptions& options = {});
+// lacks (run files, an outcome, an estimate, engineering quantities, a verdict) is said in the
+// page.
+std::expected<ReportResult, ReportError> WriteSessionReport(
+    const std::filesystem::path& session_dir, const ReportOptions& options = {});
 
 }  // namespace hrgbench::report

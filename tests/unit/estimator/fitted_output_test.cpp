@@ -7,10 +7,10 @@
 // estimator's sample loop) must equal the RMS of y − ŷ computed here.
 #include "hrgbench/estimator/fitted_output.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/model.hpp"
@@ -70,7 +70,7 @@ TEST(FittedOutput, ResidualRmsIsTheFitsOwn) {
     ASSERT_EQ(summary.diagnostics.runs[r].outliers_removed, 0u);
     const RunNuisanceEstimate& n = summary.run_nuisance[r];
     EXPECT_EQ(n.run_id, runs[r].id);
-    ASSERT_EQ(n.phase_coefficients.size(), 2u);  // the default phase degree
+    ASSERT_EQ(n.phase_coefficients.size(), 2u);          // the default phase degree
     EXPECT_GT(std::abs(n.phase_coefficients[1]), 1e-5);  // the ramp is seen
     omega_offset_seen = omega_offset_seen || n.omega_offset_rad_s != 0.0;
     const double rms = Rms(runs[r].y, FittedOutput(summary, runs[r]));

@@ -1,11 +1,11 @@
 // MinMaxDecimator: long series shown without losing their envelope.
 #include "hrgbench/report/decimate.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::report {
 namespace {
@@ -43,8 +43,8 @@ TEST(MinMaxDecimator, ASpikeSurvives) {
   EXPECT_EQ(*std::max_element(shown.begin(), shown.end()), 0.5);
   EXPECT_EQ(*std::min_element(shown.begin(), shown.end()), -0.25);
   // ... at the right time, within one bucket (100 000 / 1000 samples = 0.1 s).
-  const std::size_t at = static_cast<std::size_t>(
-      std::max_element(shown.begin(), shown.end()) - shown.begin());
+  const std::size_t at =
+      static_cast<std::size_t>(std::max_element(shown.begin(), shown.end()) - shown.begin());
   EXPECT_NEAR(d.Times()[at], t[spike_at], 0.1);
   // Every-k-th-sample decimation loses it: the test above can tell the two apart.
   double strided_max = -1.0;

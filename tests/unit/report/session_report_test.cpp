@@ -4,6 +4,7 @@
 // checked against its contract (session_report.hpp) by reading the HTML text back.
 #include "hrgbench/report/session_report.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <charconv>
@@ -11,13 +12,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/estimator/simulation.hpp"
 #include "hrgbench/session/session.hpp"
@@ -165,7 +164,8 @@ TEST(SessionReport, SimulatedSessionWithoutOutcomeFollowsTheContract) {
        it != std::sregex_iterator(); ++it)
     names.insert((*it)[1]);
   std::size_t canvases = 0;
-  for (std::size_t at = html.find("<canvas"); at != std::string::npos; at = html.find("<canvas", at + 1))
+  for (std::size_t at = html.find("<canvas"); at != std::string::npos;
+       at = html.find("<canvas", at + 1))
     ++canvases;
   EXPECT_EQ(canvases, names.size());
   std::set<std::string> expected = {"anisotropy", "std-vs-bound"};
@@ -326,7 +326,8 @@ TEST(SessionReport, NoLoadableRunStillRendersTheRecord) {
 TEST(SessionReport, UnreadableSessionJsonIsRefusedNamingFileAndField) {
   testing::ScratchDir dir("report_badjson");
   WriteSession(dir.path());
-  std::ofstream(dir.path() / "session.json") << "{\"format\": \"hrgbench-session\", \"version\": 1,";
+  std::ofstream(dir.path() / "session.json")
+      << "{\"format\": \"hrgbench-session\", \"version\": 1,";
   auto result = WriteSessionReport(dir.path(), Fast());
   ASSERT_FALSE(result);
   EXPECT_EQ(result.error().file.filename(), "session.json");
