@@ -1,9 +1,11 @@
 #include "external_outputs.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <thread>
 
 #include "child_process.hpp"
 #include "hrgbench/session/session.hpp"
@@ -108,19 +110,49 @@ FiguresResult WriteGnuplotFigures(const json& data, const std::filesystem::path&
     result.warnings.push_back("figures not drawn: no temporary directory");
     return result;
   }
-  std::vector<std::string> names;
+  // The figures split over one gnuplot per core (each draws its share; they are independent).
+  const std::size_t processes = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 4);
+  std::vector<std::vector<std::string>> share(processes);
   {
-    std::ofstream script(tmp + "/figures.gp");
-    script << "set encoding utf8\nset datafile missing 'NaN'\n";
-    for (const json& f : data["figures"])
-      if (FigureScript(f, tmp, script)) names.push_back(f.value("name", ""));
-    script << "unset output\n";
+    std::vector<std::ofstream> scripts;
+    for (std::size_t p = 0; p < processes; ++p) {
+      scripts.emplace_back(tmp + "/figures-" + std::to_string(p) + ".gp");
+      scripts.back() << "set encoding utf8\nset datafile missing 'NaN'\n";
+    }
+    std::size_t next = 0;
+    for (const json& f : data["figures"]) {
+      if (FigureScript(f, tmp, scripts[next % processes])) {
+        share[next % processes].push_back(f.value("name", ""));
+        ++next;
+      }
+    }
+    for (std::ofstream& script : scripts) script << "unset output\n";
   }
-  const ChildResult run = RunChild({"gnuplot", tmp + "/figures.gp"}, timeout_s);
-  if (!run.started || run.exit_code != 0) {
-    result.warnings.push_back("figures for documents (SVG) not drawn: " + run.Describe("gnuplot"));
-  } else {
-    for (const std::string& name : names) {
+  std::vector<ChildResult> runs(processes);
+  {
+    std::vector<std::thread> threads;
+    for (std::size_t p = 0; p < processes; ++p)
+      threads.emplace_back([&, p] {
+        runs[p] = RunChild({"gnuplot", tmp + "/figures-" + std::to_string(p) + ".gp"}, timeout_s);
+      });
+    for (std::thread& t : threads) t.join();
+  }
+  std::vector<std::string> drawn;
+  std::string failure;
+  for (std::size_t p = 0; p < processes; ++p) {
+    if (!runs[p].started || runs[p].exit_code != 0) {
+      if (failure.empty()) failure = runs[p].Describe("gnuplot");
+    } else {
+      drawn.insert(drawn.end(), share[p].begin(), share[p].end());
+    }
+  }
+  if (!failure.empty())
+    result.warnings.push_back("figures for documents (SVG) not drawn: " + failure);
+  {
+    // In the page's order.
+    for (const json& f : data["figures"]) {
+      const std::string name = f.value("name", "");
+      if (std::find(drawn.begin(), drawn.end(), name) == drawn.end()) continue;
       std::ifstream in(tmp + "/" + name + ".svg", std::ios::binary);
       std::stringstream text;
       text << in.rdbuf();

@@ -401,7 +401,8 @@ std::string Page::Render(const std::string& chart_js) {
   Engineering();
   Verdict();
   for (const RunView& run : in_.runs) Run(run);
-  out_ += "<script type=\"application/json\" id=\"report-data\">" + ScriptSafeJson(data_.dump(-1, ' ', false, json::error_handler_t::replace)) +
+  out_ += "<script type=\"application/json\" id=\"report-data\">" +
+          ScriptSafeJson(data_.dump(-1, ' ', false, json::error_handler_t::replace)) +
           "</script>\n<script>\n" + chart_js + "\n</script>\n<script>" + kPageScript +
           "</script>\n</body>\n</html>\n";
   return std::move(out_);
