@@ -308,6 +308,23 @@ TEST(SessionReport, EmptyRunIsReportedBesideItsRun) {
   EXPECT_NE(html.find("data-figure=\"forms-run-4\""), std::string::npos);
 }
 
+TEST(SessionReport, RunNotCompleteIsShownAsSuchAndLeftOut) {
+  testing::ScratchDir dir("report_aborted");
+  WriteSession(dir.path());
+  json doc = SessionJson(dir.path());
+  doc["runs"][3]["status"] = "aborted";
+  std::ofstream(dir.path() / "session.json") << doc.dump();
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  const std::string run4 = Section(html, 4);
+  EXPECT_NE(run4.find("Not drawn: status &#39;aborted&#39;"), std::string::npos) << run4;
+  EXPECT_EQ(html.find("data-figure=\"channels-run-4\""), std::string::npos);
+  // Whatever the reader said about run 4 is in run 4's section, not at the top.
+  EXPECT_EQ(Top(html).find("run 4"), std::string::npos);
+  EXPECT_NE(html.find("data-figure=\"channels-run-3\""), std::string::npos);
+}
+
 TEST(SessionReport, NoLoadableRunStillRendersTheRecord) {
   testing::ScratchDir dir("report_norun");
   WriteSession(dir.path(), RecordedOutcome());
