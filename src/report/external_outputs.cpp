@@ -15,6 +15,9 @@ namespace {
 
 using nlohmann::json;
 
+// A figure of 2000 points per series is ~150 KB of SVG; anything far beyond is not read.
+constexpr std::uintmax_t kMaxSvgBytes = std::uintmax_t{64} << 20;
+
 // A gnuplot single-quoted string: no escapes inside, a quote is doubled.
 std::string Quoted(const std::string& text) {
   std::string out = "'";
@@ -153,7 +156,15 @@ FiguresResult WriteGnuplotFigures(const json& data, const std::filesystem::path&
     for (const json& f : data["figures"]) {
       const std::string name = f.value("name", "");
       if (std::find(drawn.begin(), drawn.end(), name) == drawn.end()) continue;
-      std::ifstream in(tmp + "/" + name + ".svg", std::ios::binary);
+      const std::string drawn_svg = tmp + "/" + name + ".svg";
+      std::error_code size_error;
+      const std::uintmax_t size = std::filesystem::file_size(drawn_svg, size_error);
+      if (!size_error && size > kMaxSvgBytes) {
+        result.warnings.push_back("figure " + name + ": gnuplot wrote " + std::to_string(size) +
+                                  " bytes, over the 64 MiB a figure may have");
+        continue;
+      }
+      std::ifstream in(drawn_svg, std::ios::binary);
       std::stringstream text;
       text << in.rdbuf();
       const std::filesystem::path target = out_dir / (name + ".svg");
