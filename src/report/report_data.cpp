@@ -62,7 +62,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
       LineFigure("orbit-run-" + id,
                  "Run " + id +
                      ": orbit elements a, b (amplitude, quadrature) and θ "
-                     "(wave angle, electrical, rad) from the data (undistorted by ξ̂) and the "
+                     "(wave angle, electrical, rad, unwrapped) from the data (undistorted by ξ̂) and the "
                      "model (dashed)",
                  "t [s]", "a, b; θ [rad]", decimator.Times());
   json forms = LineFigure("forms-run-" + id,
@@ -88,6 +88,16 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
       model_elements.col(k) << om.a, om.b, om.theta_rad, estimator::QuadraticForms(xm);
     }
   }
+  // θ is defined modulo π (StateToOrbit returns (−π/2, π/2]): unwrapped along the run, so a
+  // precessing wave is a line, not a saw-tooth.
+  const auto unwrap = [n](Eigen::Matrix<double, 7, Eigen::Dynamic>* elements) {
+    for (Eigen::Index k = 1; k < n && elements->cols() == n; ++k) {
+      const double step = (*elements)(2, k) - (*elements)(2, k - 1);
+      (*elements)(2, k) -= std::numbers::pi * std::round(step / std::numbers::pi);
+    }
+  };
+  unwrap(&data_elements);
+  unwrap(&model_elements);
   const char* orbit_names[] = {"a", "b", "θ"};
   const char* form_names[] = {"Ac", "As", "K", "S"};
   for (int e = 0; e < 3; ++e)
