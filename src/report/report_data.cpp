@@ -58,13 +58,13 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   json residuals = LineFigure("residuals-run-" + id,
                               "Run " + id + ": residuals y − ŷ of the fitted model, per channel",
                               "t [s]", "y − ŷ", decimator.Times());
-  json orbit =
-      LineFigure("orbit-run-" + id,
-                 "Run " + id +
-                     ": orbit elements a, b (amplitude, quadrature) and θ "
-                     "(wave angle, electrical, rad, unwrapped) from the data (undistorted by ξ̂) and the "
-                     "model (dashed)",
-                 "t [s]", "a, b; θ [rad]", decimator.Times());
+  json orbit = LineFigure(
+      "orbit-run-" + id,
+      "Run " + id +
+          ": orbit elements a, b (amplitude, quadrature) and θ "
+          "(wave angle, electrical, rad, unwrapped) from the data (undistorted by ξ̂) and the "
+          "model (dashed)",
+      "t [s]", "a, b; θ [rad]", decimator.Times());
   json forms = LineFigure("forms-run-" + id,
                           "Run " + id +
                               ": principal forms Ac, As, K, S (MODEL.md) from the data "
