@@ -7,9 +7,9 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
+#include "app/logging.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
-#include "app/logging.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {

@@ -1,18 +1,20 @@
 #pragma once
 // How a bench session ends, and the process exit code that says so (STYLE rule 9: FAIL is the
 // unit's, ERROR is the bench's). The recorder writes the outcome into session.json "outcome":
-//   {"kind": "FAIL", "exit_code": 1, "reason": "...", "failed_parameters": [...], "estimate": {...}}
+//   {"kind": "FAIL", "exit_code": 1, "reason": "...", "failed_parameters": [...], "estimate":
+//   {...}}
 //
 // Exit codes of hrg-bench (run and resume; `check` uses 0 and kExitUsage only):
 //   0  PASS     every limit met
 //   1  FAIL     the unit's fault: at least one estimated parameter (or the residual RMS) is outside
 //               its declared limits; `failed_parameters` names each one
 //   2  ERROR    the bench's fault: timeout, bus-off, Modbus failure, too many drops, a crash of a
-//               component, disk full or an unwritable session directory. Says nothing about the unit.
+//               component, disk full or an unwritable session directory. Says nothing about the
+//               unit.
 //   3  ABORTED  the operator stopped the session (Ctrl-C, SIGTERM)
 //   4  usage    bad command line, invalid or unreadable config, a session directory that cannot be
-//               created or resumed (refused before any hardware moved). Never written into a record:
-//               there is no session to write it into.
+//               created or resumed (refused before any hardware moved). Never written into a
+//               record: there is no session to write it into.
 // A recorder error (std::expected failure of SessionRecorder) during a session is an ERROR.
 
 #include <cmath>

@@ -99,7 +99,8 @@ TEST(SessionRecorder, FullSessionReadsBackExactlyThroughTheSessionLibrary) {
   }
   EXPECT_EQ(recorder->CompleteRunIds(), (std::vector<int>{1, 2, 3}));
   EXPECT_TRUE(recorder->RemainingRunIds().empty());
-  SessionOutcome outcome{OutcomeKind::kFail, "delta_tau_s outside limits",
+  SessionOutcome outcome{OutcomeKind::kFail,
+                         "delta_tau_s outside limits",
                          {FailedParameter{"delta_tau_s", 2e-3, -1e-3, 1e-3}},
                          json{{"delta_tau_s", 2e-3}}};
   ASSERT_TRUE(recorder->Close(outcome).has_value());
@@ -221,7 +222,8 @@ TEST(SessionRecorder, CloseEndsAnOpenRunAsAborted) {
   ASSERT_TRUE(recorder.has_value());
   ASSERT_TRUE(recorder->BeginRun(1, StartFor(header.runs[0])).has_value());
   ASSERT_TRUE(recorder->AppendSamples(SyntheticSamples(1, 10, 1000.0)).has_value());
-  ASSERT_TRUE(recorder->Close({OutcomeKind::kAborted, "operator pressed Ctrl-C", {}, {}}).has_value());
+  ASSERT_TRUE(
+      recorder->Close({OutcomeKind::kAborted, "operator pressed Ctrl-C", {}, {}}).has_value());
   const json doc = ReadJson(dir / "session.json");
   EXPECT_EQ(doc["runs"][0]["status"], "aborted");
   EXPECT_EQ(doc["runs"][0]["omega_rad_s"], 0.1);  // commanded: no measured Ω was given
