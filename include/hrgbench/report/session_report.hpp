@@ -26,7 +26,7 @@
 //    into the report-data block>"` instead of data-source, and data-value likewise.
 //  - Every warning is `<li class="warning" data-run="N">` inside run N's section
 //    (`<section class="run" id="run-N" data-run="N">`), or at the top with data-run="0" for
-//    warnings of the whole session.
+//    warnings of the whole session (and for a run id that session.json does not list).
 //  - The outcome is `<div id="outcome" data-kind="KIND">`, KIND = outcome.kind as recorded
 //    ("PASS", "FAIL", "ERROR", ...) or "NOT RECORDED" when session.json has no outcome.
 //  - The page's data is one `<script type="application/json" id="report-data">` block.
