@@ -16,6 +16,9 @@ packages=(
   socat                    # RTU tests: a pty pair between driver and simulated table
   can-utils                # log2asc/canplayer read the CAN log in the tests
   stress-ng                # the load check: the suite with both cores busy beside it
+  libjs-chart.js           # hrg-report: Chart.js inlined into the session report's page
+  gnuplot-nox              # hrg-report: the figures as SVG for documents
+  chromium                 # hrg-report: the page printed to PDF (headless); the browser test
 )
 
 missing=()

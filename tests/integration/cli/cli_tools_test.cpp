@@ -147,6 +147,37 @@ TEST_F(CliTest, MissingRunFileExitsTwoNamingTheFile) {
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+// hrg-report prints the files it wrote; the page's content is tested in tests/unit/report.
+TEST_F(CliTest, ReportWritesThePageAndPrintsItsPath) {
+  const fs::path session = SimulatePaper();
+  const fs::path page = dir_ / "page.html";
+  const Result r =
+      Run(HRG_REPORT, Quote(session) + " -o " + Quote(page) + " --no-pdf --no-figures");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, page.string() + "\n");
+  EXPECT_NE(ReadAll(page).find("<div id=\"outcome\" data-kind=\"NOT RECORDED\">"),
+            std::string::npos);
+  // A missing run file is said on the page (and logged), not a failure.
+  fs::remove(session / "runs" / "run-003.csv");
+  const Result missing = Run(HRG_REPORT, Quote(session) + " --no-pdf --no-figures");
+  EXPECT_EQ(missing.exit_code, 0) << missing.err;
+  EXPECT_NE(missing.err.find("run-003.csv"), std::string::npos) << missing.err;
+  EXPECT_TRUE(fs::exists(session / "report" / "report.html"));
+}
+
+TEST_F(CliTest, ReportOfAMalformedSessionExitsTwoNamingFileAndField) {
+  const fs::path session = SimulatePaper();
+  nlohmann::json doc = nlohmann::json::parse(ReadAll(session / "session.json"));
+  doc["runs"][2]["omega_rad_s"] = "fast";
+  std::ofstream(session / "session.json") << doc.dump(1);
+  const Result r = Run(HRG_REPORT, Quote(session) + " --no-pdf --no-figures");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("session.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("runs[2].omega_rad_s"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_FALSE(fs::exists(session / "report"));
+}
+
 TEST_F(CliTest, BadCommandLineExitsTwo) {
   const Result r = Run(HRG_ESTIMATE, Quote(dir_) + " --method magic");
   EXPECT_EQ(r.exit_code, 2);
@@ -156,7 +187,7 @@ TEST_F(CliTest, BadCommandLineExitsTwo) {
 }
 
 TEST_F(CliTest, HelpDocumentsExitCodes) {
-  for (const char* tool : {HRG_SIM, HRG_ESTIMATE, HRG_DESIGN, HRG_COMPARE}) {
+  for (const char* tool : {HRG_SIM, HRG_ESTIMATE, HRG_DESIGN, HRG_COMPARE, HRG_REPORT}) {
     const Result r = Run(tool, "--help");
     EXPECT_EQ(r.exit_code, 0) << tool;
     EXPECT_NE(r.out.find("Exit codes"), std::string::npos) << tool << r.out;

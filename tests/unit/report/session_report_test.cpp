@@ -1,0 +1,121 @@
+// WriteSessionReport: the page against its contract (session_report.hpp), and what a bench session
+// records (outcome, verdict, engineering quantities) shown as recorded. Sessions:
+// report_test_session.hpp.
+#include "report_test_session.hpp"
+
+namespace hrgbench::report {
+namespace {
+
+using namespace testing_support;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+TEST(SessionReport, SimulatedSessionWithoutOutcomeFollowsTheContract) {
+  testing::ScratchDir dir("report_sim");
+  WriteSession(dir.path());
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  EXPECT_EQ(result->html, dir.path() / "report" / "report.html");
+  const std::string html = Read(result->html);
+  EXPECT_EQ(html.size(), result->html_bytes);
+  // Offline: no URL anywhere, Chart.js inlined.
+  EXPECT_EQ(html.find("http://"), std::string::npos);
+  EXPECT_EQ(html.find("https://"), std::string::npos);
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
+  EXPECT_NE(html.find("Chart.js v"), std::string::npos);
+  EXPECT_NE(html.find("reportReady = \"true\""), std::string::npos);
+  EXPECT_NE(html.find("<div id=\"outcome\" data-kind=\"NOT RECORDED\">"), std::string::npos);
+  // Every chart: a canvas in a figure with a caption, with the contract's names.
+  std::set<std::string> names;
+  const std::regex figure("<figure><canvas data-figure=\"([^\"]+)\"[^>]*></canvas><figcaption>");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), figure);
+       it != std::sregex_iterator(); ++it)
+    names.insert((*it)[1]);
+  std::size_t canvases = 0;
+  for (std::size_t at = html.find("<canvas"); at != std::string::npos;
+       at = html.find("<canvas", at + 1))
+    ++canvases;
+  EXPECT_EQ(canvases, names.size());
+  std::set<std::string> expected = {"anisotropy", "std-vs-bound"};
+  for (int run = 1; run <= 4; ++run)
+    for (const char* kind : {"channels", "residuals", "orbit", "forms"})
+      expected.insert(std::string(kind) + "-run-" + std::to_string(run));
+  EXPECT_EQ(names, expected);
+  // Every figure has its data, and each canvas is in its run's section.
+  const json data = ReportData(html);
+  std::set<std::string> specs;
+  for (const json& f : data["figures"]) specs.insert(f["name"].get<std::string>());
+  EXPECT_EQ(specs, expected);
+  EXPECT_NE(Section(html, 3).find("data-figure=\"orbit-run-3\""), std::string::npos);
+  // Numbers: the truth from session.json, the re-run estimate and the bound derived.
+  EXPECT_GT(CheckNumbers(html, SessionJson(dir.path()), data), 40);
+  EXPECT_NE(html.find("data-source=\"/simulation/delta/1\" data-value=\"0.3\""), std::string::npos);
+  EXPECT_NE(html.find("data-derived=\"/derived/estimate/delta/1\""), std::string::npos);
+  EXPECT_NE(html.find("data-derived=\"/derived/crlb/delta_std/1\""), std::string::npos);
+  // The re-run estimate is right (within 5 std of the truth) and its std near the bound.
+  const double d2 = data["derived"]["estimate"]["delta"][1];
+  const double s2 = data["derived"]["estimate"]["delta_std"][1];
+  const double b2 = data["derived"]["crlb"]["delta_std"][1];
+  EXPECT_NEAR(d2, 0.3, 5 * s2);
+  EXPECT_NEAR(s2 / b2, 1.0, 0.2);
+  // The session-level warning about the missing outcome is at the top.
+  EXPECT_NE(Top(html).find("<li class=\"warning\" data-run=\"0\">session.json has no outcome"),
+            std::string::npos);
+}
+
+TEST(SessionReport, RecordedOutcomeVerdictAndEngineeringAreShown) {
+  testing::ScratchDir dir("report_outcome");
+  WriteSession(dir.path(), RecordedOutcome());
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  EXPECT_NE(html.find("<div id=\"outcome\" data-kind=\"FAIL\">FAIL"), std::string::npos);
+  EXPECT_NE(html.find("out of limits: tau_s"), std::string::npos);
+  // Recorded numbers come from session.json, each resolvable.
+  EXPECT_GT(CheckNumbers(html, SessionJson(dir.path()), ReportData(html)), 40);
+  EXPECT_NE(html.find("data-source=\"/outcome/estimate/delta/1\" data-value=\"0.3001\""),
+            std::string::npos);
+  EXPECT_NE(html.find("data-source=\"/outcome/estimate/delta_std/1\" data-value=\"1e-04\""),
+            std::string::npos);
+  // Engineering: generic over the list; undetermined says so.
+  EXPECT_NE(html.find("mean decay time τ"), std::string::npos);
+  EXPECT_NE(html.find("data-source=\"/outcome/estimate/engineering/quantities/0/value\" "
+                      "data-value=\"1000\""),
+            std::string::npos);
+  const std::size_t q = html.find("quality factor Q");
+  ASSERT_NE(q, std::string::npos);
+  EXPECT_NE(html.substr(q, 200).find("undetermined"), std::string::npos);
+  // Limits and fit checks.
+  EXPECT_NE(html.find("data-source=\"/outcome/verdict/limits/0/min\" data-value=\"2000\""),
+            std::string::npos);
+  EXPECT_NE(html.find("data-source=\"/outcome/verdict/fit_checks/0/value\" data-value=\"1.01\""),
+            std::string::npos);
+  // Warnings beside their run; the rest at the top.
+  EXPECT_NE(Section(html, 2).find(
+                "<li class=\"warning\" data-run=\"2\">run 2: something odd in run two</li>"),
+            std::string::npos);
+  EXPECT_NE(Top(html).find("<li class=\"warning\" data-run=\"0\">a session-level remark</li>"),
+            std::string::npos);
+  // The recorded δ1 is 10 std from the data's: the page says the model drawn is the re-run's.
+  EXPECT_NE(Top(html).find("differs from the recorded one"), std::string::npos);
+  // The anisotropy is from the recorded δ.
+  EXPECT_EQ(ReportData(html)["derived"]["anisotropy"]["delta_source"], "/outcome/estimate/delta");
+}
+
+TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
+  testing::ScratchDir dir("report_older");
+  json outcome = RecordedOutcome();
+  outcome["outcome"]["estimate"].erase("engineering");
+  outcome["outcome"].erase("verdict");
+  WriteSession(dir.path(), outcome);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  EXPECT_NE(html.find("Engineering quantities: <span class=\"na\">not recorded</span>"),
+            std::string::npos);
+  EXPECT_NE(html.find("Verdict: <span class=\"na\">not recorded</span>"), std::string::npos);
+  EXPECT_NE(html.find("data-figure=\"channels-run-4\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hrgbench::report
