@@ -503,8 +503,17 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
 
   // 4. Results.
   FillParameters(p, free, &s);
-  for (const internal::RunNuisance& n : state.nuisance)
+  for (std::size_t r = 0; r < used.size(); ++r) {
+    const internal::RunNuisance& n = state.nuisance[r];
     s.initial_states.push_back(internal::TrueInitialState(p, n.head<4>()));
+    RunNuisanceEstimate estimate;
+    estimate.run_id = used[r].id;
+    estimate.initial_state = s.initial_states.back();
+    for (int j = 1; j <= model.phase_degree; ++j)
+      estimate.phase_coefficients.push_back(n[internal::NuisanceModel::PhaseIndex(j)]);
+    if (model.OmegaFree(r)) estimate.omega_offset_rad_s = n[model.OmegaIndex()];
+    s.run_nuisance.push_back(std::move(estimate));
+  }
   s.residual_rms_per_run.resize(used.size());
   for (std::size_t r = 0; r < used.size(); ++r)
     s.residual_rms_per_run[r] =

@@ -13,6 +13,20 @@
 
 namespace hrgbench::estimator {
 
+// What an output-error fit estimated for one run besides (δ, ξ): the per-run nuisance parameters.
+// With them and the summary's δ and ξ the fitted output of the run can be evaluated
+// (fitted_output.hpp): ŷ(t) = e^{iψ(t)}·(I + C(ξ))·exp(A(Ω + ΔΩ, δ)·t)·x(0) on u = (y1 + i·y2,
+// y3 + i·y4), ψ(t) = Σ_j q_j·t^j (MaximumLikelihood's header says why each is there).
+struct RunNuisanceEstimate {
+  int run_id = 0;  // RunData::id of the run it belongs to
+  // x(0), the true (undistorted) initial state; equals initial_states[r].
+  Eigen::Vector4d initial_state = Eigen::Vector4d::Constant(kNaN);
+  // q_1 … q_D of the common phase, rad/s^j; empty when the fit had no common phase (D = 0).
+  std::vector<double> phase_coefficients;
+  // ΔΩ: the fitted offset of the run's rate from the recorded Ω, rad/s; 0 when Ω was held exact.
+  double omega_offset_rad_s = 0.0;
+};
+
 enum class Termination {
   kNotRun,            // the estimator was not called
   kConverged,         // a convergence tolerance was met (or a direct method solved its system)
@@ -47,6 +61,9 @@ struct EstimateSummary {
 
   // Initial state x(0) of each run (output-error methods only; empty otherwise).
   std::vector<Eigen::Vector4d> initial_states;
+  // Every per-run nuisance estimate, one per run in the order of the runs given (output-error
+  // methods only; empty otherwise): what FittedOutput needs to draw a run's fitted model.
+  std::vector<RunNuisanceEstimate> run_nuisance;
 
   // Residual RMS. Output-error methods: of y, per channel and sample (same unit as y).
   // Equation-error methods: of the equation (dz/dt or the integral form), a diagnostic only.

@@ -1,0 +1,102 @@
+#pragma once
+// hrg-report: the session report. One self-contained HTML file per session directory, readable
+// offline (every script and style inlined, no http(s) URL anywhere in the file), plus optional
+// gnuplot figures and a PDF printed by headless Chromium.
+//
+// What it does: reads the session (session::ReadSession; a run whose file is missing or empty is
+// reported and left out), re-runs the estimate exactly as the bench does (bench::RunMethod, method
+// "ml", the fit-quality limits the record holds under outcome.estimate.fit.limits) to get the
+// fitted model of every run (estimator::FittedOutput), and writes the page. Everything the page
+// shows about the outcome, the verdict and the engineering quantities is taken from session.json;
+// what the report computes itself (the re-run fit, the Cramér–Rao bound of the session's own
+// design, the anisotropy axes when the record has no engineering list, sample-time jitter) is
+// marked as derived (see the contract below).
+//
+// ## The HTML contract (the browser test, branch `browser`, relies on it; keep it exactly)
+//  - Every chart is a `<canvas data-figure="NAME">` inside a `<figure>` with a `<figcaption>`.
+//    Names: `channels-run-N`, `residuals-run-N`, `orbit-run-N`, `forms-run-N` (N = the run id),
+//    `anisotropy`, `std-vs-bound`.
+//  - When every chart has been drawn the page sets
+//    `document.documentElement.dataset.reportReady = "true"`.
+//  - Every number shown in a table is an element with `data-source="<JSON pointer into
+//    session.json, RFC 6901>"` (e.g. `/outcome/estimate/delta/1`) and `data-value="<the value,
+//    shortest round-trip>"`, its text being that value formatted for reading; a std is its own
+//    element with its own data-source (e.g. `/outcome/estimate/delta_std/1`).
+//    Numbers the report computes itself (not in session.json) carry `data-derived="<JSON pointer
+//    into the report-data block>"` instead of data-source, and data-value likewise.
+//  - Every warning is `<li class="warning" data-run="N">` inside run N's section
+//    (`<section class="run" id="run-N" data-run="N">`), or at the top with data-run="0" for
+//    warnings of the whole session.
+//  - The outcome is `<div id="outcome" data-kind="KIND">`, KIND = outcome.kind as recorded
+//    ("PASS", "FAIL", "ERROR", ...) or "NOT RECORDED" when session.json has no outcome.
+//  - The page's data is one `<script type="application/json" id="report-data">` block.
+//
+// Files: <output> (default SESSION_DIR/report/report.html); beside it, unless disabled,
+// report.pdf and the figures <name>.svg. Each file is written atomically (session::WriteFileAtomic).
+// External programs (gnuplot, chromium) run as subprocesses with their input in temporary files;
+// a missing or failing program is a warning in the result (and in the page for gnuplot), never a
+// failure of the report.
+//
+// Threads: WriteSessionReport may be called from any thread; it starts the estimator's threads and
+// child processes and waits for them. Never throws except std::bad_alloc.
+
+#include <cstddef>
+#include <expected>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hrgbench::report {
+
+struct ReportOptions {
+  // The HTML file; empty = <session>/report/report.html. Figures and the PDF go beside it.
+  std::filesystem::path output;
+  bool pdf = true;      // print the page to report.pdf with headless Chromium
+  bool figures = true;  // draw every figure as SVG with gnuplot
+  // Chart.js UMD build to inline; empty = the first of kChartJsCandidates that exists.
+  std::filesystem::path chart_js;
+  // Chromium binary; empty = $HRGBENCH_CHROMIUM, else "chromium" on PATH.
+  std::string chromium;
+  // Points per series on the page (min/max per bucket, see decimate.hpp). 2000 keeps a production
+  // session (6 runs × 100 000 samples) under 5 MB of HTML.
+  std::size_t max_points_per_series = 2000;
+  // Seconds a child process (gnuplot, chromium) may take before it is killed.
+  double child_timeout_s = 60.0;
+};
+
+// Where Debian's libjs-chart.js puts its UMD build (chart.min.js is the UMD bundle in 3.x; the
+// .mjs/.esm files are ES modules and cannot be inlined as a classic script).
+inline constexpr const char* kChartJsCandidates[] = {
+    "/usr/share/javascript/chart.js/chart.umd.min.js",
+    "/usr/share/javascript/chart.js/chart.min.js",
+    "/usr/share/javascript/chart.js/chart.umd.js",
+    "/usr/share/javascript/chart.js/chart.js",
+};
+
+struct ReportError {
+  std::filesystem::path file;  // the file at fault
+  std::string field;           // JSON key path or CSV column; empty when not about one
+  std::string message;
+
+  std::string ToString() const;  // "<file>: field '<field>': <message>"
+};
+
+struct ReportResult {
+  std::filesystem::path html;                // written
+  std::filesystem::path pdf;                 // empty when not written
+  std::vector<std::filesystem::path> figures;
+  std::size_t html_bytes = 0;
+  // Everything the page lists as a warning, and what went wrong with the PDF (not in the page).
+  std::vector<std::string> warnings;
+  // Seconds spent: reading the session, the estimate, building and writing the page, the gnuplot
+  // figures, the PDF.
+  double read_s = 0.0, estimate_s = 0.0, page_s = 0.0, figures_s = 0.0, pdf_s = 0.0;
+};
+
+// Refuses (ReportError, nothing written) when session.json cannot be read or is not a session
+// (the error names the file and field), or when Chart.js is missing; everything else the session
+// lacks (run files, an outcome, an estimate, engineering quantities, a verdict) is said in the page.
+std::expected<ReportResult, ReportError> WriteSessionReport(const std::filesystem::path& session_dir,
+                                                            const ReportOptions& options = {});
+
+}  // namespace hrgbench::report

@@ -1,0 +1,67 @@
+// hrg-report SESSION_DIR: the session report (HTML, SVG figures, PDF); see
+// include/hrgbench/report/session_report.hpp.
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+#include <string>
+
+#include "app/cli_exit.hpp"
+#include "app/logging.hpp"
+#include "hrgbench/report/session_report.hpp"
+
+namespace {
+
+using namespace hrgbench;
+
+struct Arguments {
+  std::string dir;
+  std::string output;
+  bool no_pdf = false;
+  bool no_figures = false;
+  std::string chart_js;
+};
+
+int Run(const Arguments& args) {
+  report::ReportOptions options;
+  options.output = args.output;
+  options.pdf = !args.no_pdf;
+  options.figures = !args.no_figures;
+  options.chart_js = args.chart_js;
+  const auto written = report::WriteSessionReport(args.dir, options);
+  if (!written) {
+    // The message alone on stderr, so scripts can match it (it names the file and field).
+    std::cerr << written.error().ToString() << '\n';
+    return app::kExitBadInput;
+  }
+  for (const std::string& w : written->warnings) spdlog::warn("{}", w);
+  std::cout << written->html.string() << '\n';
+  if (!written->pdf.empty()) std::cout << written->pdf.string() << '\n';
+  for (const auto& f : written->figures) std::cout << f.string() << '\n';
+  return app::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{
+      "hrg-report: the session report. Reads SESSION_DIR, re-runs its estimate (ml, as the bench "
+      "does) and writes one self-contained HTML page (default SESSION_DIR/report/report.html; "
+      "Chart.js from Debian's libjs-chart.js inlined, nothing fetched), every figure as SVG "
+      "(gnuplot) and report.pdf (headless Chromium; HRGBENCH_CHROMIUM overrides the binary). A "
+      "missing gnuplot or Chromium is a warning. Prints the files written, one per line.\n"
+      "Exit codes: 0 written; 2 bad input (session.json unreadable, Chart.js missing: the reason "
+      "on stderr, nothing written)."};
+  Arguments args;
+  bool quiet = false;
+  cli.add_option("dir", args.dir, "session directory (session.json + runs/)")->required();
+  cli.add_option("-o,--output", args.output, "the HTML file (default SESSION_DIR/report/report.html)");
+  cli.add_flag("--no-pdf", args.no_pdf, "do not print the PDF");
+  cli.add_flag("--no-figures", args.no_figures, "do not draw the SVG figures");
+  cli.add_option("--chart-js", args.chart_js,
+                 "Chart.js UMD build to inline (default: Debian's, "
+                 "/usr/share/javascript/chart.js/chart.min.js)");
+  hrgbench::app::AddCommonFlags(cli, &quiet);
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-report", quiet, [&] { return Run(args); });
+}

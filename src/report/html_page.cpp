@@ -1,0 +1,415 @@
+#include "html_page.hpp"
+
+#include <cctype>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "html_text.hpp"
+#include "page_script.hpp"
+#include "report_data.hpp"
+
+namespace hrgbench::report::internal {
+namespace {
+
+using nlohmann::json;
+
+// Attribute text for a JSON pointer ('/' kept: a pointer holds no URL).
+std::string Attr(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+constexpr const char* kMissing = "<span class=\"na\">not recorded</span>";
+constexpr const char* kNone = "<span class=\"na\">\u2014</span>";
+
+class Page {
+ public:
+  Page(const ReportInputs& in, const json& data) : in_(in), doc_(in.document), data_(data) {}
+
+  // A number of session.json: <span data-source data-value>, or "—" when null/absent.
+  std::string Src(const std::string& pointer) const {
+    const double v = NumberAt(doc_, pointer);
+    if (!std::isfinite(v)) return kNone;
+    return "<span class=\"num\" data-source=\"" + Attr(pointer) + "\" data-value=\"" +
+           RoundTrip(v) + "\">" + HtmlEscape(Readable(v)) + "</span>";
+  }
+  // A number the report derived: a pointer into the report-data block.
+  std::string Der(const std::string& pointer) const {
+    const double v = NumberAt(data_, pointer);
+    if (!std::isfinite(v)) return kNone;
+    return "<span class=\"num\" data-derived=\"" + Attr(pointer) + "\" data-value=\"" +
+           RoundTrip(v) + "\">" + HtmlEscape(Readable(v)) + "</span>";
+  }
+  std::string Text(const std::string& pointer) const {
+    const json* v = At(doc_, pointer);
+    if (v == nullptr || v->is_null()) return kMissing;
+    if (v->is_string()) return HtmlEscape(v->get<std::string>());
+    if (v->is_boolean()) return v->get<bool>() ? "yes" : "no";
+    if (v->is_number()) return Src(pointer);
+    return HtmlEscape(v->dump());
+  }
+  bool Has(const std::string& pointer) const {
+    const json* v = At(doc_, pointer);
+    return v != nullptr && !v->is_null();
+  }
+  std::size_t Size(const json& d, const std::string& pointer) const {
+    const json* v = At(d, pointer);
+    return v != nullptr && v->is_array() ? v->size() : 0;
+  }
+
+  std::string Render(const std::string& chart_js);
+
+ private:
+  void Head();
+  void Meta();
+  void Outcome();
+  void Warnings(int run);
+  void Estimate();
+  void Engineering();
+  void Verdict();
+  void Figure(const std::string& name, int width, int height);
+  void Run(const RunView& run);
+
+  const ReportInputs& in_;
+  const json& doc_;
+  const json& data_;
+  std::map<std::string, std::string> captions_;  // figure name → caption
+  std::map<int, std::vector<std::string>> warnings_by_run_;
+  std::string out_;
+};
+
+void Page::Head() {
+  out_ +=
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>HRG session "
+      "report " +
+      HtmlEscape(doc_.value("/unit/serial"_json_pointer, std::string("(no serial)"))) +
+      "</title>\n<style>\n"
+      "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1000px;color:#222}\n"
+      "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
+      "text-align:left;vertical-align:top}th{background:#f2f2f2}\n"
+      ".num{font-variant-numeric:tabular-nums}.na{color:#888}\n"
+      "#outcome{font-size:1.6em;font-weight:bold;padding:.5em .8em;border-radius:6px;color:#fff;"
+      "margin:.8em 0}\n"
+      "#outcome[data-kind=PASS]{background:#1b7f3b}#outcome[data-kind=FAIL]{background:#b3261e}"
+      "#outcome:not([data-kind=PASS]):not([data-kind=FAIL]){background:#b26a00}\n"
+      "#outcome .reason{font-size:.6em;font-weight:normal;display:block}\n"
+      "li.warning{color:#8a4b00}\nfigure{margin:1em 0;page-break-inside:avoid}"
+      "canvas{max-width:100%}figcaption{font-size:.9em;color:#444}\n"
+      "section.run{border-top:2px solid #888;margin-top:2em;page-break-before:always}\n"
+      ".status-FAIL{color:#b3261e;font-weight:bold}.status-PASS{color:#1b7f3b}\n"
+      "</style>\n</head>\n<body>\n";
+}
+
+void Page::Meta() {
+  out_ += "<h1>HRG session report: unit " + Text("/unit/serial") + "</h1>\n<table class=\"meta\">\n";
+  const auto row = [&](const char* name, const std::string& value) {
+    out_ += std::string("<tr><th>") + name + "</th><td>" + value + "</td></tr>\n";
+  };
+  row("unit serial", Text("/unit/serial"));
+  row("station", Has("/station/name") ? Text("/station/name") : kMissing);
+  row("software version",
+      Has("/software/version") ? Text("/software/version") : Text("/software_version"));
+  if (Has("/config_sha256")) {
+    for (const char* key : {"station", "sequence", "limits"})
+      row((std::string("config sha256: ") + key).c_str(),
+          Text(std::string("/config_sha256/") + key));
+  } else if (Has("/spec_sha256")) {
+    row("spec sha256", Text("/spec_sha256"));
+  } else {
+    row("config hashes", kMissing);
+  }
+  row("started (UTC)", Text("/started/utc"));
+  row("ended (UTC)", Text("/ended/utc"));
+  row("state", Text("/state"));
+  if (Has("/description")) row("description", Text("/description"));
+  row("session directory", HtmlEscape(in_.session_dir.string()));
+  out_ += "</table>\n";
+}
+
+void Page::Outcome() {
+  if (!Has("/outcome")) {
+    out_ +=
+        "<div id=\"outcome\" data-kind=\"NOT RECORDED\">NOT RECORDED<span class=\"reason\">"
+        "session.json has no outcome (a session from hrg-sim, an older format, or one that did "
+        "not close); the estimate below is the report's own</span></div>\n";
+    return;
+  }
+  const json* kind = At(doc_, "/outcome/kind");
+  const std::string k = kind != nullptr && kind->is_string() ? kind->get<std::string>() : "UNKNOWN";
+  out_ += "<div id=\"outcome\" data-kind=\"" + Attr(k) + "\">" + HtmlEscape(k) +
+          "<span class=\"reason\">" + Text("/outcome/reason") + " (exit code " +
+          Src("/outcome/exit_code") + ")</span></div>\n";
+  const std::size_t failed = Size(doc_, "/outcome/failed_parameters");
+  if (failed > 0) {
+    out_ += "<p>Out of limits:</p><ul>";
+    for (std::size_t i = 0; i < failed; ++i) {
+      const std::string p = "/outcome/failed_parameters/" + std::to_string(i);
+      out_ += "<li>" + Text(p + "/name") + " = " + Src(p + "/value") + " (limits " +
+              Src(p + "/min") + " … " + Src(p + "/max") + ")</li>";
+    }
+    out_ += "</ul>\n";
+  }
+}
+
+void Page::Warnings(int run) {
+  const auto it = warnings_by_run_.find(run);
+  if (it == warnings_by_run_.end() || it->second.empty()) return;
+  out_ += "<ul class=\"warnings\">\n";
+  for (const std::string& w : it->second)
+    out_ += "<li class=\"warning\" data-run=\"" + std::to_string(run) + "\">" + HtmlEscape(w) +
+            "</li>\n";
+  out_ += "</ul>\n";
+}
+
+void Page::Estimate() {
+  const bool recorded = Has("/outcome/estimate/delta");
+  const std::string base = recorded ? "/outcome/estimate/" : "/derived/estimate/";
+  const auto value = [&](const std::string& pointer) {
+    return recorded ? Src(pointer) : Der(pointer);
+  };
+  out_ += "<h2>Model parameters δ and ξ</h2>\n<p>";
+  out_ += recorded ? "As recorded by the bench (outcome.estimate, method " +
+                         Text("/outcome/estimate/method") + ")."
+                   : std::string("Not recorded in session.json: estimated by the report (ml).");
+  out_ += " The Cramér–Rao bound is of the session's own design (derived by the report).</p>\n";
+  std::string truth_base;
+  if (Has("/outcome/estimate/truth/delta"))
+    truth_base = "/outcome/estimate/truth/";
+  else if (Has("/simulation/delta"))
+    truth_base = "/simulation/";
+  out_ += "<table class=\"parameters\"><tr><th>parameter</th><th>meaning</th><th>estimate</th>"
+          "<th>± std</th>";
+  if (!truth_base.empty()) out_ += "<th>truth (simulated)</th>";
+  out_ += "<th>Cramér–Rao std</th></tr>\n";
+  static const char* kMeaning[10] = {"damping δ1 [1/s]",
+                                     "angular gain δ2",
+                                     "damping anisotropy δ3 [1/s]",
+                                     "damping anisotropy δ4 [1/s]",
+                                     "frequency anisotropy δ5 [rad/s]",
+                                     "frequency anisotropy δ6 [rad/s]",
+                                     "gain mismatch ξ1",
+                                     "phase mismatch ξ2",
+                                     "cross-talk ξ3",
+                                     "electrode misplacement ξ4"};
+  for (int p = 0; p < 10; ++p) {
+    const bool is_delta = p < 6;
+    const std::string i = std::to_string(is_delta ? p : p - 6);
+    const std::string key = is_delta ? "delta" : "xi";
+    out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") + std::to_string((is_delta ? p : p - 6) + 1) +
+            "</td><td>" + kMeaning[p] + "</td><td>" + value(base + key + "/" + i) + "</td><td>" +
+            value(base + key + "_std/" + i) + "</td>";
+    if (!truth_base.empty()) out_ += "<td>" + Src(truth_base + key + "/" + i) + "</td>";
+    out_ += "<td>" + Der("/derived/crlb/" + key + "_std/" + i) + "</td></tr>\n";
+  }
+  out_ += "</table>\n<p>Residual RMS " + value(base + "residual_rms") + ", noise σ̂ " +
+          value(base + "noise_sigma") + ", " + value(base + "samples_used") + " samples, " +
+          value(base + "iterations") + " iterations.</p>\n";
+}
+
+void Page::Engineering() {
+  out_ += "<h2>The resonator in its own units</h2>\n";
+  const std::string base = "/outcome/estimate/engineering";
+  if (!Has(base)) {
+    out_ += "<p>Engineering quantities: " + std::string(kMissing) +
+            " (session.json has no outcome.estimate.engineering).</p>\n";
+  } else {
+    out_ += "<p>Carrier frequency " + Src(base + "/frequency_hz") + " Hz (" +
+            Text(base + "/frequency_source") + ").</p>\n<table class=\"engineering\"><tr><th>"
+            "quantity</th><th>value</th><th>± std</th><th>unit</th><th>note</th></tr>\n";
+    const std::size_t n = Size(doc_, base + "/quantities");
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string q = base + "/quantities/" + std::to_string(i);
+      const json* determined = At(doc_, q + "/determined");
+      const bool ok = determined == nullptr || !determined->is_boolean() || determined->get<bool>();
+      out_ += "<tr><td>" + (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) + "</td>";
+      if (ok)
+        out_ += "<td>" + Src(q + "/value") + "</td><td>" + Src(q + "/std") + "</td>";
+      else
+        out_ += "<td colspan=\"2\" class=\"na\">undetermined</td>";
+      out_ += "<td>" + (Has(q + "/unit") ? Text(q + "/unit") : std::string()) + "</td><td>" +
+              (Has(q + "/note") ? Text(q + "/note") : std::string()) + "</td></tr>\n";
+    }
+    out_ += "</table>\n";
+  }
+  const json* a = At(data_, "/derived/anisotropy");
+  if (a != nullptr && a->is_object()) {
+    out_ += "<p>Anisotropy from δ (" + HtmlEscape(a->value("delta_source", "")) +
+            ", derived by the report): frequency split " +
+            Der("/derived/anisotropy/frequency_split_hz") + " Hz, its high-frequency axis at " +
+            Der("/derived/anisotropy/frequency_axis_shell_deg") +
+            "° on the shell; damping anisotropy Δ(1/τ) " +
+            Der("/derived/anisotropy/damping_anisotropy_per_s") + " 1/s, its fast axis at " +
+            Der("/derived/anisotropy/damping_axis_shell_deg") + "° on the shell; τ " +
+            Der("/derived/anisotropy/decay_time_s") + " s.</p>\n";
+  }
+  Figure("anisotropy", 440, 440);
+}
+
+void Page::Verdict() {
+  out_ += "<h2>Limits</h2>\n";
+  const std::string base = "/outcome/verdict";
+  if (!Has(base)) {
+    out_ += "<p>Verdict: " + std::string(kMissing) +
+            " (session.json has no outcome.verdict).</p>\n<h2>Fit checks</h2>\n<p>" + kMissing +
+            "</p>\n";
+    return;
+  }
+  out_ += "<p>Overall " + Text(base + "/overall") + "; the fit within its model: " +
+          Text(base + "/fit_acceptable") + ".</p>\n";
+  const std::size_t n = Size(doc_, base + "/limits");
+  out_ += "<table class=\"limits\"><tr><th>quantity</th><th>value</th><th>± std</th><th>min</th>"
+          "<th>max</th><th>status</th><th>message</th></tr>\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string l = base + "/limits/" + std::to_string(i);
+    const json* status = At(doc_, l + "/status");
+    const std::string s = status != nullptr && status->is_string() ? status->get<std::string>() : "";
+    out_ += "<tr><td>" + Text(l + "/quantity") + "</td><td>" + Src(l + "/value") + "</td><td>" +
+            Src(l + "/std") + "</td><td>" + Src(l + "/min") + "</td><td>" + Src(l + "/max") +
+            "</td><td class=\"status-" + Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" +
+            Text(l + "/message") + "</td></tr>\n";
+  }
+  out_ += "</table>\n<h2>Fit checks</h2>\n";
+  const std::size_t m = Size(doc_, base + "/fit_checks");
+  out_ += "<table class=\"fit-checks\"><tr><th>run</th><th>check</th><th>value</th><th>max</th>"
+          "<th>status</th><th>message</th></tr>\n";
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::string c = base + "/fit_checks/" + std::to_string(i);
+    const json* status = At(doc_, c + "/status");
+    const std::string s = status != nullptr && status->is_string() ? status->get<std::string>() : "";
+    out_ += "<tr><td>" + Text(c + "/run") + "</td><td>" + Text(c + "/name") + "</td><td>" +
+            Src(c + "/value") + "</td><td>" + Src(c + "/max") + "</td><td class=\"status-" +
+            Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" + Text(c + "/message") + "</td></tr>\n";
+  }
+  out_ += "</table>\n";
+}
+
+void Page::Figure(const std::string& name, int width, int height) {
+  const auto it = captions_.find(name);
+  if (it == captions_.end()) {
+    out_ += "<p class=\"na\">Figure " + HtmlEscape(name) + ": not drawn (nothing to draw it from).</p>\n";
+    return;
+  }
+  out_ += "<figure><canvas data-figure=\"" + Attr(name) + "\" width=\"" + std::to_string(width) +
+          "\" height=\"" + std::to_string(height) + "\"></canvas><figcaption>" +
+          HtmlEscape(it->second) + "</figcaption></figure>\n";
+}
+
+void Page::Run(const RunView& run) {
+  const std::string id = std::to_string(run.id);
+  const std::string r = "/runs/" + std::to_string(run.index);
+  out_ += "<section class=\"run\" id=\"run-" + id + "\" data-run=\"" + id + "\">\n<h2>Run " + id +
+          ": Ω " + Src(r + "/omega_rad_s") + " rad/s, status " + Text(r + "/status") + "</h2>\n";
+  Warnings(run.id);
+  if (!run.loaded)
+    out_ += "<p>Not drawn: " + HtmlEscape(run.not_loaded_reason) + ".</p>\n";
+  out_ += "<h3>Capture quality</h3>\n<table class=\"capture\"><tr><th>quantity</th><th>value</th>"
+          "</tr>\n";
+  const auto row = [&](const char* name, const std::string& value) {
+    out_ += std::string("<tr><td>") + name + "</td><td>" + value + "</td></tr>\n";
+  };
+  const std::string d = "/derived/runs/" + id + "/";
+  if (!Has(r + "/end")) row("end of run", kMissing);
+  const std::pair<const char*, const char*> recorded[] = {
+      {"samples recorded", "/end/samples"},
+      {"sequence gaps", "/end/sequence_gaps"},
+      {"kernel drops", "/end/kernel_drops"},
+      {"bad frames", "/end/bad_frames"},
+      {"Ω [rad/s]", "/end/omega_rad_s"},
+      {"Ω standard error [rad/s]", "/end/omega_std_error_rad_s"},
+      {"table rate std error [rad/s]", "/end/omega_rate_std_error_rad_s"},
+      {"temperature at start [°C]", "/end/temperature_start_c"},
+      {"temperature at end [°C]", "/end/temperature_end_c"},
+      {"frequency at start [Hz]", "/end/frequency_start_hz"},
+      {"frequency at end [Hz]", "/end/frequency_end_hz"},
+      {"resonant frequency at release [Hz]", "/start/resonant_frequency_hz"}};
+  for (const auto& [name, key] : recorded)
+    if (Has(r + key)) row(name, Src(r + key));
+  if (run.loaded) {
+    row("samples loaded", Der(d + "samples_loaded"));
+    row("mean sample interval [s]", Der(d + "sample_interval_s"));
+    row("sample-time jitter, std [s]", Der(d + "sample_time_jitter_std_s"));
+    row("sample-time jitter, max |Δt − nominal| [s]", Der(d + "sample_time_jitter_max_s"));
+    row("time gaps (Δt > 1.5 nominal)", Der(d + "time_gaps"));
+    if (std::isfinite(NumberAt(data_, d + "temperature_drift_c")))
+      row("temperature drift [°C]", Der(d + "temperature_drift_c"));
+    if (std::isfinite(NumberAt(data_, d + "frequency_drift_hz")))
+      row("frequency drift [Hz]", Der(d + "frequency_drift_hz"));
+  }
+  out_ += "</table>\n";
+  // The fit of this run as recorded (outcome.estimate.fit.runs[k] with run == id).
+  const std::size_t fits = Size(doc_, "/outcome/estimate/fit/runs");
+  for (std::size_t k = 0; k < fits; ++k) {
+    const std::string f = "/outcome/estimate/fit/runs/" + std::to_string(k);
+    if (NumberAt(doc_, f + "/run") != run.id) continue;
+    out_ += "<h3>Fit</h3>\n<table class=\"fit\"><tr><th>residual RMS</th><th>noise σ</th><th>"
+            "ratio</th><th>whiteness z</th><th>outliers removed</th><th>Ω offset [std]</th></tr>"
+            "<tr><td>" +
+            Src(f + "/residual_rms") + "</td><td>" + Src(f + "/noise_sigma") + "</td><td>" +
+            Src(f + "/residual_ratio") + "</td><td>" + Src(f + "/whiteness_z") + "</td><td>" +
+            Src(f + "/outliers_removed") + "</td><td>" + Src(f + "/omega_offset_in_std") +
+            "</td></tr></table>\n";
+  }
+  if (run.loaded) {
+    for (const char* kind : {"channels", "residuals", "orbit", "forms"})
+      Figure(std::string(kind) + "-run-" + id, 960, 300);
+  }
+  out_ += "</section>\n";
+}
+
+std::string Page::Render(const std::string& chart_js) {
+  for (const json& f : data_["figures"])
+    captions_[f.value("name", "")] = f.value("caption", "");
+  for (const std::string& w : in_.warnings) {
+    int run = WarningRun(w);
+    bool known = false;
+    for (const RunView& v : in_.runs) known = known || v.id == run;
+    warnings_by_run_[known ? run : 0].push_back(w);
+  }
+  Head();
+  Meta();
+  Outcome();
+  Warnings(0);
+  Estimate();
+  Figure("std-vs-bound", 960, 300);
+  Engineering();
+  Verdict();
+  for (const RunView& run : in_.runs) Run(run);
+  out_ += "<script type=\"application/json\" id=\"report-data\">" + ScriptSafeJson(data_.dump()) +
+          "</script>\n<script>\n" + chart_js + "\n</script>\n<script>" + kPageScript +
+          "</script>\n</body>\n</html>\n";
+  return std::move(out_);
+}
+
+}  // namespace
+
+int WarningRun(const std::string& warning) {
+  if (warning.rfind("run ", 0) != 0) return 0;
+  std::size_t i = 4;
+  int id = 0;
+  bool digits = false;
+  while (i < warning.size() && std::isdigit(static_cast<unsigned char>(warning[i])) && id < 100000) {
+    id = id * 10 + (warning[i] - '0');
+    digits = true;
+    ++i;
+  }
+  if (!digits) return 0;
+  if (i < warning.size() && warning[i] != ':' && warning[i] != ' ') return 0;
+  return id;
+}
+
+std::string RenderHtml(const ReportInputs& inputs, const json& data, const std::string& chart_js) {
+  Page page(inputs, data);
+  return page.Render(chart_js);
+}
+
+}  // namespace hrgbench::report::internal

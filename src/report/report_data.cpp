@@ -1,0 +1,350 @@
+#include "report_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/estimator/cramer_rao.hpp"
+#include "hrgbench/estimator/model.hpp"
+#include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/report/decimate.hpp"
+#include "html_text.hpp"
+
+namespace hrgbench::report::internal {
+namespace {
+
+using nlohmann::json;
+using estimator::kNaN;
+
+json Numbers(const std::vector<double>& values) {
+  json out = json::array();
+  out.get_ref<json::array_t&>().reserve(values.size());
+  for (const double v : values) out.push_back(std::isfinite(v) ? json(Rounded(v)) : json(nullptr));
+  return out;
+}
+
+json Series(const std::string& label, const std::vector<double>& y, bool model = false) {
+  return json{{"label", label}, {"y", Numbers(y)}, {"model", model}};
+}
+
+json LineFigure(const std::string& name, const std::string& caption, const std::string& x_label,
+                const std::string& y_label, const std::vector<double>& x) {
+  return json{{"name", name},       {"caption", caption},   {"type", "line"},
+              {"x_label", x_label}, {"y_label", y_label},   {"y_log", false},
+              {"equal_aspect", false}, {"x", Numbers(x)}, {"series", json::array()}};
+}
+
+// One run's figures: channels with the model, residuals, orbit elements and principal forms, each
+// data series next to the model's.
+void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_points,
+                json* figures) {
+  const estimator::RunData& d = run.data;
+  const auto n = static_cast<Eigen::Index>(d.t_s.size());
+  const MinMaxDecimator decimator(d.t_s, max_points);
+  const bool have_model = run.fitted_y.rows() == n && n > 0;
+  const std::string id = std::to_string(run.id);
+  const std::string of_run = " of run " + id;
+
+  json channels = LineFigure("channels-run-" + id,
+                             "Run " + id + ": the four channels y1…y4 as recorded and the fitted "
+                             "model (dashed)",
+                             "t [s]", "y", decimator.Times());
+  json residuals = LineFigure("residuals-run-" + id,
+                              "Run " + id + ": residuals y − ŷ of the fitted model, per channel",
+                              "t [s]", "y − ŷ", decimator.Times());
+  json orbit = LineFigure("orbit-run-" + id,
+                          "Run " + id + ": orbit elements a, b (amplitude, quadrature) and θ "
+                          "(wave angle, electrical, rad) from the data (undistorted by ξ̂) and the "
+                          "model (dashed)",
+                          "t [s]", "a, b; θ [rad]", decimator.Times());
+  json forms = LineFigure("forms-run-" + id,
+                          "Run " + id + ": principal forms Ac, As, K, S (MODEL.md) from the data "
+                          "and the model (dashed)",
+                          "t [s]", "Ac, As, K, S", decimator.Times());
+  const char* y_names[] = {"y1", "y2", "y3", "y4"};
+  for (int c = 0; c < 4; ++c)
+    channels["series"].push_back(Series(y_names[c], decimator.Apply(d.y.data() + c, 4)));
+  // Orbit elements and forms of the data: x = (I + C(ξ̂))⁻¹·y, exact.
+  Eigen::Matrix<double, 7, Eigen::Dynamic> data_elements(7, n);
+  Eigen::Matrix<double, 7, Eigen::Dynamic> model_elements(7, have_model ? n : 0);
+  const estimator::Xi xi_used = xi.allFinite() ? xi : estimator::Xi::Zero();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const estimator::State x = estimator::UndistortExact(xi_used, d.y.col(k));
+    const estimator::Orbit o = estimator::StateToOrbit(x);
+    const estimator::Forms z = estimator::QuadraticForms(x);
+    data_elements.col(k) << o.a, o.b, o.theta_rad, z;
+    if (have_model) {
+      const estimator::State xm = run.fitted_x.row(k).transpose();
+      const estimator::Orbit om = estimator::StateToOrbit(xm);
+      model_elements.col(k) << om.a, om.b, om.theta_rad, estimator::QuadraticForms(xm);
+    }
+  }
+  const char* orbit_names[] = {"a", "b", "θ"};
+  const char* form_names[] = {"Ac", "As", "K", "S"};
+  for (int e = 0; e < 3; ++e)
+    orbit["series"].push_back(Series(orbit_names[e], decimator.Apply(data_elements.data() + e, 7)));
+  for (int e = 0; e < 4; ++e)
+    forms["series"].push_back(
+        Series(form_names[e], decimator.Apply(data_elements.data() + 3 + e, 7)));
+  if (have_model) {
+    for (int c = 0; c < 4; ++c)
+      channels["series"].push_back(Series(std::string(y_names[c]) + " model",
+                                          decimator.Apply(run.fitted_y.data() + c * n, 1), true));
+    const Eigen::Matrix4Xd e = d.y - run.fitted_y.transpose();
+    for (int c = 0; c < 4; ++c)
+      residuals["series"].push_back(
+          Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
+                 decimator.Apply(e.data() + c, 4)));
+    for (int k = 0; k < 3; ++k)
+      orbit["series"].push_back(Series(std::string(orbit_names[k]) + " model",
+                                       decimator.Apply(model_elements.data() + k, 7), true));
+    for (int k = 0; k < 4; ++k)
+      forms["series"].push_back(Series(std::string(form_names[k]) + " model",
+                                       decimator.Apply(model_elements.data() + 3 + k, 7), true));
+  } else {
+    residuals["caption"] = "Run " + id + ": no fitted model" + of_run + ", so no residuals";
+  }
+  figures->push_back(std::move(channels));
+  figures->push_back(std::move(residuals));
+  figures->push_back(std::move(orbit));
+  figures->push_back(std::move(forms));
+}
+
+// Capture quality the report computes from the samples and the record (the recorded counters
+// themselves are shown from session.json).
+json CaptureQuality(const RunView& run, const json& document) {
+  json q = json::object();
+  const std::vector<double>& t = run.data.t_s;
+  q["samples_loaded"] = t.size();
+  const double rate_hz = NumberAt(document, "/sample_rate_hz");
+  if (t.size() >= 2) {
+    std::vector<double> dt(t.size() - 1);
+    for (std::size_t k = 1; k < t.size(); ++k) dt[k - 1] = t[k] - t[k - 1];
+    std::vector<double> sorted = dt;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                     sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const double nominal = std::isfinite(rate_hz) && rate_hz > 0.0 ? 1.0 / rate_hz : median;
+    double sum = 0.0, sum2 = 0.0, worst = 0.0;
+    std::size_t long_steps = 0;
+    for (const double step : dt) {
+      sum += step;
+      sum2 += step * step;
+      worst = std::max(worst, std::abs(step - nominal));
+      if (step > 1.5 * nominal) ++long_steps;
+    }
+    const double mean = sum / static_cast<double>(dt.size());
+    q["sample_interval_s"] = bench::NumberOrNull(mean);
+    q["sample_time_jitter_std_s"] =
+        bench::NumberOrNull(std::sqrt(std::max(0.0, sum2 / static_cast<double>(dt.size()) -
+                                                        mean * mean)));
+    q["sample_time_jitter_max_s"] = bench::NumberOrNull(worst);
+    q["time_gaps"] = long_steps;  // steps longer than 1.5 nominal intervals
+  }
+  const std::string end = "/runs/" + std::to_string(run.index) + "/end/";
+  q["temperature_drift_c"] = bench::NumberOrNull(NumberAt(document, end + "temperature_end_c") -
+                                                 NumberAt(document, end + "temperature_start_c"));
+  q["frequency_drift_hz"] = bench::NumberOrNull(NumberAt(document, end + "frequency_end_hz") -
+                                                NumberAt(document, end + "frequency_start_hz"));
+  return q;
+}
+
+// δ for the anisotropy: the recorded estimate when there is one, else the re-run's.
+bool RecordedDelta(const json& document, estimator::Delta* delta) {
+  for (int j = 0; j < 6; ++j) {
+    const double v = NumberAt(document, "/outcome/estimate/delta/" + std::to_string(j));
+    if (!std::isfinite(v)) return false;
+    (*delta)[j] = v;
+  }
+  return true;
+}
+
+double MeanResonantFrequency(const json& document) {
+  const double engineering = NumberAt(document, "/outcome/estimate/engineering/frequency_hz");
+  if (std::isfinite(engineering) && engineering > 0.0) return engineering;
+  const json* runs = At(document, "/runs");
+  double sum = 0.0;
+  int count = 0;
+  if (runs != nullptr && runs->is_array()) {
+    for (std::size_t i = 0; i < runs->size(); ++i) {
+      const double f =
+          NumberAt(document, "/runs/" + std::to_string(i) + "/start/resonant_frequency_hz");
+      if (std::isfinite(f) && f > 0.0) {
+        sum += f;
+        ++count;
+      }
+    }
+  }
+  return count > 0 ? sum / count : kNaN;
+}
+
+json Anisotropy(const ReportInputs& inputs, json* figures) {
+  estimator::Delta delta;
+  std::string source = "/outcome/estimate/delta";
+  if (!RecordedDelta(inputs.document, &delta)) {
+    if (!inputs.summary || !inputs.summary->delta.allFinite()) return nullptr;
+    delta = inputs.summary->delta;
+    source = "/derived/estimate/delta";
+  }
+  const double f0 = MeanResonantFrequency(inputs.document);
+  const estimator::ResonatorParameters r =
+      estimator::ResonatorFromDelta(delta, std::isfinite(f0) ? f0 : 1.0);
+  json a{{"delta_source", source},
+         {"frequency_hz", bench::NumberOrNull(f0)},
+         {"decay_time_s", bench::NumberOrNull(r.decay_time_s)},
+         {"quality_factor", bench::NumberOrNull(std::isfinite(f0) ? r.QualityFactor() : kNaN)},
+         {"frequency_split_hz", bench::NumberOrNull(r.frequency_split_hz)},
+         {"frequency_axis_electrical_rad", bench::NumberOrNull(r.frequency_axis_rad)},
+         {"frequency_axis_shell_deg", bench::NumberOrNull(r.frequency_axis_rad / 2 * 180 / std::numbers::pi)},
+         {"damping_anisotropy_per_s", bench::NumberOrNull(r.damping_anisotropy_per_s)},
+         {"damping_axis_electrical_rad", bench::NumberOrNull(r.damping_axis_rad)},
+         {"damping_axis_shell_deg", bench::NumberOrNull(r.damping_axis_rad / 2 * 180 / std::numbers::pi)}};
+  // The polar picture, on the shell (angles half the electrical ones): the two frequency axes
+  // (unit length) and the two damping axes (0.75), a circle for the shell.
+  json figure{{"name", "anisotropy"},
+              {"caption",
+               "Anisotropy on the shell: frequency axes (f0 ± Δf/2, Δf = " +
+                   Readable(r.frequency_split_hz) + " Hz) and damping axes (Δ(1/τ) = " +
+                   Readable(r.damping_anisotropy_per_s) +
+                   " 1/s) at half the model's electrical angles; from δ at " + source},
+              {"type", "line"},
+              {"x_label", "x"},
+              {"y_label", "y"},
+              {"y_log", false},
+              {"equal_aspect", true},
+              {"x", json::array()},
+              {"series", json::array()}};
+  const auto axis = [&](const std::string& label, double angle, double length) {
+    const double c = length * std::cos(angle), s = length * std::sin(angle);
+    figure["series"].push_back(json{{"label", label},
+                                    {"x", Numbers({-c, 0.0, c})},
+                                    {"y", Numbers({-s, 0.0, s})},
+                                    {"model", false}});
+  };
+  std::vector<double> cx, cy;
+  for (int k = 0; k <= 72; ++k) {
+    cx.push_back(std::cos(k * std::numbers::pi / 36));
+    cy.push_back(std::sin(k * std::numbers::pi / 36));
+  }
+  const double theta_f = r.frequency_axis_rad / 2, theta_d = r.damping_axis_rad / 2;
+  const double quarter = std::numbers::pi / 4;  // 90° electrical = 45° on the shell
+  axis("high-frequency axis (f0 + Δf/2)", theta_f, 1.0);
+  axis("low-frequency axis (f0 − Δf/2)", theta_f + quarter, 1.0);
+  axis("fast-decay axis (1/τ + Δ(1/τ)/2)", theta_d, 0.75);
+  axis("slow-decay axis (1/τ − Δ(1/τ)/2)", theta_d + quarter, 0.75);
+  figure["series"].push_back(
+      json{{"label", "shell"}, {"x", Numbers(cx)}, {"y", Numbers(cy)}, {"model", true}});
+  figures->push_back(std::move(figure));
+  return a;
+}
+
+// The Cramér–Rao bound of the session's own design: the runs as recorded (Ω, duration, sample
+// rate), their fitted initial orbits, the estimate as the truth and σ̂ as the noise.
+json CramerRao(const ReportInputs& inputs, json* figures) {
+  if (!inputs.summary || !inputs.summary->IsUsable()) return nullptr;
+  const estimator::EstimateSummary& s = *inputs.summary;
+  estimator::DesignSpec design;
+  design.delta = s.delta;
+  design.xi = s.xi;
+  design.sigma = s.noise_sigma;
+  design.xi_unknown = s.xi_estimated;
+  design.phase_degree = s.diagnostics.phase_degree;
+  for (const RunView& run : inputs.runs) {
+    if (!run.loaded) continue;
+    const std::size_t n = run.data.t_s.size();
+    const auto nuisance =
+        std::find_if(s.run_nuisance.begin(), s.run_nuisance.end(),
+                     [&](const estimator::RunNuisanceEstimate& e) { return e.run_id == run.id; });
+    if (n < 2 || nuisance == s.run_nuisance.end()) continue;
+    estimator::RunPlan plan;
+    const estimator::Orbit o = estimator::StateToOrbit(nuisance->initial_state);
+    plan.omega_rad_s = run.data.omega_rad_s;
+    plan.a = o.a;
+    plan.b = o.b;
+    plan.theta_rad = o.theta_rad;
+    plan.phi_rad = o.phi_rad;
+    const double span = run.data.t_s.back() - run.data.t_s.front();
+    plan.sample_rate_hz = static_cast<double>(n - 1) / span;
+    plan.duration_s = static_cast<double>(n) / plan.sample_rate_hz;
+    design.runs.push_back(plan);
+  }
+  std::string why;
+  if (design.runs.empty() || !design.IsValid(&why))
+    return json{{"valid", false}, {"message", why.empty() ? "no run to design from" : why}};
+  const estimator::CrlbResult bound = estimator::CramerRaoBound(design);
+  json out{{"valid", bound.valid}, {"message", bound.message}, {"sigma", bench::NumberOrNull(design.sigma)}};
+  out["delta_std"] = json::array();
+  out["xi_std"] = json::array();
+  for (int j = 0; j < 6; ++j) out["delta_std"].push_back(bench::NumberOrNull(bound.delta_std[j]));
+  for (int k = 0; k < 4; ++k) out["xi_std"].push_back(bench::NumberOrNull(bound.xi_std[k]));
+  if (!bound.valid) return out;
+  // The achieved std: recorded when the record has it, else the re-run's.
+  json figure{{"name", "std-vs-bound"},
+              {"caption",
+               "Achieved std of every estimated parameter against the Cramér–Rao bound of the "
+               "session's own design (its runs, fitted orbits, σ̂ = " +
+                   Readable(design.sigma) + "); a ratio near 1 is an efficient estimate"},
+              {"type", "bar"},
+              {"x_label", "parameter"},
+              {"y_label", "std"},
+              {"y_log", true},
+              {"equal_aspect", false},
+              {"labels", json::array()},
+              {"series", json::array()}};
+  std::vector<double> achieved, crlb;
+  for (int p = 0; p < 10; ++p) {
+    const bool is_delta = p < 6;
+    const int i = is_delta ? p : p - 6;
+    const bool estimated = is_delta ? s.delta_estimated[i] : s.xi_estimated[i];
+    if (!estimated) continue;
+    const std::string key = is_delta ? "delta_std" : "xi_std";
+    double value = NumberAt(inputs.document, "/outcome/estimate/" + key + "/" + std::to_string(i));
+    if (!std::isfinite(value)) value = is_delta ? s.delta_std[i] : s.xi_std[i];
+    figure["labels"].push_back((is_delta ? "δ" : "ξ") + std::to_string(i + 1));
+    achieved.push_back(value);
+    crlb.push_back(is_delta ? bound.delta_std[i] : bound.xi_std[i]);
+  }
+  figure["series"].push_back(Series("achieved std", achieved));
+  figure["series"].push_back(Series("Cramér–Rao bound", crlb, true));
+  figures->push_back(std::move(figure));
+  return out;
+}
+
+}  // namespace
+
+const json* At(const json& doc, const std::string& pointer) {
+  try {
+    const json::json_pointer p(pointer);
+    if (!doc.contains(p)) return nullptr;
+    return &doc.at(p);
+  } catch (const json::exception&) {
+    return nullptr;  // a malformed pointer or an index into a non-array
+  }
+}
+
+double NumberAt(const json& doc, const std::string& pointer) {
+  const json* v = At(doc, pointer);
+  return v != nullptr && v->is_number() ? v->get<double>() : kNaN;
+}
+
+json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_series) {
+  json data{{"figures", json::array()}, {"derived", json::object()}};
+  json& figures = data["figures"];
+  json& derived = data["derived"];
+  derived["estimate"] = inputs.estimate_json;
+  derived["anisotropy"] = Anisotropy(inputs, &figures);
+  derived["crlb"] = CramerRao(inputs, &figures);
+  derived["runs"] = json::object();
+  const estimator::Xi xi = inputs.summary ? inputs.summary->xi : estimator::Xi::Zero();
+  for (const RunView& run : inputs.runs) {
+    if (!run.loaded) continue;
+    derived["runs"][std::to_string(run.id)] = CaptureQuality(run, inputs.document);
+    RunFigures(run, xi, max_points_per_series, &figures);
+  }
+  return data;
+}
+
+}  // namespace hrgbench::report::internal
