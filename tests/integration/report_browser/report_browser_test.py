@@ -4,6 +4,7 @@
   report_browser_test.py --case checker   --source-dir SRC --artifacts DIR
   report_browser_test.py --case bench     --source-dir SRC --bin-dir BIN --artifacts DIR
   report_browser_test.py --case missing-run --source-dir SRC --bin-dir BIN --artifacts DIR
+  report_browser_test.py --case no-outcome --source-dir SRC --bin-dir BIN --artifacts DIR
 
 checker      the test of the test: the hand-written fixture (fixture/report.html, which keeps the
              contract) passes report_page_checker; each copy of it broken on purpose (MUTATIONS:
@@ -15,6 +16,8 @@ bench        hrg-bench runs a short sequence (SEQUENCE below, 3 runs of 4 s at 1
              hrg-report wrote one, has pages and says the outcome (pdftotext).
 missing-run  the same session with runs/run-002.csv deleted: the report still renders, without
              console errors, and names the missing file.
+no-outcome   the same session without "outcome" (an older bench's record, or a session that never
+             closed): the report renders, #outcome says NOT RECORDED, the page says "not recorded".
 
 Screenshots (page.png and figure-NAME.png), the page, session.json and the PDF's first page go to
 --artifacts/<case>/ for CI to keep. Exit codes: 0 passed; 1 failed; 77 a tool missing (skipped),
@@ -26,6 +29,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -106,12 +110,20 @@ MUTATIONS = [
     ("text not a number", "2.4379e-2</td>", "about 0.024</td>", "numbers"),
     ("pointer not in session.json", 'data-source="/outcome/estimate/residual_rms"',
      'data-source="/outcome/estimate/residual_rms_total"', "numbers"),
+    ("derived number wrong", '<span data-derived="/derived/decay_time_s" data-value="998.4">998<',
+     '<span data-derived="/derived/decay_time_s" data-value="998.4">997<', "numbers"),
+    ("figure outside its run's section", '<section class="run" id="run-2" data-run="2">',
+     '<section class="run" id="run-2" data-run="7">', "figures"),
+    ("report-data not JSON", '{"derived": {"decay_time_s": 998.4},', '{"derived": {decay_time_s},',
+     "data"),
     ("outcome kind wrong", '<div id="outcome" data-kind="FAIL">', '<div id="outcome" data-kind="PASS">',
      "outcome"),
     ("warning missing", '<li class="warning" data-run="0">weakly', '<li data-run="0">weakly',
      "warnings"),
     ("run warning at the top", '<li class="warning" data-run="2">',
      '</ul><ul><li class="warning" data-run="2">', None),  # replaced below: moved, not copied
+    ("data-run disagrees with the text", '<li class="warning" data-run="2">run 2:',
+     '<li class="warning" data-run="1">run 2:', "warnings"),
     ("console error", "document.documentElement.dataset.reportReady = \"true\";",
      "console.error('x is undefined'); document.documentElement.dataset.reportReady = \"true\";",
      "console"),
@@ -264,10 +276,9 @@ def CheckPdf(pdf: Path, kind: str, out: Path) -> list[str]:
     return problems
 
 
-def CaseSession(args: argparse.Namespace, missing_run: bool) -> int:
+def CaseSession(args: argparse.Namespace, case: str) -> int:
     RequireTools([] if (args.bin_dir / "hrg-report").is_file() else
                  [f"{args.bin_dir / 'hrg-report'} (build the target hrg-report)"])
-    case = "missing-run" if missing_run else "bench"
     out = args.artifacts / case
     shutil.rmtree(out, ignore_errors=True)
     failures = []
@@ -275,17 +286,25 @@ def CaseSession(args: argparse.Namespace, missing_run: bool) -> int:
         tmp = Path(tmp_name)
         session_dir = MakeBenchSession(args, tmp)
         mentions = []
-        if missing_run:
+        if case == "missing-run":
             (session_dir / "runs" / "run-002.csv").unlink()
             mentions = ["run-002.csv"]
+        elif case == "no-outcome":  # a session of an older bench, or one that never closed
+            recorded = json.loads((session_dir / "session.json").read_text())
+            del recorded["outcome"]
+            (session_dir / "session.json").write_text(json.dumps(recorded, indent=2))
+            mentions = ["not recorded"]
         code, html = WriteReport(args, session_dir, tmp)
         session = json.loads((session_dir / "session.json").read_text())
         KeepArtifacts(out, session_dir, html)
         if not html.is_file():
             print(f"FAIL: hrg-report exited {code} and wrote no {html}")
             return 1
-        if code != 0 and not missing_run:
+        if code != 0 and case == "bench":
             failures.append(f"hrg-report exited {code}")
+        urls = sorted(set(re.findall(r"https?://[^\s\"'<>)]*", html.read_text(errors="replace"))))
+        if urls:  # hrg-report's own promise: nothing in the file that could be fetched
+            failures.append(f"{html} holds http(s) URLs: {urls[:5]}")
         run_ids = [r.get("id") for r in session.get("runs", []) if r.get("status") == "complete"
                    and (session_dir / r.get("file", "")).is_file()]
         with rpc.ReportPageChecker(ready_timeout_s=60.0) as checker:
@@ -294,7 +313,8 @@ def CaseSession(args: argparse.Namespace, missing_run: bool) -> int:
         failures += [str(p) for p in result.problems]
         pdf = html.parent / "report.pdf"
         if pdf.is_file():
-            failures += CheckPdf(pdf, session.get("outcome", {}).get("kind", ""), out)
+            kind = session.get("outcome", {}).get("kind", "")
+            failures += CheckPdf(pdf, kind, out)
             shutil.copy2(pdf, out / "report.pdf")
         else:
             print(f"note: no {pdf} (hrg-report prints it only when Chromium works for it)")
@@ -306,7 +326,7 @@ def CaseSession(args: argparse.Namespace, missing_run: bool) -> int:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", required=True, choices=["checker", "bench", "missing-run"])
+    parser.add_argument("--case", required=True, choices=["checker", "bench", "missing-run", "no-outcome"])
     parser.add_argument("--source-dir", type=Path, required=True)
     parser.add_argument("--bin-dir", type=Path)
     parser.add_argument("--artifacts", type=Path, required=True)
@@ -315,7 +335,7 @@ def main() -> int:
         return CaseChecker(args)
     if args.bin_dir is None:
         parser.error("--bin-dir is needed for the session cases")
-    return CaseSession(args, missing_run=args.case == "missing-run")
+    return CaseSession(args, args.case)
 
 
 if __name__ == "__main__":

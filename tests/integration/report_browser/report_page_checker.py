@@ -8,9 +8,14 @@ The contract (issue 9; hrg-report's header in src/report states it, this checker
   - every number shown in a table is an element with data-source="<RFC 6901 JSON pointer into
     session.json>" and data-value="<the value, shortest round-trip>", its text the value formatted
     for reading (a std in its own element with its own data-source);
+    Numbers the report computes itself carry data-derived="<JSON pointer into the report-data
+    block>" instead, with data-value likewise;
   - every warning is <li class="warning" data-run="N"> (N = 0 for the session) inside run N's
-    section, or outside every run's section for N = 0;
-  - the outcome is <div id="outcome" data-kind="KIND">.
+    section, <section class="run" id="run-N" data-run="N">, or outside every run's section for
+    N = 0; (this checker also wants each run's figures inside that run's section);
+  - the outcome is <div id="outcome" data-kind="KIND">, KIND = outcome.kind, or "NOT RECORDED"
+    when session.json has no outcome;
+  - the page's data is one <script type="application/json" id="report-data"> block.
 
 What this checker asserts (each problem it finds is tagged with the check's name, so the checker's
 own test can tell which check caught a page broken on purpose):
@@ -18,7 +23,8 @@ own test can tell which check caught a page broken on purpose):
   console    the browser logged no console error or warning (goog:loggingPrefs browser ALL)
   network    every performance entry (navigation and resource) is a file:, data: or blob: URL, and
              no element carries an http(s) src/href/srcset/poster/data attribute
-  figures    every required canvas[data-figure] is present, inside a <figure> with a non-empty
+  figures    every required canvas[data-figure] is present, NAME-run-N ones in run N's section,
+             inside a <figure> with a non-empty
              <figcaption>, and drawn: its own pixels (getImageData) hold at least
              `kMinInkFraction` of non-transparent pixels and `kMinColours` distinct colours, and,
              when Chart.js drew it (Chart.getChart), a dataset holds at least 2 finite points (a
@@ -27,12 +33,15 @@ own test can tell which check caught a page broken on purpose):
              to exactly the JSON value (float equality; strings and booleans exactly; null as ""
              or "null"); the displayed text (the element's own text, without nested data-source
              elements) is a number that agrees with the value to the precision shown (half a unit
-             of its last digit), or, for null, is not a number
+             of its last digit), or, for null, is not a number. The same for every [data-derived]
+             element against the report-data block
+  data       one script#report-data block, type application/json, that parses
   outcome    #outcome exists and its data-kind equals session.json's outcome.kind
   warnings   every outcome.estimate.warnings string appears in an li.warning; one starting
-             "run N:" has data-run="N" and sits in run N's section (the smallest ancestor holding
-             any run figure holds only run N's figures); any other has data-run="0" and sits in no
-             run's section
+             "run N:" has data-run="N" and sits in run N's section; any other has data-run="0"
+             and sits in no run's section. Every li.warning on the page (the report's own too) has a data-run
+             that is a run number or 0, agrees with a "run N:" at the start of its text, and sits
+             where its data-run says
   mentions   (optional) the page's text contains each given string (e.g. a missing file's name)
 
 Screenshots (full page and each <figure>) go to `artifacts_dir` when given.
@@ -45,6 +54,7 @@ tries to fetch anything shows a console error and a non-file performance entry.
 from __future__ import annotations
 
 import base64
+import json
 import math
 import os
 import re
@@ -163,8 +173,8 @@ def ParseDisplayedNumber(text: str) -> tuple[float, float] | None:
 
 
 def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
-                result: PageResult) -> None:
-    where = f"data-source={source!r}"
+                result: PageResult, attribute: str = "data-source") -> None:
+    where = f"{attribute}={source!r}"
     if data_value is None:
         result.add("numbers", f"{where}: no data-value attribute")
         return
@@ -217,28 +227,21 @@ def RequiredFigures(run_ids: Iterable[int]) -> list[str]:
 # Runs in the page, returns what the checks need in one round trip.
 _COLLECT_JS = r"""
 const runOf = (name) => { const m = /-run-(\d+)$/.exec(name || ""); return m ? Number(m[1]) : null; };
-// The run whose section holds `el`: the smallest ancestor holding any run's figure must hold only
-// that run's figures; 0 when it holds several runs' figures or there is none.
+// The run whose section holds `el`: its closest <section class="run" data-run="N">, 0 for none.
 const sectionRun = (el) => {
-  for (let a = el.parentElement; a; a = a.parentElement) {
-    const runs = new Set();
-    for (const c of a.querySelectorAll('canvas[data-figure]')) {
-      const r = runOf(c.dataset.figure); if (r !== null) runs.add(r);
-    }
-    if (runs.size === 1) return [...runs][0];
-    if (runs.size > 1) return 0;
-  }
-  return 0;
+  const section = el.closest('section.run[data-run]');
+  return section ? Number(section.getAttribute('data-run')) : 0;
 };
 const ownText = (el) => {
   const copy = el.cloneNode(true);
-  for (const inner of copy.querySelectorAll('[data-source]')) inner.remove();
+  for (const inner of copy.querySelectorAll('[data-source],[data-derived]')) inner.remove();
   return copy.textContent.replace(/\s+/g, ' ').trim();
 };
 const figures = [];
 for (const c of document.querySelectorAll('canvas[data-figure]')) {
   const f = { name: c.dataset.figure, width: c.width, height: c.height, inFigure: false,
               caption: '', ink: 0, colours: 0, chart: null, error: null };
+  f.section = sectionRun(c);
   const fig = c.closest('figure');
   if (fig) { f.inFigure = true; const cap = fig.querySelector('figcaption');
              f.caption = cap ? cap.textContent.trim() : ''; }
@@ -275,6 +278,11 @@ for (const c of document.querySelectorAll('canvas[data-figure]')) {
 const numbers = [...document.querySelectorAll('[data-source]')].map((el) => ({
   source: el.getAttribute('data-source'), value: el.getAttribute('data-value'), text: ownText(el),
   tag: el.tagName }));
+const derived = [...document.querySelectorAll('[data-derived]')].map((el) => ({
+  source: el.getAttribute('data-derived'), value: el.getAttribute('data-value'), text: ownText(el),
+  tag: el.tagName }));
+const dataBlocks = [...document.querySelectorAll('script#report-data')].map((el) => ({
+  type: el.getAttribute('type'), text: el.textContent }));
 const warnings = [...document.querySelectorAll('li.warning')].map((el) => ({
   text: el.textContent.replace(/\s+/g, ' ').trim(), run: el.getAttribute('data-run'),
   section: sectionRun(el) }));
@@ -290,7 +298,7 @@ for (const el of document.querySelectorAll('[src],[href],[srcset],[poster],objec
     if (v && /(^|[\s,])(https?:)?\/\//i.test(v)) linked.push(el.tagName + ' ' + attr + '=' + v);
   }
 }
-return { figures, numbers, warnings, outcomes, entries, linked,
+return { figures, numbers, derived, dataBlocks, warnings, outcomes, entries, linked,
          text: document.body ? document.body.innerText : '' };
 """
 
@@ -349,6 +357,13 @@ class ReportPageChecker:
             result.add("network", f"an element links to the network: {link}")
 
         self._CheckFigures(page["figures"], RequiredFigures(run_ids), result)
+        for f in page["figures"]:
+            m = re.search(r"-run-(\d+)$", f["name"])
+            if m and f["section"] != int(m.group(1)):
+                result.add("figures", f"{f['name']} sits in "
+                           + (f"run {f['section']}'s section" if f["section"] else
+                              "no run's section") + f", want <section class=\"run\" "
+                           f"data-run=\"{m.group(1)}\">")
 
         for number in page["numbers"]:
             result.numbers_checked += 1
@@ -359,7 +374,29 @@ class ReportPageChecker:
                 continue
             CheckNumber(number["source"], number["value"], number["text"], expected, result)
 
+        report_data = None
+        if len(page["dataBlocks"]) != 1 or page["dataBlocks"][0]["type"] != "application/json":
+            result.add("data", f"{len(page['dataBlocks'])} script#report-data blocks "
+                               f"({[b['type'] for b in page['dataBlocks']]}), want one "
+                               "application/json")
+        else:
+            try:
+                report_data = json.loads(page["dataBlocks"][0]["text"])
+            except ValueError as e:
+                result.add("data", f"script#report-data is not JSON: {e}")
+        for number in page["derived"]:
+            result.numbers_checked += 1
+            found, expected = ResolvePointer(report_data, number["source"] or "")
+            if report_data is None or not found:
+                result.add("numbers", f"data-derived={number['source']!r} (shown as "
+                                      f"{number['text']!r}) is not in the report-data block")
+                continue
+            CheckNumber(number["source"], number["value"], number["text"], expected, result,
+                        attribute="data-derived")
+
         kind = ResolvePointer(session, "/outcome/kind")[1]
+        if kind is None:  # an older session: the page says so in data-kind
+            kind = "NOT RECORDED"
         if len(page["outcomes"]) != 1:
             result.add("outcome", f"{len(page['outcomes'])} elements with id 'outcome', want 1")
         else:
@@ -374,6 +411,8 @@ class ReportPageChecker:
         for warning in recorded:
             result.warnings_checked += 1
             self._CheckWarning(warning, page["warnings"], result)
+        for shown in page["warnings"]:  # the report's own warnings too (a missing file, ...)
+            self._CheckWarningPlace(shown, result)
 
         for text in mentions:
             if text not in page["text"]:
@@ -428,6 +467,22 @@ class ReportPageChecker:
                               for w in matches)
             want = f"run {run}'s section" if run else "outside every run's section"
             result.add("warnings", f"{norm!r} shown as {where}; want data-run=\"{run}\" {want}")
+
+    @staticmethod
+    def _CheckWarningPlace(shown: dict, result: PageResult) -> None:
+        """Any li.warning: data-run is a run number or 0, it sits in that run's section (0: in
+        none), and a text starting "run N:" has data-run N."""
+        text, run = shown["text"], shown["run"]
+        if run is None or not re.fullmatch(r"0|[1-9][0-9]*", run):
+            result.add("warnings", f"li.warning {text!r}: data-run {run!r} is not a run number")
+            return
+        m = re.match(r"run (\d+):", text)
+        if m and m.group(1) != run:
+            result.add("warnings", f"li.warning {text!r}: data-run {run!r}, its text names run "
+                                   f"{m.group(1)}")
+        if shown["section"] != int(run):
+            where = f"run {shown['section']}'s section" if shown["section"] else "no run's section"
+            result.add("warnings", f"li.warning {text!r}: data-run {run!r} but it sits in {where}")
 
     def _Screenshots(self, directory: Path, figures: list[dict], result: PageResult) -> None:
         from selenium.webdriver.common.by import By
