@@ -116,8 +116,8 @@ MUTATIONS = [
      '<section class="run" id="run-2" data-run="7">', "figures"),
     ("report-data not JSON", '{"derived": {"decay_time_s": 998.4},', '{"derived": {decay_time_s},',
      "data"),
-    ("outcome kind wrong", '<div id="outcome" data-kind="FAIL">', '<div id="outcome" data-kind="PASS">',
-     "outcome"),
+    ("outcome kind wrong", '<div id="outcome" data-kind="FAIL">',
+     '<div id="outcome" data-kind="PASS">', "outcome"),
     ("warning missing", '<li class="warning" data-run="0">weakly', '<li data-run="0">weakly',
      "warnings"),
     ("run warning at the top", '<li class="warning" data-run="2">',
@@ -163,7 +163,8 @@ def MoveRunWarningToTop(html: str) -> str:
 
 
 def Report(result: rpc.PageResult, label: str) -> None:
-    print(f"{label}: ready after {result.ready_after_s if result.ready_after_s is None else round(result.ready_after_s, 2)} s, "
+    ready = "never" if result.ready_after_s is None else f"{result.ready_after_s:.2f} s"
+    print(f"{label}: ready after {ready}, "
           f"{len(result.figures)} figures, {result.numbers_checked} numbers, "
           f"{result.warnings_checked} warnings checked, {len(result.screenshots)} screenshots")
     for f in result.figures:
@@ -182,6 +183,7 @@ def CaseChecker(args: argparse.Namespace) -> int:
                                                          Path(chart_js).read_text())
     failures = []
     out = args.artifacts / "checker"
+    shutil.rmtree(out, ignore_errors=True)
     with tempfile.TemporaryDirectory(prefix="hrgbench-browser-") as tmp, \
             rpc.ReportPageChecker(ready_timeout_s=5.0) as checker:
         page = Path(tmp) / "report.html"
@@ -326,7 +328,8 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--case", required=True, choices=["checker", "bench", "missing-run", "no-outcome"])
+    parser.add_argument("--case", required=True,
+                        choices=["checker", "bench", "missing-run", "no-outcome"])
     parser.add_argument("--source-dir", type=Path, required=True)
     parser.add_argument("--bin-dir", type=Path)
     parser.add_argument("--artifacts", type=Path, required=True)

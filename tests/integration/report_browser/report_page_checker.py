@@ -39,9 +39,9 @@ own test can tell which check caught a page broken on purpose):
   outcome    #outcome exists and its data-kind equals session.json's outcome.kind
   warnings   every outcome.estimate.warnings string appears in an li.warning; one starting
              "run N:" has data-run="N" and sits in run N's section; any other has data-run="0"
-             and sits in no run's section. Every li.warning on the page (the report's own too) has a data-run
-             that is a run number or 0, agrees with a "run N:" at the start of its text, and sits
-             where its data-run says
+             and sits in no run's section. Every li.warning on the page (the report's own too)
+             has a data-run that is a run number or 0, agrees with a "run N:" at the start of
+             its text, and sits where its data-run says
   mentions   (optional) the page's text contains each given string (e.g. a missing file's name)
 
 Screenshots (full page and each <figure>) go to `artifacts_dir` when given.
@@ -101,7 +101,7 @@ def MissingTools() -> list[str]:
     """What the browser check needs and this machine lacks (empty when everything is there)."""
     missing = []
     try:
-        import selenium  # noqa: F401
+        import selenium  # noqa: F401  (only whether it is there)
     except ImportError:
         missing.append("python3-selenium (the Python module 'selenium' for this interpreter)")
     if not ChromiumBinary():
@@ -151,9 +151,9 @@ _NUMBER = re.compile(
 
 
 def ParseDisplayedNumber(text: str) -> tuple[float, float] | None:
-    """A number as a page shows it: "-1.0016e-03", "−1.00162×10⁻³", "9.961 × 10⁻⁵", "± 0.0095",
-    "(3)", "0.28964". Returns (value, resolution = one unit of the last digit shown), or None when
-    the text is not one number."""
+    """A number as a page shows it: "-1.0016e-03", "−1.00162×10⁻³", "9.961 × 10⁻⁵",
+    "± 0.0095", "(3)", "0.28964". Returns (value, resolution = one unit of the last digit
+    shown), or None when the text is not one number."""
     t = text.strip().translate(_SUPERSCRIPTS)
     t = t.replace("\u2212", "-").replace("\u2013", "-")
     for space in (" ", "\u00a0", "\u2009", "\u202f"):
@@ -186,7 +186,8 @@ def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
         return
     if isinstance(expected, bool):
         if data_value != ("true" if expected else "false"):
-            result.add("numbers", f"{where}: session.json holds {expected}, data-value {data_value!r}")
+            result.add("numbers", f"{where}: session.json holds {expected}, data-value "
+                                  f"{data_value!r}")
         return
     if isinstance(expected, str):
         if data_value != expected:
@@ -226,7 +227,6 @@ def RequiredFigures(run_ids: Iterable[int]) -> list[str]:
 
 # Runs in the page, returns what the checks need in one round trip.
 _COLLECT_JS = r"""
-const runOf = (name) => { const m = /-run-(\d+)$/.exec(name || ""); return m ? Number(m[1]) : null; };
 // The run whose section holds `el`: its closest <section class="run" data-run="N">, 0 for none.
 const sectionRun = (el) => {
   const section = el.closest('section.run[data-run]');
@@ -253,7 +253,8 @@ for (const c of document.querySelectorAll('canvas[data-figure]')) {
       if (pixels[i + 3] === 0) continue;
       ++ink;
       if (colours.size < 4096)
-        colours.add(((pixels[i] << 24) | (pixels[i + 1] << 16) | (pixels[i + 2] << 8) | pixels[i + 3]) >>> 0);
+        colours.add(((pixels[i] << 24) | (pixels[i + 1] << 16) | (pixels[i + 2] << 8) |
+                     pixels[i + 3]) >>> 0);
     }
     f.ink = c.width * c.height > 0 ? ink / (c.width * c.height) : 0;
     f.colours = colours.size;
