@@ -16,11 +16,11 @@ packages=(
   socat                    # RTU tests: a pty pair between driver and simulated table
   can-utils                # log2asc/canplayer read the CAN log in the tests
   stress-ng                # the load check: the suite with both cores busy beside it
-  libjs-chart.js           # hrg-report inlines Chart.js into the report's HTML (its plots)
-  gnuplot-nox              # hrg-report's figures for documents (SVG)
-  chromium                 # hrg-report prints the PDF; the browser test loads the report
+  libjs-chart.js           # hrg-report: Chart.js inlined into the session report's page
+  gnuplot-nox              # hrg-report: the figures as SVG for documents
+  chromium                 # hrg-report: the page printed to PDF (headless); the browser test
   chromium-driver          # the browser test drives Chromium (tests/integration/report_browser)
-  python3-selenium         # the browser test's WebDriver client
+  python3-selenium         # the browser test's WebDriver client (Debian's /usr/bin/python3)
   poppler-utils            # the browser test checks the report's PDF (pdfinfo, pdftotext)
 )
 

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -25,6 +26,7 @@
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/report/session_report.hpp"
 
 namespace {
 
@@ -104,7 +106,21 @@ class ProgressPrinter {
   int last_run_ = -1;
 };
 
-int Report(const bench::SessionResult& result, bool json) {
+// The session report (HTML, figures, PDF) into the closed session's directory. A report that cannot
+// be written is logged; it never changes the outcome or the exit code. Empty when none was written.
+std::string WriteReport(const bench::SessionResult& result) {
+  std::error_code ec;
+  if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
+  const auto written = report::WriteSessionReport(result.dir);
+  if (!written) {
+    spdlog::error("session report not written: {}", written.error().ToString());
+    return {};
+  }
+  for (const std::string& w : written->warnings) spdlog::warn("report: {}", w);
+  return written->html.string();
+}
+
+int Report(const bench::SessionResult& result, bool json, const std::string& report_path) {
   if (json) {
     nlohmann::json out;
     out["outcome"] = std::string(bench::ToString(result.outcome));
@@ -114,6 +130,7 @@ int Report(const bench::SessionResult& result, bool json) {
     out["complete_runs"] = result.complete_runs;
     out["estimate"] = result.estimate_json;
     out["warnings"] = result.warnings;
+    out["report"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
     nlohmann::json limits = nlohmann::json::array();
     if (result.verdict) {
       for (const bench::LimitResult& r : result.verdict->results)
@@ -134,6 +151,7 @@ int Report(const bench::SessionResult& result, bool json) {
   for (const std::string& w : result.warnings) std::cout << "warning: " << w << '\n';
   std::cout << bench::ToString(result.outcome) << ": " << result.reason << '\n'
             << "session: " << result.dir.string() << '\n';
+  if (!report_path.empty()) std::cout << "report: " << report_path << '\n';
   return result.exit_code;
 }
 
@@ -157,7 +175,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
       resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
-  return Report(result, json);
+  return Report(result, json, WriteReport(result));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "report_data.hpp"
 
 #include <algorithm>
+#include <future>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -12,6 +13,7 @@
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/report/decimate.hpp"
 #include "html_text.hpp"
+#include "parallel_runs.hpp"
 
 namespace hrgbench::report::internal {
 namespace {
@@ -336,13 +338,25 @@ json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_seri
   json& derived = data["derived"];
   derived["estimate"] = inputs.estimate_json;
   derived["anisotropy"] = Anisotropy(inputs, &figures);
-  derived["crlb"] = CramerRao(inputs, &figures);
-  derived["runs"] = json::object();
+  // The bound (a pass over the design) beside the runs' figures (a pass over each run).
+  json crlb_figures = json::array();
+  auto crlb = std::async(std::launch::async, [&] { return CramerRao(inputs, &crlb_figures); });
   const estimator::Xi xi = inputs.summary ? inputs.summary->xi : estimator::Xi::Zero();
-  for (const RunView& run : inputs.runs) {
-    if (!run.loaded) continue;
-    derived["runs"][std::to_string(run.id)] = CaptureQuality(run, inputs.document);
-    RunFigures(run, xi, max_points_per_series, &figures);
+  std::vector<json> run_figures(inputs.runs.size(), json::array());
+  std::vector<json> quality(inputs.runs.size());
+  ParallelRuns(inputs.runs.size(), [&](std::size_t r) {
+    const RunView& run = inputs.runs[r];
+    if (!run.loaded) return;
+    quality[r] = CaptureQuality(run, inputs.document);
+    RunFigures(run, xi, max_points_per_series, &run_figures[r]);
+  });
+  derived["crlb"] = crlb.get();
+  for (json& f : crlb_figures) figures.push_back(std::move(f));
+  derived["runs"] = json::object();
+  for (std::size_t r = 0; r < inputs.runs.size(); ++r) {
+    if (!inputs.runs[r].loaded) continue;
+    derived["runs"][std::to_string(inputs.runs[r].id)] = std::move(quality[r]);
+    for (json& f : run_figures[r]) figures.push_back(std::move(f));
   }
   return data;
 }

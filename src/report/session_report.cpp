@@ -12,9 +12,11 @@
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/estimator/fitted_output.hpp"
+#include "hrgbench/estimator/model.hpp"
 #include "hrgbench/session/session.hpp"
 #include "html_page.hpp"
 #include "html_text.hpp"
+#include "parallel_runs.hpp"
 #include "report_data.hpp"
 #include "report_inputs.hpp"
 
@@ -111,11 +113,15 @@ void Estimate(ReportInputs* in, std::set<std::string>* seen,
                "the report's estimate is not usable (" + estimated.summary.message +
                    "): no fitted model drawn");
   } else {
-    for (RunView& v : in->runs) {
-      if (!v.loaded) continue;
-      v.fitted_y = estimator::FittedOutput(estimated.summary, v.data);
+    // x̂ once per run, ŷ = (I + C(ξ̂))·x̂ from it (what FittedOutput computes, in one pass).
+    const Eigen::Matrix4d distortion =
+        Eigen::Matrix4d::Identity() + estimator::DistortionMatrix(estimated.summary.xi);
+    internal::ParallelRuns(in->runs.size(), [&](std::size_t r) {
+      RunView& v = in->runs[r];
+      if (!v.loaded) return;
       v.fitted_x = estimator::FittedState(estimated.summary, v.data);
-    }
+      v.fitted_y = v.fitted_x * distortion.transpose();
+    });
     // The model drawn is the re-run's: say so if it is not the one recorded.
     for (int p = 0; p < 10; ++p) {
       const bool is_delta = p < 6;
