@@ -287,6 +287,13 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
     with tempfile.TemporaryDirectory(prefix="hrgbench-browser-") as tmp_name:
         tmp = Path(tmp_name)
         session_dir = MakeBenchSession(args, tmp)
+        # hrg-bench writes the report itself when the session closes and prints its path.
+        bench_html = session_dir / "report" / "report.html"
+        if case == "bench":
+            if not bench_html.is_file():
+                failures.append(f"hrg-bench wrote no {bench_html}")
+            elif str(bench_html) not in (tmp / "hrg-bench.log").read_text():
+                failures.append(f"hrg-bench did not print the report's path {bench_html}")
         mentions = []
         if case == "missing-run":
             (session_dir / "runs" / "run-002.csv").unlink()
