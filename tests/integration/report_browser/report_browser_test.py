@@ -37,6 +37,7 @@ import tempfile
 import time
 from pathlib import Path
 
+sys.dont_write_bytecode = True  # nothing written into the source tree (no __pycache__ there)
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import report_page_checker as rpc  # noqa: E402
 
