@@ -147,8 +147,13 @@ TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   EXPECT_GE(crashed->loaded_run_ids.size(), 2u);
   EXPECT_EQ(crashed->document.at("state"), "running");  // never closed: the tool can tell
 
+  // A report that cannot be written (a file where its directory goes) is logged and changes
+  // neither the outcome nor the exit code.
+  std::ofstream(session_dir / "report") << "not a directory\n";
   const Output resumed = RunBench("resume " + session_dir.string() + " --json");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.out;
+  EXPECT_NE(resumed.out.find("\"report\": null"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.out.find("session report not written"), std::string::npos) << resumed.out;
   auto done = hrgbench::session::ReadSession(session_dir);
   ASSERT_TRUE(done) << done.error().ToString();
   EXPECT_EQ(done->loaded_run_ids.size(), 5u);
@@ -181,6 +186,13 @@ TEST(BenchProgram, CtrlCStopsSafelyAndTheRecordSaysAborted) {
   EXPECT_EQ(session->document.at("outcome").at("kind"), "ABORTED");
   EXPECT_NE(session->document.at("outcome").at("reason").get<std::string>().find("operator"),
             std::string::npos);
+  // Every closed session gets its report, an aborted one too (hrg-report's own tests check it).
+  const fs::path report = session_dir / "report" / "report.html";
+  EXPECT_TRUE(fs::exists(report));
+  std::ifstream page(report);
+  std::stringstream html;
+  html << page.rdbuf();
+  EXPECT_NE(html.str().find("<div id=\"outcome\" data-kind=\"ABORTED\">"), std::string::npos);
   fs::remove_all(work);
 }
 
