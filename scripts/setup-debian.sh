@@ -19,6 +19,9 @@ packages=(
   libjs-chart.js           # hrg-report: Chart.js inlined into the session report's page
   gnuplot-nox              # hrg-report: the figures as SVG for documents
   chromium                 # hrg-report: the page printed to PDF (headless); the browser test
+  chromium-driver          # the browser test drives Chromium (tests/integration/report_browser)
+  python3-selenium         # the browser test's WebDriver client (Debian's /usr/bin/python3)
+  poppler-utils            # the browser test checks the report's PDF (pdfinfo, pdftotext)
 )
 
 missing=()
