@@ -11,6 +11,13 @@
 // limit is judged: each becomes NOT EVALUATED (saying what it would have been) and the verdict is
 // NOT EVALUATED. A poor fit is never a PASS, and never a FAIL the unit did not earn.
 //
+// A limit is judged only when the estimate resolves it: its std at most kMaxStdPerLimitWidth of
+// the limit's width (max − min), so that a 2σ interval spans at most half the band (a production
+// line's usual 4:1 ratio of tolerance to measurement uncertainty). A vaguer estimate is NOT
+// EVALUATED ("too uncertain to judge"), unless it lies outside the band by more than
+// kConfidentlyOutsideInStd of its std: then it is a FAIL even with its uncertainty. So a short or
+// weak sequence can neither pass nor fail a unit on noise.
+//
 // Pure function of its inputs; thread-safe; allocates (not for real-time code).
 
 #include <string>
@@ -24,6 +31,9 @@
 namespace hrgbench::bench {
 
 enum class LimitStatus { kPass, kFail, kNotEvaluated };
+
+inline constexpr double kMaxStdPerLimitWidth = 0.25;
+inline constexpr double kConfidentlyOutsideInStd = 3.0;
 std::string_view ToString(LimitStatus status) noexcept;  // "PASS", "FAIL", "NOT EVALUATED"
 
 struct LimitResult {

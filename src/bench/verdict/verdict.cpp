@@ -78,6 +78,23 @@ LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSumma
   }
   const std::string shown = name + " = " + Number(v.value) +
                             (std::isfinite(v.std) ? " ± " + Number(v.std) : std::string());
+  const double width = limit.max - limit.min;
+  if (std::isfinite(v.std) && v.std > kMaxStdPerLimitWidth * width) {
+    // The estimate does not resolve the limit: a PASS or FAIL would be the noise's.
+    const double outside = v.value < limit.min   ? limit.min - v.value
+                           : v.value > limit.max ? v.value - limit.max
+                                                 : 0.0;
+    if (outside > kConfidentlyOutsideInStd * v.std) {
+      result.status = LimitStatus::kFail;
+      result.message = shown + " outside " + range + " by " + Number(outside / v.std) +
+                       " std, even with its uncertainty";
+    } else {
+      result.message = shown + ": not evaluated, too uncertain to judge against " + range +
+                       " (its std is above " + Number(kMaxStdPerLimitWidth) +
+                       " of the limit's width: the sequence does not determine it well enough)";
+    }
+    return result;
+  }
   if (v.value < limit.min) {
     result.status = LimitStatus::kFail;
     result.message =

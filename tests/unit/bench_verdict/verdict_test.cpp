@@ -92,6 +92,29 @@ TEST(Verdict, BoundsAreInclusive) {
   EXPECT_EQ(EvaluateLimits(Limits(), s).overall, LimitStatus::kPass);
 }
 
+// A limit is judged only when the estimate resolves it (std ≤ a quarter of the width): δ2's band
+// [0.29, 0.31] is 0.02 wide, so a std of 0.005 is judged and 0.0051 is not, in or out of the band;
+// 0.31 + 4·0.01 is still a FAIL with its std 0.01 (outside by 4 > 3 std).
+TEST(Verdict, ALimitTheEstimateDoesNotResolveIsNotJudgedUnlessConfidentlyOutside) {
+  EstimateSummary s = PaperUnit();
+  s.delta_std(1) = 0.005;
+  EXPECT_EQ(EvaluateLimits(Limits(), s).results[1].status, LimitStatus::kPass);
+  s.delta_std(1) = 0.0051;
+  Verdict vague = EvaluateLimits(Limits(), s);
+  EXPECT_EQ(vague.results[1].status, LimitStatus::kNotEvaluated);
+  EXPECT_NE(vague.results[1].message.find("too uncertain to judge"), std::string::npos)
+      << vague.results[1].message;
+  EXPECT_EQ(vague.overall, LimitStatus::kNotEvaluated);
+  s.delta(1) = 0.32;  // outside by 0.01 = 2 std: could be noise
+  EXPECT_EQ(EvaluateLimits(Limits(), s).results[1].status, LimitStatus::kNotEvaluated);
+  s.delta_std(1) = 0.01;
+  s.delta(1) = 0.35;  // outside by 0.04 = 4 std
+  const Verdict out = EvaluateLimits(Limits(), s);
+  EXPECT_EQ(out.results[1].status, LimitStatus::kFail);
+  EXPECT_NE(out.results[1].message.find("even with its uncertainty"), std::string::npos);
+  EXPECT_EQ(out.overall, LimitStatus::kFail);
+}
+
 TEST(Verdict, HeldFixedParameterIsNotEvaluatedNotPassed) {
   EstimateSummary s = PaperUnit();
   s.xi_estimated = estimator::kNoXi;  // held at 0.01 by the estimator
