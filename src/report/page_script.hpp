@@ -39,10 +39,13 @@ inline constexpr const char* kPageScript = R"JS(
         return y;
       };
       // Legend entries drawn like their lines: a model's dashed, the data's solid.
-      // (usePointStyle with pointStyle "line" draws the dataset's borderDash; a 2 px line shows it.)
+      // With usePointStyle Chart.js takes the point's style, not the line's: the dash is set here
+      // from the dataset, and a 2 px line shows it.
       var legend = { labels: { boxWidth: 12, usePointStyle: true, pointStyleWidth: 36,
         generateLabels: function (chart) {
           return Chart.defaults.plugins.legend.labels.generateLabels(chart).map(function (l) {
+            var dataset = chart.data.datasets[l.datasetIndex];
+            l.lineDash = dataset && dataset.borderDash ? dataset.borderDash : [];
             l.lineWidth = 2;
             return l;
           });
