@@ -118,6 +118,37 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   for (int e = 0; e < 4; ++e)
     forms["series"].push_back(
         Series(form_names[e], decimator.Apply(data_elements.data() + 3 + e, 7)));
+  // What moves in a run, at the scale it moves: with a long decay time the channels look flat,
+  // but the amplitude's relative decay and the wave's turn are what δ is estimated from. Both
+  // relative to the model's start (the data's first sample carries its noise into every point).
+  json motion = LineFigure("motion-run-" + id,
+                           "Run " + id +
+                               ": what moves — the amplitude's relative change a(t)/a(0) − 1 "
+                               "(left) and the wave's turn θ(t) − θ(0) on the shell in degrees "
+                               "(right), data (solid) and model (dashed); a(0), θ(0) of the " +
+                               std::string(have_model ? "fitted model" : "first sample"),
+                           "t [s]", "a(t)/a(0) − 1", decimator.Times());
+  motion["y2_label"] = "θ(t) − θ(0) on the shell [°]";
+  if (n > 0) {
+    const auto& reference = have_model ? model_elements : data_elements;
+    const double a0 = reference(0, 0), theta0 = reference(2, 0);
+    const auto relative = [&](const Eigen::Matrix<double, 7, Eigen::Dynamic>& elements) {
+      Eigen::Matrix<double, 2, Eigen::Dynamic> out(2, n);
+      out.row(0) = (elements.row(0).array() / a0 - 1.0).matrix();
+      out.row(1) = (elements.row(2).array() - theta0).matrix();
+      return out;
+    };
+    const Eigen::Matrix<double, 2, Eigen::Dynamic> data_motion = relative(data_elements);
+    motion["series"].push_back(Series("a/a(0) − 1", decimator.Apply(data_motion.data(), 2)));
+    motion["series"].push_back(RightSeries("θ − θ(0)", decimator.Apply(data_motion.data() + 1, 2)));
+    if (have_model) {
+      const Eigen::Matrix<double, 2, Eigen::Dynamic> model_motion = relative(model_elements);
+      motion["series"].push_back(
+          Series("a/a(0) − 1 model", decimator.Apply(model_motion.data(), 2), true));
+      motion["series"].push_back(
+          RightSeries("θ − θ(0) model", decimator.Apply(model_motion.data() + 1, 2), true));
+    }
+  }
   if (have_model) {
     for (int c = 0; c < 4; ++c)
       channels["series"].push_back(Series(std::string(y_names[c]) + " model",
@@ -138,6 +169,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
     residuals["caption"] = "Run " + id + ": no fitted model" + of_run + ", so no residuals";
   }
   figures->push_back(std::move(channels));
+  figures->push_back(std::move(motion));
   figures->push_back(std::move(residuals));
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
