@@ -133,7 +133,8 @@ void Page::Estimate() {
     const bool is_delta = p < 6;
     const std::string i = std::to_string(is_delta ? p : p - 6);
     const std::string key = is_delta ? "delta" : "xi";
-    const auto [estimate, std_dev] = WithStd(!recorded, base + key + "/" + i, base + key + "_std/" + i);
+    const auto [estimate, std_dev] =
+        WithStd(!recorded, base + key + "/" + i, base + key + "_std/" + i);
     out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") +
             std::to_string((is_delta ? p : p - 6) + 1) + "</td><td>" + kMeaning[p] + "</td><td>" +
             estimate + "</td><td>" + std_dev + "</td>";
@@ -173,9 +174,9 @@ void Page::Engineering() {
       if (ok) {
         const auto [value, std_dev] = WithStd(false, q + "/value", q + "/std");
         out_ += "<td>" + value + "</td><td>" + std_dev + "</td>";
-      }
-      else
+      } else {
         out_ += "<td colspan=\"2\" class=\"na\">undetermined</td>";
+      }
       out_ += "<td>" + (Has(q + "/unit") ? Text(q + "/unit") : std::string()) + "</td><td>" +
               (Has(q + "/note") ? Text(q + "/note") : std::string()) + "</td></tr>\n";
     }

@@ -64,8 +64,8 @@ ValueWithStd Metrological(double value, double std_dev) {
   const int decimals = 1 - e;
   const bool value_ok = std::isfinite(value);
   const double magnitude = value_ok ? std::abs(value) : 0.0;
-  const bool fixed = magnitude < 1e6 && decimals >= 0 &&
-                     (decimals <= 6 || (decimals <= 12 && magnitude >= 0.01));
+  const bool fixed =
+      magnitude < 1e6 && decimals >= 0 && (decimals <= 6 || (decimals <= 12 && magnitude >= 0.01));
   char buffer[64];
   const auto text = [&](double v, int places, const char* suffix) {
     std::snprintf(buffer, sizeof buffer, "%.*f%s", places, v, suffix);

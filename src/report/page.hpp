@@ -65,8 +65,8 @@ class Page {
   std::string Num(bool derived, const std::string& pointer, const std::string& text = {}) const {
     const double v = NumberAt(derived ? data_ : doc_, pointer);
     if (!std::isfinite(v)) return kNone;
-    return "<span class=\"num\" " + std::string(derived ? "data-derived" : "data-source") +
-           "=\"" + Attr(pointer) + "\" data-value=\"" + RoundTrip(v) + "\">" +
+    return "<span class=\"num\" " + std::string(derived ? "data-derived" : "data-source") + "=\"" +
+           Attr(pointer) + "\" data-value=\"" + RoundTrip(v) + "\">" +
            HtmlEscape(text.empty() ? Readable(v) : text) + "</span>";
   }
   // A value and its std as two cells, written to the std's precision (Metrological).

@@ -294,8 +294,8 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
   // calls undetermined (its split not significantly different from zero) is not drawn: its angle
   // is noise. Without the record's engineering list the report's own axes are drawn, marked so.
   std::string caption = "Anisotropy on the shell (angles half the model's electrical ones)";
-  json figure{{"name", "anisotropy"}, {"type", "line"},      {"x_label", "x"},
-              {"y_label", "y"},       {"y_log", false},      {"equal_aspect", true},
+  json figure{{"name", "anisotropy"}, {"type", "line"},         {"x_label", "x"},
+              {"y_label", "y"},       {"y_log", false},         {"equal_aspect", true},
               {"x", json::array()},   {"series", json::array()}};
   const auto axis = [&](const std::string& label, double angle_rad, double length, bool model) {
     const double c = length * std::cos(angle_rad), s = length * std::sin(angle_rad);
@@ -309,7 +309,7 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
   struct AxisPair {
     const char* split_name;  // engineering quantity names
     const char* axis_name;
-    const char* what;        // "frequency", "damping"
+    const char* what;  // "frequency", "damping"
     const char* split_symbol;
     const char* angle_symbol;
     const char* first;  // the axis the angle names, and the other one 45° on
@@ -335,13 +335,13 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
       continue;
     }
     const auto angle_value = angle->find("value");
-    const double angle_deg = angle_value != angle->end() && angle_value->is_number()
-                                 ? angle_value->get<double>()
-                                 : kNaN;
+    const double angle_deg =
+        angle_value != angle->end() && angle_value->is_number() ? angle_value->get<double>() : kNaN;
     const auto determined = angle->find("determined");
     if (determined == angle->end() || *determined != true || !std::isfinite(angle_deg)) {
-      caption += "; " + std::string(p.what) + " axis undetermined (split not significant: " +
-                 p.split_symbol + " = " + MetrologicalText(*split) + ")";
+      caption += "; " + std::string(p.what) +
+                 " axis undetermined (split not significant: " + p.split_symbol + " = " +
+                 MetrologicalText(*split) + ")";
       continue;
     }
     axis(std::string(p.first) + ": " + p.split_symbol + " = " + MetrologicalText(*split) + " at " +
@@ -464,7 +464,8 @@ json TruthDeviation(const ReportInputs& inputs) {
       const double std_dev = recorded ? NumberAt(doc, "/outcome/estimate/" + s)
                                       : NumberAt(inputs.estimate_json, "/" + s);
       const double truth = NumberAt(doc, truth_base + k);
-      z.push_back(std_dev > 0.0 ? bench::NumberOrNull((estimate - truth) / std_dev) : json(nullptr));
+      z.push_back(std_dev > 0.0 ? bench::NumberOrNull((estimate - truth) / std_dev)
+                                : json(nullptr));
     }
     out[key] = std::move(z);
   }

@@ -1,11 +1,11 @@
 // Metrological: a value and its std as a metrologist writes them. The expected texts are worked
 // out by hand from the rule (std to two significant digits, the value to the same decimal place).
+#include "html_text.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-
-#include "html_text.hpp"
 
 namespace hrgbench::report::internal {
 namespace {
