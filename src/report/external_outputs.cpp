@@ -56,8 +56,13 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
          << "set xlabel " << Quoted(f.value("x_label", "")) << "\n"
          << "set ylabel " << Quoted(f.value("y_label", "")) << "\n"
          << "set key outside right top\nset grid\nunset logscale\nset size noratio\n"
-         << "set xtics auto\n";
+         << "set xtics auto\nset ytics mirror\nunset y2tics\nunset y2label\n";
   if (f.value("y_log", false)) script << "set logscale y\n";
+  // Series on the right-hand axis (the orbit's θ in degrees beside a and b).
+  const auto on_right = [](const json& s) { return s.value("axis", "") == "y2"; };
+  if (std::any_of(series.begin(), series.end(), on_right))
+    script << "set ytics nomirror\nset y2tics\nset y2label " << Quoted(f.value("y2_label", ""))
+           << "\n";
   if (square)
     script << "set size ratio -1\nset xrange [-1.1:1.1]\nset yrange [-1.1:1.1]\n";
   else
@@ -96,8 +101,9 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
       WriteNumber(out, ValueOf(ys[i]));
       out << '\n';
     }
-    script << (k ? ", " : "") << Quoted(file) << " using 1:2 with lines lw 1 dt "
-           << (s.value("model", false) ? 2 : 1) << " title " << Quoted(s.value("label", ""));
+    script << (k ? ", " : "") << Quoted(file) << " using 1:2" << (on_right(s) ? " axes x1y2" : "")
+           << " with lines lw 1 dt " << (s.value("model", false) ? 2 : 1) << " title "
+           << Quoted(s.value("label", ""));
   }
   script << "\n";
   return true;

@@ -117,7 +117,7 @@ void Page::Estimate() {
   out_ +=
       "<table class=\"parameters\"><tr><th>parameter</th><th>meaning</th><th>estimate</th>"
       "<th>± std</th>";
-  if (!truth_base.empty()) out_ += "<th>truth (simulated)</th>";
+  if (!truth_base.empty()) out_ += "<th>truth (simulated)</th><th>(estimate − truth)/std</th>";
   out_ += "<th>Cramér–Rao std</th></tr>\n";
   static const char* kMeaning[10] = {"damping δ1 [1/s]",
                                      "angular gain δ2",
@@ -133,11 +133,21 @@ void Page::Estimate() {
     const bool is_delta = p < 6;
     const std::string i = std::to_string(is_delta ? p : p - 6);
     const std::string key = is_delta ? "delta" : "xi";
+    const auto [estimate, std_dev] =
+        WithStd(!recorded, base + key + "/" + i, base + key + "_std/" + i);
     out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") +
             std::to_string((is_delta ? p : p - 6) + 1) + "</td><td>" + kMeaning[p] + "</td><td>" +
-            value(base + key + "/" + i) + "</td><td>" + value(base + key + "_std/" + i) + "</td>";
-    if (!truth_base.empty()) out_ += "<td>" + Src(truth_base + key + "/" + i) + "</td>";
-    out_ += "<td>" + Der("/derived/crlb/" + key + "_std/" + i) + "</td></tr>\n";
+            estimate + "</td><td>" + std_dev + "</td>";
+    const double std_value = NumberAt(recorded ? doc_ : data_, base + key + "_std/" + i);
+    if (!truth_base.empty()) {
+      // The truth to the estimate's precision, so the two columns read side by side.
+      const std::string truth = truth_base + key + "/" + i;
+      const std::string z = "/derived/truth_deviation/" + key + "/" + i;
+      out_ += "<td>" + Num(false, truth, Metrological(NumberAt(doc_, truth), std_value).value) +
+              "</td><td>" + Num(true, z, Fixed(NumberAt(data_, z), 2)) + "</td>";
+    }
+    const std::string bound = "/derived/crlb/" + key + "_std/" + i;
+    out_ += "<td>" + Num(true, bound, TwoSignificant(NumberAt(data_, bound))) + "</td></tr>\n";
   }
   out_ += "</table>\n<p>Residual RMS " + value(base + "residual_rms") + ", noise σ̂ " +
           value(base + "noise_sigma") + ", " + value(base + "samples_used") + " samples, " +
@@ -161,17 +171,21 @@ void Page::Engineering() {
       const json* determined = At(doc_, q + "/determined");
       const bool ok = determined == nullptr || !determined->is_boolean() || determined->get<bool>();
       out_ += "<tr><td>" + (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) + "</td>";
-      if (ok)
-        out_ += "<td>" + Src(q + "/value") + "</td><td>" + Src(q + "/std") + "</td>";
-      else
+      if (ok) {
+        const auto [value, std_dev] = WithStd(false, q + "/value", q + "/std");
+        out_ += "<td>" + value + "</td><td>" + std_dev + "</td>";
+      } else {
         out_ += "<td colspan=\"2\" class=\"na\">undetermined</td>";
+      }
       out_ += "<td>" + (Has(q + "/unit") ? Text(q + "/unit") : std::string()) + "</td><td>" +
               (Has(q + "/note") ? Text(q + "/note") : std::string()) + "</td></tr>\n";
     }
     out_ += "</table>\n";
   }
+  // The report's own anisotropy only when the record has none (the table above is the record's,
+  // and says which axes are determined).
   const json* a = At(data_, "/derived/anisotropy");
-  if (a != nullptr && a->is_object()) {
+  if (!Has(base) && a != nullptr && a->is_object()) {
     out_ += "<p>Anisotropy from δ (" + HtmlEscape(a->value("delta_source", "")) +
             ", derived by the report): frequency split " +
             Der("/derived/anisotropy/frequency_split_hz") + " Hz, its high-frequency axis at " +
@@ -181,7 +195,7 @@ void Page::Engineering() {
             Der("/derived/anisotropy/damping_axis_shell_deg") + "° on the shell; τ " +
             Der("/derived/anisotropy/decay_time_s") + " s.</p>\n";
   }
-  Figure("anisotropy", 440, 440);
+  Figure("anisotropy", 600, 720);
 }
 
 void Page::Verdict() {

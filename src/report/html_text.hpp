@@ -17,6 +17,24 @@ std::string RoundTrip(double value);
 // For reading: 6 significant digits, "—" when not finite.
 std::string Readable(double value);
 
+// A value and its standard uncertainty written as a metrologist does: the std to two significant
+// digits, the value to the same decimal place ("999.9993" and "0.0047"). Fixed notation while
+// that place is between 10⁰ and 10⁻⁶ (10⁻¹² for |value| ≥ 0.01) and |value| < 10⁶; otherwise both
+// in e-notation with the exponent of the larger ("0.1e4" and "1.9e4", "1.26e-5" and "0.30e-5"),
+// so every digit shown is one the std allows and no more. A std that is not finite or not
+// positive leaves the value at Readable precision; a value that is not finite is "—".
+struct ValueWithStd {
+  std::string value;
+  std::string std;
+};
+ValueWithStd Metrological(double value, double std_dev);
+
+// Two significant digits (a std alone); "—" when not finite.
+std::string TwoSignificant(double value);
+
+// `places` decimals in fixed notation; "—" when not finite.
+std::string Fixed(double value, int places);
+
 // Rounds to `digits` significant digits (data for charts: the page need not carry 17).
 double Rounded(double value, int digits = 6);
 

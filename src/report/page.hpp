@@ -9,6 +9,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "html_text.hpp"
@@ -58,11 +59,22 @@ class Page {
            RoundTrip(v) + "\">" + HtmlEscape(Readable(v)) + "</span>";
   }
   // A number the report derived: a pointer into the report-data block.
-  std::string Der(const std::string& pointer) const {
-    const double v = NumberAt(data_, pointer);
+  std::string Der(const std::string& pointer) const { return Num(true, pointer); }
+  // A number of session.json (derived = false) or of the report-data block (true) with the text
+  // `text` (empty: Readable); data-value is always the full-precision value.
+  std::string Num(bool derived, const std::string& pointer, const std::string& text = {}) const {
+    const double v = NumberAt(derived ? data_ : doc_, pointer);
     if (!std::isfinite(v)) return kNone;
-    return "<span class=\"num\" data-derived=\"" + Attr(pointer) + "\" data-value=\"" +
-           RoundTrip(v) + "\">" + HtmlEscape(Readable(v)) + "</span>";
+    return "<span class=\"num\" " + std::string(derived ? "data-derived" : "data-source") + "=\"" +
+           Attr(pointer) + "\" data-value=\"" + RoundTrip(v) + "\">" +
+           HtmlEscape(text.empty() ? Readable(v) : text) + "</span>";
+  }
+  // A value and its std as two cells, written to the std's precision (Metrological).
+  std::pair<std::string, std::string> WithStd(bool derived, const std::string& value_pointer,
+                                              const std::string& std_pointer) const {
+    const json& d = derived ? data_ : doc_;
+    const ValueWithStd t = Metrological(NumberAt(d, value_pointer), NumberAt(d, std_pointer));
+    return {Num(derived, value_pointer, t.value), Num(derived, std_pointer, t.std)};
   }
   std::string Text(const std::string& pointer) const {
     const json* v = At(doc_, pointer);

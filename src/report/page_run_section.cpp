@@ -63,7 +63,7 @@ void Page::Run(const RunView& run) {
         "</td></tr></table>\n";
   }
   if (run.loaded) {
-    for (const char* kind : {"channels", "residuals", "orbit", "forms"})
+    for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
       Figure(std::string(kind) + "-run-" + id, 960, 300);
   }
   out_ += "</section>\n";

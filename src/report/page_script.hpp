@@ -25,6 +25,31 @@ inline constexpr const char* kPageScript = R"JS(
         if (i < 0) { base.push(key); i = base.length - 1; }
         return palette[i % palette.length];
       };
+      // Log axes: "1e-7", "2e-7", "5e-7" (Chart.js's default writes every digit).
+      var logTick = function (value) {
+        if (!(value > 0)) return "";
+        var e = Math.floor(Math.log10(value) + 1e-9);
+        var m = Math.round(value / Math.pow(10, e));
+        if (m !== 1 && m !== 2 && m !== 5) return "";
+        return e >= -2 && e <= 3 ? String(Number((m * Math.pow(10, e)).toPrecision(1))) : m + "e" + e;
+      };
+      var yScale = function () {
+        var y = { type: f.y_log ? "logarithmic" : "linear", title: { display: true, text: f.y_label } };
+        if (f.y_log) y.ticks = { callback: logTick };
+        return y;
+      };
+      // Legend entries drawn like their lines: a model's dashed, the data's solid.
+      // With usePointStyle Chart.js takes the point's style, not the line's: the dash is set here
+      // from the dataset, and a 2 px line shows it.
+      var legend = { labels: { boxWidth: 12, usePointStyle: true, pointStyleWidth: 36,
+        generateLabels: function (chart) {
+          return Chart.defaults.plugins.legend.labels.generateLabels(chart).map(function (l) {
+            var dataset = chart.data.datasets[l.datasetIndex];
+            l.lineDash = dataset && dataset.borderDash ? dataset.borderDash : [];
+            l.lineWidth = 2;
+            return l;
+          });
+        } } };
       var config;
       if (f.type === "bar") {
         config = {
@@ -39,7 +64,7 @@ inline constexpr const char* kPageScript = R"JS(
             animation: false, responsive: false,
             scales: {
               x: { title: { display: true, text: f.x_label } },
-              y: { type: f.y_log ? "logarithmic" : "linear", title: { display: true, text: f.y_label } }
+              y: yScale()
             }
           }
         };
@@ -51,26 +76,48 @@ inline constexpr const char* kPageScript = R"JS(
           return {
             label: s.label, data: points, borderColor: colour(s.label),
             backgroundColor: colour(s.label), borderDash: s.model ? [6, 3] : [],
-            borderWidth: 1, pointRadius: 0, showLine: true, spanGaps: false
+            borderWidth: s.model ? 1.5 : 1, pointRadius: 0, pointStyle: "line",
+            showLine: true, spanGaps: false, yAxisID: s.axis === "y2" ? "y2" : "y"
           };
         });
         var scales = {
           x: { type: "linear", title: { display: true, text: f.x_label } },
-          y: { type: f.y_log ? "logarithmic" : "linear", title: { display: true, text: f.y_label } }
+          y: yScale()
         };
+        if (f.series.some(function (s) { return s.axis === "y2"; })) {
+          scales.y2 = { type: "linear", position: "right", grid: { drawOnChartArea: false },
+                        title: { display: true, text: f.y2_label } };
+        }
         if (f.equal_aspect) {
           scales.x.min = -1.1; scales.x.max = 1.1; scales.y.min = -1.1; scales.y.max = 1.1;
+          legend.position = "bottom";
         }
         config = {
           type: "scatter",
           data: { datasets: datasets },
           options: {
             animation: false, responsive: false, parsing: false, normalized: true,
-            scales: scales, plugins: { legend: { labels: { boxWidth: 12 } } }
+            aspectRatio: f.equal_aspect ? 1 : undefined,
+            scales: scales, plugins: { legend: legend }
           }
         };
       }
-      new Chart(canvas, config);
+      var chart = new Chart(canvas, config);
+      if (f.equal_aspect) {
+        // Equal scales on both axes need a square plot area: the legend and the tick labels take
+        // their own room, so pad the longer side once it is known and draw again.
+        // Padding the sides narrows the legend, which may wrap: a few rounds settle it.
+        var side = 0, ends = 0, area = chart.chartArea;
+        for (var round = 0; round < 4 && Math.abs(area.width - area.height) >= 1; ++round) {
+          var excess = area.width - area.height;
+          if (excess > 0) side += excess / 2; else ends -= excess / 2;
+          if (side > 0 && ends > 0) { var common = Math.min(side, ends); side -= common; ends -= common; }
+          chart.options.layout.padding = { left: side, right: side, top: ends, bottom: ends };
+          chart.update();
+          area = chart.chartArea;
+        }
+        canvas.dataset.plotArea = Math.round(area.width) + "x" + Math.round(area.height);
+      }
       canvas.dataset.drawn = "true";
     } catch (e) {
       failed.push(f.name + ": " + e);

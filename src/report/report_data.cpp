@@ -32,6 +32,13 @@ json Series(const std::string& label, const std::vector<double>& y, bool model =
   return json{{"label", label}, {"y", Numbers(y)}, {"model", model}};
 }
 
+// A series on the figure's right-hand axis (y2_label).
+json RightSeries(const std::string& label, const std::vector<double>& y, bool model = false) {
+  json s = Series(label, y, model);
+  s["axis"] = "y2";
+  return s;
+}
+
 json LineFigure(const std::string& name, const std::string& caption, const std::string& x_label,
                 const std::string& y_label, const std::vector<double>& x) {
   return json{{"name", name},          {"caption", caption}, {"type", "line"},
@@ -61,10 +68,11 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   json orbit = LineFigure(
       "orbit-run-" + id,
       "Run " + id +
-          ": orbit elements a, b (amplitude, quadrature) and θ "
-          "(wave angle, electrical, rad, unwrapped) from the data (undistorted by ξ̂) and the "
-          "model (dashed)",
-      "t [s]", "a, b; θ [rad]", decimator.Times());
+          ": orbit elements a, b (amplitude, quadrature; left) and the wave angle θ on the shell "
+          "(half the model's electrical angle, degrees, unwrapped; right) from the data "
+          "(undistorted by ξ̂, solid) and the model (dashed)",
+      "t [s]", "a, b", decimator.Times());
+  orbit["y2_label"] = "θ on the shell [°]";
   json forms = LineFigure("forms-run-" + id,
                           "Run " + id +
                               ": principal forms Ac, As, K, S (MODEL.md) from the data "
@@ -98,13 +106,49 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   };
   unwrap(&data_elements);
   unwrap(&model_elements);
+  // θ on the shell in degrees: the standing wave turns half the electrical angle.
+  constexpr double kShellDegPerRad = 0.5 * 180.0 / std::numbers::pi;
+  data_elements.row(2) *= kShellDegPerRad;
+  model_elements.row(2) *= kShellDegPerRad;
   const char* orbit_names[] = {"a", "b", "θ"};
   const char* form_names[] = {"Ac", "As", "K", "S"};
-  for (int e = 0; e < 3; ++e)
+  for (int e = 0; e < 2; ++e)
     orbit["series"].push_back(Series(orbit_names[e], decimator.Apply(data_elements.data() + e, 7)));
+  orbit["series"].push_back(RightSeries("θ", decimator.Apply(data_elements.data() + 2, 7)));
   for (int e = 0; e < 4; ++e)
     forms["series"].push_back(
         Series(form_names[e], decimator.Apply(data_elements.data() + 3 + e, 7)));
+  // What moves in a run, at the scale it moves: with a long decay time the channels look flat,
+  // but the amplitude's relative decay and the wave's turn are what δ is estimated from. Both
+  // relative to the model's start (the data's first sample carries its noise into every point).
+  json motion = LineFigure("motion-run-" + id,
+                           "Run " + id +
+                               ": what moves — the amplitude's relative change a(t)/a(0) − 1 "
+                               "(left) and the wave's turn θ(t) − θ(0) on the shell in degrees "
+                               "(right), data (solid) and model (dashed); a(0), θ(0) of the " +
+                               std::string(have_model ? "fitted model" : "first sample"),
+                           "t [s]", "a(t)/a(0) − 1", decimator.Times());
+  motion["y2_label"] = "θ(t) − θ(0) on the shell [°]";
+  if (n > 0) {
+    const auto& reference = have_model ? model_elements : data_elements;
+    const double a0 = reference(0, 0), theta0 = reference(2, 0);
+    const auto relative = [&](const Eigen::Matrix<double, 7, Eigen::Dynamic>& elements) {
+      Eigen::Matrix<double, 2, Eigen::Dynamic> out(2, n);
+      out.row(0) = (elements.row(0).array() / a0 - 1.0).matrix();
+      out.row(1) = (elements.row(2).array() - theta0).matrix();
+      return out;
+    };
+    const Eigen::Matrix<double, 2, Eigen::Dynamic> data_motion = relative(data_elements);
+    motion["series"].push_back(Series("a/a(0) − 1", decimator.Apply(data_motion.data(), 2)));
+    motion["series"].push_back(RightSeries("θ − θ(0)", decimator.Apply(data_motion.data() + 1, 2)));
+    if (have_model) {
+      const Eigen::Matrix<double, 2, Eigen::Dynamic> model_motion = relative(model_elements);
+      motion["series"].push_back(
+          Series("a/a(0) − 1 model", decimator.Apply(model_motion.data(), 2), true));
+      motion["series"].push_back(
+          RightSeries("θ − θ(0) model", decimator.Apply(model_motion.data() + 1, 2), true));
+    }
+  }
   if (have_model) {
     for (int c = 0; c < 4; ++c)
       channels["series"].push_back(Series(std::string(y_names[c]) + " model",
@@ -113,9 +157,11 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
     for (int c = 0; c < 4; ++c)
       residuals["series"].push_back(Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
                                            decimator.Apply(e.data() + c, 4)));
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 2; ++k)
       orbit["series"].push_back(Series(std::string(orbit_names[k]) + " model",
                                        decimator.Apply(model_elements.data() + k, 7), true));
+    orbit["series"].push_back(
+        RightSeries("θ model", decimator.Apply(model_elements.data() + 2, 7), true));
     for (int k = 0; k < 4; ++k)
       forms["series"].push_back(Series(std::string(form_names[k]) + " model",
                                        decimator.Apply(model_elements.data() + 3 + k, 7), true));
@@ -123,6 +169,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
     residuals["caption"] = "Run " + id + ": no fitted model" + of_run + ", so no residuals";
   }
   figures->push_back(std::move(channels));
+  figures->push_back(std::move(motion));
   figures->push_back(std::move(residuals));
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
@@ -195,6 +242,30 @@ double MeanResonantFrequency(const json& document) {
   return count > 0 ? sum / count : kNaN;
 }
 
+// The engineering quantity named `name` in the record, or nullptr.
+const json* EngineeringQuantity(const json& document, const std::string& name) {
+  const json* list = At(document, "/outcome/estimate/engineering/quantities");
+  if (list == nullptr || !list->is_array()) return nullptr;
+  for (const json& q : *list)
+    if (q.is_object() && q.contains("name") && q["name"] == name) return &q;
+  return nullptr;
+}
+
+// "value ± std unit" of an engineering quantity, written to the std's precision.
+std::string MetrologicalText(const json& quantity) {
+  const auto number = [&](const char* key) {
+    const auto it = quantity.find(key);
+    return it != quantity.end() && it->is_number() ? it->get<double>() : kNaN;
+  };
+  const ValueWithStd t = Metrological(number("value"), number("std"));
+  const auto u = quantity.find("unit");
+  std::string unit = u != quantity.end() && u->is_string() ? u->get<std::string>() : "";
+  if (unit == "deg") unit = "°";
+  const std::string space = unit.empty() || unit == "°" ? "" : " ";
+  return std::isfinite(number("std")) ? t.value + " ± " + t.std + space + unit
+                                      : t.value + space + unit;
+}
+
 json Anisotropy(const ReportInputs& inputs, json* figures) {
   estimator::Delta delta;
   std::string source = "/outcome/estimate/delta";
@@ -219,37 +290,75 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
          {"damping_axis_shell_deg",
           bench::NumberOrNull(r.damping_axis_rad / 2 * 180 / std::numbers::pi)}};
   // The polar picture, on the shell (angles half the electrical ones): the two frequency axes
-  // (unit length) and the two damping axes (0.75), a circle for the shell.
-  json figure{{"name", "anisotropy"},
-              {"caption", "Anisotropy on the shell: frequency axes (f0 ± Δf/2, Δf = " +
-                              Readable(r.frequency_split_hz) + " Hz) and damping axes (Δ(1/τ) = " +
-                              Readable(r.damping_anisotropy_per_s) +
-                              " 1/s) at half the model's electrical angles; from δ at " + source},
-              {"type", "line"},
-              {"x_label", "x"},
-              {"y_label", "y"},
-              {"y_log", false},
-              {"equal_aspect", true},
-              {"x", json::array()},
-              {"series", json::array()}};
-  const auto axis = [&](const std::string& label, double angle, double length) {
-    const double c = length * std::cos(angle), s = length * std::sin(angle);
+  // (unit length) and the two damping axes (0.75), a circle for the shell. An axis the record
+  // calls undetermined (its split not significantly different from zero) is not drawn: its angle
+  // is noise. Without the record's engineering list the report's own axes are drawn, marked so.
+  std::string caption = "Anisotropy on the shell (angles half the model's electrical ones)";
+  json figure{{"name", "anisotropy"}, {"type", "line"},         {"x_label", "x"},
+              {"y_label", "y"},       {"y_log", false},         {"equal_aspect", true},
+              {"x", json::array()},   {"series", json::array()}};
+  const auto axis = [&](const std::string& label, double angle_rad, double length, bool model) {
+    const double c = length * std::cos(angle_rad), s = length * std::sin(angle_rad);
     figure["series"].push_back(json{{"label", label},
                                     {"x", Numbers({-c, 0.0, c})},
                                     {"y", Numbers({-s, 0.0, s})},
-                                    {"model", false}});
+                                    {"model", model}});
   };
+  const double quarter = std::numbers::pi / 4;  // 90° electrical = 45° on the shell
+  const double deg = std::numbers::pi / 180;
+  struct AxisPair {
+    const char* split_name;  // engineering quantity names
+    const char* axis_name;
+    const char* what;  // "frequency", "damping"
+    const char* split_symbol;
+    const char* angle_symbol;
+    const char* first;  // the axis the angle names, and the other one 45° on
+    const char* second;
+    double derived_split;
+    const char* derived_unit;
+    double derived_axis_shell_rad;
+    double length;
+  };
+  const AxisPair pairs[] = {
+      {"frequency_split_mhz", "frequency_axis_deg", "frequency", "Δf", "θω", "high-frequency axis",
+       "low-frequency axis", r.frequency_split_hz, "Hz", r.frequency_axis_rad / 2, 1.0},
+      {"damping_split_per_s", "damping_axis_deg", "damping", "Δ(1/τ)", "θτ", "fast-decay axis",
+       "slow-decay axis", r.damping_anisotropy_per_s, "1/s", r.damping_axis_rad / 2, 0.75}};
+  for (const AxisPair& p : pairs) {
+    const json* split = EngineeringQuantity(inputs.document, p.split_name);
+    const json* angle = EngineeringQuantity(inputs.document, p.axis_name);
+    if (angle == nullptr || split == nullptr) {
+      axis(std::string(p.first) + " (" + p.split_symbol + " = " + Readable(p.derived_split) + " " +
+               p.derived_unit + ", derived by the report; significance not recorded)",
+           p.derived_axis_shell_rad, p.length, false);
+      axis(p.second, p.derived_axis_shell_rad + quarter, p.length, false);
+      continue;
+    }
+    const auto angle_value = angle->find("value");
+    const double angle_deg =
+        angle_value != angle->end() && angle_value->is_number() ? angle_value->get<double>() : kNaN;
+    const auto determined = angle->find("determined");
+    if (determined == angle->end() || *determined != true || !std::isfinite(angle_deg)) {
+      caption += "; " + std::string(p.what) +
+                 " axis undetermined (split not significant: " + p.split_symbol + " = " +
+                 MetrologicalText(*split) + ")";
+      continue;
+    }
+    axis(std::string(p.first) + ": " + p.split_symbol + " = " + MetrologicalText(*split) + " at " +
+             p.angle_symbol + " = " + MetrologicalText(*angle) + " on the shell",
+         angle_deg * deg, p.length, false);
+    axis(std::string(p.second) + " (" + p.angle_symbol + " + 45°)", angle_deg * deg + quarter,
+         p.length, false);
+  }
+  caption += "; from δ at " + source;
+  if (At(inputs.document, "/outcome/estimate/engineering/quantities") != nullptr)
+    caption += " and outcome.estimate.engineering";
+  figure["caption"] = caption;
   std::vector<double> cx, cy;
   for (int k = 0; k <= 72; ++k) {
     cx.push_back(std::cos(k * std::numbers::pi / 36));
     cy.push_back(std::sin(k * std::numbers::pi / 36));
   }
-  const double theta_f = r.frequency_axis_rad / 2, theta_d = r.damping_axis_rad / 2;
-  const double quarter = std::numbers::pi / 4;  // 90° electrical = 45° on the shell
-  axis("high-frequency axis (f0 + Δf/2)", theta_f, 1.0);
-  axis("low-frequency axis (f0 − Δf/2)", theta_f + quarter, 1.0);
-  axis("fast-decay axis (1/τ + Δ(1/τ)/2)", theta_d, 0.75);
-  axis("slow-decay axis (1/τ − Δ(1/τ)/2)", theta_d + quarter, 0.75);
   figure["series"].push_back(
       json{{"label", "shell"}, {"x", Numbers(cx)}, {"y", Numbers(cy)}, {"model", true}});
   figures->push_back(std::move(figure));
@@ -330,6 +439,39 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
   return out;
 }
 
+// (estimate − truth)/std of every δ and ξ when the session is simulated (the truth recorded under
+// outcome.estimate.truth, or the simulation spec), with the estimate and std the page shows (the
+// record's, else the re-run's); null where any of the three is missing or the std is not positive.
+json TruthDeviation(const ReportInputs& inputs) {
+  const json& doc = inputs.document;
+  std::string truth_base;
+  if (At(doc, "/outcome/estimate/truth/delta") != nullptr)
+    truth_base = "/outcome/estimate/truth/";
+  else if (At(doc, "/simulation/delta") != nullptr)
+    truth_base = "/simulation/";
+  else
+    return nullptr;
+  const bool recorded = At(doc, "/outcome/estimate/delta") != nullptr;
+  json out = json::object();
+  for (const char* key : {"delta", "xi"}) {
+    const int count = std::string(key) == "delta" ? 6 : 4;
+    json z = json::array();
+    for (int i = 0; i < count; ++i) {
+      const std::string k = std::string(key) + "/" + std::to_string(i);
+      const std::string s = std::string(key) + "_std/" + std::to_string(i);
+      const double estimate = recorded ? NumberAt(doc, "/outcome/estimate/" + k)
+                                       : NumberAt(inputs.estimate_json, "/" + k);
+      const double std_dev = recorded ? NumberAt(doc, "/outcome/estimate/" + s)
+                                      : NumberAt(inputs.estimate_json, "/" + s);
+      const double truth = NumberAt(doc, truth_base + k);
+      z.push_back(std_dev > 0.0 ? bench::NumberOrNull((estimate - truth) / std_dev)
+                                : json(nullptr));
+    }
+    out[key] = std::move(z);
+  }
+  return out;
+}
+
 }  // namespace
 
 const json* At(const json& doc, const std::string& pointer) {
@@ -353,6 +495,7 @@ json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_seri
   json& derived = data["derived"];
   derived["estimate"] = inputs.estimate_json;
   derived["anisotropy"] = Anisotropy(inputs, &figures);
+  derived["truth_deviation"] = TruthDeviation(inputs);
   // The bound (a pass over the design) beside the runs' figures (a pass over each run).
   json crlb_figures = json::array();
   auto crlb = std::async(std::launch::async, [&] { return CramerRao(inputs, &crlb_figures); });

@@ -14,8 +14,8 @@
 //
 // ## The HTML contract (the browser test, branch `browser`, relies on it; keep it exactly)
 //  - Every chart is a `<canvas data-figure="NAME">` inside a `<figure>` with a `<figcaption>`.
-//    Names: `channels-run-N`, `residuals-run-N`, `orbit-run-N`, `forms-run-N` (N = the run id),
-//    `anisotropy`, `std-vs-bound`.
+//    Names: `channels-run-N`, `motion-run-N`, `residuals-run-N`, `orbit-run-N`, `forms-run-N`
+//    (N = the run id), `anisotropy`, `std-vs-bound`.
 //  - When every chart has been drawn the page sets
 //    `document.documentElement.dataset.reportReady = "true"`.
 //  - Every number shown in a table is an element with `data-source="<JSON pointer into
