@@ -177,6 +177,9 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
          FitState* state, EstimateSummary* s) {
   // 1. Starting point.
   FullParameters& p = state->p;
+  // The initial states solved for the chosen starting point, when the start was chosen by cost:
+  // step 2 needs the same ones at the same point.
+  std::vector<internal::RunNuisance> start_nuisance;
   if (start != nullptr) {
     p = *start;
   } else if (options.use_initial_guess) {
@@ -192,10 +195,13 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
                                                      options.min_samples_for_threads, model);
     std::vector<internal::RunNuisance> nuisance;
+    // Both candidates' regressions share one pass over the data when they hold the same ξ.
+    internal::IntegralEquationSums iee_sums;
     for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
       if (!internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
-                                           free->xi_fixed, &iee, start_problem.Threads()))
+                                           free->xi_fixed, &iee, start_problem.Threads(),
+                                           &iee_sums))
         continue;
       const FullParameters candidate = internal::Pack(iee.delta, iee.xi);
       if (!start_problem.SolveInitialStates(candidate, &nuisance)) continue;
@@ -203,6 +209,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
       if (cost < best_cost) {
         best_cost = cost;
         p = candidate;
+        start_nuisance = nuisance;
       }
       if (xi_in_start == kNoXi) break;
     }
@@ -212,12 +219,15 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
       return false;
     }
   }
+  const FullParameters chosen = p;
   for (int j = 0; j < 6; ++j)
     if (!free->delta[j]) p[j] = free->delta_fixed[j];
   for (int k = 0; k < 4; ++k)
     if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
   std::vector<internal::RunNuisance>& x0 = state->nuisance;
   x0.clear();
+  bool x0_current = !start_nuisance.empty() && p == chosen;
+  if (x0_current) x0 = std::move(start_nuisance);
 
   // 2. Numerical identifiability at the starting point; drop what the data cannot determine.
   internal::NormalEquations& ne = state->ne;
@@ -226,7 +236,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
   for (;;) {
     internal::OutputErrorProblem problem(runs, indices, options.num_threads,
                                          options.min_samples_for_threads, model);
-    if (!problem.SolveInitialStates(p, &x0)) {
+    if (!x0_current && !problem.SolveInitialStates(p, &x0)) {
       s->termination = Termination::kNumericalFailure;
       s->message = "initial states cannot be solved for: a run carries no signal";
       return false;
@@ -263,6 +273,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     for (int k = 0; k < 4; ++k)
       if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
     indices = free->Indices();
+    x0_current = false;
   }
   const internal::OutputErrorProblem problem(runs, indices, options.num_threads,
                                              options.min_samples_for_threads, model);
