@@ -310,8 +310,20 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     // is ~60 % of a Linearize pass) and the accepted one is linearised once.
     bool first_trial = true;
     double cost_by_cost_pass = kNaN;
+    bool converged_here = false;
     while (lambda <= 1e12) {
       if (internal::SolveDamped(ne, lambda, &dp, &dx0)) {
+        // Gauss–Newton's own convergence test, before any pass over the data: when the step the
+        // linearisation at p predicts is already below tolerance, p is the minimum to within it.
+        // Near the minimum a trial's cost differs from the current one by rounding only, so trying
+        // it would cost one or more passes and, when rounding goes the wrong way, a ladder of
+        // rejected steps.
+        Eigen::MatrixXd h_now;
+        if (first_trial && iteration > 0 && internal::ReducedInformation(ne, &h_now) &&
+            StepSmall(dp, h_now, ne.cost / dof, options.step_tolerance_in_std)) {
+          converged_here = true;
+          break;
+        }
         p_trial = p;
         for (std::size_t c = 0; c < indices.size(); ++c)
           p_trial[indices[c]] += dp[static_cast<Eigen::Index>(c)];
@@ -336,6 +348,11 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
         }
       }
       lambda = std::max(lambda * 10.0, 1e-9);
+    }
+    if (converged_here) {
+      s->termination = Termination::kConverged;
+      s->message = "step below tolerance (in units of std)";
+      break;
     }
     if (accepted && !linearized) problem.Linearize(p_trial, x0_trial, &trial);
     if (!accepted) {
