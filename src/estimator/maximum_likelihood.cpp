@@ -194,24 +194,55 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     double best_cost = std::numeric_limits<double>::infinity();
     const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
                                                      options.min_samples_for_threads, model);
-    std::vector<internal::RunNuisance> nuisance;
     // Both candidates' regressions share one pass over the data when they hold the same ξ.
     internal::IntegralEquationSums iee_sums;
+    struct Candidate {
+      FullParameters p;
+      std::vector<internal::RunNuisance> nuisance;
+      internal::InitialStatesCost cost;
+    };
+    std::vector<Candidate> candidates;
     for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
-      if (!internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
-                                           free->xi_fixed, &iee, start_problem.Threads(),
-                                           &iee_sums))
-        continue;
-      const FullParameters candidate = internal::Pack(iee.delta, iee.xi);
-      if (!start_problem.SolveInitialStates(candidate, &nuisance)) continue;
-      const double cost = start_problem.Cost(candidate, nuisance);
-      if (cost < best_cost) {
-        best_cost = cost;
-        p = candidate;
-        start_nuisance = nuisance;
+      if (internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
+                                          free->xi_fixed, &iee, start_problem.Threads(),
+                                          &iee_sums)) {
+        Candidate c;
+        c.p = internal::Pack(iee.delta, iee.xi);
+        if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost))
+          candidates.push_back(std::move(c));
       }
       if (xi_in_start == kNoXi) break;
+    }
+    // The cost at the solved initial states follows from their normal equations (Σ|y|² − b^H·u0),
+    // exact up to cancellation against Σ|y|²: when the two candidates' costs differ by far more
+    // than that, it decides without a cost pass over the data; otherwise (noise-free data, a tie)
+    // the cost passes do, as they always did.
+    std::size_t best = candidates.size();
+    if (candidates.size() == 1 && std::isfinite(candidates[0].cost.cost)) {
+      best = 0;  // nothing to choose between
+      best_cost = candidates[0].cost.cost;
+    } else if (candidates.size() == 2) {
+      const internal::InitialStatesCost& a = candidates[0].cost;
+      const internal::InitialStatesCost& b = candidates[1].cost;
+      const double margin = 1e-9 * std::max(a.data_norm2, b.data_norm2);
+      if (std::isfinite(a.cost) && std::isfinite(b.cost) && std::abs(a.cost - b.cost) > margin) {
+        best = a.cost <= b.cost ? 0 : 1;
+        best_cost = candidates[best].cost.cost;
+      }
+    }
+    if (best == candidates.size()) {
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        const double cost = start_problem.Cost(candidates[c].p, candidates[c].nuisance);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best = c;
+        }
+      }
+    }
+    if (best < candidates.size()) {
+      p = candidates[best].p;
+      start_nuisance = std::move(candidates[best].nuisance);
     }
     if (!std::isfinite(best_cost)) {
       s->termination = Termination::kNumericalFailure;

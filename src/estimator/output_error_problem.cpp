@@ -370,9 +370,11 @@ void OutputErrorProblem::Linearize(const FullParameters& p,
 }
 
 bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
-                                            std::vector<RunNuisance>* nuisance) const {
+                                            std::vector<RunNuisance>* nuisance,
+                                            InitialStatesCost* cost) const {
   nuisance->resize(runs_.size());
   std::vector<char> ok(runs_.size(), 0);
+  std::vector<double> cost_per_run(runs_.size(), 0.0), norm2_per_run(runs_.size(), 0.0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
     RunNuisance& n = (*nuisance)[r];
     if (n.size() != nuisance_.Size(r)) n = RunNuisance::Zero(nuisance_.Size(r));
@@ -383,11 +385,12 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     // phase, of modulus 1, only turns the data). With G·Φ(t) = c0·G + c1·G·B they follow from three
     // Gram sums of (c0, c1) and two projections of the turned data (u0 = 0 here, so
     // ForEachResidual's residual is the turned data).
-    double s00 = 0.0, s11 = 0.0;
+    double s00 = 0.0, s11 = 0.0, yy = 0.0;
     Complex s01 = 0.0;
     CVector2 p0 = CVector2::Zero(), p1 = CVector2::Zero();
     ForEachResidual<5>(run, m, [&](std::size_t, const Complex* c, Complex, const CVector2& y) {
       const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
+      yy += std::norm(y[0]) + std::norm(y[1]);
       s00 += std::norm(c[0]);
       s11 += std::norm(c[1]);
       s01 += b0 * c[1];
@@ -403,8 +406,21 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     const CVector2 u0 = normal.inverse() * rhs;
     if (!u0.allFinite()) return;
     n.head<4>() = ToReal(CVector2(m.gain * u0));
+    cost_per_run[r] = yy - rhs.dot(u0).real();
+    norm2_per_run[r] = yy;
     ok[r] = 1;
   });
+  if (cost != nullptr) {
+    *cost = InitialStatesCost{};
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      cost->cost += cost_per_run[r];
+      cost->data_norm2 += norm2_per_run[r];
+      if (nuisance_.OmegaFree(r)) {
+        const double offset = (*nuisance)[r][nuisance_.OmegaIndex()];
+        cost->cost += nuisance_.omega_prior_weight[r] * offset * offset;
+      }
+    }
+  }
   return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
 }
 
