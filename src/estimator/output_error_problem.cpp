@@ -247,7 +247,8 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
   for (CVector2& e : q1) e.setZero();
   CVector2 q2 = CVector2::Zero();
   double sum = 0.0;
-  ForEachResidual<kBasis>(runs_[r], m,
+  // The moments need c0, c1 and c4 only: the basis of five.
+  ForEachResidual<5>(runs_[r], m,
                           [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
                             sum += std::norm(e[0]) + std::norm(e[1]);
                             const double t = runs_[r].t_s[k];
@@ -259,6 +260,7 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
                             m22 += std::norm(c[4]);
                             q2 += b2 * e;
                             Complex x20 = b2 * c[0], x21 = b2 * c[1];
+#pragma GCC unroll 8
                             for (int j = 0; j <= 2 * kPower; ++j) {
                               const auto i = static_cast<std::size_t>(j);
                               m00[i] += x00;
