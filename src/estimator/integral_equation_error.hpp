@@ -30,7 +30,6 @@ struct IntegralEquationSums {
   std::vector<Eigen::Matrix<double, 10, 1>> rhss;
 };
 
-
 // False when the regression is singular. `threads` as in OutputErrorProblem (resolved already).
 bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,

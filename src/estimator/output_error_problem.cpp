@@ -248,39 +248,38 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
   CVector2 q2 = CVector2::Zero();
   double sum = 0.0;
   // The moments need c0, c1 and c4 only: the basis of five.
-  ForEachResidual<5>(runs_[r], m,
-                          [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
-                            sum += std::norm(e[0]) + std::norm(e[1]);
-                            const double t = runs_[r].t_s[k];
-                            const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
-                            const Complex b2 = std::conj(c[4]);
-                            double x00 = std::norm(c[0]), x11 = std::norm(c[1]);
-                            Complex x01 = b0 * c[1];
-                            CVector2 y0 = b0 * e, y1 = b1 * e;
-                            m22 += std::norm(c[4]);
-                            q2 += b2 * e;
-                            Complex x20 = b2 * c[0], x21 = b2 * c[1];
+  ForEachResidual<5>(runs_[r], m, [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
+    sum += std::norm(e[0]) + std::norm(e[1]);
+    const double t = runs_[r].t_s[k];
+    const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
+    const Complex b2 = std::conj(c[4]);
+    double x00 = std::norm(c[0]), x11 = std::norm(c[1]);
+    Complex x01 = b0 * c[1];
+    CVector2 y0 = b0 * e, y1 = b1 * e;
+    m22 += std::norm(c[4]);
+    q2 += b2 * e;
+    Complex x20 = b2 * c[0], x21 = b2 * c[1];
 #pragma GCC unroll 8
-                            for (int j = 0; j <= 2 * kPower; ++j) {
-                              const auto i = static_cast<std::size_t>(j);
-                              m00[i] += x00;
-                              m11[i] += x11;
-                              m01[i] += x01;
-                              if (j <= kPower) {
-                                m20[i] += x20;
-                                m21[i] += x21;
-                                q0[i] += y0;
-                                q1[i] += y1;
-                                x20 *= t;
-                                x21 *= t;
-                                y0 *= t;
-                                y1 *= t;
-                              }
-                              x00 *= t;
-                              x11 *= t;
-                              x01 *= t;
-                            }
-                          });
+    for (int j = 0; j <= 2 * kPower; ++j) {
+      const auto i = static_cast<std::size_t>(j);
+      m00[i] += x00;
+      m11[i] += x11;
+      m01[i] += x01;
+      if (j <= kPower) {
+        m20[i] += x20;
+        m21[i] += x21;
+        q0[i] += y0;
+        q1[i] += y1;
+        x20 *= t;
+        x21 *= t;
+        y0 *= t;
+        y1 *= t;
+      }
+      x00 *= t;
+      x11 *= t;
+      x01 *= t;
+    }
+  });
   // S_ab from the moments: conj(b_u)·b_v for u ≤ v in the family order (0, 1, 2 = c4).
   const auto moment = [&](int u, int v, int power) -> Complex {
     const auto i = static_cast<std::size_t>(power);
@@ -401,8 +400,8 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     });
     const CMatrix2 gb = m.gain * m.propagator.B();
     const CMatrix2 cross = s01 * (m.gain.adjoint() * gb);
-    const CMatrix2 normal = s00 * (m.gain.adjoint() * m.gain) + cross + cross.adjoint() +
-                            s11 * (gb.adjoint() * gb);
+    const CMatrix2 normal =
+        s00 * (m.gain.adjoint() * m.gain) + cross + cross.adjoint() + s11 * (gb.adjoint() * gb);
     const CVector2 rhs = m.gain.adjoint() * p0 + gb.adjoint() * p1;
     if (!(std::abs(normal.determinant()) > 0.0)) return;
     const CVector2 u0 = normal.inverse() * rhs;
