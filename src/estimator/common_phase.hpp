@@ -27,7 +27,10 @@ class CommonPhase {
 
   // `coefficients` holds q_1 … q_degree.
   CommonPhase(const double* coefficients, int degree) noexcept : degree_(degree) {
-    for (int j = 0; j < degree_; ++j) q_[static_cast<std::size_t>(j)] = coefficients[j];
+    for (int j = 0; j < degree_; ++j) {
+      q_[static_cast<std::size_t>(j)] = coefficients[j];
+      zero_ = zero_ && coefficients[j] == 0.0;
+    }
   }
 
   int Degree() const noexcept { return degree_; }
@@ -47,7 +50,8 @@ class CommonPhase {
   // sincos; it restarts from the closed form every kResync samples and when the step changes (a
   // dropped sample), so rounding stays below ~kResync ulp.
   Complex Next(double t) noexcept {
-    if (degree_ == 0) return Complex(1.0, 0.0);
+    // A zero phase (every fit's start) is 1 exactly, as the recurrence would give it.
+    if (degree_ == 0 || zero_) return Complex(1.0, 0.0);
     const double dt = t - last_t_;
     last_t_ = t;
     if (since_sync_ >= kResync || !(std::abs(dt - step_) <= 1e-9 * step_)) {
@@ -62,6 +66,7 @@ class CommonPhase {
   }
 
  private:
+  bool zero_ = true;  // every q_j is 0
   static constexpr int kResync = 64;
 
   // factor_[j] = e^{i·Δ^jψ(t)} with forward differences of step step_. The differences are taken

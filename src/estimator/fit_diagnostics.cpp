@@ -115,16 +115,24 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags)
   double q = 0.0;
   double rho1_sum = 0.0;
   Eigen::VectorXd rho_sum = Eigen::VectorXd::Zero(s.lags);
+  // Every lag's products of all four channels in one pass over the columns (the residuals are
+  // stored column-major: one sample's four channels are adjacent), instead of a strided copy and
+  // a pass per channel and lag.
+  Eigen::Matrix4Xd lagged = Eigen::Matrix4Xd::Zero(4, s.lags);
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const Eigen::Index top = std::min<Eigen::Index>(s.lags, k);
+    for (Eigen::Index l = 1; l <= top; ++l)
+      lagged.col(l - 1) += residuals.col(k).cwiseProduct(residuals.col(k - l));
+  }
+  const Eigen::Vector4d c0 = residuals.rowwise().squaredNorm();
   for (int c = 0; c < 4; ++c) {
-    const Eigen::VectorXd r = residuals.row(c).transpose();
-    const double c0 = r.squaredNorm();
-    if (!(c0 > 0.0)) continue;
+    if (!(c0[c] > 0.0)) continue;
     for (int l = 1; l <= s.lags; ++l) {
-      const double rho = r.head(n - l).dot(r.tail(n - l)) / c0;
+      const double rho = lagged(c, l - 1) / c0[c];
       q += nd * (nd + 2.0) * rho * rho / (nd - l);
       rho_sum[l - 1] += 0.25 * rho;
     }
-    rho1_sum += 0.25 * r.head(n - 1).dot(r.tail(n - 1)) / c0;
+    rho1_sum += 0.25 * lagged(c, 0) / c0[c];
   }
   s.ljung_box_q = q;
   s.ljung_box_z = ChiSquareNormalScore(q, 4.0 * s.lags);

@@ -66,7 +66,7 @@ bool FinishSolution(const std::vector<int>& columns, const Eigen::VectorXd& solu
 
 bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
-                           IntegralEquationResult* out, int threads) {
+                           IntegralEquationResult* out, int threads, IntegralEquationSums* sums) {
   // Unknowns: the free δ, then δ2·ξk for each free ξ (linear, unlike ξ itself).
   std::vector<int> columns;  // 0..5 δ, 6..9 ξ
   for (int j = 0; j < 6; ++j)
@@ -98,9 +98,17 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   // alone.
   using Normal = Eigen::Matrix<double, 10, 10>;
   using Rhs = Eigen::Matrix<double, 10, 1>;
-  std::vector<Normal> normals(runs.size(), Normal::Zero());
-  std::vector<Rhs> rhss(runs.size(), Rhs::Zero());
-  ParallelFor(runs.size(), threads, [&](std::size_t r) {
+  IntegralEquationSums local;
+  IntegralEquationSums& cache = sums != nullptr ? *sums : local;
+  const bool reuse = cache.normals.size() == runs.size() && cache.xi_removed == xi_removed;
+  if (!reuse) {
+    cache.xi_removed = xi_removed;
+    cache.normals.assign(runs.size(), Normal::Zero());
+    cache.rhss.assign(runs.size(), Rhs::Zero());
+  }
+  std::vector<Normal>& normals = cache.normals;
+  std::vector<Rhs>& rhss = cache.rhss;
+  const auto accumulate = [&](std::size_t r) {
     Eigen::Matrix<double, 6, 6> mm = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> ml = Eigen::Matrix<double, 6, 1>::Zero();
     // lazyProduct: products this small are faster unrolled than through Eigen's blocked GEMM.
@@ -115,7 +123,8 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
           4.0 * runs[r].omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
     normals[r] = select.transpose() * mm * select;
     rhss[r] = select.transpose() * ml;
-  });
+  };
+  if (!reuse) ParallelFor(runs.size(), threads, accumulate);
   Normal full_normal = Normal::Zero();
   Rhs full_rhs = Rhs::Zero();
   out->equations = 0;

@@ -177,6 +177,9 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
          FitState* state, EstimateSummary* s) {
   // 1. Starting point.
   FullParameters& p = state->p;
+  // The initial states solved for the chosen starting point, when the start was chosen by cost:
+  // step 2 needs the same ones at the same point.
+  std::vector<internal::RunNuisance> start_nuisance;
   if (start != nullptr) {
     p = *start;
   } else if (options.use_initial_guess) {
@@ -191,20 +194,55 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     double best_cost = std::numeric_limits<double>::infinity();
     const internal::OutputErrorProblem start_problem(runs, {}, options.num_threads,
                                                      options.min_samples_for_threads, model);
-    std::vector<internal::RunNuisance> nuisance;
+    // Both candidates' regressions share one pass over the data when they hold the same ξ.
+    internal::IntegralEquationSums iee_sums;
+    struct Candidate {
+      FullParameters p;
+      std::vector<internal::RunNuisance> nuisance;
+      internal::InitialStatesCost cost;
+    };
+    std::vector<Candidate> candidates;
     for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
-      if (!internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
-                                           free->xi_fixed, &iee, start_problem.Threads()))
-        continue;
-      const FullParameters candidate = internal::Pack(iee.delta, iee.xi);
-      if (!start_problem.SolveInitialStates(candidate, &nuisance)) continue;
-      const double cost = start_problem.Cost(candidate, nuisance);
-      if (cost < best_cost) {
-        best_cost = cost;
-        p = candidate;
+      if (internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
+                                          free->xi_fixed, &iee, start_problem.Threads(),
+                                          &iee_sums)) {
+        Candidate c;
+        c.p = internal::Pack(iee.delta, iee.xi);
+        if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost))
+          candidates.push_back(std::move(c));
       }
       if (xi_in_start == kNoXi) break;
+    }
+    // The cost at the solved initial states follows from their normal equations (Σ|y|² − b^H·u0),
+    // exact up to cancellation against Σ|y|²: when the two candidates' costs differ by far more
+    // than that, it decides without a cost pass over the data; otherwise (noise-free data, a tie)
+    // the cost passes do, as they always did.
+    std::size_t best = candidates.size();
+    if (candidates.size() == 1 && std::isfinite(candidates[0].cost.cost)) {
+      best = 0;  // nothing to choose between
+      best_cost = candidates[0].cost.cost;
+    } else if (candidates.size() == 2) {
+      const internal::InitialStatesCost& a = candidates[0].cost;
+      const internal::InitialStatesCost& b = candidates[1].cost;
+      const double margin = 1e-9 * std::max(a.data_norm2, b.data_norm2);
+      if (std::isfinite(a.cost) && std::isfinite(b.cost) && std::abs(a.cost - b.cost) > margin) {
+        best = a.cost <= b.cost ? 0 : 1;
+        best_cost = candidates[best].cost.cost;
+      }
+    }
+    if (best == candidates.size()) {
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        const double cost = start_problem.Cost(candidates[c].p, candidates[c].nuisance);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best = c;
+        }
+      }
+    }
+    if (best < candidates.size()) {
+      p = candidates[best].p;
+      start_nuisance = std::move(candidates[best].nuisance);
     }
     if (!std::isfinite(best_cost)) {
       s->termination = Termination::kNumericalFailure;
@@ -212,12 +250,15 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
       return false;
     }
   }
+  const FullParameters chosen = p;
   for (int j = 0; j < 6; ++j)
     if (!free->delta[j]) p[j] = free->delta_fixed[j];
   for (int k = 0; k < 4; ++k)
     if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
   std::vector<internal::RunNuisance>& x0 = state->nuisance;
   x0.clear();
+  bool x0_current = !start_nuisance.empty() && p == chosen;
+  if (x0_current) x0 = std::move(start_nuisance);
 
   // 2. Numerical identifiability at the starting point; drop what the data cannot determine.
   internal::NormalEquations& ne = state->ne;
@@ -226,7 +267,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
   for (;;) {
     internal::OutputErrorProblem problem(runs, indices, options.num_threads,
                                          options.min_samples_for_threads, model);
-    if (!problem.SolveInitialStates(p, &x0)) {
+    if (!x0_current && !problem.SolveInitialStates(p, &x0)) {
       s->termination = Termination::kNumericalFailure;
       s->message = "initial states cannot be solved for: a run carries no signal";
       return false;
@@ -263,6 +304,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     for (int k = 0; k < 4; ++k)
       if (!free->xi[k]) p[internal::kXiOffset + k] = free->xi_fixed[k];
     indices = free->Indices();
+    x0_current = false;
   }
   const internal::OutputErrorProblem problem(runs, indices, options.num_threads,
                                              options.min_samples_for_threads, model);
@@ -299,8 +341,20 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     // is ~60 % of a Linearize pass) and the accepted one is linearised once.
     bool first_trial = true;
     double cost_by_cost_pass = kNaN;
+    bool converged_here = false;
     while (lambda <= 1e12) {
       if (internal::SolveDamped(ne, lambda, &dp, &dx0)) {
+        // Gauss–Newton's own convergence test, before any pass over the data: when the step the
+        // linearisation at p predicts is already below tolerance, p is the minimum to within it.
+        // Near the minimum a trial's cost differs from the current one by rounding only, so trying
+        // it would cost one or more passes and, when rounding goes the wrong way, a ladder of
+        // rejected steps.
+        Eigen::MatrixXd h_now;
+        if (first_trial && iteration > 0 && internal::ReducedInformation(ne, &h_now) &&
+            StepSmall(dp, h_now, ne.cost / dof, options.step_tolerance_in_std)) {
+          converged_here = true;
+          break;
+        }
         p_trial = p;
         for (std::size_t c = 0; c < indices.size(); ++c)
           p_trial[indices[c]] += dp[static_cast<Eigen::Index>(c)];
@@ -325,6 +379,11 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
         }
       }
       lambda = std::max(lambda * 10.0, 1e-9);
+    }
+    if (converged_here) {
+      s->termination = Termination::kConverged;
+      s->message = "step below tolerance (in units of std)";
+      break;
     }
     if (accepted && !linearized) problem.Linearize(p_trial, x0_trial, &trial);
     if (!accepted) {

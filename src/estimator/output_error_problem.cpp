@@ -231,21 +231,75 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
                                                const RunNuisance& nuisance, Eigen::MatrixXd* h,
                                                Eigen::VectorXd* g, double* cost) const {
   const RunModel m(runs_[r], p, nuisance, nuisance_, r);
-  Eigen::Matrix<Complex, kBasis, kBasis> gram = Eigen::Matrix<Complex, kBasis, kBasis>::Zero();
-  std::array<CVector2, kBasis> projected;
-  for (CVector2& e : projected) e.setZero();
+  // Every basis function is t^k times one of three: c_a = t^{k_a}·b_{u_a} with b = (c0, c1, c4)
+  // (Basis). So the Gram sums are moments of three products, S_ab = Σ t^{k_a+k_b}·conj(b_u)·b_v,
+  // and the projections moments of three, E_a = Σ t^{k_a}·conj(b_u)·e: per sample six products
+  // and real scalings by t instead of kBasis²/2 + kBasis complex products.
+  constexpr int kPower = (kBasis - 3) / 2;  // highest power of t on c0, c1: 1, 2, 3
+  constexpr std::array<int, 9> kFamily = {0, 1, 0, 1, 2, 0, 1, 0, 1};
+  constexpr std::array<int, 9> kTPower = {0, 0, 1, 1, 0, 2, 2, 3, 3};
+  std::array<double, 2 * kPower + 1> m00{}, m11{};
+  std::array<Complex, 2 * kPower + 1> m01{};
+  std::array<Complex, kPower + 1> m20{}, m21{};
+  double m22 = 0.0;
+  std::array<CVector2, kPower + 1> q0, q1;
+  for (CVector2& e : q0) e.setZero();
+  for (CVector2& e : q1) e.setZero();
+  CVector2 q2 = CVector2::Zero();
   double sum = 0.0;
-  ForEachResidual<kBasis>(runs_[r], m,
-                          [&](std::size_t, const Complex* c, Complex, const CVector2& e) {
-                            sum += std::norm(e[0]) + std::norm(e[1]);
-                            for (int a = 0; a < kBasis; ++a) {
-                              const Complex ca = std::conj(c[a]);
-                              projected[static_cast<std::size_t>(a)] += ca * e;
-                              for (int b = a; b < kBasis; ++b) gram(a, b) += ca * c[b];
-                            }
-                          });
-  for (int a = 0; a < kBasis; ++a)
-    for (int b = 0; b < a; ++b) gram(a, b) = std::conj(gram(b, a));
+  // The moments need c0, c1 and c4 only: the basis of five.
+  ForEachResidual<5>(runs_[r], m, [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
+    sum += std::norm(e[0]) + std::norm(e[1]);
+    const double t = runs_[r].t_s[k];
+    const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
+    const Complex b2 = std::conj(c[4]);
+    double x00 = std::norm(c[0]), x11 = std::norm(c[1]);
+    Complex x01 = b0 * c[1];
+    CVector2 y0 = b0 * e, y1 = b1 * e;
+    m22 += std::norm(c[4]);
+    q2 += b2 * e;
+    Complex x20 = b2 * c[0], x21 = b2 * c[1];
+#pragma GCC unroll 8
+    for (int j = 0; j <= 2 * kPower; ++j) {
+      const auto i = static_cast<std::size_t>(j);
+      m00[i] += x00;
+      m11[i] += x11;
+      m01[i] += x01;
+      if (j <= kPower) {
+        m20[i] += x20;
+        m21[i] += x21;
+        q0[i] += y0;
+        q1[i] += y1;
+        x20 *= t;
+        x21 *= t;
+        y0 *= t;
+        y1 *= t;
+      }
+      x00 *= t;
+      x11 *= t;
+      x01 *= t;
+    }
+  });
+  // S_ab from the moments: conj(b_u)·b_v for u ≤ v in the family order (0, 1, 2 = c4).
+  const auto moment = [&](int u, int v, int power) -> Complex {
+    const auto i = static_cast<std::size_t>(power);
+    if (u == v) return u == 0 ? Complex(m00[i]) : u == 1 ? Complex(m11[i]) : Complex(m22);
+    if (u == 0 && v == 1) return m01[i];
+    if (u == 1 && v == 0) return std::conj(m01[i]);
+    if (u == 2) return v == 0 ? m20[i] : m21[i];
+    return std::conj(u == 0 ? m20[i] : m21[i]);  // v == 2
+  };
+  Eigen::Matrix<Complex, kBasis, kBasis> gram;
+  std::array<CVector2, kBasis> projected;
+  for (int a = 0; a < kBasis; ++a) {
+    const auto sa = static_cast<std::size_t>(a);
+    const auto ka = static_cast<std::size_t>(kTPower[sa]);
+    projected[sa] = kFamily[sa] == 0 ? q0[ka] : kFamily[sa] == 1 ? q1[ka] : q2;
+    for (int b = 0; b < kBasis; ++b) {
+      const auto sb = static_cast<std::size_t>(b);
+      gram(a, b) = moment(kFamily[sa], kFamily[sb], kTPower[sa] + kTPower[sb]);
+    }
+  }
 
   std::vector<Coefficients> v;
   ColumnCoefficients(m, free_, nuisance_, r, p, &v);
@@ -317,36 +371,57 @@ void OutputErrorProblem::Linearize(const FullParameters& p,
 }
 
 bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
-                                            std::vector<RunNuisance>* nuisance) const {
+                                            std::vector<RunNuisance>* nuisance,
+                                            InitialStatesCost* cost) const {
   nuisance->resize(runs_.size());
   std::vector<char> ok(runs_.size(), 0);
+  std::vector<double> cost_per_run(runs_.size(), 0.0), norm2_per_run(runs_.size(), 0.0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
     RunNuisance& n = (*nuisance)[r];
     if (n.size() != nuisance_.Size(r)) n = RunNuisance::Zero(nuisance_.Size(r));
     const RunData& run = runs_[r];
     n.head<4>().setZero();
     const RunModel m(run, p, n, nuisance_, r);
-    CommonPhase phase = m.Phase();
     // The model is complex-linear in u0, so the normal equations are complex 2×2 (and the common
-    // phase, of modulus 1, only turns the data).
-    CMatrix2 normal = CMatrix2::Zero();
-    CVector2 rhs = CVector2::Zero();
-    {
-      const NoAllocationScope no_allocation;
-      m.propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
-        const Complex rot = phase.Next(run.t_s[k]);
-        const CMatrix2 gphi = m.gain * m.propagator.Transition(s);
-        normal.noalias() += gphi.adjoint() * gphi;
-        rhs.noalias() +=
-            gphi.adjoint() * (std::conj(rot) * ToComplex(run.y.col(static_cast<Eigen::Index>(k))));
-      });
-    }
+    // phase, of modulus 1, only turns the data). With G·Φ(t) = c0·G + c1·G·B they follow from three
+    // Gram sums of (c0, c1) and two projections of the turned data (u0 = 0 here, so
+    // ForEachResidual's residual is the turned data).
+    double s00 = 0.0, s11 = 0.0, yy = 0.0;
+    Complex s01 = 0.0;
+    CVector2 p0 = CVector2::Zero(), p1 = CVector2::Zero();
+    ForEachResidual<5>(run, m, [&](std::size_t, const Complex* c, Complex, const CVector2& y) {
+      const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
+      yy += std::norm(y[0]) + std::norm(y[1]);
+      s00 += std::norm(c[0]);
+      s11 += std::norm(c[1]);
+      s01 += b0 * c[1];
+      p0 += b0 * y;
+      p1 += b1 * y;
+    });
+    const CMatrix2 gb = m.gain * m.propagator.B();
+    const CMatrix2 cross = s01 * (m.gain.adjoint() * gb);
+    const CMatrix2 normal =
+        s00 * (m.gain.adjoint() * m.gain) + cross + cross.adjoint() + s11 * (gb.adjoint() * gb);
+    const CVector2 rhs = m.gain.adjoint() * p0 + gb.adjoint() * p1;
     if (!(std::abs(normal.determinant()) > 0.0)) return;
     const CVector2 u0 = normal.inverse() * rhs;
     if (!u0.allFinite()) return;
     n.head<4>() = ToReal(CVector2(m.gain * u0));
+    cost_per_run[r] = yy - rhs.dot(u0).real();
+    norm2_per_run[r] = yy;
     ok[r] = 1;
   });
+  if (cost != nullptr) {
+    *cost = InitialStatesCost{};
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      cost->cost += cost_per_run[r];
+      cost->data_norm2 += norm2_per_run[r];
+      if (nuisance_.OmegaFree(r)) {
+        const double offset = (*nuisance)[r][nuisance_.OmegaIndex()];
+        cost->cost += nuisance_.omega_prior_weight[r] * offset * offset;
+      }
+    }
+  }
   return std::all_of(ok.begin(), ok.end(), [](char c) { return c != 0; });
 }
 

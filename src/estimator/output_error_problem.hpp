@@ -68,6 +68,15 @@ struct NormalEquations {
   std::vector<double> cost_per_run;   // Σ residual² of each run's samples (no prior)
 };
 
+// The cost at the initial states SolveInitialStates found, from its normal equations:
+// Σ|y|² − Re(b^H·u0) per run (+ the Ω priors), which cancels against Σ|y|² (`data_norm2`): its
+// rounding error is ~1e-16·n·data_norm2 at worst, so it ranks two points only when their costs
+// differ by more than that.
+struct InitialStatesCost {
+  double cost = 0.0;
+  double data_norm2 = 0.0;
+};
+
 class OutputErrorProblem {
  public:
   // `free` lists the estimated entries of FullParameters, ascending. `runs` must outlive this.
@@ -95,7 +104,9 @@ class OutputErrorProblem {
   // The w0 of every run minimising the cost for fixed p and the other nuisance parameters (a linear
   // least-squares problem); a nuisance vector of the wrong size is first reset to zeros. False when
   // a run's system is singular.
-  bool SolveInitialStates(const FullParameters& p, std::vector<RunNuisance>* nuisance) const;
+  // When `cost` is given, it receives the cost at the solution from the normal equations.
+  bool SolveInitialStates(const FullParameters& p, std::vector<RunNuisance>* nuisance,
+                          InitialStatesCost* cost = nullptr) const;
 
   // Residuals y − ŷ of run r, one column per sample.
   void RunResiduals(std::size_t r, const FullParameters& p, const RunNuisance& nuisance,
