@@ -1,14 +1,10 @@
 #include "hrgbench/bench/verdict_json.hpp"
 
-#include <cmath>
 #include <string>
 
+#include "hrgbench/bench/estimate_report_json.hpp"
+
 namespace hrgbench::bench {
-namespace {
-
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-}  // namespace
 
 nlohmann::json VerdictJson(const Verdict& verdict) {
   nlohmann::json checks = nlohmann::json::array();
@@ -16,18 +12,18 @@ nlohmann::json VerdictJson(const Verdict& verdict) {
     checks.push_back({{"run", c.run_id},
                       {"name", c.name},
                       {"status", std::string(ToString(c.status))},
-                      {"value", Number(c.value)},
-                      {"max", Number(c.max)},
+                      {"value", NumberOrNull(c.value)},
+                      {"max", NumberOrNull(c.max)},
                       {"message", c.message}});
   }
   nlohmann::json limits = nlohmann::json::array();
   for (const LimitResult& r : verdict.results) {
     limits.push_back({{"quantity", std::string(ToString(r.quantity))},
                       {"status", std::string(ToString(r.status))},
-                      {"value", Number(r.value)},
-                      {"std", Number(r.std)},
-                      {"min", Number(r.min)},
-                      {"max", Number(r.max)},
+                      {"value", NumberOrNull(r.value)},
+                      {"std", NumberOrNull(r.std)},
+                      {"min", NumberOrNull(r.min)},
+                      {"max", NumberOrNull(r.max)},
                       {"message", r.message}});
   }
   return {{"overall", std::string(ToString(verdict.overall))},
