@@ -72,7 +72,9 @@ class CommonPhase {
   // factor_[j] = e^{i·Δ^jψ(t)} with forward differences of step step_. The differences are taken
   // on the polynomial's coefficients (binomial expansion of ψ(t + h) − ψ(t)), not by subtracting
   // values of ψ, which would cancel all but a few digits of Δ³ψ = 6·q3·h³.
-  void Resync(double t) noexcept {
+  // Out of line and cold, so that Next's common path is small enough to inline into every pass's
+  // sample loop (it was called per sample).
+  [[gnu::noinline, gnu::cold]] void Resync(double t) noexcept {
     std::array<double, kMaxPhaseDegree + 1> c{};  // ψ(t) = Σ c[m]·t^m, c[0] = 0
     for (int j = 1; j <= degree_; ++j)
       c[static_cast<std::size_t>(j)] = q_[static_cast<std::size_t>(j - 1)];

@@ -27,11 +27,18 @@ constexpr std::array<double, 4> kXiSign = {+1.0, -1.0, +1.0, -1.0};
 // Calls visit(lhs, m) for every equation lhs = r(t_k) − r(t_0) = m·δ (m = 2·Mδ(Ω, ∫r dt)) of a run.
 template <typename Visit>
 void ForEachEquation(const RunData& run, const Xi& xi_removed, Visit visit) {
-  const Forms r0 = QuadraticForms(UndistortExact(xi_removed, run.y.col(0)));
+  // With no ξ to remove (every ξ estimated, or held at 0) the undistortion is the identity: two
+  // complex divisions per sample saved, and the same values (division by exactly 1).
+  const bool undistort = (xi_removed.array() != 0.0).any();
+  const auto forms = [&](Eigen::Index k) {
+    return undistort ? QuadraticForms(UndistortExact(xi_removed, run.y.col(k)))
+                     : QuadraticForms(run.y.col(k));
+  };
+  const Forms r0 = forms(0);
   Forms previous = r0;
   Forms integral = Forms::Zero();
   for (Eigen::Index k = 1; k < run.size(); ++k) {
-    const Forms rk = QuadraticForms(UndistortExact(xi_removed, run.y.col(k)));
+    const Forms rk = forms(k);
     integral += 0.5 * (run.t_s[k] - run.t_s[k - 1]) * (rk + previous);
     previous = rk;
     visit(Forms(rk - r0), Matrix46(2.0 * FormsRegressor(run.omega_rad_s, integral)));

@@ -168,7 +168,21 @@ struct FitState {
   std::vector<int> indices;
   double dof = 1.0;
   int threads = 1;
+  // True when the last step was taken without linearising at its end (see the quadratic-convergence
+  // test in Fit): `ne` is then the linearisation one small step before p, and its cost is not p's
+  // (the residual pass replaces it).
+  bool ne_one_step_behind = false;
 };
+
+// The largest |step_i| in units of its std, σ̂²·H_red⁻¹; NaN when H_red is singular.
+double StepInStd(const Eigen::VectorXd& step, const Eigen::MatrixXd& h_reduced, double s2) {
+  Eigen::MatrixXd inverse;
+  if (!internal::InvertScaledSpd(h_reduced, &inverse)) return kNaN;
+  double largest = 0.0;
+  for (Eigen::Index i = 0; i < step.size(); ++i)
+    largest = std::max(largest, std::abs(step[i]) / std::sqrt(std::max(0.0, s2 * inverse(i, i))));
+  return largest;
+}
 
 // Steps 1–3 of the header on `runs`. Fills termination, message, warnings and iterations of `s`;
 // false when no estimate could be made.
@@ -320,6 +334,10 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
   // 3. Levenberg–Marquardt, one linearisation per iteration (the trial point's linearisation is the
   // next iteration's when accepted).
   double lambda = options.initial_damping;
+  state->ne_one_step_behind = false;
+  // The previous iteration's accepted step, in std (NaN: none yet, or it was damped after a
+  // rejection).
+  double previous_step_std = kNaN;
   s->termination = Termination::kMaxIterations;
   s->message = "stopped at max_iterations";
   int iteration = 0;
@@ -342,6 +360,8 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     bool first_trial = true;
     double cost_by_cost_pass = kNaN;
     bool converged_here = false;
+    bool converged_unconfirmed = false;
+    double step_std = kNaN;
     while (lambda <= 1e12) {
       if (internal::SolveDamped(ne, lambda, &dp, &dx0)) {
         // Gauss–Newton's own convergence test, before any pass over the data: when the step the
@@ -350,7 +370,8 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
         // it would cost one or more passes and, when rounding goes the wrong way, a ladder of
         // rejected steps.
         Eigen::MatrixXd h_now;
-        if (first_trial && iteration > 0 && internal::ReducedInformation(ne, &h_now) &&
+        const bool have_h_now = first_trial && internal::ReducedInformation(ne, &h_now);
+        if (have_h_now && iteration > 0 &&
             StepSmall(dp, h_now, ne.cost / dof, options.step_tolerance_in_std)) {
           converged_here = true;
           break;
@@ -359,6 +380,23 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
         for (std::size_t c = 0; c < indices.size(); ++c)
           p_trial[indices[c]] += dp[static_cast<Eigen::Index>(c)];
         for (std::size_t r = 0; r < x0.size(); ++r) x0_trial[r] = x0[r] + dx0[r];
+        // Gauss–Newton converges quadratically: with steps ε_{k−1}, ε_k (in std), the next is
+        // ≈ κ·ε_k² with κ = ε_k/ε_{k−1}², and κ·ε_k is the relative change of the Jacobian over
+        // this step. When the next step is predicted far below tolerance and the information at
+        // p_trial differs from that at p by far less than the std's own digits, the step is taken
+        // without the linearisation that would only confirm it (a whole pass): the estimate is
+        // the same point, its covariance comes from p's information (relative error ~κ·ε_k), and
+        // its cost from the residual pass that follows every fit.
+        if (have_h_now) step_std = StepInStd(dp, h_now, ne.cost / dof);
+        if (have_h_now && std::isfinite(previous_step_std) && previous_step_std > 0.0) {
+          const double kappa = step_std / (previous_step_std * previous_step_std);
+          if (std::isfinite(kappa) &&
+              kappa * step_std * step_std <= 1e-2 * options.step_tolerance_in_std &&
+              kappa * step_std <= 1e-8) {
+            converged_unconfirmed = true;
+            break;
+          }
+        }
         double trial_cost;
         double reference_cost = ne.cost;
         if (first_trial) {
@@ -385,6 +423,15 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
       s->message = "step below tolerance (in units of std)";
       break;
     }
+    if (converged_unconfirmed) {
+      p = p_trial;
+      x0 = x0_trial;
+      state->ne_one_step_behind = true;
+      ++iteration;
+      s->termination = Termination::kConverged;
+      s->message = "step below tolerance (in units of std)";
+      break;
+    }
     if (accepted && !linearized) problem.Linearize(p_trial, x0_trial, &trial);
     if (!accepted) {
       s->termination = Termination::kNoProgress;
@@ -396,6 +443,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     x0 = x0_trial;
     ne = std::move(trial);
     lambda = std::max(lambda * 0.1, 1e-12);
+    previous_step_std = linearized ? step_std : kNaN;
     Eigen::MatrixXd h_reduced;
     const double s2 = ne.cost / dof;
     if (decrease <= options.cost_tolerance ||
@@ -501,6 +549,20 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       problem.RunResiduals(r, state.p, state.nuisance[r], &residuals[r]);
     });
     residuals_current = true;
+    if (state.ne_one_step_behind) {
+      // The fit's cost at its final point, which no linearisation evaluated (FitState).
+      internal::NormalEquations& ne = state.ne;
+      ne.cost = 0.0;
+      for (std::size_t r = 0; r < runs_now.size(); ++r) {
+        ne.cost_per_run[r] = residuals[r].squaredNorm();
+        ne.cost += ne.cost_per_run[r];
+        if (model.OmegaFree(r)) {
+          const double offset = state.nuisance[r][model.OmegaIndex()];
+          ne.cost += model.omega_prior_weight[r] * offset * offset;
+        }
+      }
+      state.ne_one_step_behind = false;
+    }
   };
   for (int pass = 0;; ++pass) {
     s.warnings = prepared_warnings;
@@ -552,6 +614,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     in_use = &cleaned;
   }
   const std::vector<RunData>& used = *in_use;
+  if (!residuals_current) compute_residuals(used);
   const FullParameters& p = state.p;
   const internal::NormalEquations& ne = state.ne;
   const std::vector<int>& indices = state.indices;
@@ -600,7 +663,6 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   Eigen::MatrixXd h_reduced_inverse;
   const bool have_inverse =
       have_information && internal::InvertScaledSpd(h_reduced, &h_reduced_inverse);
-  if (!residuals_current) compute_residuals(used);
   std::vector<ResidualStatistics> run_stats(used.size());
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
     run_stats[r] = AnalyseResiduals(residuals[r], options.whiteness_lags);
