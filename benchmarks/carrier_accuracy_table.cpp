@@ -14,7 +14,8 @@
 // rows show the reported std and the bound agree). The "noisy baseline" row's own errors are noise.
 // |error/std| ≫ 1 is a bias the slow model cannot absorb; residual RMS is the model error left.
 //
-// Usage: build/bin/carrier_accuracy_table [--run-s 20]   (prints to stdout; minutes on 2 cores)
+// Usage: build/bin/carrier_accuracy_table [--run-s 20] [--only TEXT]   (prints to stdout; minutes
+// on 2 cores; --only: the rows whose name contains TEXT)
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -30,6 +31,7 @@
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/reference_phase.hpp"
 #include "sim/carrier_simulation.hpp"
 
 namespace {
@@ -70,6 +72,10 @@ struct Design {
   // that run's Ω (eigenvalues of the oscillator), i.e. remove the common drift
   // ν ≈ (2kΩ)²/(2ω0) that the slow model has no term for (a diagnostic).
   bool lock_to_mean_mode_frequency = false;
+  // Turn each sample back by the reference phase the electronics report with it
+  // (CarrierElectronics::reported_phase_rad, estimator/reference_phase.hpp): what a bench does
+  // with electronics that report their tracking reference.
+  bool undo_reference_phase = false;
 };
 
 // ν: mean of the two modes' exact angular frequencies minus 2π·f0, rad/s.
@@ -130,12 +136,15 @@ std::vector<est::RunData> Simulate(const CarrierOptions& options, const Design& 
     run.id = r + 1;
     run.omega_rad_s = omega;
     run.y.resize(4, n - skip);
+    std::vector<double> chi;
     for (long k = 0; k < n; ++k) {
       const est::Observation y = sim->Next(omega);
       if (k < skip) continue;
       run.t_s.push_back(static_cast<double>(k) / design.output_rate_hz);
       run.y.col(k - skip) = y;
+      chi.push_back(sim->electronics().reported_phase_rad());
     }
+    if (design.undo_reference_phase) est::UndoReferencePhase(run.y, chi);
     runs.push_back(std::move(run));
   }
   return runs;
@@ -171,8 +180,10 @@ void PrintRow(const std::string& name, const est::EstimateSummary& s, const est:
 
 int main(int argc, char** argv) {
   Design base_design;
+  std::string only;  // --only TEXT: the rows whose name contains TEXT
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--run-s") == 0) base_design.run_s = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--only") == 0) only = argv[i + 1];
   }
   est::MlOptions ml;
   ml.num_threads = 1;
@@ -237,6 +248,25 @@ int main(int argc, char** argv) {
          o.electronics.reference.mode = ReferenceMode::kTracking;
          o.electronics.reference.pll_bandwidth_hz = 10.0;
        }},
+      {"tracking PLL, 1 Hz, reported reference phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 1.0;
+         d.undo_reference_phase = true;
+       }},
+      {"tracking PLL, 10 Hz, reported reference phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 10.0;
+         d.undo_reference_phase = true;
+       }},
+      {"tracking PLL, 10 Hz, filter 50 Hz (delay 8.3 ms), phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 10.0;
+         o.electronics.filter_cutoff_hz = 50.0;
+         d.undo_reference_phase = true;
+       }},
       {"filter 50 Hz (delay 8.3 ms)",
        [](CarrierOptions& o, Design&) { o.electronics.filter_cutoff_hz = 50.0; }},
       {"filter 500 Hz (delay 0.83 ms)",
@@ -290,6 +320,7 @@ int main(int argc, char** argv) {
        }},
   };
   for (const Row& row : rows) {
+    if (!only.empty() && row.name.find(only) == std::string::npos) continue;
     CarrierOptions options = Baseline();
     Design design = base_design;
     if (row.change) row.change(options, design);
