@@ -13,6 +13,8 @@
 // ξ1 1.0e-2) fails, while the known model gap does not.
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "bench_test_support.hpp"
@@ -60,6 +62,12 @@ TEST(CarrierSession, ProductionSequenceCompletesAndIsEstimated) {
 // held to the same tolerances (before the reference phase was reported this chain was off by
 // ~4e3 reported std). Without the report (older electronics) the fit is flagged: every run's
 // residual RMS named in a problem, several times the noise at |Ω| = 1 rad/s.
+nlohmann::json ReadJson(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path;
+  return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+}
+
 void SetTracking(bench::BenchConfigs& configs, bool reported) {
   configs.station.simulated.carrier.tracking_reference = true;
   configs.station.simulated.carrier.pll_bandwidth_hz = 2.0;
@@ -86,6 +94,13 @@ TEST(CarrierSession, TrackingReferenceReportedIsUndoneByTheDriver) {
     EXPECT_NEAR(s.xi[k], t, 5e-6) << "xi" << k + 1;
   }
   EXPECT_LT(s.noise_sigma, 2e-4);
+  // The record says so: every sample of every run was turned back, none lost its report.
+  const nlohmann::json session = ReadJson(run.dir / "session.json");
+  for (const nlohmann::json& r : session.at("runs")) {
+    const nlohmann::json& end = r.at("end");
+    EXPECT_EQ(end.at("reference_phase_undone_samples"), end.at("samples")) << r.dump();
+    EXPECT_EQ(end.at("reference_phases_missing"), 0) << r.dump();
+  }
 }
 
 TEST(CarrierSession, TrackingReferenceNotReportedIsFlagged) {
@@ -107,6 +122,10 @@ TEST(CarrierSession, TrackingReferenceNotReportedIsFlagged) {
     if (r.residual_rms > 3e-4) ++far_off;
   }
   EXPECT_GE(far_off, 2);
+  const nlohmann::json session = ReadJson(run.dir / "session.json");
+  for (const nlohmann::json& r : session.at("runs")) {
+    EXPECT_EQ(r.at("end").at("reference_phase_undone_samples"), 0) << r.dump();
+  }
 }
 
 }  // namespace
