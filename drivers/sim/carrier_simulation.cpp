@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+
 namespace hrgbench::drivers::sim {
 
 CarrierSimulation::CarrierSimulation(const CarrierOptions& options)
@@ -53,6 +55,10 @@ estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
 
 estimator::Delta CarrierSimulation::delta() const noexcept {
   return estimator::DeltaFromResonator(options_.resonator);
+}
+
+estimator::Xi CarrierSimulation::xi() const noexcept {
+  return estimator::XiSeenBySlowModel(pickoff_.xi(), delta(), options_.resonator.frequency_hz);
 }
 
 double CarrierSimulation::group_delay_s() const noexcept { return electronics_->group_delay_s(); }

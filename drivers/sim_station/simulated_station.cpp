@@ -1,5 +1,8 @@
 #include "sim_station/simulated_station.hpp"
 
+#include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+
 namespace hrgbench::drivers::sim_station {
 
 namespace can_virtual = drivers::can_virtual;
@@ -89,9 +92,12 @@ SimulatedStation::~SimulatedStation() {
 SimulatedTruth SimulatedStation::truth() const {
   if (options_.gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = options_.gyro.carrier;
+    // The ξ the slow model should find: the pick-off's and the split's second-order mixing.
+    const estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
     return {true,
-            estimator::DeltaFromResonator(c.resonator),
-            estimator::XiFromPickoff(c.pickoff.errors),
+            delta,
+            estimator::XiSeenBySlowModel(estimator::XiFromPickoff(c.pickoff.errors), delta,
+                                         c.resonator.frequency_hz),
             0.0,
             options_.gyro.seed,
             options_.earth_rate_rad_s};
