@@ -413,6 +413,9 @@ int main(int argc, char** argv) {
       continue;
     }
     CarrierSimulation truth(options);
+    CarrierRelease ramp;  // the truth of a release with the row's temperature ramp (δ1 moves)
+    ramp.temperature_rate_c_per_s = design.temperature_rate_c_per_s;
+    truth.Release(ramp);
     const est::EstimateSummary s = est::EstimateMaximumLikelihood(Simulate(options, design, 1), ml);
     const est::CrlbResult bound = Bound(truth.delta(), truth.xi(), design, reference.noise_sigma);
     PrintRow(row.name, s, truth.delta(), truth.xi(), bound.delta_std, bound.xi_std);

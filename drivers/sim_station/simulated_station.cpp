@@ -1,5 +1,6 @@
 #include "sim_station/simulated_station.hpp"
 
+#include "hrgbench/estimator/frequency_drift_decay.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/estimator/split_coriolis_mixing.hpp"
 
@@ -92,8 +93,13 @@ SimulatedStation::~SimulatedStation() {
 SimulatedTruth SimulatedStation::truth() const {
   if (options_.gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = options_.gyro.carrier;
-    // The ξ the slow model should find: the pick-off's and the split's second-order mixing.
-    const estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
+    // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1
+    // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
+    estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
+    delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
+        delta[0], c.frequency_temperature_coefficient_per_c * options_.gyro.temperature_drift_c_per_s /
+                      (1.0 + c.frequency_temperature_coefficient_per_c *
+                                 (options_.gyro.temperature_c - c.reference_temperature_c)));
     return {true,
             delta,
             estimator::XiSeenBySlowModel(estimator::XiFromPickoff(c.pickoff.errors), delta,

@@ -55,14 +55,15 @@ CarrierOptions Tracking() {
 // The production design's 6 runs (Ω = ±0.1, ±0.3, ±1 rad/s, θ = kπ/12, b = 0, 0.1, 0.2), each
 // turned back by the reported reference phase when `undo`.
 std::vector<estimator::RunData> Session(const CarrierOptions& options, std::uint64_t seed,
-                                        bool undo) {
+                                        bool undo, double temperature_rate_c_per_s = 0.0) {
   const double omegas[6] = {0.1, -0.1, 0.3, -0.3, 1.0, -1.0};
   const double bs[6] = {0.0, 0.1, 0.2, 0.0, 0.1, 0.2};
   CarrierSimulation sim(options);
   std::vector<estimator::RunData> runs;
   const int n = static_cast<int>(std::lround(kRunS * kRateHz));
   for (int r = 0; r < 6; ++r) {
-    sim.Release({{1.0, bs[r], r * kPi / 12.0, 0.0}, omegas[r], kRateHz, seed + r, 25.0, 0.0});
+    sim.Release({{1.0, bs[r], r * kPi / 12.0, 0.0}, omegas[r], kRateHz, seed + r, 25.0,
+                 temperature_rate_c_per_s});
     estimator::RunData run;
     run.id = r + 1;
     run.omega_rad_s = omegas[r];
@@ -163,6 +164,23 @@ TEST(CarrierEstimateTest, FrequencySplitMixesTheShapesAsDerived) {
   ASSERT_TRUE(s.IsUsable()) << s.message;
   for (int j = 0; j < 4; ++j) EXPECT_NEAR(s.xi[j], sim.xi()[j], 1.5e-6) << "xi" << j + 1;
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(s.delta[j], sim.delta()[j], 1e-6) << "delta" << j + 1;
+}
+
+TEST(CarrierEstimateTest, TemperatureRampMovesTheDecayRateAsDerived) {
+  // Noise-free, f drifting at α·Ṫ = 5e-5/°C × 0.01 °C/s: the displacement's amplitude falls at
+  // ½·ω̇/ω = 2.5e-7 1/s besides its damping (estimator/frequency_drift_decay.hpp), which
+  // CarrierSimulation::delta() includes for such a release. Held to 3e-8 (12 % of the term); the
+  // resonator's own −1/τ is 8 tolerances away.
+  CarrierOptions options = Unit();
+  options.pickoff.white_noise_std = 0.0;
+  options.frequency_temperature_coefficient_per_c = 5e-5;
+  CarrierSimulation sim(options);
+  sim.Release({{1.0, 0.0, 0.0, 0.0}, 0.0, kRateHz, 1, 25.0, 0.01});
+  EXPECT_NEAR(sim.delta()[0], -1e-3 - 2.5e-7, 1e-12);
+  const estimator::EstimateSummary s = estimator::EstimateMaximumLikelihood(
+      Session(options, 1, /*undo=*/false, 0.01), Production());
+  ASSERT_TRUE(s.IsUsable()) << s.message;
+  EXPECT_NEAR(s.delta[0], sim.delta()[0], 3e-8);
 }
 
 TEST(CarrierEstimateTest, ReportedStdMatchesTheScatterOverSeeds) {
