@@ -178,7 +178,6 @@ void PrintRow(const std::string& name, const est::EstimateSummary& s, const est:
   std::printf(" %.1f | %.2e |\n", worst, s.residual_rms);
 }
 
-
 // --seeds N: the Monte Carlo. N independent noisy sessions of the design (converter noise seeded
 // 1000·i + run), each fitted as the production fit does; per parameter: the mean error in units of
 // the reported std, the scatter (sample std of the estimates over the seeds) over the mean
@@ -243,8 +242,8 @@ int RunMonteCarlo(const CarrierOptions& options, const Design& design, int seeds
 
 int main(int argc, char** argv) {
   Design base_design;
-  std::string only;  // --only TEXT: the rows whose name contains TEXT
-  int seeds = 0;     // --seeds N: the Monte Carlo instead of the table
+  std::string only;                // --only TEXT: the rows whose name contains TEXT
+  int seeds = 0;                   // --seeds N: the Monte Carlo instead of the table
   std::string chain = "baseline";  // --chain baseline|tracking: the Monte Carlo's chain
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--run-s") == 0) base_design.run_s = std::atof(argv[i + 1]);

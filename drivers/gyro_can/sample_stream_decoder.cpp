@@ -87,7 +87,8 @@ void SampleStreamDecoder::OnReferencePhase(const ReferencePhaseReport& report,
   for (std::size_t i = size_; i-- > 0;) {
     hw::GyroSample& slot = ring_[(head_ + i) % ring_.size()];
     if (slot.seq < reports_[0].sample) break;
-    if (std::isnan(slot.reference_phase_rad)) slot.reference_phase_rad = InterpolatedPhase(slot.seq);
+    if (std::isnan(slot.reference_phase_rad))
+      slot.reference_phase_rad = InterpolatedPhase(slot.seq);
   }
 }
 
@@ -95,12 +96,13 @@ double SampleStreamDecoder::InterpolatedPhase(std::uint64_t sample) const noexce
   if (reports_seen_ == 0 || sample > reports_[1].sample) return std::nan("");
   const Report& a = reports_[0];
   const Report& b = reports_[1];
-  if (sample <= a.sample || b.sample == a.sample) return sample == b.sample ? b.phase_rad : a.phase_rad;
+  if (sample <= a.sample || b.sample == a.sample)
+    return sample == b.sample ? b.phase_rad : a.phase_rad;
   constexpr double kTwoPi = 4294967296.0 * kReferencePhaseLsbRad;
   // The shorter way round: χ moves by ≪ π between reports.
   const double step = std::remainder(b.phase_rad - a.phase_rad, kTwoPi);
-  const double fraction = static_cast<double>(sample - a.sample) /
-                          static_cast<double>(b.sample - a.sample);
+  const double fraction =
+      static_cast<double>(sample - a.sample) / static_cast<double>(b.sample - a.sample);
   return a.phase_rad + fraction * step;
 }
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <complex>
+#include <iterator>
 
 #include "gyro_can/gyro_codec.hpp"
 
@@ -46,7 +46,7 @@ void CarrierElectronics::Release(double wave_frequency_hz,
 }
 
 bool CarrierElectronics::Push(const Eigen::Vector2d& s, estimator::Observation* y) noexcept {
-  const double chi_rad = reference_.phase_rad();      // χ of this converter sample
+  const double chi_rad = reference_.phase_rad();     // χ of this converter sample
   const std::complex<double> r = reference_.Next();  // e^{−iψ}
   const double c2 = 2.0 * r.real(), s2 = 2.0 * r.imag();
   const Eigen::Array4d mixed(s[0] * c2, s[0] * s2, s[1] * c2, s[1] * s2);

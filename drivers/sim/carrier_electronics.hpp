@@ -67,7 +67,7 @@ class CarrierElectronics {
   // χ at the last kPhaseHistory output samples (ring, newest at history_head_), and the delay.
   double history_[kPhaseHistory] = {};
   int history_head_ = 0;
-  int delay_whole_ = 0;         // τg in output periods: whole part …
+  int delay_whole_ = 0;          // τg in output periods: whole part …
   double delay_fraction_ = 0.0;  // … and fraction
   double reported_phase_rad_ = 0.0;
   ReferenceOscillator reference_;

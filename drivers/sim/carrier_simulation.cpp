@@ -73,8 +73,7 @@ estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
   const Eigen::Matrix4d difference = resonator_->transition() - ramp_start_transition_;
   for (int n = 0; n < decimation_; ++n) {
     electronics_->Push(pickoff_.Sample(resonator_->state()), &y);
-    resonator_->StepWith(ramp_start_transition_ +
-                         ((n + 0.5) / decimation_) * difference);
+    resonator_->StepWith(ramp_start_transition_ + ((n + 0.5) / decimation_) * difference);
   }
   ramp_start_transition_ = resonator_->transition();
   ramp_start_valid_ = true;

@@ -260,8 +260,8 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
   if (k % gyro_can::kReferencePhaseInterval == 0) {
     const double chi_rad = source_->ReportedReferencePhaseRad();
     if (!std::isnan(chi_rad)) {
-      Send(gyro_can::EncodeReferencePhase({static_cast<std::uint16_t>(k & 0xFFFFu),
-                                           gyro_can::QuantiseReferencePhase(chi_rad)}));
+      Send(gyro_can::EncodeReferencePhase(
+          {static_cast<std::uint16_t>(k & 0xFFFFu), gyro_can::QuantiseReferencePhase(chi_rad)}));
     }
   }
   if (format_ == FrameFormat::kClassic) {

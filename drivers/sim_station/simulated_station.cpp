@@ -97,7 +97,8 @@ SimulatedTruth SimulatedStation::truth() const {
     // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
     estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
     delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
-        delta[0], c.frequency_temperature_coefficient_per_c * options_.gyro.temperature_drift_c_per_s /
+        delta[0], c.frequency_temperature_coefficient_per_c *
+                      options_.gyro.temperature_drift_c_per_s /
                       (1.0 + c.frequency_temperature_coefficient_per_c *
                                  (options_.gyro.temperature_c - c.reference_temperature_c)));
     return {true,

@@ -18,9 +18,8 @@
 //
 // Pure function, Eigen and the standard library only; noexcept; no allocation.
 
-#include <span>
-
 #include <Eigen/Core>
+#include <span>
 
 namespace hrgbench::estimator {
 

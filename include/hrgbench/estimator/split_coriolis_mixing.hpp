@@ -7,7 +7,9 @@
 // u̇ = (i/2ω0)·(M·u + M̄·ū·e^{−2iω0t}) exactly (osculating variables) and averaging to second
 // order (near-identity transform w = −M̄·ū·e^{−2iω0t}/(4ω0²), which the output filter removes) adds
 //
-//     A2 − A1 = −i·M̄·M/(8ω0³) = −i·(ω0²·B² + S²)/(8ω0³) + (S·B − B·S)/(8ω0²),   B = D + G, S = K − ω0²
+//     A2 − A1 = −i·M̄·M/(8ω0³) = −i·(ω0²·B² + S²)/(8ω0³) + (S·B − B·S)/(8ω0²),
+//
+// with B = D + G and S = K − ω0²·I.
 //
 // The first part is a multiple of I to within Δ(1/τ)-sized terms (G² = −(4kΩ)²·I gives the common
 // drift ν = (2kΩ)²/(2ω0), S² the split's Δω²/(8ω0)): a common phase, absorbed per run. The

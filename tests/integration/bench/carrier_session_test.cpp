@@ -76,8 +76,8 @@ void SetTracking(bench::BenchConfigs& configs, bool reported) {
 
 TEST(CarrierSession, TrackingReferenceReportedIsUndoneByTheDriver) {
   const BenchRun run = RunOnSimulatedStation(
-      "sequence-production.toml", "", [](bench::BenchConfigs& c) { SetTracking(c, true); }, {},
-      {}, "station-sim-carrier.toml");
+      "sequence-production.toml", "", [](bench::BenchConfigs& c) { SetTracking(c, true); }, {}, {},
+      "station-sim-carrier.toml");
   ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
   const estimator::EstimateSummary& s = *run.result.estimate;
   const nlohmann::json& truth = run.result.estimate_json.at("truth");
@@ -105,8 +105,8 @@ TEST(CarrierSession, TrackingReferenceReportedIsUndoneByTheDriver) {
 
 TEST(CarrierSession, TrackingReferenceNotReportedIsFlagged) {
   const BenchRun run = RunOnSimulatedStation(
-      "sequence-production.toml", "", [](bench::BenchConfigs& c) { SetTracking(c, false); }, {},
-      {}, "station-sim-carrier.toml");
+      "sequence-production.toml", "", [](bench::BenchConfigs& c) { SetTracking(c, false); }, {}, {},
+      "station-sim-carrier.toml");
   ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
   const estimator::EstimateSummary& s = *run.result.estimate;
   EXPECT_FALSE(s.diagnostics.Acceptable());

@@ -132,17 +132,18 @@ double Signal(std::uint32_t id, const char* name, const hw::CanFrame& frame) {
 }
 
 TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
-  const std::map<std::uint32_t, int> expected = {{can_id::kConfigure, length::kConfigure},
-                                                 {can_id::kExcite, length::kExcite},
-                                                 {can_id::kRelease, length::kSimpleCommand},
-                                                 {can_id::kStop, length::kSimpleCommand},
-                                                 {can_id::kStatusRequest, length::kSimpleCommand},
-                                                 {can_id::kAck, length::kAck},
-                                                 {can_id::kStatus, length::kStatus},
-                                                 {can_id::kSampleA, length::kSample},
-                                                 {can_id::kSampleB, length::kSample},
-                                                 {can_id::kSampleFd, length::kSampleFd},
-                                                 {can_id::kReferencePhase, length::kReferencePhase}};
+  const std::map<std::uint32_t, int> expected = {
+      {can_id::kConfigure, length::kConfigure},
+      {can_id::kExcite, length::kExcite},
+      {can_id::kRelease, length::kSimpleCommand},
+      {can_id::kStop, length::kSimpleCommand},
+      {can_id::kStatusRequest, length::kSimpleCommand},
+      {can_id::kAck, length::kAck},
+      {can_id::kStatus, length::kStatus},
+      {can_id::kSampleA, length::kSample},
+      {can_id::kSampleB, length::kSample},
+      {can_id::kSampleFd, length::kSampleFd},
+      {can_id::kReferencePhase, length::kReferencePhase}};
   ASSERT_EQ(TheDbc().messages.size(), expected.size());
   for (const auto& [id, len] : expected) {
     const auto it = TheDbc().messages.find(id);

@@ -20,8 +20,12 @@ constexpr double kPi = std::numbers::pi;
 
 // What a reference kept locked would give: a slowly turning wave, (y1 + i·y2) = 0.8·e^{i·0.01k},
 // (y3 + i·y4) = 0.3·e^{−i·0.02k}.
-std::complex<double> Locked1(std::uint64_t k) { return std::polar(0.8, 0.01 * static_cast<double>(k)); }
-std::complex<double> Locked2(std::uint64_t k) { return std::polar(0.3, -0.02 * static_cast<double>(k)); }
+std::complex<double> Locked1(std::uint64_t k) {
+  return std::polar(0.8, 0.01 * static_cast<double>(k));
+}
+std::complex<double> Locked2(std::uint64_t k) {
+  return std::polar(0.3, -0.02 * static_cast<double>(k));
+}
 // The reference's phase: 0.2 rad per sample from 6 rad on (through 2π and on), i.e. 1 rad between
 // reports, linear so that interpolation is exact.
 double Chi(std::uint64_t k) { return 6.0 + 0.2 * static_cast<double>(k); }
@@ -36,9 +40,8 @@ void SendSample(SampleStreamDecoder& stream, std::uint64_t k) {
 }
 
 void SendReport(SampleStreamDecoder& stream, std::uint64_t k) {
-  stream.OnReferencePhase({static_cast<std::uint16_t>(k % kFdSeqModulo),
-                           QuantiseReferencePhase(Chi(k))},
-                          0);
+  stream.OnReferencePhase(
+      {static_cast<std::uint16_t>(k % kFdSeqModulo), QuantiseReferencePhase(Chi(k))}, 0);
 }
 
 // The electronics' order: the report of every 5th sample, then that sample's frames.

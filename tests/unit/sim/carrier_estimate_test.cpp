@@ -62,7 +62,11 @@ std::vector<estimator::RunData> Session(const CarrierOptions& options, std::uint
   std::vector<estimator::RunData> runs;
   const int n = static_cast<int>(std::lround(kRunS * kRateHz));
   for (int r = 0; r < 6; ++r) {
-    sim.Release({{1.0, bs[r], r * kPi / 12.0, 0.0}, omegas[r], kRateHz, seed + r, 25.0,
+    sim.Release({{1.0, bs[r], r * kPi / 12.0, 0.0},
+                 omegas[r],
+                 kRateHz,
+                 seed + r,
+                 25.0,
                  temperature_rate_c_per_s});
     estimator::RunData run;
     run.id = r + 1;
@@ -99,8 +103,8 @@ TEST(CarrierEstimateTest, TrackingReferenceWithItsReportedPhaseUndoneEstimatesTh
   // Every parameter within 4 of its reported std (a 6e-5 chance per parameter for an honest std;
   // before the undo the errors were ~4e3 std, benchmarks/carrier_accuracy_table).
   const CarrierOptions options = Tracking();
-  const estimator::EstimateSummary s = estimator::EstimateMaximumLikelihood(
-      Session(options, 7, /*undo=*/true), Production());
+  const estimator::EstimateSummary s =
+      estimator::EstimateMaximumLikelihood(Session(options, 7, /*undo=*/true), Production());
   ASSERT_TRUE(s.IsUsable()) << s.message;
   const Eigen::Matrix<double, 10, 1> truth = Truth(options);
   for (int j = 0; j < 6; ++j) EXPECT_LT(std::abs(s.delta[j] - truth[j]), 4 * s.delta_std[j]) << j;
@@ -125,10 +129,10 @@ TEST(CarrierEstimateTest, TrackingReferenceNotReportedIsFlagged) {
   // run's residual RMS is named in a problem, and the runs at |Ω| = 1 rad/s (where the wave's
   // phase moves most) leave a residual RMS more than twice the noise (the σ̂ of the same session
   // with the phase undone), i.e. a residual ratio more than twice the clean session's.
-  const estimator::EstimateSummary s = estimator::EstimateMaximumLikelihood(
-      Session(Tracking(), 7, /*undo=*/false), Production());
-  const estimator::EstimateSummary undone = estimator::EstimateMaximumLikelihood(
-      Session(Tracking(), 7, /*undo=*/true), Production());
+  const estimator::EstimateSummary s =
+      estimator::EstimateMaximumLikelihood(Session(Tracking(), 7, /*undo=*/false), Production());
+  const estimator::EstimateSummary undone =
+      estimator::EstimateMaximumLikelihood(Session(Tracking(), 7, /*undo=*/true), Production());
   ASSERT_TRUE(s.IsUsable()) << s.message;
   ASSERT_TRUE(undone.IsUsable()) << undone.message;
   EXPECT_FALSE(s.diagnostics.Acceptable());
@@ -140,8 +144,7 @@ TEST(CarrierEstimateTest, TrackingReferenceNotReportedIsFlagged) {
   ASSERT_EQ(s.diagnostics.runs.size(), 6u);
   for (const std::size_t r : {std::size_t{4}, std::size_t{5}}) {  // Ω = +1, −1 rad/s
     EXPECT_GT(s.diagnostics.runs[r].residual_rms, 2.0 * undone.noise_sigma) << "run " << r + 1;
-    EXPECT_GT(s.diagnostics.runs[r].residual_ratio,
-              2.0 * undone.diagnostics.runs[r].residual_ratio)
+    EXPECT_GT(s.diagnostics.runs[r].residual_ratio, 2.0 * undone.diagnostics.runs[r].residual_ratio)
         << "run " << r + 1;
   }
 }
@@ -177,8 +180,8 @@ TEST(CarrierEstimateTest, TemperatureRampMovesTheDecayRateAsDerived) {
   CarrierSimulation sim(options);
   sim.Release({{1.0, 0.0, 0.0, 0.0}, 0.0, kRateHz, 1, 25.0, 0.01});
   EXPECT_NEAR(sim.delta()[0], -1e-3 - 2.5e-7, 1e-12);
-  const estimator::EstimateSummary s = estimator::EstimateMaximumLikelihood(
-      Session(options, 1, /*undo=*/false, 0.01), Production());
+  const estimator::EstimateSummary s =
+      estimator::EstimateMaximumLikelihood(Session(options, 1, /*undo=*/false, 0.01), Production());
   ASSERT_TRUE(s.IsUsable()) << s.message;
   EXPECT_NEAR(s.delta[0], sim.delta()[0], 3e-8);
 }
