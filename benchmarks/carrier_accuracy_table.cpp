@@ -14,7 +14,10 @@
 // rows show the reported std and the bound agree). The "noisy baseline" row's own errors are noise.
 // |error/std| ≫ 1 is a bias the slow model cannot absorb; residual RMS is the model error left.
 //
-// Usage: build/bin/carrier_accuracy_table [--run-s 20]   (prints to stdout; minutes on 2 cores)
+// Usage: build/bin/carrier_accuracy_table [--run-s 20] [--only TEXT]   (prints to stdout; minutes
+// on 2 cores; --only: the rows whose name contains TEXT)
+//        build/bin/carrier_accuracy_table --seeds N [--chain baseline|tracking] [--run-s 20]
+// (the Monte Carlo of RunMonteCarlo below: N noisy sessions, the reported std against the scatter)
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -30,6 +33,7 @@
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/reference_phase.hpp"
 #include "sim/carrier_simulation.hpp"
 
 namespace {
@@ -70,6 +74,10 @@ struct Design {
   // that run's Ω (eigenvalues of the oscillator), i.e. remove the common drift
   // ν ≈ (2kΩ)²/(2ω0) that the slow model has no term for (a diagnostic).
   bool lock_to_mean_mode_frequency = false;
+  // Turn each sample back by the reference phase the electronics report with it
+  // (CarrierElectronics::reported_phase_rad, estimator/reference_phase.hpp): what a bench does
+  // with electronics that report their tracking reference.
+  bool undo_reference_phase = false;
 };
 
 // ν: mean of the two modes' exact angular frequencies minus 2π·f0, rad/s.
@@ -130,12 +138,15 @@ std::vector<est::RunData> Simulate(const CarrierOptions& options, const Design& 
     run.id = r + 1;
     run.omega_rad_s = omega;
     run.y.resize(4, n - skip);
+    std::vector<double> chi;
     for (long k = 0; k < n; ++k) {
       const est::Observation y = sim->Next(omega);
       if (k < skip) continue;
       run.t_s.push_back(static_cast<double>(k) / design.output_rate_hz);
       run.y.col(k - skip) = y;
+      chi.push_back(sim->electronics().reported_phase_rad());
     }
+    if (design.undo_reference_phase) est::UndoReferencePhase(run.y, chi);
     runs.push_back(std::move(run));
   }
   return runs;
@@ -167,15 +178,97 @@ void PrintRow(const std::string& name, const est::EstimateSummary& s, const est:
   std::printf(" %.1f | %.2e |\n", worst, s.residual_rms);
 }
 
+// --seeds N: the Monte Carlo. N independent noisy sessions of the design (converter noise seeded
+// 1000·i + run), each fitted as the production fit does; per parameter: the mean error in units of
+// the reported std, the scatter (sample std of the estimates over the seeds) over the mean
+// reported std, and the share of estimates more than 2 of their own reported std from the truth.
+// For a right estimator with an honest std: ≈ 0 ± 1/√N, ≈ 1 ± 1/√(2(N − 1)), ≈ 4.6 %.
+int RunMonteCarlo(const CarrierOptions& options, const Design& design, int seeds,
+                  const est::MlOptions& ml, const char* chain) {
+  CarrierSimulation probe(options);
+  const est::Delta delta = probe.delta();
+  const est::Xi xi = probe.xi();
+  std::vector<Eigen::Matrix<double, 10, 1>> estimates, stds;
+  int flagged = 0, failed = 0;
+  for (int i = 0; i < seeds; ++i) {
+    const est::EstimateSummary s = est::EstimateMaximumLikelihood(
+        Simulate(options, design, 1000u * static_cast<std::uint64_t>(i + 1)), ml);
+    if (!s.IsUsable()) {
+      ++failed;
+      continue;
+    }
+    if (!s.diagnostics.Acceptable()) ++flagged;
+    Eigen::Matrix<double, 10, 1> e, d;
+    e << s.delta, s.xi;
+    d << s.delta_std, s.xi_std;
+    estimates.push_back(e);
+    stds.push_back(d);
+  }
+  const int n = static_cast<int>(estimates.size());
+  std::printf(
+      "Carrier Monte Carlo: %s; production design, 6 runs × %.0f s at %.0f Hz; %d seeds, %d "
+      "fits failed, %d flagged by the fit diagnostics.\n\n",
+      chain, design.run_s, design.output_rate_hz, seeds, failed, flagged);
+  if (n < 2) return 1;
+  Eigen::Matrix<double, 10, 1> truth;
+  truth << delta, xi;
+  std::printf(
+      "| parameter | truth | mean reported std | scatter | mean error / std | scatter / reported "
+      "std | beyond 2 std |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+  const char* names[10] = {"δ1", "δ2", "δ3", "δ4", "δ5", "δ6", "ξ1", "ξ2", "ξ3", "ξ4"};
+  for (int j = 0; j < 10; ++j) {
+    double mean = 0.0, mean_std = 0.0;
+    int beyond = 0;
+    for (int i = 0; i < n; ++i) {
+      mean += estimates[i][j] / n;
+      mean_std += stds[i][j] / n;
+      if (std::abs(estimates[i][j] - truth[j]) > 2.0 * stds[i][j]) ++beyond;
+    }
+    double scatter = 0.0;
+    for (int i = 0; i < n; ++i) scatter += (estimates[i][j] - mean) * (estimates[i][j] - mean);
+    scatter = std::sqrt(scatter / (n - 1));
+    std::printf("| %s | %+.4e | %.2e | %.2e | %+.2f | %.2f | %.1f %% |\n", names[j], truth[j],
+                mean_std, scatter, (mean - truth[j]) / mean_std, scatter / mean_std,
+                100.0 * beyond / n);
+  }
+  std::printf(
+      "\nStatistical resolution at N = %d: mean error ± %.2f, scatter/std ± %.2f (1 std of the "
+      "estimate of each).\n",
+      n, 1.0 / std::sqrt(n), 1.0 / std::sqrt(2.0 * (n - 1)));
+  return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
   Design base_design;
+  std::string only;                // --only TEXT: the rows whose name contains TEXT
+  int seeds = 0;                   // --seeds N: the Monte Carlo instead of the table
+  std::string chain = "baseline";  // --chain baseline|tracking: the Monte Carlo's chain
   for (int i = 1; i + 1 < argc; ++i) {
     if (std::strcmp(argv[i], "--run-s") == 0) base_design.run_s = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--only") == 0) only = argv[i + 1];
+    if (std::strcmp(argv[i], "--seeds") == 0) seeds = std::atoi(argv[i + 1]);
+    if (std::strcmp(argv[i], "--chain") == 0) chain = argv[i + 1];
   }
   est::MlOptions ml;
   ml.num_threads = 1;
+  if (seeds > 0) {
+    CarrierOptions options = Baseline();
+    options.pickoff.white_noise_std = kWhiteNoise;
+    Design design = base_design;
+    std::string name = "baseline chain (free-running reference), white converter noise σ_y ≈ 1e-4";
+    if (chain == "tracking") {
+      options.electronics.reference.mode = ReferenceMode::kTracking;
+      options.electronics.reference.pll_bandwidth_hz = 2.0;
+      design.undo_reference_phase = true;
+      name = "tracking PLL 2 Hz with its reported phase undone, white converter noise σ_y ≈ 1e-4";
+    } else if (chain != "baseline") {
+      std::fprintf(stderr, "--chain must be baseline or tracking\n");
+      return 2;
+    }
+    return RunMonteCarlo(options, design, seeds, ml, name.c_str());
+  }
 
   // The std every row is measured in: the baseline chain with converter noise.
   CarrierOptions noisy = Baseline();
@@ -237,6 +330,25 @@ int main(int argc, char** argv) {
          o.electronics.reference.mode = ReferenceMode::kTracking;
          o.electronics.reference.pll_bandwidth_hz = 10.0;
        }},
+      {"tracking PLL, 1 Hz, reported reference phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 1.0;
+         d.undo_reference_phase = true;
+       }},
+      {"tracking PLL, 10 Hz, reported reference phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 10.0;
+         d.undo_reference_phase = true;
+       }},
+      {"tracking PLL, 10 Hz, filter 50 Hz (delay 8.3 ms), phase undone",
+       [](CarrierOptions& o, Design& d) {
+         o.electronics.reference.mode = ReferenceMode::kTracking;
+         o.electronics.reference.pll_bandwidth_hz = 10.0;
+         o.electronics.filter_cutoff_hz = 50.0;
+         d.undo_reference_phase = true;
+       }},
       {"filter 50 Hz (delay 8.3 ms)",
        [](CarrierOptions& o, Design&) { o.electronics.filter_cutoff_hz = 50.0; }},
       {"filter 500 Hz (delay 0.83 ms)",
@@ -290,6 +402,7 @@ int main(int argc, char** argv) {
        }},
   };
   for (const Row& row : rows) {
+    if (!only.empty() && row.name.find(only) == std::string::npos) continue;
     CarrierOptions options = Baseline();
     Design design = base_design;
     if (row.change) row.change(options, design);
@@ -299,6 +412,9 @@ int main(int argc, char** argv) {
       continue;
     }
     CarrierSimulation truth(options);
+    CarrierRelease ramp;  // the truth of a release with the row's temperature ramp (δ1 moves)
+    ramp.temperature_rate_c_per_s = design.temperature_rate_c_per_s;
+    truth.Release(ramp);
     const est::EstimateSummary s = est::EstimateMaximumLikelihood(Simulate(options, design, 1), ml);
     const est::CrlbResult bound = Bound(truth.delta(), truth.xi(), design, reference.noise_sigma);
     PrintRow(row.name, s, truth.delta(), truth.xi(), bound.delta_std, bound.xi_std);

@@ -91,7 +91,7 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
     hw::CanBus& bus, const GyroCanDeviceConfig& config) {
   std::string why;
   if (!config.IsValid(&why)) return Fail(GyroErrorCode::kInvalidArgument, why);
-  // 0x050/0x051 (Ack, Status) and 0x100..0x103 (samples; 0x103 is unused and counted unexpected).
+  // 0x050/0x051 (Ack, Status) and 0x100..0x103 (samples and the reference phase).
   const std::array<hw::CanFilter, 2> filters = {hw::CanFilter{can_id::kAck, 0x7FE, false},
                                                 hw::CanFilter{can_id::kSampleA, 0x7FC, false}};
   if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
@@ -124,6 +124,7 @@ void GyroCanDevice::SyncDecoderCounters() noexcept {
   counters_.sequence_gaps.store(c.sequence_gaps, std::memory_order_relaxed);
   counters_.samples_lost.store(c.samples_lost, std::memory_order_relaxed);
   counters_.buffer_overruns.store(c.buffer_overruns, std::memory_order_relaxed);
+  counters_.reference_phases_missing.store(c.reference_phases_missing, std::memory_order_relaxed);
 }
 
 void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept {
@@ -154,6 +155,17 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
       }
       decoder_.OnSampleFd(block, info.timestamp_ns);
       SyncDecoderCounters();
+      return;
+    }
+  } else if (frame.id == can_id::kReferencePhase) {
+    ReferencePhaseReport report;
+    status = DecodeReferencePhase(frame, &report);
+    if (status == DecodeStatus::kOk) {
+      if (!streaming_) {
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+        return;
+      }
+      decoder_.OnReferencePhase(report, info.timestamp_ns);
       return;
     }
   } else if (frame.id == can_id::kAck) {
@@ -445,6 +457,7 @@ std::expected<void, GyroError> GyroCanDevice::Stop() {
 hw::GyroReadResult GyroCanDevice::ReadSamples(std::span<hw::GyroSample> out,
                                               std::int64_t timeout_ns) noexcept {
   std::size_t n = decoder_.Pop(out);
+  SyncDecoderCounters();  // Pop counts the samples it gives up waiting for their reference phase
   if (n == out.size()) return {n, hw::GyroReadStatus::kOk};
   if (!streaming_) return {n, n > 0 ? hw::GyroReadStatus::kOk : hw::GyroReadStatus::kNotRunning};
   const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
@@ -458,6 +471,7 @@ hw::GyroReadResult GyroCanDevice::ReadSamples(std::span<hw::GyroSample> out,
     if (status == CanStatus::kOk) {
       ProcessFrame(frame, info);
       n += decoder_.Pop(out.subspan(n));
+      SyncDecoderCounters();
       if (n == out.size()) return {n, hw::GyroReadStatus::kOk};
       if (!streaming_ && n == 0) return {0, hw::GyroReadStatus::kNotRunning};
       continue;
@@ -499,6 +513,7 @@ hw::GyroCounters GyroCanDevice::Counters() const noexcept {
   c.nacks = get(counters_.nacks);
   c.bus_errors = get(counters_.bus_errors);
   c.unexpected_frames = get(counters_.unexpected_frames);
+  c.reference_phases_missing = get(counters_.reference_phases_missing);
   return c;
 }
 

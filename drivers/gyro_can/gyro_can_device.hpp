@@ -125,6 +125,7 @@ class GyroCanDevice final : public hw::GyroElectronics {
     std::atomic<std::uint64_t> nacks{0};
     std::atomic<std::uint64_t> bus_errors{0};
     std::atomic<std::uint64_t> unexpected_frames{0};
+    std::atomic<std::uint64_t> reference_phases_missing{0};
     // Mirrors of the decoder's counters, published after each frame.
     std::atomic<std::uint64_t> samples_decoded{0};
     std::atomic<std::uint64_t> sequence_gaps{0};

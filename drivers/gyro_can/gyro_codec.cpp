@@ -225,6 +225,31 @@ DecodeStatus DecodeStatusMessage(const CanFrame& frame, StatusMessage* out) noex
   return DecodeStatus::kOk;
 }
 
+std::uint32_t QuantiseReferencePhase(double chi_rad) noexcept {
+  if (!std::isfinite(chi_rad)) return 0;
+  constexpr double kTwoPi = 4294967296.0 * kReferencePhaseLsbRad;
+  double turns = std::fmod(chi_rad, kTwoPi);
+  if (turns < 0.0) turns += kTwoPi;
+  const double raw = std::round(turns / kReferencePhaseLsbRad);
+  return raw >= 4294967296.0 ? 0u : static_cast<std::uint32_t>(raw);  // 2π rounds to 0
+}
+
+CanFrame EncodeReferencePhase(const ReferencePhaseReport& report) noexcept {
+  CanFrame frame = Begin(can_id::kReferencePhase, length::kReferencePhase);
+  PutUnsigned(frame, 0, 2, report.seq);
+  PutUnsigned(frame, 2, 4, report.phase_raw);
+  return Seal(frame);
+}
+
+DecodeStatus DecodeReferencePhase(const CanFrame& frame, ReferencePhaseReport* out) noexcept {
+  const DecodeStatus status = Check(frame, can_id::kReferencePhase, length::kReferencePhase, false);
+  if (status != DecodeStatus::kOk) return status;
+  if (frame.data[6] != 0) return DecodeStatus::kBadValue;  // reserved
+  out->seq = static_cast<std::uint16_t>(GetUnsigned(frame, 0, 2));
+  out->phase_raw = GetUnsigned(frame, 2, 4);
+  return DecodeStatus::kOk;
+}
+
 DecodeStatus DecodeSampleHalf(const CanFrame& frame, SampleHalf* out) noexcept {
   if (frame.extended || (frame.id != can_id::kSampleA && frame.id != can_id::kSampleB)) {
     return DecodeStatus::kWrongId;

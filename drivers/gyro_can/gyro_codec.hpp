@@ -97,6 +97,18 @@ struct SampleFdBlock {
   std::array<std::array<std::int32_t, 4>, kSamplesPerFdFrame> y_raw{};
 };
 
+// The reference phase at one sample (0x103): χ mod 2π = phase_raw·kReferencePhaseLsbRad.
+struct ReferencePhaseReport {
+  std::uint16_t seq = 0;        // number of the sample it belongs to, modulo 65536
+  std::uint32_t phase_raw = 0;  // χ mod 2π in units of 2π/2^32 rad
+};
+
+// χ (rad, any value) ↔ the phase word: χ mod 2π rounded to the nearest LSB (wraps at 2π).
+std::uint32_t QuantiseReferencePhase(double chi_rad) noexcept;
+constexpr double DequantiseReferencePhase(std::uint32_t raw) noexcept {
+  return raw * kReferencePhaseLsbRad;
+}
+
 // CRC-8 SAE J1850 over the identifier (2 bytes LE) and bytes [0, n) of `data`.
 std::uint8_t Crc8(std::uint32_t id, const std::uint8_t* data, std::size_t n) noexcept;
 
@@ -111,6 +123,7 @@ hw::CanFrame EncodeAck(const Ack& ack) noexcept;
 hw::CanFrame EncodeStatus(const StatusMessage& status) noexcept;
 hw::CanFrame EncodeSampleHalf(const SampleHalf& half) noexcept;
 hw::CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept;  // FD with BRS
+hw::CanFrame EncodeReferencePhase(const ReferencePhaseReport& report) noexcept;  // classic
 
 DecodeStatus DecodeConfigure(const hw::CanFrame& frame, ConfigureCommand* out) noexcept;
 DecodeStatus DecodeExcite(const hw::CanFrame& frame, ExciteCommand* out) noexcept;
@@ -119,6 +132,7 @@ DecodeStatus DecodeAck(const hw::CanFrame& frame, Ack* out) noexcept;
 DecodeStatus DecodeStatusMessage(const hw::CanFrame& frame, StatusMessage* out) noexcept;
 DecodeStatus DecodeSampleHalf(const hw::CanFrame& frame, SampleHalf* out) noexcept;
 DecodeStatus DecodeSampleFd(const hw::CanFrame& frame, SampleFdBlock* out) noexcept;
+DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, ReferencePhaseReport* out) noexcept;
 
 // True for the identifiers this protocol defines in the given direction.
 constexpr bool IsCommandId(std::uint32_t id) noexcept {
@@ -126,7 +140,7 @@ constexpr bool IsCommandId(std::uint32_t id) noexcept {
 }
 constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
   return id == can_id::kAck || id == can_id::kStatus || id == can_id::kSampleA ||
-         id == can_id::kSampleB || id == can_id::kSampleFd;
+         id == can_id::kSampleB || id == can_id::kSampleFd || id == can_id::kReferencePhase;
 }
 
 }  // namespace hrgbench::drivers::gyro_can

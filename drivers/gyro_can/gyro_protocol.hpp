@@ -30,6 +30,9 @@ inline constexpr std::uint32_t kStatus = 0x051;    // electronics → host, peri
 inline constexpr std::uint32_t kSampleA = 0x100;   // electronics → host: seq, y1, y2
 inline constexpr std::uint32_t kSampleB = 0x101;   // electronics → host: seq, y3, y4
 inline constexpr std::uint32_t kSampleFd = 0x102;  // electronics → host (CAN FD): 5 samples
+// electronics → host: the demodulation reference's phase at every kReferencePhaseInterval-th
+// sample (optional: electronics that do not report it never send it; README "Reference phase")
+inline constexpr std::uint32_t kReferencePhase = 0x103;
 }  // namespace can_id
 
 // Payload lengths (DLC). Every frame has exactly this length; any other is a bad frame.
@@ -41,6 +44,7 @@ inline constexpr std::uint8_t kAck = 8;
 inline constexpr std::uint8_t kStatus = 8;
 inline constexpr std::uint8_t kSample = 8;
 inline constexpr std::uint8_t kSampleFd = 64;
+inline constexpr std::uint8_t kReferencePhase = 8;
 }  // namespace length
 
 // The command a frame carries, by its identifier's low byte (also echoed in the Ack).
@@ -75,6 +79,13 @@ inline constexpr double kFrequencyLsbHz = 1e-3;
 inline constexpr double kTemperatureLsbC = 0.01;
 
 inline constexpr int kSamplesPerFdFrame = 5;
+// The reference phase χ (the demodulation reference's phase minus the ramp of the reference locked
+// at release, as delayed by the output filter: aligned with the sample) is reported for every
+// sample whose number is a multiple of this, before that sample's frames; the host interpolates
+// between reports (χ moves by ≪ 1 rad per report). On the wire χ mod 2π as an unsigned 32-bit
+// phase word, LSB 2π/2^32 rad (1.5e-9 rad).
+inline constexpr int kReferencePhaseInterval = 5;
+inline constexpr double kReferencePhaseLsbRad = 6.283185307179586476925286766559 / 4294967296.0;
 // Highest sample rates the electronics accept: classic CAN at 1 Mbit/s carries two 8-byte frames
 // per sample at ≤ 135 bits each (worst-case stuffing), so 2 kHz is 54 % bus load (README).
 inline constexpr std::uint16_t kMaxClassicSampleRateHz = 2000;

@@ -17,6 +17,8 @@ void SampleStreamDecoder::Start(FrameFormat format, std::uint32_t sample_rate_hz
   next_frame_ = 0;
   next_sample_ = 0;
   pending_ = {};
+  reports_seen_ = 0;
+  newest_sample_ = 0;
 }
 
 void SampleStreamDecoder::SetReleaseTime(std::int64_t t0_ns) noexcept {
@@ -72,6 +74,38 @@ void SampleStreamDecoder::OnSampleFd(const SampleFdBlock& block, std::int64_t st
   }
 }
 
+void SampleStreamDecoder::OnReferencePhase(const ReferencePhaseReport& report,
+                                           std::int64_t stamp_ns) noexcept {
+  // A report precedes its sample's frames: its number is at or after the next sample expected.
+  const std::uint64_t sample = Unwrap(next_sample_, report.seq, kFdSeqModulo, 1, 0, stamp_ns);
+  if (reports_seen_ > 0 && sample <= reports_[1].sample) return;  // stale or repeated
+  reports_[0] = reports_[1];
+  reports_[1] = {sample, DequantiseReferencePhase(report.phase_raw)};
+  if (reports_seen_ < 2) ++reports_seen_;
+  if (reports_seen_ == 1) reports_[0] = reports_[1];  // before the first: χ as at the first
+  // The samples already in the ring between the two reports can now be turned.
+  for (std::size_t i = size_; i-- > 0;) {
+    hw::GyroSample& slot = ring_[(head_ + i) % ring_.size()];
+    if (slot.seq < reports_[0].sample) break;
+    if (std::isnan(slot.reference_phase_rad))
+      slot.reference_phase_rad = InterpolatedPhase(slot.seq);
+  }
+}
+
+double SampleStreamDecoder::InterpolatedPhase(std::uint64_t sample) const noexcept {
+  if (reports_seen_ == 0 || sample > reports_[1].sample) return std::nan("");
+  const Report& a = reports_[0];
+  const Report& b = reports_[1];
+  if (sample <= a.sample || b.sample == a.sample)
+    return sample == b.sample ? b.phase_rad : a.phase_rad;
+  constexpr double kTwoPi = 4294967296.0 * kReferencePhaseLsbRad;
+  // The shorter way round: χ moves by ≪ π between reports.
+  const double step = std::remainder(b.phase_rad - a.phase_rad, kTwoPi);
+  const double fraction =
+      static_cast<double>(sample - a.sample) / static_cast<double>(b.sample - a.sample);
+  return a.phase_rad + fraction * step;
+}
+
 void SampleStreamDecoder::Emit(std::uint64_t sample, const std::int32_t (&y_raw)[4]) noexcept {
   if (sample < next_sample_) return;  // cannot happen with monotonic unwrapping; be safe
   counters_.samples_lost += sample - next_sample_;
@@ -83,6 +117,8 @@ void SampleStreamDecoder::Emit(std::uint64_t sample, const std::int32_t (&y_raw)
   hw::GyroSample& slot = ring_[(head_ + size_) % ring_.size()];
   slot.seq = static_cast<std::uint32_t>(sample);
   for (int c = 0; c < 4; ++c) slot.y[c] = DequantiseY(y_raw[c]);
+  slot.reference_phase_rad = InterpolatedPhase(sample);
+  newest_sample_ = sample;
   ++size_;
   ++counters_.samples_decoded;
 }
@@ -91,6 +127,21 @@ std::size_t SampleStreamDecoder::Pop(std::span<hw::GyroSample> out) noexcept {
   std::size_t n = 0;
   while (n < out.size() && size_ > 0) {
     hw::GyroSample sample = ring_[head_];
+    if (std::isnan(sample.reference_phase_rad)) {
+      // Before the run's first report: as received. After it: wait for the report after it.
+      if (reports_seen_ > 0 && sample.seq > reports_[0].sample) {
+        if (newest_sample_ - sample.seq < kReferenceHoldSamples) break;
+        ++counters_.reference_phases_missing;
+      }
+    } else {
+      const double c = std::cos(sample.reference_phase_rad);
+      const double s = std::sin(sample.reference_phase_rad);
+      for (int channel = 0; channel < 2; ++channel) {
+        const double re = sample.y[2 * channel], im = sample.y[2 * channel + 1];
+        sample.y[2 * channel] = c * re - s * im;
+        sample.y[2 * channel + 1] = s * re + c * im;
+      }
+    }
     // Integer ns: exact for any seq (seq·1e9 < 2^63 for seq < 2^32).
     sample.t_ns = t0_ns_ + static_cast<std::int64_t>(static_cast<std::uint64_t>(sample.seq) *
                                                      1'000'000'000ull / sample_rate_hz_);

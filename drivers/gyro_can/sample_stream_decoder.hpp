@@ -4,6 +4,17 @@
 // accounts for every frame that is missing. Pure logic: no bus, no clock (receive stamps are
 // passed in), so it is unit-testable on its own.
 //
+// Reference phase (README "Reference phase", frame 0x103): electronics that report their
+// reference's phase χ send it for every kReferencePhaseInterval-th sample, before that sample's
+// frames. Once a report arrived in a run, each sample gets χ linearly interpolated between the two
+// reports around it (the shorter way round 2π) and its channels are turned back by it, (y1 + i·y2)
+// and (y3 + i·y4) times e^{+iχ} (estimator/reference_phase.hpp's convention), so y is what a
+// reference kept at its lock-at-release frequency would have given; GyroSample::reference_phase_rad
+// says by how much. A sample waits in the ring for the report after it; when that report does not
+// come within kReferenceHoldSamples samples, the sample is delivered as received (χ NaN) and
+// counted in reference_phases_missing. Samples before the run's first report (electronics that
+// never report: all of them) are delivered as received, χ NaN.
+//
 // Threads: one thread (the capture thread). Real-time safety: every method except the constructor
 // is noexcept and allocation-free.
 
@@ -22,6 +33,7 @@ struct SampleStreamCounters {
   std::uint64_t sequence_gaps = 0;    // breaks in the frame sequence (events)
   std::uint64_t samples_lost = 0;     // sample numbers skipped (incomplete or never seen)
   std::uint64_t buffer_overruns = 0;  // whole samples discarded because the ring was full
+  std::uint64_t reference_phases_missing = 0;  // samples delivered unturned: no report after them
 };
 
 class SampleStreamDecoder {
@@ -37,11 +49,15 @@ class SampleStreamDecoder {
 
   void OnSampleHalf(const SampleHalf& half, std::int64_t stamp_ns) noexcept;
   void OnSampleFd(const SampleFdBlock& block, std::int64_t stamp_ns) noexcept;
+  void OnReferencePhase(const ReferencePhaseReport& report, std::int64_t stamp_ns) noexcept;
+
+  // Samples a sample waits for the report after it (a lost report or two are bridged).
+  static constexpr std::uint64_t kReferenceHoldSamples = 4 * kReferencePhaseInterval;
 
   // Moves up to out.size() samples out of the ring, oldest first, stamping each with
-  // t0 + seq·1e9/fs. Returns how many.
+  // t0 + seq·1e9/fs (and turning it back by its reference phase, above). Returns how many.
   std::size_t Pop(std::span<hw::GyroSample> out) noexcept;
-  std::size_t Buffered() const noexcept { return size_; }
+  std::size_t Buffered() const noexcept { return size_; }  // including samples waiting for χ
   const SampleStreamCounters& counters() const noexcept { return counters_; }
 
  private:
@@ -57,6 +73,12 @@ class SampleStreamDecoder {
                        std::uint64_t scale, std::uint64_t offset,
                        std::int64_t stamp_ns) const noexcept;
   void Emit(std::uint64_t sample, const std::int32_t (&y_raw)[4]) noexcept;
+  // χ at `sample` from the last two reports, NaN when the sample is not between them.
+  double InterpolatedPhase(std::uint64_t sample) const noexcept;
+  struct Report {
+    std::uint64_t sample = 0;
+    double phase_rad = 0.0;  // in [0, 2π)
+  };
 
   std::vector<hw::GyroSample> ring_;
   std::size_t head_ = 0;  // oldest
@@ -68,6 +90,11 @@ class SampleStreamDecoder {
   std::uint64_t next_frame_ = 0;   // classic: expected 2·sample + half; FD: expected sample
   std::uint64_t next_sample_ = 0;  // next sample number not yet delivered or counted lost
   Pending pending_;
+  // The last two reference-phase reports of the run (reports_seen_ of them, 0, 1 or 2) and the
+  // newest sample number received.
+  Report reports_[2];
+  int reports_seen_ = 0;
+  std::uint64_t newest_sample_ = 0;
   SampleStreamCounters counters_;
 };
 

@@ -113,13 +113,16 @@ std::expected<void, ConfigError> ReadCarrierTable(TableReader& reader, CarrierOp
                            "must be <= frequency_hz / 4 (" +
                                std::to_string(kMaxCutoffOverCarrier * r.frequency_hz) +
                                "), so that the 2*f0 image is rejected"));
+  HRG_TRY(report, OptionalBool(reader, "report_reference_phase", e.report_reference_phase));
+  e.report_reference_phase = *report;
   HRG_CHECK(reader.Unknown(
       "frequency_hz, decay_time_s, damping_anisotropy_per_s, damping_axis_rad, "
       "frequency_split_hz, frequency_axis_rad, angular_gain, "
       "frequency_temperature_coefficient_per_c, reference_temperature_c, gain_ratio, "
       "phase_mismatch_rad, cross_talk, electrode_angle_error_rad, common_gain, common_delay_s, "
       "white_noise_std, coloured_noise_std, coloured_noise_time_s, sample_rate_hz, reference, "
-      "reference_offset_hz, pll_bandwidth_hz, filter_order, filter_cutoff_hz"));
+      "reference_offset_hz, pll_bandwidth_hz, filter_order, filter_cutoff_hz, "
+      "report_reference_phase"));
   return {};
 }
 

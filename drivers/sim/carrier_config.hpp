@@ -13,7 +13,7 @@
 //   common_gain, common_delay_s                                            the pick-off path
 //   white_noise_std, coloured_noise_std, coloured_noise_time_s, sample_rate_hz   the converters
 //   reference ("free-running" | "tracking"), reference_offset_hz, pll_bandwidth_hz,
-//   filter_order, filter_cutoff_hz                                         the electronics
+//   filter_order, filter_cutoff_hz, report_reference_phase                 the electronics
 
 #include <expected>
 

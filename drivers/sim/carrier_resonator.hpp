@@ -41,6 +41,9 @@ class CarrierResonator {
   void Release(const estimator::Orbit& orbit) noexcept;
 
   void Step() noexcept { state_ = transition_ * state_; }
+  // One step with a given transition (CarrierSimulation interpolates it under a temperature ramp).
+  void StepWith(const Eigen::Matrix4d& transition) noexcept { state_ = transition * state_; }
+  const Eigen::Matrix4d& transition() const noexcept { return transition_; }  // exp(F·step_s)
   const CarrierState& state() const noexcept { return state_; }
   void set_state(const CarrierState& state) noexcept { state_ = state; }
 

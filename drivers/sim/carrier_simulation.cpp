@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "hrgbench/estimator/frequency_drift_decay.hpp"
+#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+
 namespace hrgbench::drivers::sim {
 
 CarrierSimulation::CarrierSimulation(const CarrierOptions& options)
@@ -35,24 +38,61 @@ void CarrierSimulation::Release(const CarrierRelease& release) noexcept {
                         pickoff_.HeldObservation(estimator::OrbitToState(release.orbit), wave_rad_s,
                                                  resonator_->velocity_scale_rad_s()));
   k_ = 0;
+  ramp_start_valid_ = false;
 }
 
 estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
-  const double t_mid = (static_cast<double>(k_) + 0.5) / release_.output_rate_hz;
-  if (resonator_->SetConditions(omega_rad_s, FrequencyScale(t_mid))) {
-    pickoff_.Configure(*resonator_);
-  }
   estimator::Observation y = estimator::Observation::Zero();
+  const bool ramp = release_.temperature_rate_c_per_s != 0.0 &&
+                    options_.frequency_temperature_coefficient_per_c != 0.0;
+  if (!ramp) {
+    const double t_mid = (static_cast<double>(k_) + 0.5) / release_.output_rate_hz;
+    if (resonator_->SetConditions(omega_rad_s, FrequencyScale(t_mid))) {
+      pickoff_.Configure(*resonator_);
+    }
+    for (int n = 0; n < decimation_; ++n) {
+      electronics_->Push(pickoff_.Sample(resonator_->state()), &y);
+      resonator_->Step();
+    }
+    ++k_;
+    return y;
+  }
+  // The transitions at the period's start (the last period's end) and end, interpolated at each
+  // converter step's mid-point: the stiffness moves every converter sample, evenly over the carrier
+  // phase. (The pick-off's delays are taken at the period's end: they move by α·Ṫ·τ, ≪ 1e-9.)
+  const double t_start = static_cast<double>(k_) / release_.output_rate_hz;
+  const double t_end = static_cast<double>(k_ + 1) / release_.output_rate_hz;
+  if (!ramp_start_valid_ || k_ == 0) {
+    resonator_->SetConditions(omega_rad_s, FrequencyScale(t_start));
+    ramp_start_transition_ = resonator_->transition();
+  } else if (resonator_->SetConditions(omega_rad_s, FrequencyScale(t_start))) {
+    ramp_start_transition_ = resonator_->transition();  // Ω changed: recompute the start too
+  }
+  resonator_->SetConditions(omega_rad_s, FrequencyScale(t_end));
+  pickoff_.Configure(*resonator_);
+  const Eigen::Matrix4d difference = resonator_->transition() - ramp_start_transition_;
   for (int n = 0; n < decimation_; ++n) {
     electronics_->Push(pickoff_.Sample(resonator_->state()), &y);
-    resonator_->Step();
+    resonator_->StepWith(ramp_start_transition_ + ((n + 0.5) / decimation_) * difference);
   }
+  ramp_start_transition_ = resonator_->transition();
+  ramp_start_valid_ = true;
   ++k_;
   return y;
 }
 
 estimator::Delta CarrierSimulation::delta() const noexcept {
-  return estimator::DeltaFromResonator(options_.resonator);
+  estimator::Delta delta = estimator::DeltaFromResonator(options_.resonator);
+  // A temperature ramp moves the frequency, and the displacement's amplitude with it
+  // (estimator/frequency_drift_decay.hpp): ω̇/ω = α·Ṫ/(1 + α·(T − T0)) at release.
+  const double alpha = options_.frequency_temperature_coefficient_per_c;
+  delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
+      delta[0], alpha * release_.temperature_rate_c_per_s / FrequencyScale(0.0));
+  return delta;
+}
+
+estimator::Xi CarrierSimulation::xi() const noexcept {
+  return estimator::XiSeenBySlowModel(pickoff_.xi(), delta(), options_.resonator.frequency_hz);
 }
 
 double CarrierSimulation::group_delay_s() const noexcept { return electronics_->group_delay_s(); }

@@ -6,13 +6,18 @@
 //
 // Time: output sample k of a run is at t = k/output_rate after release (k = 0 is the release
 // instant itself, as the protocol's sample 0). The converters run at decimation × output rate.
-// Temperature T(t) = T(release) + rate·t enters through f(T) = f0·(1 + α·(T − T0)), held
-// piecewise constant over each output period (its mid-point value), as is Ω (the value passed to
-// Next for the period that follows sample k). The transition is recomputed only when one changed.
+// Temperature T(t) = T(release) + rate·t enters through f(T) = f0·(1 + α·(T − T0)). Under a ramp
+// the transition is computed at each output period's ends and interpolated linearly per
+// converter sample, so the stiffness changes (almost) continuously: held piecewise constant per
+// output period, its steps would fall at the same carrier phase every period (1 kHz divides
+// 5 kHz) and pump the wave parametrically instead of letting its amplitude follow ω^{−1/2}
+// (estimator/frequency_drift_decay.hpp). Ω is held over each output period (the value passed to
+// Next for the period that follows sample k); the transition is recomputed only when it changed.
 //
 // Truth: y ≈ c·(I + C(ξ))·exp(A(Ω, δ)·t)·x0 with δ = DeltaFromResonator(resonator),
-// ξ = XiFromPickoff(pickoff errors), to the averaging error O(|A|/ω0), plus what the real chain
-// adds and the slow model has no term for (drivers/sim/README.md).
+// ξ = XiSeenBySlowModel(XiFromPickoff(pickoff errors), δ, f0) (the split's second-order mixing),
+// to the averaging error O((|A|/ω0)²), plus what the real chain adds and the slow model has no
+// term for (drivers/sim/README.md).
 //
 // Threads: one thread. Real-time: Next() is allocation-free and noexcept; it costs decimation ×
 // (a 4×4 and a 2×4 product, the mixer and the filter), ~20 ns per converter sample.
@@ -46,8 +51,13 @@ class CarrierSimulation {
   // held at `omega_rad_s` from it to the next.
   estimator::Observation Next(double omega_rad_s) noexcept;
 
-  estimator::Delta delta() const noexcept;  // the truth the slow model should find
-  const estimator::Xi& xi() const noexcept { return pickoff_.xi(); }
+  // The δ the slow model should find for the current release: the resonator's, with δ1 moved by
+  // the release's temperature ramp (estimator/frequency_drift_decay.hpp).
+  estimator::Delta delta() const noexcept;
+  // The ξ the slow model should find: the pick-off's own plus the frequency split's second-order
+  // term (estimator/split_coriolis_mixing.hpp; 9e-9 at Δf = 0.2 mHz, 4.6e-5 at 1 Hz).
+  estimator::Xi xi() const noexcept;
+  const estimator::Xi& pickoff_xi() const noexcept { return pickoff_.xi(); }  // the pick-off's
   std::uint64_t samples() const noexcept { return k_; }  // output samples this run
   int decimation() const noexcept { return decimation_; }
   double converter_rate_hz() const noexcept { return decimation_ * release_.output_rate_hz; }
@@ -66,6 +76,10 @@ class CarrierSimulation {
   CarrierRelease release_;
   int decimation_ = 1;
   std::uint64_t k_ = 0;
+  // Under a temperature ramp: the transition at the start of the current output period (the end of
+  // the last one), for the per-converter-sample interpolation in Next.
+  Eigen::Matrix4d ramp_start_transition_ = Eigen::Matrix4d::Identity();
+  bool ramp_start_valid_ = false;
 };
 
 }  // namespace hrgbench::drivers::sim

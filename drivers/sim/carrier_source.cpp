@@ -1,5 +1,7 @@
 #include "sim/carrier_source.hpp"
 
+#include <limits>
+
 namespace hrgbench::drivers::sim {
 
 CarrierSource::CarrierSource(const CarrierOptions& options, std::uint64_t seed)
@@ -15,6 +17,13 @@ estimator::Observation CarrierSource::Sample(std::uint64_t /*k*/, std::int64_t /
                                              double omega_rad_s) noexcept {
   // The node asks for every sample in order, k = 0, 1, ...: the simulation's own count.
   return simulation_.Next(omega_rad_s);
+}
+
+double CarrierSource::ReportedReferencePhaseRad() const noexcept {
+  if (!simulation_.options().electronics.report_reference_phase) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return simulation_.electronics().reported_phase_rad();
 }
 
 double CarrierSource::ReportedFrequencyHz(double temperature_c) const noexcept {

@@ -18,6 +18,9 @@ class CarrierSource final : public FreeRunSource {
                                 double omega_rad_s) noexcept override;
   // f(T) = f0·(1 + α·(T − T0)): what the PLL reports.
   double ReportedFrequencyHz(double temperature_c) const noexcept override;
+  // χ(t − τg) of the last sample (CarrierElectronics::reported_phase_rad), when
+  // options.electronics.report_reference_phase; NaN otherwise (older electronics).
+  double ReportedReferencePhaseRad() const noexcept override;
 
   const CarrierSimulation& simulation() const noexcept { return simulation_; }
 

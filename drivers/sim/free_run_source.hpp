@@ -11,6 +11,7 @@
 // Threads: the node's thread. Real-time: Release and Sample are noexcept and allocation-free.
 
 #include <cstdint>
+#include <limits>
 
 #include "hrgbench/estimator/model.hpp"
 
@@ -35,6 +36,12 @@ class FreeRunSource {
                                         double omega_rad_s) noexcept = 0;
   // The resonant frequency the electronics report in Status at housing temperature T, Hz.
   virtual double ReportedFrequencyHz(double temperature_c) const noexcept = 0;
+  // The demodulation reference's phase χ the electronics report with the last sample (frame
+  // 0x103, drivers/gyro_can/README.md "Reference phase"), rad; NaN: not reported (the slow
+  // model's ideal reference, or electronics without the report).
+  virtual double ReportedReferencePhaseRad() const noexcept {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 };
 
 }  // namespace hrgbench::drivers::sim

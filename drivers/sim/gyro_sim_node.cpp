@@ -255,6 +255,15 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
   for (int c = 0; c < 4; ++c) raw[c] = gyro_can::QuantiseY(y(c));
   const std::uint64_t k = next_sample_++;
   ++statistics_.samples;
+  // The reference phase of every 5th sample, before that sample's frames (not a sample frame:
+  // the sample-frame fault injections leave it alone).
+  if (k % gyro_can::kReferencePhaseInterval == 0) {
+    const double chi_rad = source_->ReportedReferencePhaseRad();
+    if (!std::isnan(chi_rad)) {
+      Send(gyro_can::EncodeReferencePhase(
+          {static_cast<std::uint16_t>(k & 0xFFFFu), gyro_can::QuantiseReferencePhase(chi_rad)}));
+    }
+  }
   if (format_ == FrameFormat::kClassic) {
     const auto seq = static_cast<std::uint8_t>(k & 0xFFu);
     SendSampleFrame(gyro_can::EncodeSampleHalf({0, seq, {raw[0], raw[1]}}));

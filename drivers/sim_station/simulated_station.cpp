@@ -1,5 +1,9 @@
 #include "sim_station/simulated_station.hpp"
 
+#include "hrgbench/estimator/frequency_drift_decay.hpp"
+#include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+
 namespace hrgbench::drivers::sim_station {
 
 namespace can_virtual = drivers::can_virtual;
@@ -89,9 +93,18 @@ SimulatedStation::~SimulatedStation() {
 SimulatedTruth SimulatedStation::truth() const {
   if (options_.gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = options_.gyro.carrier;
+    // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1
+    // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
+    estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
+    delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
+        delta[0], c.frequency_temperature_coefficient_per_c *
+                      options_.gyro.temperature_drift_c_per_s /
+                      (1.0 + c.frequency_temperature_coefficient_per_c *
+                                 (options_.gyro.temperature_c - c.reference_temperature_c)));
     return {true,
-            estimator::DeltaFromResonator(c.resonator),
-            estimator::XiFromPickoff(c.pickoff.errors),
+            delta,
+            estimator::XiSeenBySlowModel(estimator::XiFromPickoff(c.pickoff.errors), delta,
+                                         c.resonator.frequency_hz),
             0.0,
             options_.gyro.seed,
             options_.earth_rate_rad_s};

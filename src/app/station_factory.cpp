@@ -74,6 +74,7 @@ drivers::sim::CarrierOptions MapCarrier(const bench::SimulatedCarrierConfig& c) 
   o.electronics.reference.pll_bandwidth_hz = c.pll_bandwidth_hz;
   o.electronics.filter_order = static_cast<int>(c.filter_order);
   o.electronics.filter_cutoff_hz = c.filter_cutoff_hz;
+  o.electronics.report_reference_phase = c.report_reference_phase;
   return o;
 }
 

@@ -107,6 +107,9 @@ struct CaptureResult {
   std::uint64_t read_timeouts = 0;         // of which returned kTimeout
   std::size_t max_batch = 0;               // most samples one ReadSamples returned (lag indicator)
   std::size_t ring_high_water = 0;         // most samples queued in the ring after a push
+  // Samples pushed that the driver turned back by the reference phase the electronics reported
+  // (hw::GyroSample::reference_phase_rad finite): all of them with electronics that report it.
+  std::uint64_t samples_reference_phase_undone = 0;
 
   bool any_sample = false;      // first/last below are valid
   std::uint32_t first_seq = 0;  // of the first / last sample pushed

@@ -128,6 +128,10 @@ struct RunEnd {
   std::uint64_t sequence_gaps = 0;
   std::uint64_t kernel_drops = 0;
   std::uint64_t bad_frames = 0;
+  // The electronics' reference phase (drivers/gyro_can README "Reference phase"): samples turned
+  // back by it (0: not reported, y as demodulated), and samples its report was lost for.
+  std::uint64_t reference_phase_undone_samples = 0;
+  std::uint64_t reference_phases_missing = 0;
 };
 
 // A run as the record holds it now (for resume and the progress display).

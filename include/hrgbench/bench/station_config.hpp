@@ -118,6 +118,7 @@ struct SimulatedCarrierConfig {
   double pll_bandwidth_hz = 2.0;
   std::int64_t filter_order = 4;
   double filter_cutoff_hz = 200.0;
+  bool report_reference_phase = true;  // the electronics send their reference phase (0x103)
 };
 
 // [simulated]: the in-process simulated station (drivers/sim physics, seeded, reproducible).

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <expected>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -112,6 +113,11 @@ struct GyroSample {
   std::int64_t t_ns = 0;  // release stamp + seq / sample_rate, on the electronics' sample clock
                           // mapped to the receive time base (no bus jitter)
   double y[4] = {0.0, 0.0, 0.0, 0.0};  // y1..y4, amplitude units, quantised to the wire's LSB
+  // The demodulation reference's phase χ the electronics reported for this sample (relative to
+  // the reference locked at release), rad; y has been turned back by it (y1 + i·y2 and y3 + i·y4
+  // times e^{+iχ}), so y is as if the reference had stayed locked. NaN: not reported (electronics
+  // without it, or before their first report), y as received.
+  double reference_phase_rad = std::numeric_limits<double>::quiet_NaN();
 };
 
 // One counter per failure kind (STYLE rule 5), cumulative since construction, never reset.
@@ -129,6 +135,8 @@ struct GyroCounters {
   std::uint64_t nacks = 0;              // commands the electronics refused
   std::uint64_t bus_errors = 0;         // bus-off or transport errors seen
   std::uint64_t unexpected_frames = 0;  // valid frames not expected now (stale acks, stray ids)
+  std::uint64_t reference_phases_missing = 0;  // samples delivered without the reference phase
+                                               // their electronics report (its report lost)
 };
 
 enum class GyroErrorCode : std::uint8_t {

@@ -71,6 +71,7 @@ hw::GyroCounters CaptureResult::CounterDelta() const noexcept {
   d.nacks = b.nacks - a.nacks;
   d.bus_errors = b.bus_errors - a.bus_errors;
   d.unexpected_frames = b.unexpected_frames - a.unexpected_frames;
+  d.reference_phases_missing = b.reference_phases_missing - a.reference_phases_missing;
   return d;
 }
 

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <system_error>
 
@@ -135,6 +136,9 @@ CaptureTermination CaptureThread::Loop() noexcept {
       const std::size_t pushed = ring.Push(std::span<const hw::GyroSample>(batch.first(keep)));
       r.samples_pushed += pushed;
       r.ring_overruns += keep - pushed;
+      for (std::size_t i = 0; i < pushed; ++i) {
+        if (!std::isnan(batch[i].reference_phase_rad)) ++r.samples_reference_phase_undone;
+      }
       if (pushed > 0) {
         if (!r.any_sample) {
           r.any_sample = true;

@@ -74,6 +74,8 @@ json ToJson(const RunEnd& end, std::uint64_t samples) {
            {"sequence_gaps", end.sequence_gaps},
            {"kernel_drops", end.kernel_drops},
            {"bad_frames", end.bad_frames},
+           {"reference_phase_undone_samples", end.reference_phase_undone_samples},
+           {"reference_phases_missing", end.reference_phases_missing},
            {"samples", samples}};
   out.update(TimeStampNow());
   return out;

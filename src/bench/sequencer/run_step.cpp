@@ -225,6 +225,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   end.sequence_gaps = result.sequence_gaps;
   end.kernel_drops = delta.kernel_drops;
   end.bad_frames = delta.bad_frames;
+  end.reference_phase_undone_samples = result.samples_reference_phase_undone;
+  end.reference_phases_missing = delta.reference_phases_missing;
   if (auto status = hw.gyro->RequestStatus(); status) {
     end.temperature_end_c = status->temperature_c;
     end.frequency_end_hz = status->resonant_frequency_hz;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -131,16 +132,18 @@ double Signal(std::uint32_t id, const char* name, const hw::CanFrame& frame) {
 }
 
 TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
-  const std::map<std::uint32_t, int> expected = {{can_id::kConfigure, length::kConfigure},
-                                                 {can_id::kExcite, length::kExcite},
-                                                 {can_id::kRelease, length::kSimpleCommand},
-                                                 {can_id::kStop, length::kSimpleCommand},
-                                                 {can_id::kStatusRequest, length::kSimpleCommand},
-                                                 {can_id::kAck, length::kAck},
-                                                 {can_id::kStatus, length::kStatus},
-                                                 {can_id::kSampleA, length::kSample},
-                                                 {can_id::kSampleB, length::kSample},
-                                                 {can_id::kSampleFd, length::kSampleFd}};
+  const std::map<std::uint32_t, int> expected = {
+      {can_id::kConfigure, length::kConfigure},
+      {can_id::kExcite, length::kExcite},
+      {can_id::kRelease, length::kSimpleCommand},
+      {can_id::kStop, length::kSimpleCommand},
+      {can_id::kStatusRequest, length::kSimpleCommand},
+      {can_id::kAck, length::kAck},
+      {can_id::kStatus, length::kStatus},
+      {can_id::kSampleA, length::kSample},
+      {can_id::kSampleB, length::kSample},
+      {can_id::kSampleFd, length::kSampleFd},
+      {can_id::kReferencePhase, length::kReferencePhase}};
   ASSERT_EQ(TheDbc().messages.size(), expected.size());
   for (const auto& [id, len] : expected) {
     const auto it = TheDbc().messages.find(id);
@@ -233,6 +236,15 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kSampleB, "Seq", sample_b), 250);
   EXPECT_EQ(Signal(can_id::kSampleB, "Y3", sample_b), DequantiseY(QuantiseY(0.7)));
   EXPECT_EQ(Signal(can_id::kSampleB, "Y4", sample_b), DequantiseY(QuantiseY(-1.3)));
+
+  const hw::CanFrame reference =
+      EncodeReferencePhase({.seq = 54321, .phase_raw = QuantiseReferencePhase(-2.5)});
+  EXPECT_EQ(Signal(can_id::kReferencePhase, "Seq", reference), 54321);
+  EXPECT_DOUBLE_EQ(Signal(can_id::kReferencePhase, "Phase", reference),
+                   DequantiseReferencePhase(QuantiseReferencePhase(-2.5)));
+  EXPECT_NEAR(Signal(can_id::kReferencePhase, "Phase", reference), 2 * std::numbers::pi - 2.5,
+              1e-9);
+  EXPECT_EQ(Signal(can_id::kReferencePhase, "Reserved", reference), 0);
 
   SampleFdBlock block{.seq = 40000, .count = 5, .y_raw = {}};
   for (std::size_t s = 0; s < 5; ++s) {

@@ -158,6 +158,7 @@ TEST(GyroCanFuzz, DecodersAndTheSampleStreamSurviveAnyFrame) {
     check(DecodeStatusMessage, EncodeStatus, StatusMessage{});
     check(DecodeSampleHalf, EncodeSampleHalf, SampleHalf{});
     check(DecodeSampleFd, EncodeSampleFd, SampleFdBlock{});
+    check(DecodeReferencePhase, EncodeReferencePhase, ReferencePhaseReport{});
     if (HasFatalFailure()) return;
 
     if (SampleHalf half; DecodeSampleHalf(frame, &half) == DecodeStatus::kOk) {
@@ -165,6 +166,9 @@ TEST(GyroCanFuzz, DecodersAndTheSampleStreamSurviveAnyFrame) {
     }
     if (SampleFdBlock block; DecodeSampleFd(frame, &block) == DecodeStatus::kOk) {
       stream.OnSampleFd(block, stamp_ns);
+    }
+    if (ReferencePhaseReport report; DecodeReferencePhase(frame, &report) == DecodeStatus::kOk) {
+      stream.OnReferencePhase(report, stamp_ns);
     }
     ASSERT_LE(stream.Buffered(), 256u) << log;
     if (draw.OneIn(4)) {

@@ -116,6 +116,32 @@ TEST(GyroCodecTest, SampleHalvesGolden) {
   EXPECT_EQ(DequantiseY(decoded.y_raw[1]), -kSampleLsb);
 }
 
+TEST(GyroCodecTest, ReferencePhaseGolden) {
+  // χ = 1 rad: 2^32/(2π) = 683 565 275.6 → 0x28BE60DC; χ = −0.5 rad wraps to 2π − 0.5. The CRC
+  // bytes were computed independently (a Python J1850 CRC-8 over id LE + payload).
+  EXPECT_EQ(QuantiseReferencePhase(1.0), 0x28BE60DCu);
+  EXPECT_EQ(QuantiseReferencePhase(-0.5), 0xEBA0CF92u);
+  EXPECT_EQ(QuantiseReferencePhase(2 * std::numbers::pi), 0u);
+  EXPECT_EQ(QuantiseReferencePhase(1.0 + 4 * std::numbers::pi), 0x28BE60DCu);
+  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase({0x1234, QuantiseReferencePhase(1.0)})),
+            "103#3412DC60BE28002B");
+  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase({0xFFFF, QuantiseReferencePhase(-0.5)})),
+            "103#FFFF92CFA0EB0088");
+  ReferencePhaseReport decoded;
+  ASSERT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE28002B"), &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.seq, 0x1234);
+  EXPECT_NEAR(DequantiseReferencePhase(decoded.phase_raw), 1.0, kReferencePhaseLsbRad);
+  // The reserved byte must be 0 (CRC recomputed so that only the value is wrong).
+  hw::CanFrame reserved = Frame("103#3412DC60BE28002B");
+  reserved.data[6] = 1;
+  reserved.data[7] = Crc8(reserved.id, reserved.data.data(), 7);
+  EXPECT_EQ(DecodeReferencePhase(reserved, &decoded), DecodeStatus::kBadValue);
+  EXPECT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE28002C"), &decoded),
+            DecodeStatus::kBadChecksum);
+  EXPECT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE2800"), &decoded),
+            DecodeStatus::kWrongLength);
+}
+
 SampleFdBlock Pattern(std::uint16_t seq, std::uint8_t count) {
   SampleFdBlock block{.seq = seq, .count = count, .y_raw = {}};
   for (int s = 0; s < count; ++s) {

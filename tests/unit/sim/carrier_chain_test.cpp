@@ -11,6 +11,7 @@
 #include <numbers>
 #include <vector>
 
+#include "hrgbench/estimator/reference_phase.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 #include "sim/butterworth_low_pass.hpp"
 #include "sim/carrier_pickoff.hpp"
@@ -107,9 +108,10 @@ TEST(CarrierSimulationTest, IdealElectronicsReproduceTheSlowModel) {
   }
   RecordProperty("worst_error", std::to_string(worst));
   EXPECT_LT(worst, 1e-4);
-  // The release sample is the held wave through the pick-off: (I + C)·x0 (filters settled on it).
+  // The release sample is the held wave through the pick-off: (I + C)·x0 (filters settled on it),
+  // with the pick-off's own C (the split's mixing, in sim.xi(), is a property of the free modes).
   const estimator::Observation y0 =
-      (estimator::Matrix4::Identity() + estimator::DistortionMatrix(sim.xi())) *
+      (estimator::Matrix4::Identity() + estimator::DistortionMatrix(sim.pickoff_xi())) *
       estimator::OrbitToState(release.orbit);
   EXPECT_LT((run.y[0] - y0).cwiseAbs().maxCoeff(), 1e-6);
 }
@@ -133,6 +135,56 @@ TEST(CarrierSimulationTest, TrackingReferenceKeepsTheFormsOfTheSlowModel) {
   // ... and it did track: the reference moved off the lock frequency (the split turns the wave's
   // phase), so the phase it accumulated is not zero.
   EXPECT_GT(std::abs(sim.electronics().reference().phase_rad()), 1e-4);
+}
+
+TEST(CarrierSimulationTest, TrackingReferenceUndoneByItsReportedPhaseIsTheSlowModel) {
+  // The same tracking PLL; each sample turned back by the phase the electronics report with it
+  // (χ at t − τg). What is left is what a reference kept at the lock frequency gives: the slow
+  // model, within the bound of IdealElectronicsReproduceTheSlowModel (1e-4; the delay-aligned χ
+  // leaves χ''·τg²/2 ≈ 1e-8 besides). Without the undo the error is the wave's own phase
+  // evolution that the PLL took out, far above that bound.
+  CarrierOptions options = TestUnit();
+  options.electronics.reference.mode = ReferenceMode::kTracking;
+  options.electronics.reference.pll_bandwidth_hz = 2.0;
+  CarrierSimulation sim(options);
+  const CarrierRelease release{{1.0, 0.2, 0.7, 0.0}, -0.3, 1000.0, 1, 25.0, 0.0};
+  sim.Release(release);
+  double worst_undone = 0.0, worst_raw = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k / release.output_rate_hz;
+    const estimator::Observation y = sim.Next(release.omega_rad_s);
+    Eigen::Matrix4Xd undone = y;
+    const double chi[1] = {sim.electronics().reported_phase_rad()};
+    ASSERT_TRUE(estimator::UndoReferencePhase(undone, chi));
+    if (t < kSettle) continue;
+    const estimator::Observation m = Model(sim, release, t);
+    worst_undone = std::max(worst_undone, (undone.col(0) - m).cwiseAbs().maxCoeff());
+    worst_raw = std::max(worst_raw, (y - m).cwiseAbs().maxCoeff());
+  }
+  RecordProperty("worst_undone", std::to_string(worst_undone));
+  EXPECT_LT(worst_undone, 1e-4);
+  EXPECT_GT(worst_raw, 1e-3);
+  // χ is what the reference accumulated, τg late: it moved ≈ 0.3 rad in 2 s, so by ~0.2 % of
+  // that in τg ≈ 3.4 ms (1 % allowed), and it is not zero.
+  const double accumulated = sim.electronics().reference().phase_rad();
+  EXPECT_GT(std::abs(accumulated), 0.05);
+  EXPECT_NEAR(sim.electronics().reported_phase_rad(), accumulated, 0.01 * std::abs(accumulated));
+}
+
+TEST(CarrierSimulationTest, FreeRunningReferenceReportsItsOffsetRamp) {
+  // A free-running reference 0.01 Hz off: χ(t) = 2π·0.01·(t − τg) once past the release.
+  CarrierOptions options = TestUnit();
+  options.electronics.reference.offset_hz = 0.01;
+  CarrierSimulation sim(options);
+  sim.Release({{1.0, 0.1, 0.2, 0.0}, 0.3, 1000.0, 1, 25.0, 0.0});
+  for (int k = 0; k < 1000; ++k) {
+    sim.Next(0.3);
+    const double t = k / 1000.0;
+    if (t < kSettle) continue;
+    ASSERT_NEAR(sim.electronics().reported_phase_rad(), 2 * kPi * 0.01 * (t - sim.group_delay_s()),
+                1e-9)
+        << t;
+  }
 }
 
 // The common phase of the simulated y relative to the model's, over a run: arg Σ conj(m)·y per
