@@ -84,17 +84,18 @@ void Measure(const std::string& engine, const std::string& url, const std::vecto
   auto samples = (*store)->ParameterValues("delta1", {});
   const results::ParameterStats st = results::ComputeParameterStats("delta1", *samples);
   const double stats_s = Since(t0);
-  std::printf("| %s | %.2f s (%.0f sessions/s)%s | %.1f ms | %zu | %.2f s (yield %.3f, %zu weeks) |\n",
-              engine.c_str(), import_s, kFolders / import_s,
-              failed ? " FAILURES" : "", upload_s * 1e3, st.n, stats_s, st.yield.value_or(0.0),
-              st.weeks.size());
+  std::printf(
+      "| %s | %.2f s (%.0f sessions/s)%s | %.1f ms | %zu | %.2f s (yield %.3f, %zu weeks) |\n",
+      engine.c_str(), import_s, kFolders / import_s, failed ? " FAILURES" : "", upload_s * 1e3,
+      st.n, stats_s, st.yield.value_or(0.0), st.weeks.size());
 }
 
 }  // namespace
 
 int main() {
   std::random_device rd;
-  const fs::path root = fs::temp_directory_path() / ("hrgbench-results-bench-" + std::to_string(rd()));
+  const fs::path root =
+      fs::temp_directory_path() / ("hrgbench-results-bench-" + std::to_string(rd()));
   std::vector<fs::path> dirs;
   for (int i = 0; i < kFolders; ++i) {
     testing::FixtureSession f;
@@ -112,9 +113,10 @@ int main() {
   const fs::path one = root / "one";
   testing::WriteFixtureSession(one, one_f);
 
-  std::printf("| engine | import of %d session folders | one station upload (open, import, mark) "
-              "| sessions in stats | stats delta1 over them |\n|---|---|---|---|---|\n",
-              kFolders);
+  std::printf(
+      "| engine | import of %d session folders | one station upload (open, import, mark) "
+      "| sessions in stats | stats delta1 over them |\n|---|---|---|---|---|\n",
+      kFolders);
   Measure("SQLite", "sqlite://" + (root / "results.sqlite").string(), dirs, one);
   if (testing::PostgresServer::Installed()) {
     testing::PostgresServer server;

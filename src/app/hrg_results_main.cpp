@@ -3,9 +3,10 @@
 //   hrg-results [--db URL | --station S.toml] import DIR...
 //   hrg-results ... sync --sessions-root DIR
 //   hrg-results ... history SERIAL [--json|--csv]
-//   hrg-results ... sessions [--since T] [--station N] [--outcome O] [--serial-like P] [--json|--csv]
-//   hrg-results ... stats PARAM [--since T] [--station N] [--csv]
-//   hrg-results ... export [--since T] [--station N] [--outcome O] [--serial-like P]
+//   hrg-results ... sessions [--since T] [--at-station N] [--outcome O] [--serial-like P]
+//                            [--json|--csv]
+//   hrg-results ... stats PARAM [--since T] [--at-station N] [--csv]
+//   hrg-results ... export [--since T] [--at-station N] [--outcome O] [--serial-like P]
 //
 // Exit codes: 0 done; 1 some session could not be imported or synced (each is named); 2 bad
 // command line, unusable URL or station file, or a database that cannot be opened.
@@ -103,7 +104,9 @@ int main(int argc, char** argv) {
   };
   std::vector<std::string> import_dirs;
   CLI::App* import = cli.add_subcommand("import", "import (or re-import) session folders");
-  import->add_option("dirs", import_dirs, "session folders")->required()->check(CLI::ExistingDirectory);
+  import->add_option("dirs", import_dirs, "session folders")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   std::string sessions_root;
   CLI::App* sync = cli.add_subcommand("sync", "upload every session not yet in the database");
   sync->add_option("--sessions-root", sessions_root, "folder holding session folders")
@@ -122,7 +125,8 @@ int main(int argc, char** argv) {
       ->required();
   add_filters(stats, false);
   stats->add_flag("--csv", csv, "CSV");
-  CLI::App* export_cmd = cli.add_subcommand("export", "CSV: one row per session, one column per quantity");
+  CLI::App* export_cmd =
+      cli.add_subcommand("export", "CSV: one row per session, one column per quantity");
   add_filters(export_cmd, true);
 
   try {
@@ -161,7 +165,8 @@ int main(int argc, char** argv) {
       return app::kExitBadInput;
     }
     const app::OutputFormat format =
-        json ? app::OutputFormat::kJson : (csv ? app::OutputFormat::kCsv : app::OutputFormat::kTable);
+        json ? app::OutputFormat::kJson
+             : (csv ? app::OutputFormat::kCsv : app::OutputFormat::kTable);
     auto fail = [](const std::string& message) {
       std::cerr << "hrg-results: " << message << '\n';
       return app::kExitBadInput;

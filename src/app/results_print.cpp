@@ -3,9 +3,8 @@
 #include <cctype>
 #include <charconv>
 #include <cstdio>
-#include <set>
-
 #include <nlohmann/json.hpp>
+#include <set>
 
 namespace hrgbench::app {
 namespace {
@@ -48,7 +47,8 @@ std::string CsvField(const std::string& text) {
   bool quote = text.find_first_of(",\"\r\n") != std::string::npos;
   std::string body = text;
   if (!text.empty() && (text[0] == '=' || text[0] == '+' || text[0] == '-' || text[0] == '@') &&
-      (text.size() == 1 || !(std::isdigit(static_cast<unsigned char>(text[1])) || text[1] == '.'))) {
+      (text.size() == 1 ||
+       !(std::isdigit(static_cast<unsigned char>(text[1])) || text[1] == '.'))) {
     body = "'" + text;  // shown as text, not evaluated
     quote = true;
   }
@@ -125,9 +125,9 @@ void PrintHistory(std::ostream& out, const std::string& serial,
   }
   out << "unit " << serial << ": " << sessions.size() << " session(s)\n";
   char line[512];
-  std::snprintf(line, sizeof line, "%-27s %-12s %-8s %12s %12s %14s %14s %12s\n",
-                "started (UTC)", "station", "outcome", "tau_s", "q_factor", "damp_split/s",
-                "freq_split_mHz", "angular_gain");
+  std::snprintf(line, sizeof line, "%-27s %-12s %-8s %12s %12s %14s %14s %12s\n", "started (UTC)",
+                "station", "outcome", "tau_s", "q_factor", "damp_split/s", "freq_split_mHz",
+                "angular_gain");
   out << line;
   for (const auto& s : sessions) {
     std::snprintf(line, sizeof line, "%-27s %-12s %-8s %12s %12s %14s %14s %12s\n",
@@ -145,9 +145,9 @@ void PrintStats(std::ostream& out, const results::ParameterStats& st, OutputForm
   if (format == OutputFormat::kCsv) {
     out << "period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\n";
     out << "all," << st.n << ',' << NumberText(st.mean) << ',' << NumberText(st.std) << ','
-        << NumberText(st.min) << ',' << NumberText(st.max) << ',' << NumberText(st.limit_min)
-        << ',' << NumberText(st.limit_max) << ',' << NumberText(st.yield) << ','
-        << NumberText(st.cp) << ',' << NumberText(st.cpk) << '\n';
+        << NumberText(st.min) << ',' << NumberText(st.max) << ',' << NumberText(st.limit_min) << ','
+        << NumberText(st.limit_max) << ',' << NumberText(st.yield) << ',' << NumberText(st.cp)
+        << ',' << NumberText(st.cpk) << '\n';
     for (const auto& w : st.weeks) {
       out << w.week << ',' << w.n << ',' << NumberText(w.mean) << ',' << NumberText(w.std)
           << ",,,,,,,\n";

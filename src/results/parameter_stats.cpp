@@ -76,7 +76,8 @@ ParameterStats ComputeParameterStats(const std::string& name,
     const double sigma = stats.std;
     if (stats.limit_min && stats.limit_max) {
       stats.cp = (*stats.limit_max - *stats.limit_min) / (6.0 * sigma);
-      stats.cpk = std::min(*stats.limit_max - stats.mean, stats.mean - *stats.limit_min) / (3.0 * sigma);
+      stats.cpk =
+          std::min(*stats.limit_max - stats.mean, stats.mean - *stats.limit_min) / (3.0 * sigma);
     } else if (stats.limit_max) {
       stats.cpk = (*stats.limit_max - stats.mean) / (3.0 * sigma);
     } else if (stats.limit_min) {

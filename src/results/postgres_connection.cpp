@@ -13,9 +13,9 @@ namespace {
 
 // 23505 unique_violation; 40001 serialization_failure; 40P01 deadlock: worth one retry.
 bool Retryable(const char* sqlstate) {
-  return sqlstate != nullptr && (std::strcmp(sqlstate, "23505") == 0 ||
-                                 std::strcmp(sqlstate, "40001") == 0 ||
-                                 std::strcmp(sqlstate, "40P01") == 0);
+  return sqlstate != nullptr &&
+         (std::strcmp(sqlstate, "23505") == 0 || std::strcmp(sqlstate, "40001") == 0 ||
+          std::strcmp(sqlstate, "40P01") == 0);
 }
 
 class PostgresConnection final : public SqlConnection {
@@ -41,7 +41,8 @@ class PostgresConnection final : public SqlConnection {
       while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
         message.pop_back();
       if (message.empty()) message = PQerrorMessage(conn_);
-      return std::unexpected(SqlError{"postgresql '" + name_ + "': " + message, Retryable(sqlstate)});
+      return std::unexpected(
+          SqlError{"postgresql '" + name_ + "': " + message, Retryable(sqlstate)});
     }
     std::vector<SqlRow> rows;
     const int n = PQntuples(result.get());
@@ -85,17 +86,20 @@ std::expected<std::unique_ptr<SqlConnection>, std::string> OpenPostgres(const Re
   // connect_timeout: a server that is down must not hold a station's session end for minutes.
   std::string conninfo = url.conninfo;
   if (conninfo.find("connect_timeout=") == std::string::npos)
-    conninfo += (conninfo.find('?') == std::string::npos ? "?" : "&") + std::string("connect_timeout=10");
+    conninfo +=
+        (conninfo.find('?') == std::string::npos ? "?" : "&") + std::string("connect_timeout=10");
   PGconn* conn = PQconnectdb(conninfo.c_str());
   if (conn == nullptr) return std::unexpected("postgresql '" + url.text + "': out of memory");
   if (PQstatus(conn) != CONNECTION_OK) {
     std::string message = PQerrorMessage(conn);
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+      message.pop_back();
     PQfinish(conn);
     return std::unexpected("postgresql '" + url.text + "': cannot connect: " + message);
   }
   // Quiet NOTICEs ("relation already exists, skipping") that libpq prints on stderr.
-  PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);
+  PQsetNoticeProcessor(
+      conn, [](void*, const char*) {}, nullptr);
   return std::make_unique<PostgresConnection>(conn, url.text);
 }
 

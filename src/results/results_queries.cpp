@@ -110,8 +110,7 @@ std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::Ses
   if (!rows) return std::unexpected(rows.error().message);
   std::vector<SessionWithParameters> out;
   for (const SqlRow& row : *rows) {
-    if (out.empty() || out.back().session.id != ToText(row[0]))
-      out.push_back({ToSummary(row), {}});
+    if (out.empty() || out.back().session.id != ToText(row[0])) out.push_back({ToSummary(row), {}});
     const auto value = internal::ToReal(row[kSessionColumnCount + 1]);
     if (row[kSessionColumnCount] && value) out.back().values[*row[kSessionColumnCount]] = *value;
   }
@@ -120,7 +119,8 @@ std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::Ses
 
 std::expected<std::vector<std::string>, std::string> ResultsStore::Warnings(
     const std::string& session_id) {
-  auto rows = db_->Query("SELECT text FROM warning WHERE session_id = $1 ORDER BY seq", {session_id});
+  auto rows =
+      db_->Query("SELECT text FROM warning WHERE session_id = $1 ORDER BY seq", {session_id});
   if (!rows) return std::unexpected(rows.error().message);
   std::vector<std::string> out;
   for (const SqlRow& row : *rows) out.push_back(ToText(row[0]));

@@ -109,10 +109,11 @@ std::expected<void, std::string> ResultsStore::Migrate(const OpenOptions& option
     for (std::string_view statement : migrations[static_cast<std::size_t>(version - 1)]) {
       if (auto ok = db_->Query(std::string(statement)); !ok) return fail(ok.error().message);
     }
-    const char* now_sql = db_->engine() == Engine::kSqlite
-                              ? "INSERT INTO schema_version VALUES ($1, strftime('%Y-%m-%dT%H:%M:%SZ','now'))"
-                              : "INSERT INTO schema_version VALUES ($1, to_char(now() AT TIME ZONE "
-                                "'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"'))";
+    const char* now_sql =
+        db_->engine() == Engine::kSqlite
+            ? "INSERT INTO schema_version VALUES ($1, strftime('%Y-%m-%dT%H:%M:%SZ','now'))"
+            : "INSERT INTO schema_version VALUES ($1, to_char(now() AT TIME ZONE "
+              "'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"'))";
     if (auto ok = db_->Query(now_sql, {Integer(version)}); !ok) return fail(ok.error().message);
   }
   if (auto ok = db_->Query("COMMIT"); !ok) return fail(ok.error().message);
@@ -153,8 +154,8 @@ std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionR
   auto fail = [&](const internal::SqlError& error) -> std::expected<ImportStatus, std::string> {
     (void)db_->Query("ROLLBACK");  // a dead connection: the server rolled back already
     *retry = error.unique_violation;
-    return std::unexpected("session " + record.id + " (" + record.path + "): not stored: " +
-                           error.message);
+    return std::unexpected("session " + record.id + " (" + record.path +
+                           "): not stored: " + error.message);
   };
   if (auto begun = db_->BeginWrite(); !begun) return fail(begun.error());
   auto stored = db_->Query("SELECT content_sha256 FROM session WHERE id = $1", {record.id});
@@ -167,7 +168,8 @@ std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionR
     }
     status = ImportStatus::kReplaced;
     for (const char* table : {"warning", "limit_verdict", "parameter", "run"}) {
-      if (auto ok = run(std::string("DELETE FROM ") + table + " WHERE session_id = $1", {record.id});
+      if (auto ok =
+              run(std::string("DELETE FROM ") + table + " WHERE session_id = $1", {record.id});
           !ok)
         return fail(ok.error());
     }
@@ -179,26 +181,26 @@ std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionR
                     {record.serial, record.started_utc});
       !ok)
     return fail(ok.error());
-  if (auto ok = run("INSERT INTO session (id, serial, station, operator, software_version, "
-                    "station_sha256, sequence_sha256, limits_sha256, started_utc, ended_utc, "
-                    "outcome, reason, exit_code, complete_runs, path, content_sha256) VALUES ($1, "
-                    "$2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16)",
-                    {record.id, record.serial, record.station, record.operator_name,
-                     record.software_version, record.station_sha256, record.sequence_sha256,
-                     record.limits_sha256, record.started_utc, record.ended_utc, record.outcome,
-                     record.reason, Integer(record.exit_code), Integer(record.complete_runs),
-                     record.path, record.content_sha256});
+  if (auto ok = run(
+          "INSERT INTO session (id, serial, station, operator, software_version, "
+          "station_sha256, sequence_sha256, limits_sha256, started_utc, ended_utc, "
+          "outcome, reason, exit_code, complete_runs, path, content_sha256) VALUES ($1, "
+          "$2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16)",
+          {record.id, record.serial, record.station, record.operator_name, record.software_version,
+           record.station_sha256, record.sequence_sha256, record.limits_sha256, record.started_utc,
+           record.ended_utc, record.outcome, record.reason, Integer(record.exit_code),
+           Integer(record.complete_runs), record.path, record.content_sha256});
       !ok)
     return fail(ok.error());
   for (const RunRow& r : record.runs) {
-    if (auto ok = run("INSERT INTO run VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, "
-                      "$13, $14)",
-                      {record.id, Integer(r.run_id), r.status, Real(r.commanded_omega_rad_s),
-                       Real(r.free_run_s), Real(r.omega_rad_s), Real(r.omega_std_error_rad_s),
-                       Real(r.earth_rate_rad_s), Real(r.temperature_start_c),
-                       Real(r.temperature_end_c), Real(r.frequency_start_hz),
-                       Real(r.frequency_end_hz),
-                       r.samples ? Integer(*r.samples) : SqlValue(), Integer(r.drops)});
+    if (auto ok =
+            run("INSERT INTO run VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, "
+                "$13, $14)",
+                {record.id, Integer(r.run_id), r.status, Real(r.commanded_omega_rad_s),
+                 Real(r.free_run_s), Real(r.omega_rad_s), Real(r.omega_std_error_rad_s),
+                 Real(r.earth_rate_rad_s), Real(r.temperature_start_c), Real(r.temperature_end_c),
+                 Real(r.frequency_start_hz), Real(r.frequency_end_hz),
+                 r.samples ? Integer(*r.samples) : SqlValue(), Integer(r.drops)});
         !ok)
       return fail(ok.error());
   }

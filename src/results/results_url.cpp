@@ -22,12 +22,11 @@ std::string Lower(std::string_view text) {
 std::expected<ResultsUrl, std::string> ParseResultsUrl(std::string_view url) {
   if (url.empty()) return std::unexpected("results url is empty");
   if (url.size() > kMaxResultsUrlBytes) {
-    return std::unexpected("results url is " + std::to_string(url.size()) +
-                           " bytes; at most " + std::to_string(kMaxResultsUrlBytes));
+    return std::unexpected("results url is " + std::to_string(url.size()) + " bytes; at most " +
+                           std::to_string(kMaxResultsUrlBytes));
   }
   for (unsigned char c : url) {
-    if (c < 0x20 || c == 0x7f)
-      return std::unexpected("results url contains a control character");
+    if (c < 0x20 || c == 0x7f) return std::unexpected("results url contains a control character");
   }
   ResultsUrl parsed;
   parsed.text = std::string(url);
@@ -35,8 +34,9 @@ std::expected<ResultsUrl, std::string> ParseResultsUrl(std::string_view url) {
     parsed.engine = Engine::kSqlite;
     parsed.sqlite_path = std::string(url.substr(9));
     if (parsed.sqlite_path.empty() || parsed.sqlite_path.back() == '/') {
-      return std::unexpected("results url '" + parsed.text +
-                             "': no file name after sqlite:// (e.g. sqlite:///var/hrg/results.sqlite)");
+      return std::unexpected(
+          "results url '" + parsed.text +
+          "': no file name after sqlite:// (e.g. sqlite:///var/hrg/results.sqlite)");
     }
     if (parsed.sqlite_path.find('?') != std::string::npos) {
       return std::unexpected("results url '" + parsed.text +
@@ -53,7 +53,8 @@ std::expected<ResultsUrl, std::string> ParseResultsUrl(std::string_view url) {
     if (at != std::string_view::npos &&
         authority.substr(0, at).find(':') != std::string_view::npos) {
       return std::unexpected(
-          "results url '" + std::string(url.substr(0, url.find("://") + 3)) + "...': carries a "
+          "results url '" + std::string(url.substr(0, url.find("://") + 3)) +
+          "...': carries a "
           "password; credentials never go in a config file: use ~/.pgpass or PGPASSFILE, a "
           "service file (PGSERVICEFILE) or PGPASSWORD");
     }

@@ -31,7 +31,9 @@ const json* Path(const json& j, std::initializer_list<std::string_view> keys) {
   return at;
 }
 
-std::string Text(const json* j) { return (j != nullptr && j->is_string()) ? j->get<std::string>() : ""; }
+std::string Text(const json* j) {
+  return (j != nullptr && j->is_string()) ? j->get<std::string>() : "";
+}
 
 std::optional<double> Number(const json* j) {
   if (j == nullptr || !j->is_number()) return std::nullopt;
@@ -58,7 +60,8 @@ RunRow ReadRun(const json& run) {
   row.omega_std_error_rad_s = Number(Path(run, {"end", "omega_std_error_rad_s"}));
   row.earth_rate_rad_s = Number(Path(run, {"start", "earth_rate_rad_s"}));
   row.temperature_start_c = Number(Path(run, {"end", "temperature_start_c"}));
-  if (!row.temperature_start_c) row.temperature_start_c = Number(Path(run, {"start", "temperature_c"}));
+  if (!row.temperature_start_c)
+    row.temperature_start_c = Number(Path(run, {"start", "temperature_c"}));
   row.temperature_end_c = Number(Path(run, {"end", "temperature_end_c"}));
   row.frequency_start_hz = Number(Path(run, {"end", "frequency_start_hz"}));
   if (!row.frequency_start_hz)
@@ -66,8 +69,8 @@ RunRow ReadRun(const json& run) {
   row.frequency_end_hz = Number(Path(run, {"end", "frequency_end_hz"}));
   if (const json* samples = Path(run, {"end", "samples"}); samples && samples->is_number_integer())
     row.samples = samples->get<std::int64_t>();
-  row.drops = Count(Path(run, {"end", "sequence_gaps"})) + Count(Path(run, {"end", "kernel_drops"})) +
-              Count(Path(run, {"end", "bad_frames"}));
+  row.drops = Count(Path(run, {"end", "sequence_gaps"})) +
+              Count(Path(run, {"end", "kernel_drops"})) + Count(Path(run, {"end", "bad_frames"}));
   return row;
 }
 
@@ -94,8 +97,7 @@ void ReadEstimate(const json& estimate, SessionRecord& record) {
       const std::string name = Text(Child(quantity, "name"));
       if (name.empty()) continue;
       record.parameters.push_back({name, Number(Child(quantity, "value")),
-                                   Number(Child(quantity, "std")),
-                                   Text(Child(quantity, "unit"))});
+                                   Number(Child(quantity, "std")), Text(Child(quantity, "unit"))});
     }
   }
   if (const json* w = Child(estimate, "warnings"); w && w->is_array()) {

@@ -38,10 +38,10 @@ class SqliteConnection final : public SqlConnection {
     std::unique_ptr<sqlite3_stmt, decltype(&sqlite3_finalize)> stmt(raw, sqlite3_finalize);
     for (std::size_t i = 0; i < params.size(); ++i) {
       const int index = static_cast<int>(i + 1);
-      const int rc = params[i] ? sqlite3_bind_text(stmt.get(), index, params[i]->data(),
-                                                   static_cast<int>(params[i]->size()),
-                                                   SQLITE_TRANSIENT)
-                               : sqlite3_bind_null(stmt.get(), index);
+      const int rc = params[i]
+                         ? sqlite3_bind_text(stmt.get(), index, params[i]->data(),
+                                             static_cast<int>(params[i]->size()), SQLITE_TRANSIENT)
+                         : sqlite3_bind_null(stmt.get(), index);
       if (rc != SQLITE_OK) return std::unexpected(Error());
     }
     std::vector<SqlRow> rows;
@@ -92,12 +92,12 @@ std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const Resu
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   sqlite3* db = nullptr;
-  const int rc = sqlite3_open_v2(url.sqlite_path.c_str(), &db,
-                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                                 nullptr);
+  const int rc =
+      sqlite3_open_v2(url.sqlite_path.c_str(), &db,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
   if (rc != SQLITE_OK) {
-    std::string message = "sqlite '" + url.sqlite_path + "': cannot open: " +
-                          (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
+    std::string message = "sqlite '" + url.sqlite_path +
+                          "': cannot open: " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
     if (ec) message += " (creating its directory: " + ec.message() + ")";
     sqlite3_close_v2(db);
     return std::unexpected(message);
@@ -106,8 +106,8 @@ std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const Resu
   sqlite3_extended_result_codes(db, 1);
   auto connection = std::make_unique<SqliteConnection>(db, url.sqlite_path);
   // The first statement reads the header: a file that is not a database fails here, by name.
-  for (const char* pragma : {"PRAGMA journal_mode=WAL", "PRAGMA foreign_keys=ON",
-                             "PRAGMA synchronous=NORMAL"}) {
+  for (const char* pragma :
+       {"PRAGMA journal_mode=WAL", "PRAGMA foreign_keys=ON", "PRAGMA synchronous=NORMAL"}) {
     if (auto ok = connection->Query(pragma, {}); !ok)
       return std::unexpected(ok.error().message + " (" + pragma + ")");
   }

@@ -58,9 +58,12 @@ class PostgresServer {
   }
   // Immediate stop: open connections are cut, open transactions roll back on restart.
   void Stop() {
-    Run(std::string(kBin) + "/pg_ctl -D " + Data() + " -m immediate -w -t 120 stop > /dev/null 2>&1");
+    Run(std::string(kBin) + "/pg_ctl -D " + Data() +
+        " -m immediate -w -t 120 stop > /dev/null 2>&1");
   }
-  bool CreateDatabase(const std::string& name) { return Psql("postgres", "CREATE DATABASE " + name); }
+  bool CreateDatabase(const std::string& name) {
+    return Psql("postgres", "CREATE DATABASE " + name);
+  }
   // Runs one SQL command with psql as the superuser.
   bool Psql(const std::string& db, const std::string& sql) {
     return std::system(("psql -X -q -v ON_ERROR_STOP=1 -h " + dir_.string() +
@@ -75,8 +78,8 @@ class PostgresServer {
  private:
   std::string Data() const { return dir_.string() + "/data"; }
   bool Run(const std::string& command) {
-    const std::string full = ::geteuid() == 0 ? "runuser -u postgres -- sh -c '" + Escape(command) + "'"
-                                              : command;
+    const std::string full =
+        ::geteuid() == 0 ? "runuser -u postgres -- sh -c '" + Escape(command) + "'" : command;
     return std::system(full.c_str()) == 0;
   }
   static std::string Escape(const std::string& text) {  // inside '...'

@@ -2,9 +2,10 @@
 // Where a station's results go: the [results] url of a station file, or hrg-results --db.
 //
 //   sqlite:///abs/path/results.sqlite   an SQLite file (created with its parent directory when
-//   sqlite://relative/results.sqlite    absent); a relative path is taken from the current directory
-//   postgresql://host:port/db?opts       a PostgreSQL server, handed to libpq as written (so
-//   postgres://...                       sslmode, sslrootcert, service=..., host=/socket/dir work)
+//   sqlite://relative/results.sqlite    absent); a relative path is taken from the current
+//   directory postgresql://host:port/db?opts       a PostgreSQL server, handed to libpq as written
+//   (so postgres://...                       sslmode, sslrootcert, service=..., host=/socket/dir
+//   work)
 //
 // Credentials never live in a config file: a URL that carries a password ("user:secret@host" or a
 // "password=" option) is refused. libpq finds the password itself (PGPASSFILE or ~/.pgpass, a

@@ -73,7 +73,8 @@ struct SessionRecord {
 
 // Reads `dir`/session.json (bounded and validated by session::ReadSession, no run data loaded).
 // Errors (the message names the file and the key): unreadable, not a session, not closed (a
-// session still running or interrupted has no outcome yet: resume it first), a key of the wrong type.
+// session still running or interrupted has no outcome yet: resume it first), a key of the wrong
+// type.
 std::expected<SessionRecord, std::string> ReadSessionRecord(const std::filesystem::path& dir);
 
 }  // namespace hrgbench::results

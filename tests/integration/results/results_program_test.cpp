@@ -3,15 +3,14 @@
 // queries answer from what the bench recorded. Both engines: SQLite, and PostgreSQL with the server
 // down during the session. The station is station-sim.toml (faster than real time) with the paper's
 // sequence (5 runs of 10 s at 100 Hz).
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "postgres_server.hpp"
 #include "required_tool.hpp"
@@ -72,9 +71,9 @@ class ResultsProgram : public ::testing::Test {
   }
   Output Bench(const fs::path& station, const std::string& serial, const fs::path& session) {
     return RunCommand(kBin + "/hrg-bench run --station " + station.string() + " --sequence " +
-                   (kConfigs / "sequence-paper.toml").string() + " --serial " + serial + " -o " +
-                   session.string(),
-               dir_ / "bench.log");
+                          (kConfigs / "sequence-paper.toml").string() + " --serial " + serial +
+                          " -o " + session.string(),
+                      dir_ / "bench.log");
   }
   Output Results(const std::string& args) {
     return RunCommand(kBin + "/hrg-results " + args, dir_ / "results.log");
@@ -114,8 +113,8 @@ TEST_F(ResultsProgram, AnUnwritableDatabaseLeavesTheOutcomeAndSyncUploadsLater) 
   EXPECT_EQ(h[0]["values"]["delta1"], doc["outcome"]["estimate"]["delta"][0]);
   const Output stats = Results(db + " stats delta2 --csv");
   EXPECT_EQ(stats.exit_code, 0) << stats.out;
-  EXPECT_EQ(stats.out.rfind("period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\nall,1,", 0),
-            0u)
+  EXPECT_EQ(
+      stats.out.rfind("period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\nall,1,", 0), 0u)
       << stats.out;
   const Output exported = Results(db + " export");
   EXPECT_EQ(exported.exit_code, 0) << exported.out;

@@ -24,7 +24,8 @@ TEST(StationResults, AbsentMeansNoUploadAndTheShippedSimStationUsesSqliteUnderBu
   auto none = ParseStationConfig(kBase, "s.toml");
   ASSERT_TRUE(none.has_value()) << none.error().ToString();
   EXPECT_TRUE(none->results_url.empty());
-  auto shipped = LoadStationConfig(std::string(HRGBENCH_SOURCE_DIR) + "/bench_configs/station-sim.toml");
+  auto shipped =
+      LoadStationConfig(std::string(HRGBENCH_SOURCE_DIR) + "/bench_configs/station-sim.toml");
   ASSERT_TRUE(shipped.has_value()) << shipped.error().ToString();
   EXPECT_EQ(shipped->results_url, "sqlite://build/out/results.sqlite");
 }
@@ -53,8 +54,8 @@ TEST(StationResults, TyposAndUnknownKeysAreErrors) {
   ASSERT_FALSE(scheme.has_value());
   EXPECT_NE(scheme.error().message.find("unknown scheme"), std::string::npos)
       << scheme.error().ToString();
-  auto key = ParseStationConfig(kBase + "\n[results]\nurl = \"sqlite:///x.db\"\nuser = \"a\"\n",
-                                "s.toml");
+  auto key =
+      ParseStationConfig(kBase + "\n[results]\nurl = \"sqlite:///x.db\"\nuser = \"a\"\n", "s.toml");
   ASSERT_FALSE(key.has_value());
   EXPECT_EQ(key.error().key, "results.user");
   auto missing = ParseStationConfig(kBase + "\n[results]\n", "s.toml");

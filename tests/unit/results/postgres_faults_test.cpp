@@ -94,15 +94,17 @@ TEST_F(PostgresFaults, AStationRoleWithOnlyUploadRightsUploadsAndCannotAlterTheS
     ASSERT_TRUE(admin.has_value()) << admin.error();
   }
   // The role setup the README documents.
-  ASSERT_TRUE(server_.Psql("results",
-                           "CREATE ROLE station LOGIN; GRANT CONNECT ON DATABASE results TO station; "
-                           "GRANT USAGE ON SCHEMA public TO station; "
-                           "GRANT SELECT ON schema_version TO station; "
-                           "GRANT SELECT, INSERT, DELETE ON unit, session, run, parameter, "
-                           "limit_verdict, warning TO station"));
+  ASSERT_TRUE(
+      server_.Psql("results",
+                   "CREATE ROLE station LOGIN; GRANT CONNECT ON DATABASE results TO station; "
+                   "GRANT USAGE ON SCHEMA public TO station; "
+                   "GRANT SELECT ON schema_version TO station; "
+                   "GRANT SELECT, INSERT, DELETE ON unit, session, run, parameter, "
+                   "limit_verdict, warning TO station"));
   const fs::path session = dir_ / "s1";
   hrgbench::testing::WriteFixtureSession(session, FixtureSession{});
-  const results::UploadOutcome up = results::UploadSession(server_.Url("results", "station"), session);
+  const results::UploadOutcome up =
+      results::UploadSession(server_.Url("results", "station"), session);
   ASSERT_TRUE(up.uploaded) << up.reason;
   ASSERT_TRUE(server_.Psql("results", "DROP TABLE schema_version; DROP TABLE warning"));
   // A migration needs CREATE, which the station role lacks: refused, by name.

@@ -1,9 +1,12 @@
 // The results database against both real engines: SQLite (a file in a temporary directory) and
-// PostgreSQL (a server of Debian's postgresql-15 started per test process, support/postgres_server.hpp).
-// Sessions are fixture folders with known values (support/session_fixture.hpp), so every expected
-// answer below is derived by hand from the fixture's arguments.
-// Designated initialisers name only the filters a test sets; the rest are empty on purpose.
+// PostgreSQL (a server of Debian's postgresql-15 started per test process,
+// support/postgres_server.hpp). Sessions are fixture folders with known values
+// (support/session_fixture.hpp), so every expected answer below is derived by hand from the
+// fixture's arguments. Designated initialisers name only the filters a test sets; the rest are
+// empty on purpose.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include "hrgbench/results/results_store.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -13,10 +16,9 @@
 #include <set>
 #include <thread>
 
-#include "hrgbench/results/parameter_stats.hpp"
-#include "hrgbench/results/results_store.hpp"
-#include "hrgbench/results/upload.hpp"
 #include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/results/parameter_stats.hpp"
+#include "hrgbench/results/upload.hpp"
 #include "postgres_server.hpp"
 #include "required_tool.hpp"
 #include "session_fixture.hpp"
@@ -36,10 +38,12 @@ class ResultsStoreTest : public ::testing::TestWithParam<std::string> {
     dir_ = fs::temp_directory_path() / ("hrgbench-results-" + std::to_string(rd()));
     fs::create_directories(dir_);
     if (GetParam() == "sqlite") {
-      HRGBENCH_REQUIRE(std::system("which sqlite3 > /dev/null") == 0, "the sqlite3 command (sqlite3)");
+      HRGBENCH_REQUIRE(std::system("which sqlite3 > /dev/null") == 0,
+                       "the sqlite3 command (sqlite3)");
       url_ = "sqlite://" + (dir_ / "results.sqlite").string();
     } else {
-      HRGBENCH_REQUIRE(PostgresServer::Installed(), "PostgreSQL 15 server binaries (postgresql-15)");
+      HRGBENCH_REQUIRE(PostgresServer::Installed(),
+                       "PostgreSQL 15 server binaries (postgresql-15)");
       server_ = std::make_unique<PostgresServer>();
       ASSERT_TRUE(server_->Start()) << server_->error();
       ASSERT_TRUE(server_->CreateDatabase("results"));
@@ -65,8 +69,9 @@ class ResultsStoreTest : public ::testing::TestWithParam<std::string> {
   // Runs one SQL statement outside the store (to set up what the program must refuse).
   bool RawSql(const std::string& sql) {
     if (GetParam() == "sqlite") {
-      return std::system(("sqlite3 " + (dir_ / "results.sqlite").string() + " \"" + sql + "\"")
-                             .c_str()) == 0;
+      return std::system(
+                 ("sqlite3 " + (dir_ / "results.sqlite").string() + " \"" + sql + "\"").c_str()) ==
+             0;
     }
     return server_->Psql("results", sql);
   }
@@ -172,7 +177,7 @@ TEST_P(ResultsStoreTest, SessionsHistoryAndFiltersAnswerFromKnownSessions) {
   EXPECT_EQ(count({}), 12u);
   EXPECT_EQ(count({.since_utc = "2026-11-09"}), 5u);  // days 9..13: i = 7..11
   EXPECT_EQ(count({.station = "st-a"}), 6u);
-  EXPECT_EQ(count({.outcome = "FAIL"}), 3u);         // i = 3, 7, 11
+  EXPECT_EQ(count({.outcome = "FAIL"}), 3u);          // i = 3, 7, 11
   EXPECT_EQ(count({.serial_like = "sn-000_"}), 12u);  // case-insensitive
   EXPECT_EQ(count({.serial_like = "%2"}), 3u);
   EXPECT_EQ(count({.station = "st-b", .outcome = "FAIL"}), 3u);
@@ -191,7 +196,8 @@ TEST_P(ResultsStoreTest, StatsGiveMeanStdYieldCpCpkAndTheWeeklyTrend) {
   auto store = Open();
   ASSERT_NE(store, nullptr);
   for (int i = 0; i < 12; ++i)
-    ASSERT_TRUE(results::UploadSession(*store, Write("s" + std::to_string(i), Line::Session(i))).uploaded);
+    ASSERT_TRUE(
+        results::UploadSession(*store, Write("s" + std::to_string(i), Line::Session(i))).uploaded);
   auto samples = store->ParameterValues("delta1", {});
   ASSERT_TRUE(samples.has_value()) << samples.error();
   const results::ParameterStats st = results::ComputeParameterStats("delta1", *samples);
@@ -285,7 +291,8 @@ TEST_P(ResultsStoreTest, ConcurrentUploadersLoseAndDoubleNothing) {
         return;
       }
       for (int k = 0; k < per_station; ++k) {
-        auto up = results::UploadSession(**store, dirs[static_cast<std::size_t>(s * per_station + k)]);
+        auto up =
+            results::UploadSession(**store, dirs[static_cast<std::size_t>(s * per_station + k)]);
         if (!up.uploaded) ++failures;
       }
     });
@@ -309,6 +316,8 @@ TEST_P(ResultsStoreTest, ConcurrentUploadersLoseAndDoubleNothing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, ResultsStoreTest, ::testing::Values("sqlite", "postgres"),
-                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
+                         [](const ::testing::TestParamInfo<std::string>& engine) {
+                           return engine.param;
+                         });
 
 }  // namespace

@@ -1,11 +1,12 @@
 // What a station file's [results] url may say, and what a bad database looks like to the user.
+#include "hrgbench/results/results_url.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <random>
 
 #include "hrgbench/results/results_store.hpp"
-#include "hrgbench/results/results_url.hpp"
 
 namespace {
 
