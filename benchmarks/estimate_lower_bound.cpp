@@ -157,9 +157,10 @@ int main(int argc, char** argv) {
   row("**bound**: read + 5 kernel passes", bound_ms);
   row("estimate, 1 thread (ML defaults)", one_thread_ms);
   row("estimate, all threads", all_threads_ms);
-  std::printf("\nWhole process (read + estimate, 1 thread) / bound: **%.1f×**; with all threads: "
-              "%.1f×.\n",
-              (read_ms + one_thread_ms) / bound_ms, (read_ms + all_threads_ms) / bound_ms);
+  std::printf(
+      "\nWhole process (read + estimate, 1 thread) / bound: **%.1f×**; with all threads: "
+      "%.1f×.\n",
+      (read_ms + one_thread_ms) / bound_ms, (read_ms + all_threads_ms) / bound_ms);
   fs::remove_all(dir);
   return 0;
 }

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string_view>
 
 #include "hrgbench/config_file/sha256.hpp"
@@ -167,6 +168,11 @@ std::expected<SessionRecord, std::string> ReadSessionRecord(const std::filesyste
                                Text(Child(limit, "message"))});
     }
   }
+  // One row per name: a name the record lists twice (a hand-edited file) keeps its first value,
+  // as a reader of the folder would see it first.
+  std::set<std::string> seen;
+  std::erase_if(record.parameters,
+                [&](const ParameterRow& p) { return !seen.insert(p.name).second; });
   document.erase("results");
   record.content_sha256 = config_file::Sha256Hex(document.dump(2) + "\n");
   return record;

@@ -243,6 +243,32 @@ TEST_P(ResultsStoreTest, SqlInSerialAndOperatorIsStoredAsText) {
   EXPECT_EQ(rows->front().operator_name, f.operator_name);
 }
 
+TEST_P(ResultsStoreTest, NonAsciiTextRoundTripsAndBytesThatAreNotUtf8AreRefusedByName) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession f;
+  f.serial = "SN-\u00dcml\u00e4ut-\u65e5\u672c";  // UTF-8: Ü, ä, 日本
+  f.operator_name = "J\u00f8rgen \u00c5str\u00f6m";
+  ASSERT_TRUE(results::UploadSession(*store, Write("utf8", f)).uploaded);
+  auto rows = store->Sessions({.serial = f.serial});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 1u);
+  EXPECT_EQ(rows->front().serial, f.serial);
+  EXPECT_EQ(rows->front().operator_name, f.operator_name);
+  // session.json is JSON, which is UTF-8: a serial with a byte 0xFF is not a session (the reader
+  // names the file); nothing is written.
+  const fs::path bad = dir_ / "sessions" / "latin1";
+  fs::create_directories(bad);
+  std::string text = hrgbench::testing::FixtureDocument(FixtureSession{}).dump(2);
+  text.replace(text.find("SN-0001"), 7, std::string("SN-") + char(0xff) + "01");
+  std::ofstream(bad / "session.json") << text;
+  const results::UploadOutcome refused = results::UploadSession(*store, bad);
+  EXPECT_FALSE(refused.uploaded);
+  EXPECT_NE(refused.reason.find((bad / "session.json").string()), std::string::npos)
+      << refused.reason;
+  EXPECT_EQ(store->Sessions({})->size(), 1u);
+}
+
 TEST_P(ResultsStoreTest, ANewerSchemaIsRefusedAndNothingWritten) {
   {
     auto store = Open();
