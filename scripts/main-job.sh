@@ -19,6 +19,7 @@ for tool in hrg-bench hrg-sim hrg-compare; do
   fi
 done
 mkdir -p "$build/out"
+cd "$root"  # station-sim.toml's [results] url is relative: build/out/results.sqlite
 
 session="$build/out/session-SIM-0001-$(date -u +%Y%m%dT%H%M%SZ)"
 echo "== bench session on the simulated station =="
@@ -26,6 +27,11 @@ status=0
 "$bin/hrg-bench" run --station "$configs/station-sim.toml" \
   --sequence "$configs/sequence-production.toml" --limits "$configs/limits-example.toml" \
   --serial SIM-0001 -o "$session" || status=$?
+if [ -x "$bin/hrg-results" ]; then
+  echo
+  echo "== the unit's history in the results database (build/out/results.sqlite) =="
+  "$bin/hrg-results" --station "$configs/station-sim.toml" history SIM-0001 || true
+fi
 
 echo
 echo "== the paper's experiment: its methods against maximum likelihood =="

@@ -22,6 +22,9 @@ packages=(
   chromium-driver          # the browser test drives Chromium (tests/integration/report_browser)
   python3-selenium         # the browser test's WebDriver client (Debian's /usr/bin/python3)
   poppler-utils            # the browser test checks the report's PDF (pdfinfo, pdftotext)
+  libsqlite3-dev sqlite3   # results database (src/results): SQLite engine; sqlite3 in its tests
+  libpq-dev                # results database: PostgreSQL engine (libpq)
+  postgresql-15            # results tests and benchmark: a throwaway server (initdb, pg_ctl)
 )
 
 missing=()

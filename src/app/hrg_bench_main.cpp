@@ -22,6 +22,7 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
+#include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
@@ -183,7 +184,10 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
       resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
-  return Report(result, json, WriteReport(result));
+  const std::string report_path = WriteReport(result);
+  // After the folder is complete (record closed, report written); never changes the outcome.
+  app::UploadClosedSession(configs.station.results_url, result.dir);
+  return Report(result, json, report_path);
 }
 
 }  // namespace

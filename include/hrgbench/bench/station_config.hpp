@@ -167,6 +167,9 @@ struct StationConfig {
   TableLinkConfig table;
   SimulatedStationConfig simulated;  // meaningful only for kind = kSimulated
   RealtimeConfig realtime;
+  // [results] url: where hrg-bench uploads each closed session (results/results_url.hpp:
+  // "sqlite:///path" or "postgresql://host/db", never a password). Empty: no upload.
+  std::string results_url;
 };
 
 std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(

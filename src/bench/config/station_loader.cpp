@@ -13,6 +13,7 @@
 #include "hrgbench/config_file/config_bounds.hpp"
 #include "hrgbench/config_file/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/results/results_url.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -424,7 +425,21 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     station.realtime = *rt;
   }
 
-  HRG_CHECK(root.Unknown("[station], [site], [gyro], [table], [simulated], [realtime]"));
+  HRG_TRY(results_table, SubTable(root, "results", false));
+  if (*results_table != nullptr) {
+    TableReader reader(**results_table, "results", source);
+    HRG_TRY(url, RequiredString(reader, "url"));
+    if (auto parsed = results::ParseResultsUrl(*url); !parsed) {
+      ConfigError error = reader.Error(*reader.table().get("url"), "url", parsed.error());
+      // Never echo a password into a log: the message says what is wrong without the value.
+      if (parsed.error().find("password") != std::string::npos) error.value = "(not shown)";
+      return std::unexpected(std::move(error));
+    }
+    station.results_url = *url;
+    HRG_CHECK(reader.Unknown("url"));
+  }
+
+  HRG_CHECK(root.Unknown("[station], [site], [gyro], [table], [simulated], [realtime], [results]"));
   return station;
 }
 

@@ -1,0 +1,133 @@
+#pragma once
+// The results database: the index a production line works from. Session folders stay the complete
+// raw record; the store holds per session its unit, station, operator, software version, config
+// hashes, times, outcome and reason, folder path and content hash (session), per run the plan,
+// measured Ω and its standard error, Earth rate, temperature and frequency drift, samples, drops
+// and status (run), the estimated δ, ξ and engineering quantities with their std and unit
+// (parameter), the limit verdicts (limit_verdict) and the warnings (warning).
+//
+// One interface, two engines (results_url.hpp): SQLite (a file beside the sessions) and PostgreSQL
+// (one server for a line). The SQL is the same for both; only the connection differs.
+//
+// Schema versions: the program carries migrations 1..kSchemaVersion and applies the missing ones
+// when it opens a database (in one exclusive transaction, so two stations opening a new database at
+// once do not race). A database whose version is newer than the program's is refused before
+// anything is written ("upgrade hrg-bench/hrg-results").
+//
+// Import is one transaction and idempotent: the session's stable id (session_record.hpp) is the
+// key; a session already stored with the same content hash is left as it is (kUnchanged); with a
+// different hash (a resumed session, closed again) its rows are replaced (kReplaced). A failed
+// import (server gone, disk full) leaves no partial rows: the transaction rolls back.
+//
+// Threads: one ResultsStore per thread. Several processes (stations) may write at once: SQLite
+// queues writers (busy timeout 30 s), PostgreSQL runs them concurrently; a duplicate-key race on
+// the same session is retried. Never throws (except std::bad_alloc); errors are values naming the
+// database and what failed.
+
+#include <cstdint>
+#include <expected>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hrgbench/results/results_url.hpp"
+#include "hrgbench/results/session_record.hpp"
+
+namespace hrgbench::results {
+
+namespace internal {
+class SqlConnection;
+}
+
+// The schema this program writes and reads.
+inline constexpr int kSchemaVersion = 1;
+
+enum class ImportStatus { kInserted, kReplaced, kUnchanged };
+const char* ToString(ImportStatus status);
+
+// Filters shared by the queries; empty means "any".
+struct SessionFilter {
+  std::string since_utc;    // started_utc >= this (ISO 8601 prefix: "2026-11", "2026-11-23")
+  std::string station;      // exact station name
+  std::string outcome;      // PASS, FAIL, ERROR, ABORTED
+  std::string serial_like;  // SQL LIKE pattern on the serial (% and _), case-insensitive
+  std::string serial;       // exact serial
+};
+
+struct SessionSummary {
+  std::string id, serial, station, operator_name, software_version;
+  std::string started_utc, ended_utc, outcome, reason, path, content_sha256;
+  int exit_code = 0;
+  int complete_runs = 0;
+};
+
+// One parameter's value in one session, with the limit verdict of that session on it (if any).
+struct ParameterSample {
+  std::string session_id, serial, station, started_utc;
+  double value = 0.0;
+  std::optional<double> std;
+  std::string unit;
+  std::string limit_status;  // "" when the session had no limit on it
+  std::optional<double> limit_min, limit_max;
+};
+
+// A session with every parameter it stored (name → value; undetermined ones absent).
+struct SessionWithParameters {
+  SessionSummary session;
+  std::map<std::string, double> values;
+};
+
+struct OpenOptions {
+  int sqlite_busy_timeout_ms = 30'000;  // a queued writer waits this long for the lock
+  bool migrate = true;                  // false: refuse an older schema instead of migrating it
+};
+
+// Test seam: called before each statement of an import with its 0-based index, so a test can stop
+// the server in the middle of an upload. Empty in production.
+using ImportProbe = std::function<void(int statement)>;
+
+class ResultsStore {
+ public:
+  static std::expected<std::unique_ptr<ResultsStore>, std::string> Open(
+      const ResultsUrl& url, const OpenOptions& options = {});
+  // Parses `url` first (results_url.hpp).
+  static std::expected<std::unique_ptr<ResultsStore>, std::string> Open(
+      std::string_view url, const OpenOptions& options = {});
+  ~ResultsStore();
+  ResultsStore(const ResultsStore&) = delete;
+  ResultsStore& operator=(const ResultsStore&) = delete;
+
+  Engine engine() const;
+  const std::string& url() const { return url_; }
+
+  // Writes `record` (see the contract above).
+  std::expected<ImportStatus, std::string> Import(const SessionRecord& record,
+                                                  const ImportProbe& probe = {});
+  // The stored content hash of session `id`, nullopt when the session is not stored.
+  std::expected<std::optional<std::string>, std::string> StoredContentHash(const std::string& id);
+
+  // Sessions matching `filter`, oldest first.
+  std::expected<std::vector<SessionSummary>, std::string> Sessions(const SessionFilter& filter);
+  // Values of parameter `name` in the sessions matching `filter`, oldest first.
+  std::expected<std::vector<ParameterSample>, std::string> ParameterValues(
+      const std::string& name, const SessionFilter& filter);
+  // Sessions matching `filter` with all their parameters, oldest first (history, export).
+  std::expected<std::vector<SessionWithParameters>, std::string> SessionsWithParameters(
+      const SessionFilter& filter);
+  // Warnings of one session, in recorded order.
+  std::expected<std::vector<std::string>, std::string> Warnings(const std::string& session_id);
+
+ private:
+  ResultsStore(std::unique_ptr<internal::SqlConnection> connection, std::string url);
+  std::expected<void, std::string> Migrate(const OpenOptions& options);
+  std::expected<ImportStatus, std::string> ImportOnce(const SessionRecord& record,
+                                                      const ImportProbe& probe, bool* retry);
+
+  std::unique_ptr<internal::SqlConnection> db_;
+  std::string url_;
+};
+
+}  // namespace hrgbench::results

@@ -1,0 +1,130 @@
+// The line's questions as SQL: one statement each, filters bound as parameters.
+
+#include "hrgbench/results/results_store.hpp"
+#include "results/sql_connection.hpp"
+#include "results/sql_values.hpp"
+
+namespace hrgbench::results {
+namespace {
+
+using internal::SqlRow;
+using internal::SqlValue;
+using internal::ToText;
+
+constexpr const char* kSessionColumns =
+    "s.id, s.serial, s.station, s.operator, s.software_version, s.started_utc, s.ended_utc, "
+    "s.outcome, s.reason, s.path, s.content_sha256, s.exit_code, s.complete_runs";
+constexpr std::size_t kSessionColumnCount = 13;
+
+// " WHERE ..." for `filter` on the session alias s, appending its parameters to `params`.
+std::string Where(const SessionFilter& filter, std::vector<SqlValue>& params,
+                  std::string extra = "") {
+  std::string where = std::move(extra);
+  auto add = [&](const std::string& condition, const std::string& value) {
+    params.push_back(value);
+    where += (where.empty() ? "" : " AND ") + condition + "$" + std::to_string(params.size());
+  };
+  if (!filter.since_utc.empty()) add("s.started_utc >= ", filter.since_utc);
+  if (!filter.station.empty()) add("s.station = ", filter.station);
+  if (!filter.outcome.empty()) add("s.outcome = ", filter.outcome);
+  if (!filter.serial.empty()) add("s.serial = ", filter.serial);
+  if (!filter.serial_like.empty()) {
+    params.push_back(filter.serial_like);
+    where += (where.empty() ? "" : " AND ") + std::string("lower(s.serial) LIKE lower($") +
+             std::to_string(params.size()) + ")";
+  }
+  return where.empty() ? "" : " WHERE " + where;
+}
+
+SessionSummary ToSummary(const SqlRow& row) {
+  SessionSummary s;
+  s.id = ToText(row[0]);
+  s.serial = ToText(row[1]);
+  s.station = ToText(row[2]);
+  s.operator_name = ToText(row[3]);
+  s.software_version = ToText(row[4]);
+  s.started_utc = ToText(row[5]);
+  s.ended_utc = ToText(row[6]);
+  s.outcome = ToText(row[7]);
+  s.reason = ToText(row[8]);
+  s.path = ToText(row[9]);
+  s.content_sha256 = ToText(row[10]);
+  s.exit_code = static_cast<int>(internal::ToInteger(row[11]));
+  s.complete_runs = static_cast<int>(internal::ToInteger(row[12]));
+  return s;
+}
+
+}  // namespace
+
+std::expected<std::vector<SessionSummary>, std::string> ResultsStore::Sessions(
+    const SessionFilter& filter) {
+  std::vector<SqlValue> params;
+  const std::string sql = std::string("SELECT ") + kSessionColumns + " FROM session s" +
+                          Where(filter, params) + " ORDER BY s.started_utc, s.id";
+  auto rows = db_->Query(sql, params);
+  if (!rows) return std::unexpected(rows.error().message);
+  std::vector<SessionSummary> out;
+  out.reserve(rows->size());
+  for (const SqlRow& row : *rows) out.push_back(ToSummary(row));
+  return out;
+}
+
+std::expected<std::vector<ParameterSample>, std::string> ResultsStore::ParameterValues(
+    const std::string& name, const SessionFilter& filter) {
+  std::vector<SqlValue> params{name};
+  const std::string sql =
+      "SELECT s.id, s.serial, s.station, s.started_utc, p.value, p.std, p.unit, l.status, l.min, "
+      "l.max FROM parameter p JOIN session s ON s.id = p.session_id LEFT JOIN limit_verdict l ON "
+      "l.session_id = p.session_id AND l.quantity = p.name" +
+      Where(filter, params, "p.name = $1 AND p.value IS NOT NULL") +
+      " ORDER BY s.started_utc, s.id";
+  auto rows = db_->Query(sql, params);
+  if (!rows) return std::unexpected(rows.error().message);
+  std::vector<ParameterSample> out;
+  out.reserve(rows->size());
+  for (const SqlRow& row : *rows) {
+    ParameterSample p;
+    p.session_id = ToText(row[0]);
+    p.serial = ToText(row[1]);
+    p.station = ToText(row[2]);
+    p.started_utc = ToText(row[3]);
+    p.value = internal::ToReal(row[4]).value_or(0.0);
+    p.std = internal::ToReal(row[5]);
+    p.unit = ToText(row[6]);
+    p.limit_status = ToText(row[7]);
+    p.limit_min = internal::ToReal(row[8]);
+    p.limit_max = internal::ToReal(row[9]);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::SessionsWithParameters(
+    const SessionFilter& filter) {
+  std::vector<SqlValue> params;
+  const std::string sql = std::string("SELECT ") + kSessionColumns +
+                          ", p.name, p.value FROM session s LEFT JOIN parameter p ON p.session_id "
+                          "= s.id" +
+                          Where(filter, params) + " ORDER BY s.started_utc, s.id";
+  auto rows = db_->Query(sql, params);
+  if (!rows) return std::unexpected(rows.error().message);
+  std::vector<SessionWithParameters> out;
+  for (const SqlRow& row : *rows) {
+    if (out.empty() || out.back().session.id != ToText(row[0])) out.push_back({ToSummary(row), {}});
+    const auto value = internal::ToReal(row[kSessionColumnCount + 1]);
+    if (row[kSessionColumnCount] && value) out.back().values[*row[kSessionColumnCount]] = *value;
+  }
+  return out;
+}
+
+std::expected<std::vector<std::string>, std::string> ResultsStore::Warnings(
+    const std::string& session_id) {
+  auto rows =
+      db_->Query("SELECT text FROM warning WHERE session_id = $1 ORDER BY seq", {session_id});
+  if (!rows) return std::unexpected(rows.error().message);
+  std::vector<std::string> out;
+  for (const SqlRow& row : *rows) out.push_back(ToText(row[0]));
+  return out;
+}
+
+}  // namespace hrgbench::results

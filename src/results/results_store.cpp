@@ -1,0 +1,232 @@
+// Opening (with migrations) and importing. The queries are in results_queries.cpp.
+
+#include "hrgbench/results/results_store.hpp"
+
+#include "results/schema.hpp"
+#include "results/sql_connection.hpp"
+#include "results/sql_values.hpp"
+
+namespace hrgbench::results {
+namespace {
+
+using internal::Integer;
+using internal::Real;
+using internal::SqlConnection;
+using internal::SqlValue;
+
+// The version stored in the database; 0 for a database without the table (a new file).
+std::expected<int, std::string> StoredVersion(SqlConnection& db) {
+  const char* exists_sql =
+      db.engine() == Engine::kSqlite
+          ? "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'schema_version'"
+          : "SELECT count(*) FROM pg_catalog.pg_tables WHERE tablename = 'schema_version' AND "
+            "schemaname = current_schema()";
+  auto exists = db.Query(exists_sql);
+  if (!exists) return std::unexpected(exists.error().message);
+  if (exists->empty() || internal::ToInteger((*exists)[0][0]) == 0) return 0;
+  auto version = db.Query("SELECT max(version) FROM schema_version");
+  if (!version) return std::unexpected(version.error().message);
+  if (version->empty()) return 0;
+  return static_cast<int>(internal::ToInteger((*version)[0][0]));
+}
+
+std::string NewerMessage(const std::string& url, int stored) {
+  return "results database '" + url + "' has schema version " + std::to_string(stored) +
+         ", newer than this program's " + std::to_string(kSchemaVersion) +
+         ": nothing written; upgrade hrg-bench/hrg-results to use it";
+}
+
+}  // namespace
+
+const char* ToString(ImportStatus status) {
+  switch (status) {
+    case ImportStatus::kInserted:
+      return "inserted";
+    case ImportStatus::kReplaced:
+      return "replaced";
+    case ImportStatus::kUnchanged:
+      return "unchanged";
+  }
+  return "?";
+}
+
+ResultsStore::ResultsStore(std::unique_ptr<internal::SqlConnection> connection, std::string url)
+    : db_(std::move(connection)), url_(std::move(url)) {}
+ResultsStore::~ResultsStore() = default;
+
+Engine ResultsStore::engine() const { return db_->engine(); }
+
+std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
+    std::string_view url, const OpenOptions& options) {
+  auto parsed = ParseResultsUrl(url);
+  if (!parsed) return std::unexpected(parsed.error());
+  return Open(*parsed, options);
+}
+
+std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
+    const ResultsUrl& url, const OpenOptions& options) {
+  auto connection = url.engine == Engine::kSqlite
+                        ? internal::OpenSqlite(url, options.sqlite_busy_timeout_ms)
+                        : internal::OpenPostgres(url);
+  if (!connection) return std::unexpected(connection.error());
+  std::unique_ptr<ResultsStore> store(new ResultsStore(std::move(*connection), url.text));
+  if (auto ok = store->Migrate(options); !ok) return std::unexpected(ok.error());
+  return store;
+}
+
+std::expected<void, std::string> ResultsStore::Migrate(const OpenOptions& options) {
+  // Read first, without a write lock: the common case (current schema) writes nothing, and a
+  // newer schema is refused before anything is written.
+  auto stored = StoredVersion(*db_);
+  if (!stored) return std::unexpected(stored.error());
+  if (*stored > kSchemaVersion) return std::unexpected(NewerMessage(url_, *stored));
+  if (*stored == kSchemaVersion) return {};
+  if (!options.migrate) {
+    return std::unexpected("results database '" + url_ + "' has schema version " +
+                           std::to_string(*stored) + ", older than this program's " +
+                           std::to_string(kSchemaVersion) + " (open it once to migrate)");
+  }
+  if (auto begun = db_->BeginExclusive(); !begun) return std::unexpected(begun.error().message);
+  auto fail = [&](const std::string& message) -> std::expected<void, std::string> {
+    (void)db_->Query("ROLLBACK");
+    return std::unexpected("results database '" + url_ + "': migration failed: " + message);
+  };
+  // Again under the lock: another station may have migrated meanwhile.
+  auto locked = StoredVersion(*db_);
+  if (!locked) return fail(locked.error());
+  if (*locked > kSchemaVersion) {
+    (void)db_->Query("ROLLBACK");
+    return std::unexpected(NewerMessage(url_, *locked));
+  }
+  if (*locked == 0) {
+    if (auto ok = db_->Query("CREATE TABLE schema_version (version BIGINT PRIMARY KEY, "
+                             "applied_utc TEXT NOT NULL)");
+        !ok)
+      return fail(ok.error().message);
+  }
+  const auto& migrations = internal::Migrations();
+  for (int version = *locked + 1; version <= kSchemaVersion; ++version) {
+    for (std::string_view statement : migrations[static_cast<std::size_t>(version - 1)]) {
+      if (auto ok = db_->Query(std::string(statement)); !ok) return fail(ok.error().message);
+    }
+    const char* now_sql =
+        db_->engine() == Engine::kSqlite
+            ? "INSERT INTO schema_version VALUES ($1, strftime('%Y-%m-%dT%H:%M:%SZ','now'))"
+            : "INSERT INTO schema_version VALUES ($1, to_char(now() AT TIME ZONE "
+              "'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"'))";
+    if (auto ok = db_->Query(now_sql, {Integer(version)}); !ok) return fail(ok.error().message);
+  }
+  if (auto ok = db_->Query("COMMIT"); !ok) return fail(ok.error().message);
+  return {};
+}
+
+std::expected<std::optional<std::string>, std::string> ResultsStore::StoredContentHash(
+    const std::string& id) {
+  auto rows = db_->Query("SELECT content_sha256 FROM session WHERE id = $1", {id});
+  if (!rows) return std::unexpected(rows.error().message);
+  if (rows->empty()) return std::optional<std::string>();
+  return std::optional<std::string>(internal::ToText((*rows)[0][0]));
+}
+
+std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRecord& record,
+                                                              const ImportProbe& probe) {
+  // A duplicate key means another writer stored the same session between our check and our
+  // insert; the second attempt then sees it (unchanged, or replaces it).
+  constexpr int kAttempts = 3;
+  for (int attempt = 1;; ++attempt) {
+    bool retry = false;
+    auto status = ImportOnce(record, probe, &retry);
+    if (status || !retry || attempt == kAttempts) return status;
+  }
+}
+
+std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionRecord& record,
+                                                                  const ImportProbe& probe,
+                                                                  bool* retry) {
+  int statement = 0;
+  auto run = [&](const std::string& sql,
+                 const std::vector<SqlValue>& params) -> std::expected<void, internal::SqlError> {
+    if (probe) probe(statement);
+    ++statement;
+    if (auto ok = db_->Query(sql, params); !ok) return std::unexpected(ok.error());
+    return {};
+  };
+  auto fail = [&](const internal::SqlError& error) -> std::expected<ImportStatus, std::string> {
+    (void)db_->Query("ROLLBACK");  // a dead connection: the server rolled back already
+    *retry = error.unique_violation;
+    return std::unexpected("session " + record.id + " (" + record.path +
+                           "): not stored: " + error.message);
+  };
+  if (auto begun = db_->BeginWrite(); !begun) return fail(begun.error());
+  auto stored = db_->Query("SELECT content_sha256 FROM session WHERE id = $1", {record.id});
+  if (!stored) return fail(stored.error());
+  ImportStatus status = ImportStatus::kInserted;
+  if (!stored->empty()) {
+    if (internal::ToText((*stored)[0][0]) == record.content_sha256) {
+      (void)db_->Query("ROLLBACK");
+      return ImportStatus::kUnchanged;
+    }
+    status = ImportStatus::kReplaced;
+    for (const char* table : {"warning", "limit_verdict", "parameter", "run"}) {
+      if (auto ok =
+              run(std::string("DELETE FROM ") + table + " WHERE session_id = $1", {record.id});
+          !ok)
+        return fail(ok.error());
+    }
+    if (auto ok = run("DELETE FROM session WHERE id = $1", {record.id}); !ok)
+      return fail(ok.error());
+  }
+  if (auto ok = run("INSERT INTO unit (serial, first_seen_utc) VALUES ($1, $2) ON CONFLICT "
+                    "(serial) DO NOTHING",
+                    {record.serial, record.started_utc});
+      !ok)
+    return fail(ok.error());
+  if (auto ok = run(
+          "INSERT INTO session (id, serial, station, operator, software_version, "
+          "station_sha256, sequence_sha256, limits_sha256, started_utc, ended_utc, "
+          "outcome, reason, exit_code, complete_runs, path, content_sha256) VALUES ($1, "
+          "$2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16)",
+          {record.id, record.serial, record.station, record.operator_name, record.software_version,
+           record.station_sha256, record.sequence_sha256, record.limits_sha256, record.started_utc,
+           record.ended_utc, record.outcome, record.reason, Integer(record.exit_code),
+           Integer(record.complete_runs), record.path, record.content_sha256});
+      !ok)
+    return fail(ok.error());
+  for (const RunRow& r : record.runs) {
+    if (auto ok =
+            run("INSERT INTO run VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, "
+                "$13, $14)",
+                {record.id, Integer(r.run_id), r.status, Real(r.commanded_omega_rad_s),
+                 Real(r.free_run_s), Real(r.omega_rad_s), Real(r.omega_std_error_rad_s),
+                 Real(r.earth_rate_rad_s), Real(r.temperature_start_c), Real(r.temperature_end_c),
+                 Real(r.frequency_start_hz), Real(r.frequency_end_hz),
+                 r.samples ? Integer(*r.samples) : SqlValue(), Integer(r.drops)});
+        !ok)
+      return fail(ok.error());
+  }
+  for (const ParameterRow& p : record.parameters) {
+    if (auto ok = run("INSERT INTO parameter VALUES ($1, $2, $3, $4, $5)",
+                      {record.id, p.name, Real(p.value), Real(p.std), p.unit});
+        !ok)
+      return fail(ok.error());
+  }
+  for (std::size_t i = 0; i < record.limits.size(); ++i) {
+    const LimitRow& l = record.limits[i];
+    if (auto ok = run("INSERT INTO limit_verdict VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9)",
+                      {record.id, Integer(static_cast<std::int64_t>(i)), l.quantity, Real(l.min),
+                       Real(l.max), Real(l.value), Real(l.std), l.status, l.message});
+        !ok)
+      return fail(ok.error());
+  }
+  for (std::size_t i = 0; i < record.warnings.size(); ++i) {
+    if (auto ok = run("INSERT INTO warning VALUES ($1, $2, $3)",
+                      {record.id, Integer(static_cast<std::int64_t>(i)), record.warnings[i]});
+        !ok)
+      return fail(ok.error());
+  }
+  if (probe) probe(statement);
+  if (auto ok = db_->Query("COMMIT"); !ok) return fail(ok.error());
+  return status;
+}
+
+}  // namespace hrgbench::results

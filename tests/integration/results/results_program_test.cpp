@@ -1,0 +1,160 @@
+// hrg-bench and hrg-results as a station meets them: a session whose database cannot be written
+// ends with its own outcome and the mark "not uploaded"; `hrg-results sync` uploads it later; the
+// queries answer from what the bench recorded. Both engines: SQLite, and PostgreSQL with the server
+// down during the session. The station is station-sim.toml (faster than real time) with the paper's
+// sequence (5 runs of 10 s at 100 Hz).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "postgres_server.hpp"
+#include "required_tool.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hrgbench::testing::PostgresServer;
+
+const std::string kBin = HRGBENCH_BIN_DIR;
+const fs::path kConfigs = fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
+
+struct Output {
+  int exit_code = -1;
+  std::string out;
+};
+
+Output RunCommand(const std::string& command, const fs::path& log) {
+  const int status = std::system((command + " > " + log.string() + " 2>&1").c_str());
+  Output o;
+  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  o.out = text.str();
+  return o;
+}
+
+nlohmann::json ReadJson(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+class ResultsProgram : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device rd;
+    dir_ = fs::temp_directory_path() / ("hrgbench-resprog-" + std::to_string(rd()));
+    fs::create_directories(dir_ / "sessions");
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  // station-sim.toml with its [results] url replaced.
+  fs::path Station(const std::string& url) {
+    std::ifstream in(kConfigs / "station-sim.toml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string toml = text.str();
+    const std::string shipped = "url = \"sqlite://build/out/results.sqlite\"";
+    const std::size_t at = toml.find(shipped);
+    EXPECT_NE(at, std::string::npos);
+    toml.replace(at, shipped.size(), "url = \"" + url + "\"");
+    const fs::path path = dir_ / "station.toml";
+    std::ofstream(path) << toml;
+    return path;
+  }
+  Output Bench(const fs::path& station, const std::string& serial, const fs::path& session) {
+    return RunCommand(kBin + "/hrg-bench run --station " + station.string() + " --sequence " +
+                          (kConfigs / "sequence-paper.toml").string() + " --serial " + serial +
+                          " -o " + session.string(),
+                      dir_ / "bench.log");
+  }
+  Output Results(const std::string& args) {
+    return RunCommand(kBin + "/hrg-results " + args, dir_ / "results.log");
+  }
+  fs::path dir_;
+};
+
+TEST_F(ResultsProgram, AnUnwritableDatabaseLeavesTheOutcomeAndSyncUploadsLater) {
+  std::ofstream(dir_ / "a-file") << "not a directory";
+  const std::string bad_url = "sqlite://" + (dir_ / "a-file" / "results.sqlite").string();
+  const fs::path session = dir_ / "sessions" / "SN-RES-1";
+  const Output bench = Bench(Station(bad_url), "SN-RES-1", session);
+  const nlohmann::json doc = ReadJson(session / "session.json");
+  // The session's own outcome decides the exit code, as without a database.
+  EXPECT_EQ(bench.exit_code, doc["outcome"]["exit_code"].get<int>()) << bench.out;
+  EXPECT_EQ(doc["outcome"]["kind"], "PASS") << bench.out;
+  ASSERT_TRUE(doc.contains("results")) << bench.out;
+  EXPECT_EQ(doc["results"]["uploaded"], false);
+  EXPECT_NE(doc["results"]["reason"].get<std::string>().find("a-file"), std::string::npos)
+      << doc["results"].dump();
+  EXPECT_NE(bench.out.find("not uploaded"), std::string::npos) << bench.out;
+
+  const std::string db = "--db sqlite://" + (dir_ / "line.sqlite").string();
+  Output sync = Results(db + " sync --sessions-root " + (dir_ / "sessions").string());
+  EXPECT_EQ(sync.exit_code, 0) << sync.out;
+  EXPECT_NE(sync.out.find("sync: 1 uploaded, 0 already stored"), std::string::npos) << sync.out;
+  EXPECT_EQ(ReadJson(session / "session.json")["results"]["uploaded"], true);
+  sync = Results(db + " sync --sessions-root " + (dir_ / "sessions").string());
+  EXPECT_NE(sync.out.find("sync: 0 uploaded, 1 already stored"), std::string::npos) << sync.out;
+
+  // The queries answer with what the bench recorded.
+  const Output history = Results(db + " history SN-RES-1 --json");
+  ASSERT_EQ(history.exit_code, 0) << history.out;
+  const nlohmann::json h = nlohmann::json::parse(history.out);
+  ASSERT_EQ(h.size(), 1u);
+  EXPECT_EQ(h[0]["outcome"], "PASS");
+  EXPECT_EQ(h[0]["values"]["delta1"], doc["outcome"]["estimate"]["delta"][0]);
+  const Output stats = Results(db + " stats delta2 --csv");
+  EXPECT_EQ(stats.exit_code, 0) << stats.out;
+  EXPECT_EQ(
+      stats.out.rfind("period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\nall,1,", 0), 0u)
+      << stats.out;
+  const Output exported = Results(db + " export");
+  EXPECT_EQ(exported.exit_code, 0) << exported.out;
+  EXPECT_NE(exported.out.find(",delta1,"), std::string::npos) << exported.out;
+  EXPECT_NE(exported.out.find("\n" + h[0]["id"].get<std::string>() + ",SN-RES-1,sim-ci,"),
+            std::string::npos)
+      << exported.out;
+}
+
+TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {
+  HRGBENCH_REQUIRE(PostgresServer::Installed(), "PostgreSQL 15 server binaries (postgresql-15)");
+  PostgresServer server;
+  ASSERT_TRUE(server.Start()) << server.error();
+  ASSERT_TRUE(server.CreateDatabase("line"));
+  server.Stop();
+  const fs::path session = dir_ / "sessions" / "SN-RES-2";
+  const Output bench = Bench(Station(server.Url("line")), "SN-RES-2", session);
+  const nlohmann::json doc = ReadJson(session / "session.json");
+  EXPECT_EQ(bench.exit_code, doc["outcome"]["exit_code"].get<int>()) << bench.out;
+  EXPECT_EQ(doc["results"]["uploaded"], false) << bench.out;
+  EXPECT_NE(doc["results"]["reason"].get<std::string>().find("cannot connect"), std::string::npos)
+      << doc["results"].dump();
+
+  ASSERT_TRUE(server.Resume()) << server.error();
+  const std::string db = "--db '" + server.Url("line") + "'";
+  const Output sync = Results(db + " sync --sessions-root " + (dir_ / "sessions").string());
+  EXPECT_EQ(sync.exit_code, 0) << sync.out;
+  EXPECT_NE(sync.out.find("sync: 1 uploaded"), std::string::npos) << sync.out;
+  const Output sessions = Results(db + " sessions --csv --serial-like 'sn-res-%'");
+  EXPECT_EQ(sessions.exit_code, 0) << sessions.out;
+  EXPECT_NE(sessions.out.find(",SN-RES-2,sim-ci,"), std::string::npos) << sessions.out;
+}
+
+TEST_F(ResultsProgram, BadDatabaseUrlsAreUsageErrors) {
+  Output o = Results("--db 'postgresql://u:secret@localhost/x' sessions");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_EQ(o.out.find("secret"), std::string::npos) << o.out;
+  o = Results("--db sqlit:///tmp/x sessions");
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.out.find("unknown scheme"), std::string::npos) << o.out;
+}
+
+}  // namespace

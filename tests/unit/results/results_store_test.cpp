@@ -1,0 +1,349 @@
+// The results database against both real engines: SQLite (a file in a temporary directory) and
+// PostgreSQL (a server of Debian's postgresql-15 started per test process,
+// support/postgres_server.hpp). Sessions are fixture folders with known values
+// (support/session_fixture.hpp), so every expected answer below is derived by hand from the
+// fixture's arguments. Designated initialisers name only the filters a test sets; the rest are
+// empty on purpose.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include "hrgbench/results/results_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <set>
+#include <thread>
+
+#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/results/parameter_stats.hpp"
+#include "hrgbench/results/upload.hpp"
+#include "postgres_server.hpp"
+#include "required_tool.hpp"
+#include "session_fixture.hpp"
+
+namespace {
+
+using namespace hrgbench;
+using hrgbench::testing::FixtureSession;
+using hrgbench::testing::PostgresServer;
+using hrgbench::testing::WriteFixtureSession;
+namespace fs = std::filesystem;
+
+class ResultsStoreTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    std::random_device rd;
+    dir_ = fs::temp_directory_path() / ("hrgbench-results-" + std::to_string(rd()));
+    fs::create_directories(dir_);
+    if (GetParam() == "sqlite") {
+      HRGBENCH_REQUIRE(std::system("which sqlite3 > /dev/null") == 0,
+                       "the sqlite3 command (sqlite3)");
+      url_ = "sqlite://" + (dir_ / "results.sqlite").string();
+    } else {
+      HRGBENCH_REQUIRE(PostgresServer::Installed(),
+                       "PostgreSQL 15 server binaries (postgresql-15)");
+      server_ = std::make_unique<PostgresServer>();
+      ASSERT_TRUE(server_->Start()) << server_->error();
+      ASSERT_TRUE(server_->CreateDatabase("results"));
+      url_ = server_->Url("results");
+    }
+  }
+  void TearDown() override {
+    server_.reset();
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  std::unique_ptr<results::ResultsStore> Open() {
+    auto store = results::ResultsStore::Open(url_);
+    EXPECT_TRUE(store.has_value()) << store.error();
+    return store ? std::move(*store) : nullptr;
+  }
+  fs::path Write(const std::string& name, const FixtureSession& f) {
+    const fs::path dir = dir_ / "sessions" / name;
+    WriteFixtureSession(dir, f);
+    return dir;
+  }
+  // Runs one SQL statement outside the store (to set up what the program must refuse).
+  bool RawSql(const std::string& sql) {
+    if (GetParam() == "sqlite") {
+      return std::system(
+                 ("sqlite3 " + (dir_ / "results.sqlite").string() + " \"" + sql + "\"").c_str()) ==
+             0;
+    }
+    return server_->Psql("results", sql);
+  }
+
+  fs::path dir_;
+  std::string url_;
+  std::unique_ptr<PostgresServer> server_;
+};
+
+TEST_P(ResultsStoreTest, ImportTwiceChangesNothingAndRowsMatchTheFolder) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession f;
+  f.operator_name = "A. Operator";
+  const fs::path dir = Write("s1", f);
+  auto first = results::UploadSession(*store, dir);
+  ASSERT_TRUE(first.uploaded) << first.reason;
+  EXPECT_EQ(first.status, results::ImportStatus::kInserted);
+  auto second = results::UploadSession(*store, dir);
+  ASSERT_TRUE(second.uploaded) << second.reason;
+  EXPECT_EQ(second.status, results::ImportStatus::kUnchanged);
+
+  auto sessions = store->Sessions({});
+  ASSERT_TRUE(sessions.has_value()) << sessions.error();
+  ASSERT_EQ(sessions->size(), 1u);
+  const auto& s = sessions->front();
+  EXPECT_EQ(s.serial, "SN-0001");
+  EXPECT_EQ(s.station, "st-1");
+  EXPECT_EQ(s.operator_name, "A. Operator");
+  EXPECT_EQ(s.outcome, "PASS");
+  EXPECT_EQ(s.complete_runs, 3);
+  // The writer's form: the content hash is the file's SHA-256.
+  EXPECT_EQ(s.content_sha256, *config_file::Sha256FileHex(dir / "session.json"));
+  auto values = store->SessionsWithParameters({});
+  ASSERT_TRUE(values.has_value());
+  // Round-trip exact: the same doubles as in session.json.
+  EXPECT_EQ(values->front().values.at("delta1"), -1e-3);
+  EXPECT_EQ(values->front().values.at("tau_s"), 1000.0);
+  EXPECT_EQ(values->front().values.count("frequency_axis_deg"), 0u);  // undetermined: no value
+  auto warnings = store->Warnings(s.id);
+  ASSERT_TRUE(warnings.has_value());
+  EXPECT_EQ(*warnings, std::vector<std::string>{"fixture warning"});
+}
+
+TEST_P(ResultsStoreTest, AResumedSessionReplacesItsRowsAndTheUploadMarkChangesNoHash) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession f;
+  f.outcome = "ERROR";
+  const fs::path dir = Write("s1", f);
+  ASSERT_TRUE(results::UploadSession(*store, dir).uploaded);
+  // The mark written after the upload leaves the content hash as it was.
+  results::UploadOutcome marked{true, results::ImportStatus::kInserted, ""};
+  ASSERT_TRUE(results::MarkUpload(dir, url_, marked).has_value());
+  EXPECT_EQ(results::UploadSession(*store, dir).status, results::ImportStatus::kUnchanged);
+  // Resumed and closed again: same start (same id), new outcome.
+  f.outcome = "PASS";
+  WriteFixtureSession(dir, f);
+  auto replaced = results::UploadSession(*store, dir);
+  ASSERT_TRUE(replaced.uploaded) << replaced.reason;
+  EXPECT_EQ(replaced.status, results::ImportStatus::kReplaced);
+  auto sessions = store->Sessions({});
+  ASSERT_TRUE(sessions.has_value());
+  ASSERT_EQ(sessions->size(), 1u);
+  EXPECT_EQ(sessions->front().outcome, "PASS");
+  auto values = store->ParameterValues("delta1", {});
+  ASSERT_TRUE(values.has_value());
+  EXPECT_EQ(values->size(), 1u);  // the old parameter rows are gone
+}
+
+// 12 sessions: serials SN-0000..SN-0003 (three each), stations st-a/st-b alternating, one per day
+// from Monday 2026-11-02 (ISO weeks 45 and 46), every fourth one FAIL.
+class Line {
+ public:
+  static FixtureSession Session(int i) {
+    FixtureSession f;
+    f.serial = "SN-000" + std::to_string(i % 4);
+    f.station = i % 2 == 0 ? "st-a" : "st-b";
+    char day[32];
+    std::snprintf(day, sizeof day, "2026-11-%02dT08:00:00Z", 2 + i);
+    f.started_utc = day;
+    f.started_ns = i;
+    f.delta1 = -1e-3 + 1e-5 * i;
+    f.delta1_status = i % 4 == 3 ? "FAIL" : "PASS";
+    f.outcome = f.delta1_status;
+    f.tau_s = 1000.0 + i;
+    return f;
+  }
+};
+
+TEST_P(ResultsStoreTest, SessionsHistoryAndFiltersAnswerFromKnownSessions) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  for (int i = 0; i < 12; ++i) {
+    auto up = results::UploadSession(*store, Write("s" + std::to_string(i), Line::Session(i)));
+    ASSERT_TRUE(up.uploaded) << up.reason;
+  }
+  auto count = [&](const results::SessionFilter& filter) {
+    auto rows = store->Sessions(filter);
+    EXPECT_TRUE(rows.has_value());
+    return rows ? rows->size() : 0u;
+  };
+  EXPECT_EQ(count({}), 12u);
+  EXPECT_EQ(count({.since_utc = "2026-11-09"}), 5u);  // days 9..13: i = 7..11
+  EXPECT_EQ(count({.station = "st-a"}), 6u);
+  EXPECT_EQ(count({.outcome = "FAIL"}), 3u);          // i = 3, 7, 11
+  EXPECT_EQ(count({.serial_like = "sn-000_"}), 12u);  // case-insensitive
+  EXPECT_EQ(count({.serial_like = "%2"}), 3u);
+  EXPECT_EQ(count({.station = "st-b", .outcome = "FAIL"}), 3u);
+
+  auto history = store->SessionsWithParameters({.serial = "SN-0001"});
+  ASSERT_TRUE(history.has_value());
+  ASSERT_EQ(history->size(), 3u);  // i = 1, 5, 9, oldest first
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int i = 1 + 4 * static_cast<int>(k);
+    EXPECT_EQ(history->at(k).values.at("tau_s"), 1000.0 + i);
+    EXPECT_EQ(history->at(k).session.started_utc, Line::Session(i).started_utc);
+  }
+}
+
+TEST_P(ResultsStoreTest, StatsGiveMeanStdYieldCpCpkAndTheWeeklyTrend) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  for (int i = 0; i < 12; ++i)
+    ASSERT_TRUE(
+        results::UploadSession(*store, Write("s" + std::to_string(i), Line::Session(i))).uploaded);
+  auto samples = store->ParameterValues("delta1", {});
+  ASSERT_TRUE(samples.has_value()) << samples.error();
+  const results::ParameterStats st = results::ComputeParameterStats("delta1", *samples);
+  // δ1 = -1e-3 + 1e-5 i, i = 0..11: mean -1e-3 + 5.5e-5; sample variance of 1e-5 i is
+  // 1e-10 · n(n+1)/12 with n = 12 → 1e-10 · 13.
+  const double mean = -1e-3 + 5.5e-5;
+  const double std = 1e-5 * std::sqrt(13.0);
+  EXPECT_EQ(st.n, 12u);
+  EXPECT_NEAR(st.mean, mean, 1e-15);
+  EXPECT_NEAR(st.std, std, 1e-15);
+  EXPECT_DOUBLE_EQ(st.min, -1e-3);
+  EXPECT_DOUBLE_EQ(st.max, -1e-3 + 1.1e-4);
+  ASSERT_TRUE(st.yield.has_value());
+  EXPECT_DOUBLE_EQ(*st.yield, 9.0 / 12.0);
+  ASSERT_TRUE(st.cp && st.cpk);
+  EXPECT_NEAR(*st.cp, 0.4e-3 / (6 * std), 1e-9);
+  EXPECT_NEAR(*st.cpk, std::min(-0.8e-3 - mean, mean + 1.2e-3) / (3 * std), 1e-9);
+  // Days 2..8 are ISO week 45 (i = 0..6), days 9..13 week 46 (i = 7..11).
+  ASSERT_EQ(st.weeks.size(), 2u);
+  EXPECT_EQ(st.weeks[0].week, "2026-W45");
+  EXPECT_EQ(st.weeks[0].n, 7u);
+  EXPECT_NEAR(st.weeks[0].mean, -1e-3 + 3e-5, 1e-15);
+  EXPECT_EQ(st.weeks[1].week, "2026-W46");
+  EXPECT_EQ(st.weeks[1].n, 5u);
+  EXPECT_NEAR(st.weeks[1].mean, -1e-3 + 9e-5, 1e-15);
+  // Filtered by station: the even i.
+  auto a = store->ParameterValues("delta1", {.station = "st-a"});
+  ASSERT_TRUE(a.has_value());
+  EXPECT_EQ(a->size(), 6u);
+}
+
+TEST_P(ResultsStoreTest, SqlInSerialAndOperatorIsStoredAsText) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession f;
+  f.serial = "SN'; DROP TABLE unit; --";
+  f.operator_name = "Robert'); DROP TABLE session;--";
+  ASSERT_TRUE(results::UploadSession(*store, Write("evil", f)).uploaded);
+  auto rows = store->Sessions({.serial = f.serial});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 1u);
+  EXPECT_EQ(rows->front().serial, f.serial);
+  EXPECT_EQ(rows->front().operator_name, f.operator_name);
+}
+
+TEST_P(ResultsStoreTest, NonAsciiTextRoundTripsAndBytesThatAreNotUtf8AreRefusedByName) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession f;
+  f.serial = "SN-\u00dcml\u00e4ut-\u65e5\u672c";  // UTF-8: Ü, ä, 日本
+  f.operator_name = "J\u00f8rgen \u00c5str\u00f6m";
+  ASSERT_TRUE(results::UploadSession(*store, Write("utf8", f)).uploaded);
+  auto rows = store->Sessions({.serial = f.serial});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 1u);
+  EXPECT_EQ(rows->front().serial, f.serial);
+  EXPECT_EQ(rows->front().operator_name, f.operator_name);
+  // session.json is JSON, which is UTF-8: a serial with a byte 0xFF is not a session (the reader
+  // names the file); nothing is written.
+  const fs::path bad = dir_ / "sessions" / "latin1";
+  fs::create_directories(bad);
+  std::string text = hrgbench::testing::FixtureDocument(FixtureSession{}).dump(2);
+  text.replace(text.find("SN-0001"), 7, std::string("SN-") + char(0xff) + "01");
+  std::ofstream(bad / "session.json") << text;
+  const results::UploadOutcome refused = results::UploadSession(*store, bad);
+  EXPECT_FALSE(refused.uploaded);
+  EXPECT_NE(refused.reason.find((bad / "session.json").string()), std::string::npos)
+      << refused.reason;
+  EXPECT_EQ(store->Sessions({})->size(), 1u);
+}
+
+TEST_P(ResultsStoreTest, ANewerSchemaIsRefusedAndNothingWritten) {
+  {
+    auto store = Open();
+    ASSERT_NE(store, nullptr);
+  }
+  ASSERT_TRUE(RawSql("INSERT INTO schema_version VALUES (99, 'future')"));
+  auto refused = results::ResultsStore::Open(url_);
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_NE(refused.error().find("schema version 99, newer than this program's 1"),
+            std::string::npos)
+      << refused.error();
+  const fs::path dir = Write("s1", FixtureSession{});
+  auto upload = results::UploadSession(url_, dir);
+  EXPECT_FALSE(upload.uploaded);
+  EXPECT_NE(upload.reason.find("newer"), std::string::npos) << upload.reason;
+  ASSERT_TRUE(RawSql("DELETE FROM schema_version WHERE version = 99"));
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  EXPECT_EQ(store->Sessions({})->size(), 0u);
+}
+
+TEST_P(ResultsStoreTest, ConcurrentUploadersLoseAndDoubleNothing) {
+  // PostgreSQL: eight stations × 100 sessions at once. SQLite: the same in a smaller size (its
+  // writers queue on one lock, which is what is checked).
+  const bool pg = GetParam() == "postgres";
+  const int stations = pg ? 8 : 4, per_station = pg ? 100 : 25;
+  std::vector<fs::path> dirs;
+  for (int s = 0; s < stations; ++s) {
+    for (int k = 0; k < per_station; ++k) {
+      FixtureSession f;
+      f.serial = "SN-" + std::to_string(s) + "-" + std::to_string(k);
+      f.station = "st-" + std::to_string(s);
+      f.started_ns = s * 1000 + k;
+      f.delta1 = -1e-3 + 1e-7 * (s * 1000 + k);
+      dirs.push_back(Write(f.serial, f));
+    }
+  }
+  { ASSERT_NE(Open(), nullptr); }  // schema first, as a line's administrator does
+  std::atomic<int> failures{0};
+  std::vector<std::thread> threads;
+  for (int s = 0; s < stations; ++s) {
+    threads.emplace_back([&, s] {
+      auto store = results::ResultsStore::Open(url_);
+      if (!store) {
+        failures += per_station;
+        return;
+      }
+      for (int k = 0; k < per_station; ++k) {
+        auto up =
+            results::UploadSession(**store, dirs[static_cast<std::size_t>(s * per_station + k)]);
+        if (!up.uploaded) ++failures;
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(failures.load(), 0);
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  auto rows = store->SessionsWithParameters({});
+  ASSERT_TRUE(rows.has_value());
+  ASSERT_EQ(rows->size(), dirs.size());
+  std::set<std::string> ids;
+  for (const auto& r : *rows) {
+    ids.insert(r.session.id);
+    auto record = results::ReadSessionRecord(r.session.path);
+    ASSERT_TRUE(record.has_value());
+    EXPECT_EQ(record->content_sha256, r.session.content_sha256);
+    EXPECT_EQ(r.values.at("delta1"), record->parameters.front().value.value());
+  }
+  EXPECT_EQ(ids.size(), dirs.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, ResultsStoreTest, ::testing::Values("sqlite", "postgres"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) {
+                           return engine.param;
+                         });
+
+}  // namespace
