@@ -1,7 +1,8 @@
 // hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
 //
 //   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR] [--json]
-//   hrg-bench resume DIR [--json]
+//                 [--events FILE|-]
+//   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
@@ -21,6 +22,7 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
+#include "app/event_output.hpp"
 #include "app/logging.hpp"
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
@@ -163,8 +165,25 @@ int Report(const bench::SessionResult& result, bool json, const std::string& rep
   return result.exit_code;
 }
 
+// --events: where, and the queue's capacity (events).
+struct EventsRequest {
+  std::string target;  // empty: no event stream
+  std::size_t capacity = bench::EventStream::kDefaultCapacity;
+};
+
 int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
-                const std::string& serial, bool resume, bool json) {
+                const std::string& serial, bool resume, bool json, const EventsRequest& events) {
+  std::unique_ptr<app::EventOutput> event_output;
+  if (!events.target.empty()) {
+    auto opened = app::EventOutput::Open(events.target, events.capacity);
+    if (!opened) {
+      spdlog::error("{}", opened.error());
+      return bench::kExitUsage;
+    }
+    // A reader that goes away must cost events, not the process.
+    ::signal(SIGPIPE, SIG_IGN);
+    event_output = std::move(*opened);
+  }
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
@@ -178,12 +197,23 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   options.interrupts = &g_interrupts;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
+  if (event_output) {
+    event_output->publisher().SessionStarted(configs, resume ? std::string() : serial, dir, resume,
+                                             HRGBENCH_SOFTWARE_VERSION);
+    event_output->publisher().Attach(options);
+  }
   InstallSignalHandlers();
   const bench::SessionResult result =
       resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
-  return Report(result, json, WriteReport(result));
+  if (event_output) event_output->publisher().SessionFinished(result);
+  const std::string report_path = WriteReport(result);
+  if (event_output) {
+    event_output->publisher().ReportWritten(report_path);
+    event_output->Close(result.dir);
+  }
+  return Report(result, json, report_path);
 }
 
 }  // namespace
@@ -207,9 +237,21 @@ int main(int argc, char** argv) {
   run->add_option("--serial", serial, "unit serial number")->required();
   run->add_option("-o,--output", out_dir, "session directory (default sessions/SERIAL-UTC)");
   run->add_flag("--json", json, "print the result as one JSON object");
+  EventsRequest events;
+  const auto add_events = [&events](CLI::App* command) {
+    command->add_option("--events", events.target,
+                        "write the session's events, one JSON object per line, to FILE or - "
+                        "(stdout; not with --json)");
+    command
+        ->add_option("--events-queue", events.capacity,
+                     "events held for a slow reader before they are dropped (and counted)")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+  };
+  add_events(run);
   CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
   resume->add_option("dir", resume_dir, "session directory")->required();
   resume->add_flag("--json", json, "print the result as one JSON object");
+  add_events(resume);
   std::string check_station, check_sequence, check_limits;
   CLI::App* check = cli.add_subcommand("check", "validate configs only");
   check->add_option("station", check_station, "station config")->required();
@@ -223,6 +265,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : bench::kExitUsage;
   }
   hrgbench::app::SetUpStderrLogging("hrg-bench", quiet ? -1 : 0);
+  if (events.target == "-" && json) {
+    std::cerr << "--events - and --json both write to stdout: send the events to a file\n";
+    return bench::kExitUsage;
+  }
   try {
     if (*check) {
       auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);
@@ -244,14 +290,14 @@ int main(int argc, char** argv) {
         return bench::kExitUsage;
       }
       return RunOrResume(*configs, out_dir.empty() ? DefaultSessionDir(serial) : out_dir, serial,
-                         false, json);
+                         false, json, events);
     }
     auto configs = bench::LoadSavedConfigs(resume_dir);
     if (!configs) {
       std::cerr << configs.error() << '\n';
       return bench::kExitUsage;
     }
-    return RunOrResume(*configs, resume_dir, "", true, json);
+    return RunOrResume(*configs, resume_dir, "", true, json, events);
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());
     return bench::kExitError;
