@@ -129,7 +129,9 @@ std::string WriteReport(const bench::SessionResult& result) {
   }
 }
 
-int Report(const bench::SessionResult& result, bool json, const std::string& report_path) {
+// `out`: stdout, or stderr when the events go to stdout (--events -: stdout is JSON lines only).
+int Report(const bench::SessionResult& result, bool json, const std::string& report_path,
+           std::ostream& out_text) {
   if (json) {
     nlohmann::json out;
     out["outcome"] = std::string(bench::ToString(result.outcome));
@@ -148,20 +150,20 @@ int Report(const bench::SessionResult& result, bool json, const std::string& rep
       out["verdict"] = nullptr;
       out["limits"] = nlohmann::json::array();
     }
-    std::cout << out.dump(1) << '\n';
+    out_text << out.dump(1) << '\n';
     return result.exit_code;
   }
-  if (result.estimate) std::cout << result.estimate->Report();
+  if (result.estimate) out_text << result.estimate->Report();
   if (result.engineering) {
-    std::cout << "in the field's units (f0 = " << result.engineering->frequency_hz
+    out_text << "in the field's units (f0 = " << result.engineering->frequency_hz
               << " Hz as reported; angles on the shell):\n"
               << result.engineering->Report();
   }
-  if (result.verdict) std::cout << result.verdict->Report();
-  for (const std::string& w : result.warnings) std::cout << "warning: " << w << '\n';
-  std::cout << bench::ToString(result.outcome) << ": " << result.reason << '\n'
+  if (result.verdict) out_text << result.verdict->Report();
+  for (const std::string& w : result.warnings) out_text << "warning: " << w << '\n';
+  out_text << bench::ToString(result.outcome) << ": " << result.reason << '\n'
             << "session: " << result.dir.string() << '\n';
-  if (!report_path.empty()) std::cout << "report: " << report_path << '\n';
+  if (!report_path.empty()) out_text << "report: " << report_path << '\n';
   return result.exit_code;
 }
 
@@ -213,7 +215,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
     event_output->publisher().ReportWritten(report_path);
     event_output->Close(result.dir);
   }
-  return Report(result, json, report_path);
+  return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
 }
 
 }  // namespace
