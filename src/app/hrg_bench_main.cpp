@@ -4,6 +4,7 @@
 //                 [--events FILE|-]
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
+//   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
 // (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
@@ -24,6 +25,7 @@
 #include "app/cli_exit.hpp"
 #include "app/event_output.hpp"
 #include "app/logging.hpp"
+#include "app/panel/panel_server.hpp"
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
@@ -260,6 +262,15 @@ int main(int argc, char** argv) {
   check->add_option("sequence", check_sequence, "sequence config")->required();
   check->add_option("limits", check_limits, "limits config");
 
+  app::PanelOptions panel;
+  CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
+  serve->add_option("--station", panel.station, "station config (TOML); the sequence-*.toml and "
+                    "limits-*.toml beside it are the ones offered")->required();
+  serve->add_option("--listen", panel.listen, "HOST:PORT (default 127.0.0.1:8080)");
+  serve->add_option("--sessions", panel.sessions, "sessions folder (default sessions)");
+  serve->add_option("--token-file", panel.token_file,
+                    "access token (required to listen on another address than localhost)");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -272,6 +283,14 @@ int main(int argc, char** argv) {
     return bench::kExitUsage;
   }
   try {
+    if (*serve) {
+      std::error_code ec;
+      panel.program = std::filesystem::read_symlink("/proc/self/exe", ec);
+      if (ec) panel.program = argv[0];
+      InstallSignalHandlers();
+      ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
+      return app::RunPanel(panel, g_interrupts);
+    }
     if (*check) {
       auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);
       if (!configs) {
