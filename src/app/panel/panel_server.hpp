@@ -16,8 +16,8 @@
 // wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON.
 //
 // Security: listens on localhost by default; any other address needs an access token (a file of
-// at least 16 printable characters, --token-file), which every request must then carry (?token= or
-// "Authorization: Bearer"). Without a token the Host header must name localhost (a web page
+// at least 16 printable characters, --token-file), which every request but the page's own files must
+// then carry (?token= or "Authorization: Bearer"). Without a token the Host header must name localhost (a web page
 // elsewhere cannot reach the panel through DNS rebinding). POSTs must be application/json and, when
 // the browser sends an Origin, from the panel's own origin (no cross-site form posts). A serial is
 // checked (serial_check.hpp) before it becomes a folder name; sequences and limits are chosen by id
