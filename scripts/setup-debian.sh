@@ -22,6 +22,7 @@ packages=(
   chromium-driver          # the browser test drives Chromium (tests/integration/report_browser)
   python3-selenium         # the browser test's WebDriver client (Debian's /usr/bin/python3)
   poppler-utils            # the browser test checks the report's PDF (pdfinfo, pdftotext)
+  libcpp-httplib-dev       # hrg-bench serve: the operator panel's web server (cpp-httplib)
 )
 
 missing=()

@@ -1,7 +1,7 @@
 // hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
 //
-//   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR] [--json]
-//                 [--events FILE|-]
+//   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR]
+//                 [--json] [--events FILE|-]
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
@@ -158,13 +158,13 @@ int Report(const bench::SessionResult& result, bool json, const std::string& rep
   if (result.estimate) out_text << result.estimate->Report();
   if (result.engineering) {
     out_text << "in the field's units (f0 = " << result.engineering->frequency_hz
-              << " Hz as reported; angles on the shell):\n"
-              << result.engineering->Report();
+             << " Hz as reported; angles on the shell):\n"
+             << result.engineering->Report();
   }
   if (result.verdict) out_text << result.verdict->Report();
   for (const std::string& w : result.warnings) out_text << "warning: " << w << '\n';
   out_text << bench::ToString(result.outcome) << ": " << result.reason << '\n'
-            << "session: " << result.dir.string() << '\n';
+           << "session: " << result.dir.string() << '\n';
   if (!report_path.empty()) out_text << "report: " << report_path << '\n';
   return result.exit_code;
 }
@@ -264,8 +264,11 @@ int main(int argc, char** argv) {
 
   app::PanelOptions panel;
   CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
-  serve->add_option("--station", panel.station, "station config (TOML); the sequence-*.toml and "
-                    "limits-*.toml beside it are the ones offered")->required();
+  serve
+      ->add_option("--station", panel.station,
+                   "station config (TOML); the sequence-*.toml and "
+                   "limits-*.toml beside it are the ones offered")
+      ->required();
   serve->add_option("--listen", panel.listen, "HOST:PORT (default 127.0.0.1:8080)");
   serve->add_option("--sessions", panel.sessions, "sessions folder (default sessions)");
   serve->add_option("--token-file", panel.token_file,

@@ -27,8 +27,8 @@
 //   end              events_published, events_lost (written by EventStream::Close)
 //
 // Threads: the callbacks Attach installs run on the sequencer's thread and only build small JSON
-// objects and queue them (EventStream::Publish never waits for the reader); the other methods on the
-// caller's thread, before and after RunSession. Not thread-safe otherwise.
+// objects and queue them (EventStream::Publish never waits for the reader); the other methods on
+// the caller's thread, before and after RunSession. Not thread-safe otherwise.
 
 #include <chrono>
 #include <cstdint>

@@ -17,7 +17,8 @@ std::vector<fs::path> Matching(const fs::path& dir, std::string_view prefix) {
   std::error_code ec;
   for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file(ec) && name.rfind(prefix, 0) == 0 && entry.path().extension() == ".toml")
+    if (entry.is_regular_file(ec) && name.rfind(prefix, 0) == 0 &&
+        entry.path().extension() == ".toml")
       files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());

@@ -133,9 +133,8 @@ class Panel {
 
   void Route(httplib::Server& server) {
     server.set_payload_max_length(kMaxBodyBytes);
-    server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-      return Guard(req, res);
-    });
+    server.set_pre_routing_handler(
+        [this](const httplib::Request& req, httplib::Response& res) { return Guard(req, res); });
     server.Get("/", [](const httplib::Request&, httplib::Response& res) {
       res.set_content(std::string(kPanelHtml), "text/html; charset=utf-8");
     });
@@ -146,21 +145,18 @@ class Panel {
       res.set_content(std::string(kPanelCss), "text/css; charset=utf-8");
     });
     // Browsers ask for it on every page (the report's too): no icon, and no 404 in their console.
-    server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) {
-      res.status = 204;
-    });
+    server.Get("/favicon.ico",
+               [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
     server.Get("/chart.js", [this](const httplib::Request&, httplib::Response& res) {
       res.set_content(chart_js_, "text/javascript; charset=utf-8");
     });
     server.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
       res.set_content(State().dump(), "application/json");
     });
-    server.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
-      Events(req, res);
-    });
-    server.Post("/api/start", [this](const httplib::Request& req, httplib::Response& res) {
-      Start(req, res);
-    });
+    server.Get("/api/events",
+               [this](const httplib::Request& req, httplib::Response& res) { Events(req, res); });
+    server.Post("/api/start",
+                [this](const httplib::Request& req, httplib::Response& res) { Start(req, res); });
     server.Post("/api/abort", [this](const httplib::Request&, httplib::Response& res) {
       if (auto refused = process_.Abort()) return Error(res, 409, *refused);
       res.set_content(R"({"aborting":true})", "application/json");
@@ -169,7 +165,7 @@ class Panel {
                [this](const httplib::Request& req, httplib::Response& res) { Report(req, res); });
     server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       if (res.body.empty()) {
-        const char* what = res.status == 413 ? "the request is too large"
+        const char* what = res.status == 413   ? "the request is too large"
                            : res.status == 404 ? "not found"
                                                : "refused";
         Error(res, res.status, what);
@@ -185,9 +181,10 @@ class Panel {
     using HR = httplib::Server::HandlerResponse;
     // The page's own files hold nothing of the station's: a browser loads them before the page's
     // script can add the token. Everything else (state, events, start, abort, reports) needs it.
-    const bool page_file = req.method == "GET" &&
-                           (req.path == "/" || req.path == "/panel.js" || req.path == "/panel.css" ||
-                            req.path == "/chart.js" || req.path == "/favicon.ico");
+    const bool page_file =
+        req.method == "GET" &&
+        (req.path == "/" || req.path == "/panel.js" || req.path == "/panel.css" ||
+         req.path == "/chart.js" || req.path == "/favicon.ico");
     if (!token_.empty() && !page_file) {
       std::string given = req.get_param_value("token");
       const std::string auth = req.get_header_value("Authorization");
@@ -210,8 +207,8 @@ class Panel {
       }
       const std::string origin = req.get_header_value("Origin");
       if (!origin.empty() && origin != "http://" + req.get_header_value("Host")) {
-        Error(res, 403, "a request from another site is refused (Origin " + origin.substr(0, 80) +
-                            ")");
+        Error(res, 403,
+              "a request from another site is refused (Origin " + origin.substr(0, 80) + ")");
         return HR::Handled;
       }
     }
@@ -241,15 +238,17 @@ class Panel {
       return Error(res, 400, "the request is not a JSON object");
     for (const auto& [key, value] : body.items())
       if (key != "serial" && key != "sequence" && key != "limits")
-        return Error(res, 400, "unknown field \"" + key.substr(0, 32) +
-                                   "\": expected serial, sequence and limits");
+        return Error(
+            res, 400,
+            "unknown field \"" + key.substr(0, 32) + "\": expected serial, sequence and limits");
     if (!body.contains("serial") || !body["serial"].is_string())
       return Error(res, 400, "serial: a string is required");
     const std::string serial = body["serial"];
     if (auto problem = SerialProblem(serial)) return Error(res, 400, *problem);
     if (!body.contains("sequence") || !body["sequence"].is_number_unsigned() ||
         body["sequence"].get<std::size_t>() >= catalog_.sequences.size())
-      return Error(res, 400, "sequence: one of the station's allowed sequences (by id) is required");
+      return Error(res, 400,
+                   "sequence: one of the station's allowed sequences (by id) is required");
     const AllowedConfig& sequence = catalog_.sequences[body["sequence"].get<std::size_t>()];
     const AllowedConfig* limits = nullptr;
     if (body.contains("limits") && !body["limits"].is_null()) {
@@ -272,10 +271,17 @@ class Panel {
       return Error(res, 409, "cannot choose a new session folder for " + serial);
     SessionLaunch launch;
     launch.program = options_.program.string();
-    launch.arguments = {"run",      "--station",          catalog_.station_file.string(),
-                        "--sequence", sequence.file.string(), "--serial",
-                        serial,     "-o",                 dir.string(),
-                        "--events", "/dev/fd/3"};
+    launch.arguments = {"run",
+                        "--station",
+                        catalog_.station_file.string(),
+                        "--sequence",
+                        sequence.file.string(),
+                        "--serial",
+                        serial,
+                        "-o",
+                        dir.string(),
+                        "--events",
+                        "/dev/fd/3"};
     if (limits != nullptr) {
       launch.arguments.push_back("--limits");
       launch.arguments.push_back(limits->file.string());
@@ -291,7 +297,8 @@ class Panel {
   void Events(const httplib::Request& req, httplib::Response& res) {
     std::uint64_t after = 0;
     const std::string last = req.get_header_value("Last-Event-ID");
-    if (!last.empty() && last.size() < 20 && last.find_first_not_of("0123456789") == std::string::npos)
+    if (!last.empty() && last.size() < 20 &&
+        last.find_first_not_of("0123456789") == std::string::npos)
       after = std::stoull(last);
     // A browser that comes back after a new session started gets that session from its start.
     const std::uint64_t first = process_.FirstId();
@@ -322,7 +329,8 @@ class Panel {
     const std::string name = req.matches[1];
     const std::string file = req.matches[2];
     if (!IsSessionName(sessions_, name) || file.empty() || file.front() == '.' ||
-        file.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+        file.find_first_not_of(
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
             std::string::npos)
       return Error(res, 404, "no such session report");
     auto text = ReadBounded(sessions_ / name / "report" / file, 256u << 20);
@@ -379,8 +387,8 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
     }
   }
   if (chart_js.empty()) {
-    std::cerr << "Chart.js not found (Debian's libjs-chart.js: "
-              << report::kChartJsCandidates[0] << ")\n";
+    std::cerr << "Chart.js not found (Debian's libjs-chart.js: " << report::kChartJsCandidates[0]
+              << ")\n";
     return 4;
   }
 

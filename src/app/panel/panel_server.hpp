@@ -1,7 +1,7 @@
 #pragma once
 // `hrg-bench serve`: the operator panel (issue 11 §2). One page (web/, embedded in the program;
-// Chart.js from Debian's libjs-chart.js, served from the disk; nothing from a network), a small JSON
-// API and the running session's events as Server-Sent Events.
+// Chart.js from Debian's libjs-chart.js, served from the disk; nothing from a network), a small
+// JSON API and the running session's events as Server-Sent Events.
 //
 //   GET  /                     the page
 //   GET  /panel.js /panel.css /chart.js
@@ -16,12 +16,13 @@
 // wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON.
 //
 // Security: listens on localhost by default; any other address needs an access token (a file of
-// at least 16 printable characters, --token-file), which every request but the page's own files must
-// then carry (?token= or "Authorization: Bearer"). Without a token the Host header must name localhost (a web page
-// elsewhere cannot reach the panel through DNS rebinding). POSTs must be application/json and, when
-// the browser sends an Origin, from the panel's own origin (no cross-site form posts). A serial is
-// checked (serial_check.hpp) before it becomes a folder name; sequences and limits are chosen by id
-// from the allowed list (panel_catalog.hpp); nothing the page sends becomes a path otherwise.
+// at least 16 printable characters, --token-file), which every request but the page's own files
+// must then carry (?token= or "Authorization: Bearer"). Without a token the Host header must name
+// localhost (a web page elsewhere cannot reach the panel through DNS rebinding). POSTs must be
+// application/json and, when the browser sends an Origin, from the panel's own origin (no
+// cross-site form posts). A serial is checked (serial_check.hpp) before it becomes a folder name;
+// sequences and limits are chosen by id from the allowed list (panel_catalog.hpp); nothing the page
+// sends becomes a path otherwise.
 //
 // Threads: RunPanel blocks the caller until `stop` becomes non-zero (the panel then aborts a
 // running session, waits for it, and returns); HTTP requests run on a pool of kHttpThreads.

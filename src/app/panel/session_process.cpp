@@ -33,7 +33,8 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     if (running_) return "a session is already running on this station";
   }
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) return std::string("cannot start: pipe: ") + std::strerror(errno);
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    return std::string("cannot start: pipe: ") + std::strerror(errno);
   std::vector<std::string> args = launch.arguments;
   args.insert(args.begin(), launch.program);
   std::vector<char*> argv;
@@ -157,8 +158,9 @@ std::vector<KeptEvent> SessionProcess::WaitForEvents(std::uint64_t after,
   std::unique_lock lock(mutex_);
   const auto newer = [&] { return !events_.empty() && events_.back().id > after; };
   changed_.wait_for(lock, wait, newer);
-  const auto first = std::upper_bound(events_.begin(), events_.end(), after,
-                                      [](std::uint64_t id, const KeptEvent& e) { return id < e.id; });
+  const auto first =
+      std::upper_bound(events_.begin(), events_.end(), after,
+                       [](std::uint64_t id, const KeptEvent& e) { return id < e.id; });
   return std::vector<KeptEvent>(first, events_.end());
 }
 

@@ -31,12 +31,12 @@
 namespace hrgbench::app {
 
 struct SessionLaunch {
-  std::string program;                // hrg-bench
+  std::string program;                 // hrg-bench
   std::vector<std::string> arguments;  // after the program name
   std::string serial;
-  std::string sequence;       // names, for the page
+  std::string sequence;  // names, for the page
   std::string limits;
-  std::string session_name;   // the folder's name in the sessions folder
+  std::string session_name;  // the folder's name in the sessions folder
 };
 
 struct KeptEvent {

@@ -48,8 +48,10 @@ std::string Line(std::uint64_t seq, nlohmann::json event) {
                      ",\"seq\":" + std::to_string(seq) + ",\"time_unix_s\":" + stamp +
                      ",\"type\":" + nlohmann::json(type).dump();
   const std::string rest = event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (rest.size() > 2) line += "," + rest.substr(1);
-  else line += "}";
+  if (rest.size() > 2)
+    line += "," + rest.substr(1);
+  else
+    line += "}";
   line += '\n';
   return line;
 }
@@ -61,8 +63,9 @@ std::expected<std::unique_ptr<EventStream>, std::string> EventStream::Open(
   int fd = -1;
   if (target == "-") {
     fd = ::fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
-    if (fd < 0) return std::unexpected("--events -: cannot use standard output: " +
-                                       std::string(std::strerror(errno)));
+    if (fd < 0)
+      return std::unexpected("--events -: cannot use standard output: " +
+                             std::string(std::strerror(errno)));
   } else {
     fd = ::open(target.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)

@@ -37,8 +37,8 @@ void SessionEventPublisher::SessionStarted(const BenchConfigs& configs,
   event["station"] = configs.station.name;
   event["station_kind"] = std::string(ToString(configs.station.kind));
   event["sequence"] = configs.sequence.name;
-  event["limits"] = configs.limits.file.empty() ? nlohmann::json(nullptr)
-                                                : nlohmann::json(configs.limits.name);
+  event["limits"] =
+      configs.limits.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(configs.limits.name);
   event["session"] = session_dir;
   event["resume"] = resume;
   event["software_version"] = software_version;
@@ -97,8 +97,7 @@ void SessionEventPublisher::OnProgress(const Progress& p) {
     stream_.Publish(std::move(event));
     last_phase_ = phase;
     last_run_id_ = p.run_id;
-  } else if (now - last_progress_ <
-             std::chrono::duration<double>(options_.min_progress_period_s)) {
+  } else if (now - last_progress_ < std::chrono::duration<double>(options_.min_progress_period_s)) {
     return;
   }
   last_progress_ = now;

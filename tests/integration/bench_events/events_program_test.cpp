@@ -1,6 +1,7 @@
 // hrg-bench run --events on the in-process simulated station (faster than real time): the stream
 // as a second program reads it, checked against the session.json the same run wrote.
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,14 +9,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -26,7 +25,8 @@ const fs::path kConfigs = fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
 
 fs::path FreshDir(const std::string& stem) {
   std::random_device rd;
-  const fs::path dir = fs::temp_directory_path() / ("hrgbench-" + stem + "-" + std::to_string(rd()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("hrgbench-" + stem + "-" + std::to_string(rd()));
   fs::create_directories(dir);
   return dir;
 }
@@ -155,11 +155,11 @@ TEST(EventsProgram, EveryTypeInOrderAndAgreeingWithTheRecord) {
   const fs::path work = FreshDir("events");
   const fs::path session = work / "session";
   const fs::path events_file = work / "events.jsonl";
-  const pid_t pid = Spawn({"run", "--station", DriftingStation(work).string(), "--sequence",
-                           ShortSequence(work).string(), "--limits",
-                           (kConfigs / "limits-example.toml").string(), "--serial", "SN-EV1",
-                           "-o", session.string(), "--events", events_file.string()},
-                          work / "run.log", -1);
+  const pid_t pid =
+      Spawn({"run", "--station", DriftingStation(work).string(), "--sequence",
+             ShortSequence(work).string(), "--limits", (kConfigs / "limits-example.toml").string(),
+             "--serial", "SN-EV1", "-o", session.string(), "--events", events_file.string()},
+            work / "run.log", -1);
   const int exit_code = Wait(pid);
   const nlohmann::json doc = ReadJson(session / "session.json");
   EXPECT_EQ(exit_code, doc["outcome"]["exit_code"]) << ReadText(work / "run.log");
@@ -192,8 +192,8 @@ TEST(EventsProgram, EveryTypeInOrderAndAgreeingWithTheRecord) {
     if (e["type"] == "phase" && e["run_id"] > 0) phases[e["run_id"]].push_back(e["phase"]);
   ASSERT_EQ(phases.size(), 3u);
   for (const auto& [run, seen] : phases)
-    EXPECT_EQ(seen, (std::vector<std::string>{"settle", "excite", "ready", "release", "capture",
-                                              "stop"}))
+    EXPECT_EQ(seen,
+              (std::vector<std::string>{"settle", "excite", "ready", "release", "capture", "stop"}))
         << "run " << run;
 
   // The runs, the limits and the outcome as session.json has them.
@@ -254,8 +254,9 @@ TEST(EventsProgram, AReaderThatStopsReadingLosesEventsNeverSamples) {
   ExpectEverySample(session);
   const nlohmann::json account = ReadJson(session / "events.json");
   EXPECT_GT(account["events_lost"], 0) << account.dump();
-  EXPECT_EQ(account["events_written"].get<std::uint64_t>() + account["events_lost"].get<std::uint64_t>(),
-            account["events_published"].get<std::uint64_t>());
+  EXPECT_EQ(
+      account["events_written"].get<std::uint64_t>() + account["events_lost"].get<std::uint64_t>(),
+      account["events_published"].get<std::uint64_t>());
   // What reached the pipe is whole lines; the lost ones are gaps in seq.
   const std::vector<nlohmann::json> tail = ParseLines(rest);
   std::uint64_t previous = 0;

@@ -1,9 +1,10 @@
 // EventStream against real pipes: every line a JSON object with the stream's fields first and
-// seq in order; a full queue drops (and counts) instead of waiting; a reader that stops or goes away
-// costs events, never a blocked producer; Close always returns and ends with the "end" event.
+// seq in order; a full queue drops (and counts) instead of waiting; a reader that stops or goes
+// away costs events, never a blocked producer; Close always returns and ends with the "end" event.
 #include "hrgbench/bench/event_stream.hpp"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -11,8 +12,6 @@
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::bench {
 namespace {

@@ -5,13 +5,12 @@
 #include "hrgbench/bench/session_events.hpp"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::bench {
 namespace {
