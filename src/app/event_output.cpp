@@ -38,4 +38,17 @@ void EventOutput::Close(const std::filesystem::path& session_dir) {
   if (!out) spdlog::error("event stream: cannot write {}", file.string());
 }
 
+std::string RecordedSerial(const std::filesystem::path& session_dir) {
+  const std::filesystem::path file = session_dir / "session.json";
+  std::error_code ec;
+  if (std::filesystem::file_size(file, ec) > (64u << 20) || ec) return {};
+  std::ifstream in(file);
+  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("unit")) return {};
+  const nlohmann::json& unit = doc["unit"];
+  return unit.is_object() && unit.contains("serial") && unit["serial"].is_string()
+             ? unit["serial"].get<std::string>()
+             : std::string();
+}
+
 }  // namespace hrgbench::app

@@ -32,4 +32,8 @@ class EventOutput {
   bench::SessionEventPublisher publisher_;
 };
 
+// The unit serial a session folder's session.json records ("" when it cannot be read): a resume's
+// session_started event names the unit as the start did.
+std::string RecordedSerial(const std::filesystem::path& session_dir);
+
 }  // namespace hrgbench::app

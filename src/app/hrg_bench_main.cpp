@@ -202,8 +202,8 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
   if (event_output) {
-    event_output->publisher().SessionStarted(configs, resume ? std::string() : serial, dir, resume,
-                                             HRGBENCH_SOFTWARE_VERSION);
+    event_output->publisher().SessionStarted(configs, resume ? app::RecordedSerial(dir) : serial,
+                                             dir, resume, HRGBENCH_SOFTWARE_VERSION);
     event_output->publisher().Attach(options);
   }
   InstallSignalHandlers();

@@ -3,11 +3,11 @@
 // session names the page may ask a report of.
 #include "app/panel/panel_catalog.hpp"
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <random>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::app {
 namespace {

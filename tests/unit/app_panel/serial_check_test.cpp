@@ -3,9 +3,9 @@
 // refused with a sentence that says why.
 #include "app/panel/serial_check.hpp"
 
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 namespace hrgbench::app {
 namespace {
