@@ -91,7 +91,8 @@ function showProgress(e) {
   $("samples").dataset.samples = String(e.samples);
   text("drops", String(e.samples_lost));
   text("table-rate", e.table_rate_rad_s === null ? "—" : fmt(e.table_rate_rad_s, 5) + " rad/s");
-  const done = e.run_count > 0 ? (Math.max(e.run - 1, 0) +
+  // Every run captured once the estimate begins (its progress event carries no run).
+  const done = e.phase === "estimate" ? 1 : e.run_count > 0 ? (Math.max(e.run - 1, 0) +
       (e.samples_expected > 0 ? e.samples / e.samples_expected : 0)) / e.run_count : 0;
   $("progress-bar").style.width = (100 * Math.min(done, 1)).toFixed(1) + "%";
 }
