@@ -320,7 +320,8 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
                     "ERROR": "rgb(224, 138, 0)"}.get(kind)
         Check(expected is None or colour == expected, f"{kind} shown in {colour}")
         latency = {k: browser.js(f"return document.body.dataset.{k}") for k in
-                   ("latencyCount", "latencyMedianMs", "latencyP95Ms", "latencyMaxMs")}
+                   ("latencyCount", "latencyMedianMs", "latencyP95Ms", "latencyMaxMs",
+                    "latencySlowest")}
         (out / "latency.json").write_text(json.dumps(latency, indent=1))
         print(f"panel latency, event to screen: {latency}")
         Check(int(latency["latencyCount"] or 0) > 20, "too few live events measured")

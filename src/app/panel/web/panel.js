@@ -16,6 +16,7 @@ const state = {
   plotRun: -1,
   outcome: null,
   latencies: [],  // ms from an event's time stamp to the frame that shows it (live events only)
+  slowest: [],
 };
 
 function text(id, value) { $(id).textContent = value; }
@@ -155,7 +156,13 @@ function onEvent(raw) {
   // Latency: from the event's stamp (the bench's wall clock, ms) to the frame that shows it.
   if (typeof e.time_unix_s === "number" && e.time_unix_s * 1000 >= pageLoadedMs) {
     requestAnimationFrame(() => {
-      state.latencies.push(Date.now() - e.time_unix_s * 1000);
+      const ms = Date.now() - e.time_unix_s * 1000;
+      state.latencies.push(ms);
+      // The slowest few, with their type, say where the time goes.
+      state.slowest.push({ type: e.type, ms });
+      state.slowest.sort((a, b) => b.ms - a.ms);
+      state.slowest.length = Math.min(state.slowest.length, 8);
+      document.body.dataset.latencySlowest = JSON.stringify(state.slowest);
       const sorted = state.latencies.slice().sort((a, b) => a - b);
       document.body.dataset.latencyCount = String(sorted.length);
       document.body.dataset.latencyMedianMs = String(sorted[Math.floor(sorted.length / 2)]);
