@@ -18,14 +18,16 @@ namespace {
 using namespace hrgbench::bench;
 
 nlohmann::json ProgressEvent(std::int64_t i) {
-  return {{"type", "progress"}, {"run", 2},         {"run_count", 6},  {"run_id", 2},
-          {"phase", "capture"}, {"samples", i},     {"elapsed_s", 1.5}, {"remaining_s", 300.0},
+  return {{"type", "progress"}, {"run", 2},
+          {"run_count", 6},     {"run_id", 2},
+          {"phase", "capture"}, {"samples", i},
+          {"elapsed_s", 1.5},   {"remaining_s", 300.0},
           {"samples_lost", 0},  {"table_rate_rad_s", 0.9999}};
 }
 
 void PublishToAReaderThatKeepsUp(benchmark::State& state) {
-  auto stream = EventStream::FromFd(::open("/dev/null", O_WRONLY | O_CLOEXEC),
-                                    EventStream::kDefaultCapacity);
+  auto stream =
+      EventStream::FromFd(::open("/dev/null", O_WRONLY | O_CLOEXEC), EventStream::kDefaultCapacity);
   std::int64_t i = 0;
   for (auto _ : state) stream->Publish(ProgressEvent(i++));
   const EventStreamStats stats = stream->Close(10'000);
@@ -51,8 +53,8 @@ void PublishToAStoppedReader(benchmark::State& state) {
 BENCHMARK(PublishToAStoppedReader);
 
 void LivePlotShareOfOneDrain(benchmark::State& state) {
-  auto stream = EventStream::FromFd(::open("/dev/null", O_WRONLY | O_CLOEXEC),
-                                    EventStream::kDefaultCapacity);
+  auto stream =
+      EventStream::FromFd(::open("/dev/null", O_WRONLY | O_CLOEXEC), EventStream::kDefaultCapacity);
   SessionEventPublisher publisher(*stream);
   BenchConfigs configs;
   SequenceRun run;
