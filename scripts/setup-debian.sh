@@ -25,6 +25,7 @@ packages=(
   libsqlite3-dev sqlite3   # results database (src/results): SQLite engine; sqlite3 in its tests
   libpq-dev                # results database: PostgreSQL engine (libpq)
   postgresql-15            # results tests and benchmark: a throwaway server (initdb, pg_ctl)
+  libcpp-httplib-dev       # hrg-bench serve: the operator panel's web server (cpp-httplib)
 )
 
 missing=()

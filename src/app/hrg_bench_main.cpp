@@ -1,8 +1,10 @@
 // hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
 //
-//   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR] [--json]
-//   hrg-bench resume DIR [--json]
+//   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR]
+//                 [--json] [--events FILE|-]
+//   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
+//   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
 // (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
@@ -21,7 +23,9 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
+#include "app/event_output.hpp"
 #include "app/logging.hpp"
+#include "app/panel/panel_server.hpp"
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
@@ -128,7 +132,9 @@ std::string WriteReport(const bench::SessionResult& result) {
   }
 }
 
-int Report(const bench::SessionResult& result, bool json, const std::string& report_path) {
+// `out`: stdout, or stderr when the events go to stdout (--events -: stdout is JSON lines only).
+int Report(const bench::SessionResult& result, bool json, const std::string& report_path,
+           std::ostream& out_text) {
   if (json) {
     nlohmann::json out;
     out["outcome"] = std::string(bench::ToString(result.outcome));
@@ -147,25 +153,42 @@ int Report(const bench::SessionResult& result, bool json, const std::string& rep
       out["verdict"] = nullptr;
       out["limits"] = nlohmann::json::array();
     }
-    std::cout << out.dump(1) << '\n';
+    out_text << out.dump(1) << '\n';
     return result.exit_code;
   }
-  if (result.estimate) std::cout << result.estimate->Report();
+  if (result.estimate) out_text << result.estimate->Report();
   if (result.engineering) {
-    std::cout << "in the field's units (f0 = " << result.engineering->frequency_hz
-              << " Hz as reported; angles on the shell):\n"
-              << result.engineering->Report();
+    out_text << "in the field's units (f0 = " << result.engineering->frequency_hz
+             << " Hz as reported; angles on the shell):\n"
+             << result.engineering->Report();
   }
-  if (result.verdict) std::cout << result.verdict->Report();
-  for (const std::string& w : result.warnings) std::cout << "warning: " << w << '\n';
-  std::cout << bench::ToString(result.outcome) << ": " << result.reason << '\n'
-            << "session: " << result.dir.string() << '\n';
-  if (!report_path.empty()) std::cout << "report: " << report_path << '\n';
+  if (result.verdict) out_text << result.verdict->Report();
+  for (const std::string& w : result.warnings) out_text << "warning: " << w << '\n';
+  out_text << bench::ToString(result.outcome) << ": " << result.reason << '\n'
+           << "session: " << result.dir.string() << '\n';
+  if (!report_path.empty()) out_text << "report: " << report_path << '\n';
   return result.exit_code;
 }
 
+// --events: where, and the queue's capacity (events).
+struct EventsRequest {
+  std::string target;  // empty: no event stream
+  std::size_t capacity = bench::EventStream::kDefaultCapacity;
+};
+
 int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
-                const std::string& serial, bool resume, bool json) {
+                const std::string& serial, bool resume, bool json, const EventsRequest& events) {
+  std::unique_ptr<app::EventOutput> event_output;
+  if (!events.target.empty()) {
+    auto opened = app::EventOutput::Open(events.target, events.capacity);
+    if (!opened) {
+      spdlog::error("{}", opened.error());
+      return bench::kExitUsage;
+    }
+    // A reader that goes away must cost events, not the process.
+    ::signal(SIGPIPE, SIG_IGN);
+    event_output = std::move(*opened);
+  }
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
@@ -179,15 +202,26 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   options.interrupts = &g_interrupts;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
+  if (event_output) {
+    event_output->publisher().SessionStarted(configs, resume ? app::RecordedSerial(dir) : serial,
+                                             dir, resume, HRGBENCH_SOFTWARE_VERSION);
+    event_output->publisher().Attach(options);
+  }
   InstallSignalHandlers();
   const bench::SessionResult result =
       resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
+  if (event_output) event_output->publisher().SessionFinished(result);
   const std::string report_path = WriteReport(result);
-  // After the folder is complete (record closed, report written); never changes the outcome.
+  if (event_output) {
+    event_output->publisher().ReportWritten(report_path);
+    event_output->Close(result.dir);
+  }
+  // After the folder is complete (record closed, report written, events.json); never changes the
+  // outcome.
   app::UploadClosedSession(configs.station.results_url, result.dir);
-  return Report(result, json, report_path);
+  return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
 }
 
 }  // namespace
@@ -211,14 +245,38 @@ int main(int argc, char** argv) {
   run->add_option("--serial", serial, "unit serial number")->required();
   run->add_option("-o,--output", out_dir, "session directory (default sessions/SERIAL-UTC)");
   run->add_flag("--json", json, "print the result as one JSON object");
+  EventsRequest events;
+  const auto add_events = [&events](CLI::App* command) {
+    command->add_option("--events", events.target,
+                        "write the session's events, one JSON object per line, to FILE or - "
+                        "(stdout; not with --json)");
+    command
+        ->add_option("--events-queue", events.capacity,
+                     "events held for a slow reader before they are dropped (and counted)")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+  };
+  add_events(run);
   CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
   resume->add_option("dir", resume_dir, "session directory")->required();
   resume->add_flag("--json", json, "print the result as one JSON object");
+  add_events(resume);
   std::string check_station, check_sequence, check_limits;
   CLI::App* check = cli.add_subcommand("check", "validate configs only");
   check->add_option("station", check_station, "station config")->required();
   check->add_option("sequence", check_sequence, "sequence config")->required();
   check->add_option("limits", check_limits, "limits config");
+
+  app::PanelOptions panel;
+  CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
+  serve
+      ->add_option("--station", panel.station,
+                   "station config (TOML); the sequence-*.toml and "
+                   "limits-*.toml beside it are the ones offered")
+      ->required();
+  serve->add_option("--listen", panel.listen, "HOST:PORT (default 127.0.0.1:8080)");
+  serve->add_option("--sessions", panel.sessions, "sessions folder (default sessions)");
+  serve->add_option("--token-file", panel.token_file,
+                    "access token (required to listen on another address than localhost)");
 
   try {
     cli.parse(argc, argv);
@@ -227,7 +285,19 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : bench::kExitUsage;
   }
   hrgbench::app::SetUpStderrLogging("hrg-bench", quiet ? -1 : 0);
+  if (events.target == "-" && json) {
+    std::cerr << "--events - and --json both write to stdout: send the events to a file\n";
+    return bench::kExitUsage;
+  }
   try {
+    if (*serve) {
+      std::error_code ec;
+      panel.program = std::filesystem::read_symlink("/proc/self/exe", ec);
+      if (ec) panel.program = argv[0];
+      InstallSignalHandlers();
+      ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
+      return app::RunPanel(panel, g_interrupts);
+    }
     if (*check) {
       auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);
       if (!configs) {
@@ -248,14 +318,14 @@ int main(int argc, char** argv) {
         return bench::kExitUsage;
       }
       return RunOrResume(*configs, out_dir.empty() ? DefaultSessionDir(serial) : out_dir, serial,
-                         false, json);
+                         false, json, events);
     }
     auto configs = bench::LoadSavedConfigs(resume_dir);
     if (!configs) {
       std::cerr << configs.error() << '\n';
       return bench::kExitUsage;
     }
-    return RunOrResume(*configs, resume_dir, "", true, json);
+    return RunOrResume(*configs, resume_dir, "", true, json, events);
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());
     return bench::kExitError;

@@ -25,14 +25,17 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/session_outcome.hpp"
+#include "hrgbench/bench/session_record_types.hpp"
 #include "hrgbench/bench/verdict.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/hw/can_bus.hpp"
@@ -63,12 +66,15 @@ struct Progress {
   int run_count = 0;  // runs in this invocation (a resume counts only the remaining ones)
   int run_id = 0;     // the run's id in the session
   double omega_rad_s = 0.0;
-  std::string_view phase;     // "warm-up", "table", "excite", "capture", "estimate"
+  // "warm-up", "table" (settling), "excite", "ready", "release", "capture", "stop", "estimate";
+  // every change of phase is reported at once (the period applies within a phase).
+  std::string_view phase;
   double elapsed_s = 0.0;     // since the session (or the resume) started, on the hardware clock
   double remaining_s = 0.0;   // rough: the free-run time still to capture plus settling
   std::uint64_t samples = 0;  // captured in the current run
   std::uint64_t samples_expected = 0;
   std::uint64_t samples_lost = 0;  // sequence gaps + ring overruns in the current run
+  double table_rate_rad_s = std::numeric_limits<double>::quiet_NaN();  // last measured, capture
 };
 
 struct RunnerOptions {
@@ -80,6 +86,11 @@ struct RunnerOptions {
   const std::atomic<int>* interrupts = nullptr;
   std::function<void(const Progress&)> on_progress;  // runner thread; may be empty
   std::function<void(std::string_view)> on_log;      // plain log lines; may be empty
+  // The samples of run `run_id` as they are written to the record (runner thread, between ring
+  // drains: must return quickly, never block; the event stream decimates them). May be empty.
+  std::function<void(int run_id, std::span<const GyroSampleRecord>)> on_samples;
+  // A run as recorded (complete, rejected or aborted) with its sample count. May be empty.
+  std::function<void(int run_id, const RunEnd&, std::uint64_t samples)> on_run_end;
   double progress_period_s = 0.5;
 };
 

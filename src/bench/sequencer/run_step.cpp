@@ -114,6 +114,10 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     return StepOutcome::Error("rate table: " + table.error().ToString());
   }
 
+  progress.phase = "ready";
+  ctx.ReportProgress(progress, true);
+  progress.phase = "release";
+  ctx.ReportProgress(progress, true);
   auto release = hw.gyro->Release();
   if (!release) return StepOutcome::Error("gyro: release: " + release.error().ToString());
   // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
@@ -163,6 +167,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     }
     if (records.empty()) return true;
     progress.samples += records.size();
+    if (ctx.options->on_samples) ctx.options->on_samples(run_id, records);
     if (auto appended = ctx.recorder->AppendSamples(records); !appended) {
       outcome = StepOutcome::Error("record: " + appended.error().ToString());
       return false;
@@ -186,6 +191,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
         break;
       }
       omega.AddRate(table->measured_rate_rad_s);
+      progress.table_rate_rad_s = table->measured_rate_rad_s;
       if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
         outcome = read;
         break;
@@ -218,6 +224,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   }
   if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
 
+  progress.phase = "stop";
+  ctx.ReportProgress(progress, true);
   RunEnd end;
   end.temperature_start_c = start.temperature_c;
   end.frequency_start_hz = start.resonant_frequency_hz;
@@ -289,6 +297,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   if (auto ended = ctx.recorder->EndRun(end); !ended && outcome.ok())
     outcome = StepOutcome::Error("record: " + ended.error().ToString());
   ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
+  if (ctx.options->on_run_end) ctx.options->on_run_end(run_id, end, progress.samples);
   if (outcome.ok()) {
     ctx.Log("run " + std::to_string(run_id) + " " +
             (end.status == kRunComplete ? "complete" : end.status) + ": " +

@@ -1,0 +1,125 @@
+#include "app/panel/panel_catalog.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <fstream>
+
+namespace hrgbench::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uintmax_t kMaxSessionJsonBytes = 16u << 20;  // a production session's is < 1 MB
+
+std::vector<fs::path> Matching(const fs::path& dir, std::string_view prefix) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(ec) && name.rfind(prefix, 0) == 0 &&
+        entry.path().extension() == ".toml")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+std::expected<PanelCatalog, std::string> LoadPanelCatalog(const fs::path& station) {
+  PanelCatalog catalog;
+  catalog.station_file = station;
+  auto loaded = bench::LoadStationConfig(station);
+  if (!loaded) return std::unexpected(loaded.error().ToString());
+  catalog.station = *loaded;
+  const fs::path dir = station.parent_path().empty() ? fs::path(".") : station.parent_path();
+  for (const fs::path& file : Matching(dir, "sequence-")) {
+    auto configs = bench::LoadBenchConfigs(station, file, {});
+    if (!configs) {
+      spdlog::warn("panel: {} not offered: {}", file.string(), configs.error().ToString());
+      continue;
+    }
+    const bench::SequenceConfig& seq = configs->sequence;
+    char text[160];
+    std::snprintf(text, sizeof text, "%zu runs, %.0f s of free run", seq.runs.size(),
+                  seq.TotalFreeRunS());
+    catalog.sequences.push_back({file, seq.name, text});
+  }
+  for (const fs::path& file : Matching(dir, "limits-")) {
+    if (catalog.sequences.empty()) break;
+    auto configs = bench::LoadBenchConfigs(station, catalog.sequences.front().file, file);
+    if (!configs) {
+      spdlog::warn("panel: {} not offered: {}", file.string(), configs.error().ToString());
+      continue;
+    }
+    catalog.limits.push_back({file, configs->limits.name, ""});
+  }
+  if (catalog.sequences.empty())
+    return std::unexpected("no sequence-*.toml beside " + station.string() +
+                           " loads with it: the panel has nothing to offer");
+  return catalog;
+}
+
+bool IsSessionName(const fs::path& sessions_dir, std::string_view name) {
+  if (name.empty() || name.size() > 200 || name.front() == '.' ||
+      name.find("..") != std::string_view::npos)
+    return false;
+  for (char c : name) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                    c == '.' || c == '_' || c == '-';
+    if (!ok) return false;
+  }
+  std::error_code ec;
+  return fs::is_directory(sessions_dir / std::string(name), ec);
+}
+
+nlohmann::json RecentSessions(const fs::path& sessions_dir, std::size_t count) {
+  struct Found {
+    fs::file_time_type time;
+    fs::path dir;
+  };
+  std::vector<Found> found;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(sessions_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_directory(ec) || !IsSessionName(sessions_dir, name)) continue;
+    const fs::path json = entry.path() / "session.json";
+    const auto time = fs::last_write_time(json, ec);
+    if (ec) continue;
+    found.push_back({time, entry.path()});
+  }
+  std::sort(found.begin(), found.end(),
+            [](const Found& a, const Found& b) { return a.time > b.time; });
+  nlohmann::json out = nlohmann::json::array();
+  for (const Found& f : found) {
+    if (out.size() >= count) break;
+    const fs::path json = f.dir / "session.json";
+    if (fs::file_size(json, ec) > kMaxSessionJsonBytes || ec) continue;
+    std::ifstream in(json);
+    const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object()) continue;
+    const std::string name = f.dir.filename().string();
+    nlohmann::json row;
+    row["name"] = name;
+    const auto text = [&](const nlohmann::json& j, const char* key) -> nlohmann::json {
+      return j.is_object() && j.contains(key) ? j[key] : nlohmann::json(nullptr);
+    };
+    const nlohmann::json unit = text(doc, "unit");
+    row["unit"] = unit.is_object() ? text(unit, "serial") : unit;
+    const nlohmann::json station = text(doc, "station");
+    row["station"] = station.is_object() ? text(station, "name") : station;
+    const nlohmann::json outcome = text(doc, "outcome");
+    row["outcome"] = text(outcome, "kind");
+    row["reason"] = text(outcome, "reason");
+    const nlohmann::json started = text(doc, "started");
+    row["started"] = started.is_object() ? text(started, "utc") : started;
+    row["report"] = fs::exists(f.dir / "report" / "report.html", ec)
+                        ? nlohmann::json("sessions/" + name + "/report/report.html")
+                        : nlohmann::json(nullptr);
+    out.push_back(std::move(row));
+  }
+  return out;
+}
+
+}  // namespace hrgbench::app

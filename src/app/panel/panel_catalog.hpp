@@ -1,0 +1,49 @@
+#pragma once
+// What the operator panel offers and shows: the station's allowed sequences and limits, and the
+// station's recent sessions.
+//
+// The allowed list is the station's own folder: every sequence-*.toml and limits-*.toml beside the
+// station file that loads and passes the cross-file checks with it (LoadBenchConfigs) when the
+// panel starts. A file that does not load is left out and logged (with the loader's message, which
+// names file, line and key). The page picks by id (the index in these lists), never by path: no
+// path from the page reaches the file system.
+//
+// Recent sessions: the sessions folder's sub-folders with a session.json (read with a size bound),
+// newest first. Not thread-safe: the lists are built once; RecentSessions reads the disk per call.
+
+#include <cstdint>
+#include <expected>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hrgbench/bench/bench_configs.hpp"
+
+namespace hrgbench::app {
+
+struct AllowedConfig {
+  std::filesystem::path file;
+  std::string name;         // [sequence] / [limits] name
+  std::string description;  // sequences: runs and free-run time
+};
+
+struct PanelCatalog {
+  std::filesystem::path station_file;
+  bench::StationConfig station;
+  std::vector<AllowedConfig> sequences;  // at least one
+  std::vector<AllowedConfig> limits;     // may be empty (then sessions run without limits)
+};
+
+// Fails when the station does not load or no sequence beside it does (the message says which).
+std::expected<PanelCatalog, std::string> LoadPanelCatalog(const std::filesystem::path& station);
+
+// At most `count` sessions, newest first: [{name, unit, station, outcome, reason, started,
+// report}] (report: the page's URL of the report, or null). Unreadable folders are skipped.
+nlohmann::json RecentSessions(const std::filesystem::path& sessions_dir, std::size_t count);
+
+// The session folder name as the page may ask for it (for the report link): a direct sub-folder of
+// the sessions folder, no "..", no leading '.'. True when `name` is that and exists.
+bool IsSessionName(const std::filesystem::path& sessions_dir, std::string_view name);
+
+}  // namespace hrgbench::app

@@ -1,0 +1,418 @@
+#include "app/panel/panel_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "app/panel/panel_assets.hpp"
+#include "app/panel/panel_catalog.hpp"
+#include "app/panel/serial_check.hpp"
+#include "app/panel/session_process.hpp"
+#include "hrgbench/report/session_report.hpp"
+// Last: it brings <resolv.h>, whose `_res` macro breaks Eigen's headers (bench_configs.hpp).
+#include <httplib.h>  // NOLINT(llvm-include-order)
+
+namespace hrgbench::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kMaxBodyBytes = 64 * 1024;  // a start request is < 200 bytes
+constexpr std::size_t kRecentSessions = 20;
+constexpr auto kKeepAlive = std::chrono::seconds(5);  // also how long a stop waits for a stream
+
+struct Listen {
+  std::string host;
+  int port = 0;
+};
+
+std::expected<Listen, std::string> ParseListen(const std::string& text) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0)
+    return std::unexpected("--listen " + text + ": expected HOST:PORT (127.0.0.1:8080)");
+  Listen listen;
+  listen.host = text.substr(0, colon);
+  const std::string port = text.substr(colon + 1);
+  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos)
+    return std::unexpected("--listen " + text + ": the port must be a number in [1, 65535]");
+  listen.port = std::stoi(port);
+  if (listen.port < 1 || listen.port > 65535)
+    return std::unexpected("--listen " + text + ": the port must be a number in [1, 65535]");
+  return listen;
+}
+
+bool IsLoopback(const std::string& host) {
+  return host == "localhost" || host.rfind("127.", 0) == 0;
+}
+
+// The Host header's host part ("localhost:8080" -> "localhost", "[::1]:80" -> "[::1]").
+std::string HostOnly(const std::string& host_header) {
+  if (!host_header.empty() && host_header.front() == '[') {
+    const std::size_t end = host_header.find(']');
+    return end == std::string::npos ? host_header : host_header.substr(0, end + 1);
+  }
+  return host_header.substr(0, host_header.find(':'));
+}
+
+std::expected<std::string, std::string> ReadToken(const fs::path& file) {
+  std::error_code ec;
+  if (fs::file_size(file, ec) > 4096 || ec)
+    return std::unexpected("--token-file " + file.string() + ": missing or larger than 4 kB");
+  std::ifstream in(file);
+  std::string token;
+  std::getline(in, token);
+  while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
+  if (token.size() < 16)
+    return std::unexpected("--token-file " + file.string() +
+                           ": the token must be at least 16 characters on the first line");
+  for (char c : token)
+    if (static_cast<unsigned char>(c) < 0x21 || static_cast<unsigned char>(c) > 0x7e)
+      return std::unexpected("--token-file " + file.string() +
+                             ": the token must be printable ASCII without spaces");
+  return token;
+}
+
+// Compares without an early exit, so the time taken does not say how much of a guess was right.
+bool SameToken(const std::string& given, const std::string& token) {
+  unsigned char diff = given.size() == token.size() ? 0 : 1;
+  for (std::size_t i = 0; i < token.size(); ++i)
+    diff |= static_cast<unsigned char>(token[i] ^ (i < given.size() ? given[i] : 0));
+  return diff == 0;
+}
+
+void Error(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(nlohmann::json({{"error", message}}).dump(), "application/json");
+}
+
+std::string UtcStamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
+  return stamp;
+}
+
+std::string ContentType(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".svg") return "image/svg+xml";
+  if (ext == ".pdf") return "application/pdf";
+  if (ext == ".png") return "image/png";
+  if (ext == ".json") return "application/json";
+  return "application/octet-stream";
+}
+
+std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::uintmax_t max) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec || size > max) return std::unexpected(file.string() + ": missing or too large");
+  std::ifstream in(file, std::ios::binary);
+  std::string text(size, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (!in) return std::unexpected(file.string() + ": cannot read");
+  return text;
+}
+
+class Panel {
+ public:
+  Panel(const PanelOptions& options, PanelCatalog catalog, fs::path sessions, std::string token,
+        std::string chart_js)
+      : options_(options),
+        catalog_(std::move(catalog)),
+        sessions_(std::move(sessions)),
+        token_(std::move(token)),
+        chart_js_(std::move(chart_js)) {}
+
+  void Route(httplib::Server& server) {
+    server.set_payload_max_length(kMaxBodyBytes);
+    server.set_pre_routing_handler(
+        [this](const httplib::Request& req, httplib::Response& res) { return Guard(req, res); });
+    server.Get("/", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(std::string(kPanelHtml), "text/html; charset=utf-8");
+    });
+    server.Get("/panel.js", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(std::string(kPanelJs), "text/javascript; charset=utf-8");
+    });
+    server.Get("/panel.css", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(std::string(kPanelCss), "text/css; charset=utf-8");
+    });
+    // Browsers ask for it on every page (the report's too): no icon, and no 404 in their console.
+    server.Get("/favicon.ico",
+               [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
+    server.Get("/chart.js", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(chart_js_, "text/javascript; charset=utf-8");
+    });
+    server.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
+      res.set_content(State().dump(), "application/json");
+    });
+    server.Get("/api/events",
+               [this](const httplib::Request& req, httplib::Response& res) { Events(req, res); });
+    server.Post("/api/start",
+                [this](const httplib::Request& req, httplib::Response& res) { Start(req, res); });
+    server.Post("/api/abort", [this](const httplib::Request&, httplib::Response& res) {
+      if (auto refused = process_.Abort()) return Error(res, 409, *refused);
+      res.set_content(R"({"aborting":true})", "application/json");
+    });
+    server.Get(R"(/sessions/([^/]+)/report/([^/]+))",
+               [this](const httplib::Request& req, httplib::Response& res) { Report(req, res); });
+    server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+      if (res.body.empty()) {
+        const char* what = res.status == 413   ? "the request is too large"
+                           : res.status == 404 ? "not found"
+                                               : "refused";
+        Error(res, res.status, what);
+      }
+    });
+  }
+
+  std::atomic<bool> stopping{false};
+  SessionProcess process_;
+
+ private:
+  httplib::Server::HandlerResponse Guard(const httplib::Request& req, httplib::Response& res) {
+    using HR = httplib::Server::HandlerResponse;
+    // The page's own files hold nothing of the station's: a browser loads them before the page's
+    // script can add the token. Everything else (state, events, start, abort, reports) needs it.
+    const bool page_file =
+        req.method == "GET" &&
+        (req.path == "/" || req.path == "/panel.js" || req.path == "/panel.css" ||
+         req.path == "/chart.js" || req.path == "/favicon.ico");
+    if (!token_.empty() && !page_file) {
+      std::string given = req.get_param_value("token");
+      const std::string auth = req.get_header_value("Authorization");
+      if (given.empty() && auth.rfind("Bearer ", 0) == 0) given = auth.substr(7);
+      if (!SameToken(given, token_)) {
+        Error(res, 401,
+              "this panel needs its access token: open it with ?token=... (the token is in the "
+              "panel's --token-file)");
+        return HR::Handled;
+      }
+    } else if (!IsLoopback(HostOnly(req.get_header_value("Host")))) {
+      Error(res, 403, "this panel answers requests addressed to localhost only");
+      return HR::Handled;
+    }
+    if (req.method == "POST") {
+      const std::string type = req.get_header_value("Content-Type");
+      if (type.rfind("application/json", 0) != 0) {
+        Error(res, 415, "a request to the panel must be application/json");
+        return HR::Handled;
+      }
+      const std::string origin = req.get_header_value("Origin");
+      if (!origin.empty() && origin != "http://" + req.get_header_value("Host")) {
+        Error(res, 403,
+              "a request from another site is refused (Origin " + origin.substr(0, 80) + ")");
+        return HR::Handled;
+      }
+    }
+    return HR::Unhandled;
+  }
+
+  nlohmann::json State() const {
+    nlohmann::json sequences = nlohmann::json::array();
+    for (std::size_t i = 0; i < catalog_.sequences.size(); ++i)
+      sequences.push_back({{"id", i},
+                           {"name", catalog_.sequences[i].name},
+                           {"description", catalog_.sequences[i].description}});
+    nlohmann::json limits = nlohmann::json::array();
+    for (std::size_t i = 0; i < catalog_.limits.size(); ++i)
+      limits.push_back({{"id", i}, {"name", catalog_.limits[i].name}});
+    return {{"station", catalog_.station.name},
+            {"station_kind", std::string(bench::ToString(catalog_.station.kind))},
+            {"sequences", sequences},
+            {"limits", limits},
+            {"session", nlohmann::json::parse(process_.StatusJson())},
+            {"recent", RecentSessions(sessions_, kRecentSessions)}};
+  }
+
+  void Start(const httplib::Request& req, httplib::Response& res) {
+    const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
+    if (body.is_discarded() || !body.is_object())
+      return Error(res, 400, "the request is not a JSON object");
+    for (const auto& [key, value] : body.items())
+      if (key != "serial" && key != "sequence" && key != "limits")
+        return Error(
+            res, 400,
+            "unknown field \"" + key.substr(0, 32) + "\": expected serial, sequence and limits");
+    if (!body.contains("serial") || !body["serial"].is_string())
+      return Error(res, 400, "serial: a string is required");
+    const std::string serial = body["serial"];
+    if (auto problem = SerialProblem(serial)) return Error(res, 400, *problem);
+    if (!body.contains("sequence") || !body["sequence"].is_number_unsigned() ||
+        body["sequence"].get<std::size_t>() >= catalog_.sequences.size())
+      return Error(res, 400,
+                   "sequence: one of the station's allowed sequences (by id) is required");
+    const AllowedConfig& sequence = catalog_.sequences[body["sequence"].get<std::size_t>()];
+    const AllowedConfig* limits = nullptr;
+    if (body.contains("limits") && !body["limits"].is_null()) {
+      if (!body["limits"].is_number_unsigned() ||
+          body["limits"].get<std::size_t>() >= catalog_.limits.size())
+        return Error(res, 400, "limits: one of the station's allowed limits (by id) or null");
+      limits = &catalog_.limits[body["limits"].get<std::size_t>()];
+    }
+    if (process_.Running())
+      return Error(res, 409,
+                   "a session is already running on this station: one session at a time; wait "
+                   "for it to end or abort it");
+    // The folder: the checked serial and a time stamp, directly in the sessions folder.
+    std::string name = serial + "-" + UtcStamp();
+    std::error_code ec;
+    for (int i = 2; fs::exists(sessions_ / name, ec) && i < 100; ++i)
+      name = serial + "-" + UtcStamp() + "-" + std::to_string(i);
+    const fs::path dir = sessions_ / name;
+    if (fs::exists(dir, ec) || dir.parent_path() != sessions_)
+      return Error(res, 409, "cannot choose a new session folder for " + serial);
+    SessionLaunch launch;
+    launch.program = options_.program.string();
+    launch.arguments = {"run",
+                        "--station",
+                        catalog_.station_file.string(),
+                        "--sequence",
+                        sequence.file.string(),
+                        "--serial",
+                        serial,
+                        "-o",
+                        dir.string(),
+                        "--events",
+                        "/dev/fd/3"};
+    if (limits != nullptr) {
+      launch.arguments.push_back("--limits");
+      launch.arguments.push_back(limits->file.string());
+    }
+    launch.serial = serial;
+    launch.sequence = sequence.name;
+    launch.limits = limits != nullptr ? limits->name : "";
+    launch.session_name = name;
+    if (auto refused = process_.Start(launch)) return Error(res, 409, *refused);
+    res.set_content(nlohmann::json({{"session", name}}).dump(), "application/json");
+  }
+
+  void Events(const httplib::Request& req, httplib::Response& res) {
+    std::uint64_t after = 0;
+    const std::string last = req.get_header_value("Last-Event-ID");
+    if (!last.empty() && last.size() < 20 &&
+        last.find_first_not_of("0123456789") == std::string::npos)
+      after = std::stoull(last);
+    // A browser that comes back after a new session started gets that session from its start.
+    const std::uint64_t first = process_.FirstId();
+    if (first > 0 && after + 1 < first) after = first - 1;
+    res.set_header("Cache-Control", "no-cache");
+    res.set_header("X-Accel-Buffering", "no");
+    res.set_chunked_content_provider(
+        "text/event-stream", [this, after](std::size_t, httplib::DataSink& sink) mutable {
+          if (stopping) {
+            sink.done();
+            return true;
+          }
+          const std::vector<KeptEvent> events = process_.WaitForEvents(after, kKeepAlive);
+          if (events.empty()) {
+            const std::string ping = ": keep-alive\n\n";
+            return sink.write(ping.data(), ping.size());
+          }
+          std::string chunk;
+          for (const KeptEvent& e : events) {
+            chunk += "id: " + std::to_string(e.id) + "\ndata: " + e.json + "\n\n";
+            after = e.id;
+          }
+          return sink.write(chunk.data(), chunk.size());
+        });
+  }
+
+  void Report(const httplib::Request& req, httplib::Response& res) {
+    const std::string name = req.matches[1];
+    const std::string file = req.matches[2];
+    if (!IsSessionName(sessions_, name) || file.empty() || file.front() == '.' ||
+        file.find_first_not_of(
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
+            std::string::npos)
+      return Error(res, 404, "no such session report");
+    auto text = ReadBounded(sessions_ / name / "report" / file, 256u << 20);
+    if (!text) return Error(res, 404, "no such session report");
+    res.set_content(std::move(*text), ContentType(file));
+  }
+
+  PanelOptions options_;
+  PanelCatalog catalog_;
+  fs::path sessions_;
+  std::string token_;
+  std::string chart_js_;
+};
+
+}  // namespace
+
+int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
+  auto listen = ParseListen(options.listen);
+  if (!listen) {
+    std::cerr << listen.error() << '\n';
+    return 4;
+  }
+  std::string token;
+  if (!options.token_file.empty()) {
+    auto read = ReadToken(options.token_file);
+    if (!read) {
+      std::cerr << read.error() << '\n';
+      return 4;
+    }
+    token = *read;
+  } else if (!IsLoopback(listen->host)) {
+    std::cerr << "--listen " << options.listen
+              << ": another address than localhost needs an access token (--token-file FILE), "
+                 "or listen on localhost behind a reverse proxy\n";
+    return 4;
+  }
+  auto catalog = LoadPanelCatalog(options.station);
+  if (!catalog) {
+    std::cerr << catalog.error() << '\n';
+    return 4;
+  }
+  std::error_code ec;
+  fs::create_directories(options.sessions, ec);
+  const fs::path sessions = fs::weakly_canonical(options.sessions, ec);
+  if (ec || !fs::is_directory(sessions, ec)) {
+    std::cerr << "--sessions " << options.sessions.string() << ": not a usable folder\n";
+    return 4;
+  }
+  std::string chart_js;
+  for (const char* candidate : report::kChartJsCandidates) {
+    if (auto text = ReadBounded(candidate, 16u << 20)) {
+      chart_js = std::move(*text);
+      break;
+    }
+  }
+  if (chart_js.empty()) {
+    std::cerr << "Chart.js not found (Debian's libjs-chart.js: " << report::kChartJsCandidates[0]
+              << ")\n";
+    return 4;
+  }
+
+  Panel panel(options, std::move(*catalog), sessions, token, std::move(chart_js));
+  httplib::Server server;
+  server.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+  panel.Route(server);
+  if (!server.bind_to_port(listen->host, listen->port)) {
+    std::cerr << "--listen " << options.listen << ": cannot listen there (in use?)\n";
+    return 2;
+  }
+  std::thread watcher([&] {
+    while (stop.load() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    panel.stopping = true;
+    if (panel.process_.Running()) (void)panel.process_.Abort();
+    while (panel.process_.Running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    server.stop();
+  });
+  spdlog::info("panel: station '{}' on http://{}:{}/ (sessions in {})", options.station.string(),
+               listen->host, listen->port, sessions.string());
+  std::cout << "panel: http://" << listen->host << ":" << listen->port << "/" << std::endl;
+  server.listen_after_bind();
+  watcher.join();
+  return 0;
+}
+
+}  // namespace hrgbench::app

@@ -1,0 +1,50 @@
+#pragma once
+// `hrg-bench serve`: the operator panel (issue 11 §2). One page (web/, embedded in the program;
+// Chart.js from Debian's libjs-chart.js, served from the disk; nothing from a network), a small
+// JSON API and the running session's events as Server-Sent Events.
+//
+//   GET  /                     the page
+//   GET  /panel.js /panel.css /chart.js
+//   GET  /api/state            station, allowed sequences and limits, the current session, recent
+//                              sessions
+//   GET  /api/events           text/event-stream: the current session's events from its start (or
+//                              after Last-Event-ID), then live; ": keep-alive" every 5 s
+//   POST /api/start            {"serial", "sequence": id, "limits": id | null} -> {"session"}
+//   POST /api/abort            {} -> {"aborting": true}
+//   GET  /sessions/NAME/report/FILE   a session's report (only its report folder)
+// Every refusal is a JSON {"error": "..."} with 4xx: 400 bad input, 401 no or wrong token, 403
+// wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON.
+//
+// Security: listens on localhost by default; any other address needs an access token (a file of
+// at least 16 printable characters, --token-file), which every request but the page's own files
+// must then carry (?token= or "Authorization: Bearer"). Without a token the Host header must name
+// localhost (a web page elsewhere cannot reach the panel through DNS rebinding). POSTs must be
+// application/json and, when the browser sends an Origin, from the panel's own origin (no
+// cross-site form posts). A serial is checked (serial_check.hpp) before it becomes a folder name;
+// sequences and limits are chosen by id from the allowed list (panel_catalog.hpp); nothing the page
+// sends becomes a path otherwise.
+//
+// Threads: RunPanel blocks the caller until `stop` becomes non-zero (the panel then aborts a
+// running session, waits for it, and returns); HTTP requests run on a pool of kHttpThreads.
+
+#include <atomic>
+#include <filesystem>
+#include <string>
+
+namespace hrgbench::app {
+
+struct PanelOptions {
+  std::filesystem::path station;
+  std::string listen = "127.0.0.1:8080";  // host:port; host an IPv4 address or "localhost"
+  std::filesystem::path sessions = "sessions";
+  std::filesystem::path token_file;  // required when the host is not a loopback address
+  std::filesystem::path program;     // hrg-bench itself (a session is `hrg-bench run`)
+};
+
+inline constexpr int kHttpThreads = 32;  // every open page holds one for its event stream
+
+// Exit code: 0 after a stop; 4 (usage) when the options are refused (message on stderr); 2 when the
+// port cannot be bound.
+int RunPanel(const PanelOptions& options, const std::atomic<int>& stop);
+
+}  // namespace hrgbench::app

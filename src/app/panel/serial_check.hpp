@@ -1,0 +1,22 @@
+#pragma once
+// A unit serial from the operator panel, checked before it becomes part of a folder name.
+//
+// Accepted: 1..64 characters, letters, digits and . _ - only, starting with a letter or digit, and
+// no "..": a serial can then never name a parent folder, a hidden file, an option or anything
+// outside the sessions folder, whatever the file system. It is also checked as the config files
+// check a name (config_file::StringProblem, StringKind::kName), so the panel and the configs agree.
+// Pure function.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace hrgbench::app {
+
+inline constexpr std::size_t kMaxSerialLength = 64;
+
+// Why `serial` is refused (a sentence for the operator, never echoing more than 32 characters of
+// it), or nullopt when it is accepted.
+std::optional<std::string> SerialProblem(std::string_view serial);
+
+}  // namespace hrgbench::app

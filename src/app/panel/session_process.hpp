@@ -1,0 +1,87 @@
+#pragma once
+// The operator panel's one session at a time: `hrg-bench run` as a child process (the same program,
+// so a panel session is exactly a command-line session), its event stream read from a pipe on the
+// child's fd 3 (--events /dev/fd/3), kept for browsers that come (back) later.
+//
+// Why a child process: Abort is then exactly what Ctrl-C does (SIGINT: table to zero, gyro safe,
+// record closed ABORTED), a crash of the session cannot take the panel down, and the panel never
+// touches the hardware itself. The child's stdout and stderr are the panel's stderr.
+//
+// Events: every line the child writes is kept (up to kMaxKeptEvents per session; beyond, progress
+// and samples events are not kept, the rest still are) with an id that grows across sessions, so a
+// browser that reloads gets the running session from its start and one that reconnects gets what it
+// missed. The panel adds its own events: "panel_session" (a session was started from the panel:
+// serial, sequence, limits, session folder name) first, "panel_exit" (the child ended: exit_code,
+// or signal) last.
+//
+// Threads: every method may be called from any thread (one mutex); WaitForEvents blocks the calling
+// (HTTP) thread only.
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace hrgbench::app {
+
+struct SessionLaunch {
+  std::string program;                 // hrg-bench
+  std::vector<std::string> arguments;  // after the program name
+  std::string serial;
+  std::string sequence;  // names, for the page
+  std::string limits;
+  std::string session_name;  // the folder's name in the sessions folder
+};
+
+struct KeptEvent {
+  std::uint64_t id;
+  std::string json;  // one line, no newline
+};
+
+class SessionProcess {
+ public:
+  static constexpr std::size_t kMaxKeptEvents = 50000;
+  static constexpr std::size_t kMaxLineBytes = 4u << 20;  // a samples event is ~40 kB
+
+  SessionProcess() = default;
+  ~SessionProcess();  // a running child is interrupted (as Abort) and waited for
+  SessionProcess(const SessionProcess&) = delete;
+  SessionProcess& operator=(const SessionProcess&) = delete;
+
+  // Starts the child. Fails, with a sentence for the operator, when one is running or the fork
+  // fails.
+  std::optional<std::string> Start(const SessionLaunch& launch);
+  // SIGINT to the running child, once. Fails when none is running or it is already stopping.
+  std::optional<std::string> Abort();
+
+  bool Running() const;
+  // The current (or last) session: {running, aborting, serial, sequence, limits, session} or null.
+  std::string StatusJson() const;
+  // Events with id > after, waiting up to `wait` for one; empty on timeout.
+  std::vector<KeptEvent> WaitForEvents(std::uint64_t after, std::chrono::milliseconds wait) const;
+  // The first kept id of the current session (0 when none).
+  std::uint64_t FirstId() const;
+
+ private:
+  void ReadEvents(int fd, pid_t pid);
+  void Keep(std::string line);  // mutex held
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  pid_t pid_ = -1;
+  bool running_ = false;
+  bool aborting_ = false;
+  SessionLaunch launch_;
+  bool have_session_ = false;
+  std::vector<KeptEvent> events_;
+  std::uint64_t next_id_ = 1;
+  std::thread reader_;
+};
+
+}  // namespace hrgbench::app

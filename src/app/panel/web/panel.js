@@ -1,0 +1,253 @@
+// The operator panel (src/app/panel/panel_server.hpp has the API). Everything on screen comes from
+// /api/state and the session's event stream (/api/events, Server-Sent Events): a reload or a second
+// browser replays the running session from its start and goes on live.
+"use strict";
+
+const token = new URLSearchParams(location.search).get("token");
+const withToken = (path) =>
+  token ? path + (path.includes("?") ? "&" : "?") + "token=" + encodeURIComponent(token) : path;
+const $ = (id) => document.getElementById(id);
+const pageLoadedMs = Date.now();
+
+const state = {
+  running: false,
+  session: "",
+  runCount: 0,
+  plotRun: -1,
+  outcome: null,
+  latencies: [],  // ms from an event's time stamp to the frame that shows it (live events only)
+  slowest: [],
+};
+
+function text(id, value) { $(id).textContent = value; }
+function fmt(x, digits) { return x === null || x === undefined ? "—" : Number(x).toFixed(digits); }
+function message(textValue, kind) {
+  const m = $("message");
+  m.textContent = textValue;
+  m.dataset.kind = kind || "error";
+}
+
+// ---- the live plot: Chart.js from Debian's libjs-chart.js, served by the panel ----
+const colours = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd"];
+const plot = new Chart($("plot").getContext("2d"), {
+  type: "line",
+  data: { datasets: [0, 1, 2, 3].map((i) => ({
+    label: "y" + (i + 1), data: [], borderColor: colours[i], borderWidth: 1, pointRadius: 0 })) },
+  options: {
+    animation: false, parsing: false, normalized: true, responsive: false,
+    scales: { x: { type: "linear", title: { display: true, text: "t (s) since release" } } },
+  },
+});
+function plotReset(runId) {
+  state.plotRun = runId;
+  plot.data.datasets.forEach((d) => { d.data = []; });
+  plot.update("none");
+  $("plot").dataset.points = "0";
+  $("plot").dataset.run = String(runId);
+}
+function plotSamples(e) {
+  if (e.run_id !== state.plotRun) plotReset(e.run_id);
+  for (let k = 0; k < e.t_s.length; ++k)
+    for (let c = 0; c < 4; ++c) plot.data.datasets[c].data.push({ x: e.t_s[k], y: e.y[k][c] });
+  plot.update("none");
+  $("plot").dataset.points = String(plot.data.datasets[0].data.length);
+}
+
+// ---- session display ----
+function resetSession(e) {
+  state.session = e.session;
+  state.outcome = null;
+  state.running = true;
+  text("unit", e.unit);
+  text("session-name", e.session + " · " + e.sequence + (e.limits ? " · limits " + e.limits : ""));
+  $("outcome-box").hidden = true;
+  $("outcome").dataset.kind = "";
+  text("outcome", "—");
+  text("outcome-reason", "");
+  $("failed").innerHTML = "";
+  $("report-link").hidden = true;
+  $("runs").tBodies[0].innerHTML = "";
+  $("log").innerHTML = "";
+  $("progress-bar").style.width = "0";
+  plotReset(-1);
+  $("abort").disabled = false;
+}
+function logLine(textValue, cls) {
+  const li = document.createElement("li");
+  li.textContent = textValue;
+  if (cls) li.className = cls;
+  $("log").appendChild(li);
+  while ($("log").children.length > 200) $("log").firstChild.remove();
+  $("log").scrollTop = $("log").scrollHeight;
+}
+function showProgress(e) {
+  text("run", e.run > 0 ? e.run + " of " + e.run_count : "—");
+  text("phase", e.phase);
+  $("phase").dataset.phase = e.phase;
+  text("omega", e.run > 0 ? fmt(e.omega_rad_s, 4) + " rad/s" : "—");
+  if (e.type !== "progress") return;
+  text("elapsed", fmt(e.elapsed_s, 1) + " s");
+  text("remaining", "~" + fmt(e.remaining_s, 1) + " s");
+  text("samples", e.samples + " / " + e.samples_expected);
+  $("samples").dataset.samples = String(e.samples);
+  text("drops", String(e.samples_lost));
+  text("table-rate", e.table_rate_rad_s === null ? "—" : fmt(e.table_rate_rad_s, 5) + " rad/s");
+  // Every run captured once the estimate begins (its progress event carries no run).
+  const done = e.phase === "estimate" ? 1 : e.run_count > 0 ? (Math.max(e.run - 1, 0) +
+      (e.samples_expected > 0 ? e.samples / e.samples_expected : 0)) / e.run_count : 0;
+  $("progress-bar").style.width = (100 * Math.min(done, 1)).toFixed(1) + "%";
+}
+function showOutcome(kind, reason) {
+  state.outcome = kind;
+  $("outcome-box").hidden = false;
+  $("outcome").dataset.kind = kind;
+  text("outcome", kind);
+  text("outcome-reason", reason);
+}
+function ended(e) {
+  state.running = false;
+  $("abort").disabled = true;
+  if (!state.outcome)
+    showOutcome("ERROR", "the session ended without an outcome (" +
+      (e.exit_code !== undefined ? "exit code " + e.exit_code : "signal " + e.signal) + ")");
+  loadState();
+}
+
+const handlers = {
+  panel_session: resetSession,
+  panel_abort: () => { logLine("abort requested by the operator: table to zero, gyro safe"); },
+  panel_exit: ended,
+  session_started: (e) => { state.runCount = e.plan.length; text("run", "0 of " + e.plan.length); },
+  phase: showProgress,
+  progress: showProgress,
+  samples: plotSamples,
+  log: (e) => logLine(e.message),
+  warning: (e) => logLine("warning: " + e.message, "warning"),
+  run_result: (e) => {
+    const row = $("runs").tBodies[0].insertRow();
+    row.dataset.run = String(e.run_id);
+    [e.run_id, e.status, e.samples + " / " + e.samples_expected, fmt(e.omega_rad_s, 6), e.reason]
+      .forEach((v) => { row.insertCell().textContent = v; });
+  },
+  estimate: () => {},
+  limit: (e) => {
+    if (e.status !== "FAIL") return;
+    const li = document.createElement("li");
+    li.textContent = e.message || e.quantity;
+    li.dataset.quantity = e.quantity;
+    $("failed").appendChild(li);
+  },
+  outcome: (e) => showOutcome(e.outcome, e.reason),
+  report: (e) => {
+    if (!e.path || !state.session) return;
+    const a = $("report-link");
+    a.href = withToken("sessions/" + encodeURIComponent(state.session) + "/report/report.html");
+    a.hidden = false;
+  },
+  end: (e) => { if (e.events_lost > 0) logLine("the panel missed " + e.events_lost + " events"); },
+};
+
+function onEvent(raw) {
+  let e;
+  try { e = JSON.parse(raw.data); } catch (err) { return; }
+  const handler = handlers[e.type];
+  if (handler) handler(e);
+  document.body.dataset.lastEvent = e.type;
+  // Latency: from the event's stamp (the bench's wall clock, ms) to the frame that shows it.
+  if (typeof e.time_unix_s === "number" && e.time_unix_s * 1000 >= pageLoadedMs) {
+    requestAnimationFrame(() => {
+      const ms = Date.now() - e.time_unix_s * 1000;
+      state.latencies.push(ms);
+      // The slowest few, with their type, say where the time goes.
+      state.slowest.push({ type: e.type, ms });
+      state.slowest.sort((a, b) => b.ms - a.ms);
+      state.slowest.length = Math.min(state.slowest.length, 8);
+      document.body.dataset.latencySlowest = JSON.stringify(state.slowest);
+      const sorted = state.latencies.slice().sort((a, b) => a - b);
+      document.body.dataset.latencyCount = String(sorted.length);
+      document.body.dataset.latencyMedianMs = String(sorted[Math.floor(sorted.length / 2)]);
+      document.body.dataset.latencyP95Ms = String(sorted[Math.floor(sorted.length * 0.95)]);
+      document.body.dataset.latencyMaxMs = String(sorted[sorted.length - 1]);
+    });
+  }
+}
+
+function connect() {
+  const source = new EventSource(withToken("api/events"));
+  source.onopen = () => { $("connection").dataset.state = "open"; text("connection", "live"); };
+  source.onerror = () => { $("connection").dataset.state = "lost"; text("connection", "reconnecting"); };
+  source.onmessage = onEvent;
+}
+
+// ---- state, start, abort ----
+async function loadState() {
+  const res = await fetch(withToken("api/state"));
+  const s = await res.json();
+  if (!res.ok) { message(s.error || "the panel refused"); return; }
+  text("station", s.station + " (" + s.station_kind + ")");
+  const fill = (select, items, none) => {
+    const keep = select.value;
+    select.innerHTML = "";
+    if (none) select.add(new Option("none", ""));
+    items.forEach((i) => select.add(new Option(i.name + (i.description ? " — " + i.description : ""), String(i.id))));
+    if (keep && [...select.options].some((o) => o.value === keep)) select.value = keep;
+  };
+  if ($("sequence").options.length === 0) {
+    fill($("sequence"), s.sequences, false);
+    fill($("limits"), s.limits, true);
+    if (s.limits.length > 0) $("limits").value = "0";
+  }
+  const body = $("recent").tBodies[0];
+  body.innerHTML = "";
+  for (const r of s.recent) {
+    const row = body.insertRow();
+    row.dataset.session = r.name;
+    row.insertCell().textContent = r.name;
+    row.insertCell().textContent = r.unit ?? "";
+    const o = row.insertCell();
+    o.textContent = r.outcome ?? "not closed";
+    o.className = r.outcome ?? "";
+    row.insertCell().textContent = r.reason ?? "";
+    const link = row.insertCell();
+    if (r.report) {
+      const a = document.createElement("a");
+      a.href = withToken(r.report);
+      a.textContent = "report";
+      link.appendChild(a);
+    }
+  }
+  document.body.dataset.stateLoaded = "true";
+}
+
+async function post(path, body) {
+  const res = await fetch(withToken(path), {
+    method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
+  let reply = {};
+  try { reply = await res.json(); } catch (err) { reply = { error: "HTTP " + res.status }; }
+  return { ok: res.ok, status: res.status, reply };
+}
+
+$("start").addEventListener("click", async () => {
+  const limits = $("limits").value;
+  const r = await post("api/start", {
+    serial: $("serial").value,
+    sequence: Number($("sequence").value),
+    limits: limits === "" ? null : Number(limits),
+  });
+  if (r.ok) {
+    message("started " + r.reply.session, "info");
+    $("serial").value = "";
+  } else {
+    message(r.reply.error || "refused (HTTP " + r.status + ")");
+  }
+});
+$("serial").addEventListener("keydown", (ev) => { if (ev.key === "Enter") $("start").click(); });
+$("abort").addEventListener("click", async () => {
+  if (!confirm("Abort the session? The table goes to zero rate and the gyro to its safe state; " +
+               "the record says it was aborted by the operator.")) return;
+  const r = await post("api/abort", {});
+  message(r.ok ? "aborting: table to zero, gyro safe" : (r.reply.error || "refused"),
+          r.ok ? "info" : "error");
+});
+
+loadState().then(connect);

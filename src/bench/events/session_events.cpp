@@ -1,0 +1,216 @@
+#include "hrgbench/bench/session_events.hpp"
+
+#include <cmath>
+
+#include "hrgbench/bench/verdict_json.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+// Non-finite numbers are null in every event (JSON has no NaN).
+nlohmann::json Number(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json Event(const char* type) {
+  nlohmann::json event = nlohmann::json::object();
+  event["type"] = type;
+  return event;
+}
+
+}  // namespace
+
+std::string EventPhaseName(std::string_view sequencer_phase) {
+  if (sequencer_phase == "table") return "settle";
+  return std::string(sequencer_phase);
+}
+
+SessionEventPublisher::SessionEventPublisher(EventStream& stream, SessionEventOptions options)
+    : stream_(stream), options_(options) {}
+
+void SessionEventPublisher::SessionStarted(const BenchConfigs& configs,
+                                           const std::string& unit_serial,
+                                           const std::string& session_dir, bool resume,
+                                           const std::string& software_version) {
+  nlohmann::json event = Event("session_started");
+  event["unit"] = unit_serial;
+  event["station"] = configs.station.name;
+  event["station_kind"] = std::string(ToString(configs.station.kind));
+  event["sequence"] = configs.sequence.name;
+  event["limits"] =
+      configs.limits.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(configs.limits.name);
+  event["session"] = session_dir;
+  event["resume"] = resume;
+  event["software_version"] = software_version;
+  nlohmann::json plan = nlohmann::json::array();
+  samples_expected_.clear();
+  int id = 1;
+  for (const SequenceRun& run : configs.sequence.runs) {
+    samples_expected_.push_back(run.Samples());
+    plan.push_back({{"run_id", id++},
+                    {"omega_rad_s", run.omega_rad_s},
+                    {"free_run_s", run.free_run_s},
+                    {"sample_rate_hz", run.sample_rate_hz},
+                    {"samples", run.Samples()}});
+  }
+  event["plan"] = std::move(plan);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::Attach(RunnerOptions& options) {
+  auto progress = options.on_progress;
+  options.on_progress = [this, progress](const Progress& p) {
+    if (progress) progress(p);
+    OnProgress(p);
+  };
+  auto log = options.on_log;
+  options.on_log = [this, log](std::string_view line) {
+    if (log) log(line);
+    nlohmann::json event = Event("log");
+    event["message"] = std::string(line);
+    stream_.Publish(std::move(event));
+  };
+  auto samples = options.on_samples;
+  options.on_samples = [this, samples](int run_id, std::span<const GyroSampleRecord> records) {
+    if (samples) samples(run_id, records);
+    OnSamples(run_id, records);
+  };
+  auto run_end = options.on_run_end;
+  options.on_run_end = [this, run_end](int run_id, const RunEnd& end, std::uint64_t n) {
+    if (run_end) run_end(run_id, end, n);
+    OnRunEnd(run_id, end, n);
+  };
+}
+
+void SessionEventPublisher::OnProgress(const Progress& p) {
+  const std::string phase = EventPhaseName(p.phase);
+  const bool changed = phase != last_phase_ || p.run_id != last_run_id_;
+  const auto now = std::chrono::steady_clock::now();
+  if (changed) {
+    if (last_phase_ == "capture") FlushSamples();  // the run's tail before its "stop"
+    nlohmann::json event = Event("phase");
+    event["run"] = p.run;
+    event["run_count"] = p.run_count;
+    event["run_id"] = p.run_id;
+    event["omega_rad_s"] = p.omega_rad_s;
+    event["phase"] = phase;
+    stream_.Publish(std::move(event));
+    last_phase_ = phase;
+    last_run_id_ = p.run_id;
+  } else if (now - last_progress_ < std::chrono::duration<double>(options_.min_progress_period_s)) {
+    return;
+  }
+  last_progress_ = now;
+  FlushSamples();
+  nlohmann::json event = Event("progress");
+  event["run"] = p.run;
+  event["run_count"] = p.run_count;
+  event["run_id"] = p.run_id;
+  event["omega_rad_s"] = p.omega_rad_s;
+  event["phase"] = phase;
+  event["samples"] = p.samples;
+  event["samples_expected"] = p.samples_expected;
+  event["samples_lost"] = p.samples_lost;
+  event["elapsed_s"] = Number(p.elapsed_s);
+  event["remaining_s"] = Number(p.remaining_s);
+  event["table_rate_rad_s"] = Number(p.table_rate_rad_s);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::OnSamples(int run_id, std::span<const GyroSampleRecord> samples) {
+  if (run_id != plot_run_id_) {
+    FlushSamples();
+    plot_run_id_ = run_id;
+    plot_seen_ = 0;
+    const std::uint64_t expected =
+        run_id >= 1 && static_cast<std::size_t>(run_id) <= samples_expected_.size()
+            ? samples_expected_[static_cast<std::size_t>(run_id - 1)]
+            : 0;
+    const std::uint64_t points = std::max<std::uint64_t>(options_.plot_points_per_run, 1);
+    plot_stride_ = std::max<std::uint64_t>(1, (expected + points - 1) / points);
+  }
+  for (const GyroSampleRecord& s : samples) {
+    if (plot_seen_++ % plot_stride_ != 0) continue;
+    plot_t_.push_back(s.t_s);
+    plot_y_.push_back({Number(s.y[0]), Number(s.y[1]), Number(s.y[2]), Number(s.y[3])});
+  }
+}
+
+void SessionEventPublisher::FlushSamples() {
+  if (plot_t_.empty()) return;
+  nlohmann::json event = Event("samples");
+  event["run_id"] = plot_run_id_;
+  event["stride"] = plot_stride_;
+  event["t_s"] = std::move(plot_t_);
+  event["y"] = std::move(plot_y_);
+  plot_t_ = nlohmann::json::array();
+  plot_y_ = nlohmann::json::array();
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::OnRunEnd(int run_id, const RunEnd& end, std::uint64_t samples) {
+  FlushSamples();
+  if (end.status != kRunComplete || end.reason.rfind("flagged: ", 0) == 0) {
+    nlohmann::json warning = Event("warning");
+    warning["message"] = "run " + std::to_string(run_id) + " " + end.status + ": " + end.reason;
+    stream_.Publish(std::move(warning));
+  }
+  nlohmann::json event = Event("run_result");
+  event["run_id"] = run_id;
+  event["status"] = end.status;
+  event["reason"] = end.reason;
+  event["samples"] = samples;
+  event["samples_expected"] =
+      run_id >= 1 && static_cast<std::size_t>(run_id) <= samples_expected_.size()
+          ? nlohmann::json(samples_expected_[static_cast<std::size_t>(run_id - 1)])
+          : nlohmann::json(nullptr);
+  event["omega_rad_s"] = Number(end.omega_rad_s);
+  event["omega_std_error_rad_s"] = Number(end.omega_std_error_rad_s);
+  event["omega_source"] = end.omega_source;
+  event["sequence_gaps"] = end.sequence_gaps;
+  event["kernel_drops"] = end.kernel_drops;
+  event["bad_frames"] = end.bad_frames;
+  event["temperature_start_c"] = Number(end.temperature_start_c);
+  event["temperature_end_c"] = Number(end.temperature_end_c);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::SessionFinished(const SessionResult& result) {
+  FlushSamples();
+  for (const std::string& w : result.warnings) {
+    nlohmann::json event = Event("warning");
+    event["message"] = w;
+    stream_.Publish(std::move(event));
+  }
+  if (!result.estimate_json.is_null()) {
+    nlohmann::json event = Event("estimate");
+    event["estimate"] = result.estimate_json;
+    stream_.Publish(std::move(event));
+  }
+  nlohmann::json failed = nlohmann::json::array();
+  if (result.verdict) {
+    const nlohmann::json verdict = VerdictJson(*result.verdict);
+    for (const nlohmann::json& limit : verdict.value("limits", nlohmann::json::array())) {
+      nlohmann::json event = limit;
+      event["type"] = "limit";
+      if (limit.value("status", "") == "FAIL") failed.push_back(limit.value("quantity", ""));
+      stream_.Publish(std::move(event));
+    }
+  }
+  nlohmann::json event = Event("outcome");
+  event["outcome"] = std::string(ToString(result.outcome));
+  event["reason"] = result.reason;
+  event["exit_code"] = result.exit_code;
+  event["complete_runs"] = result.complete_runs;
+  event["failed_limits"] = std::move(failed);
+  event["session"] = result.dir.string();
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::ReportWritten(const std::string& report_path) {
+  nlohmann::json event = Event("report");
+  event["path"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
+  stream_.Publish(std::move(event));
+}
+
+}  // namespace hrgbench::bench

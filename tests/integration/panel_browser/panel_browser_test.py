@@ -1,0 +1,549 @@
+#!/usr/bin/env python3
+"""The operator panel in a real browser (issue 11 §3): headless Chromium against `hrg-bench serve`
+on the simulated station (paced at 4x real time), nothing from a network.
+
+  panel_browser_test.py --case CASE --source-dir SRC --bin-dir BIN --artifacts DIR
+
+flow          type a serial, start; the progress advances, the live plot draws, the outcome shows
+              (as session.json has it), the report link opens the session's report; the panel's
+              latency (event time stamp to the frame that shows it) is printed and kept.
+abort         a longer session aborted mid-capture from the page (confirm once): ABORTED on the
+              page and in session.json, the reason names the operator, the table commanded to zero.
+two-browsers  one browser starts; a second sees the same live session and cannot start another;
+              the first reloads and picks the session up again.
+hostile       a serial with ../, 10 kB of text, control characters (typed into the page and sent
+              directly), forged requests (wrong Host, other Origin, not JSON, too large, unknown
+              ids, a path out of the sessions folder), a non-local address without a token
+              (refused at start) and requests without the token: all refused with a clear message,
+              nothing written outside the sessions folder.
+
+Screenshots go to --artifacts/<case>/. Exit codes: 0 passed; 1 failed; 77 a tool missing
+(skipped), which is a failure (1) under CI=true or HRGBENCH_STRICT=1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+sys.dont_write_bytecode = True
+kSkip = 77
+# Network refused except loopback (the panel): a proxy on a closed port for everything else (the
+# loopback is bypassed by default), and no host name resolves.
+kChromiumArgs = [
+    "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+    "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1",
+    "--window-size=1280,1400", "--no-first-run", "--disable-extensions",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--disable-default-apps",
+]
+kWaitS = 120.0  # anything the page waits for; a busy 2-core machine is slow, never this slow
+
+SHORT = """\
+[sequence]
+name = "panel-short"
+description = "Three short runs for the panel's browser test"
+[settle]
+rate_tolerance_rad_s = 1e-4
+dwell_s = 0.2
+poll_period_s = 0.05
+[timeouts]
+settle_s = 60.0
+excite_s = 10.0
+run_margin_s = 5.0
+[warmup]
+min_s = 0.0
+window_s = 2.0
+max_drift_c = 0.1
+timeout_s = 60.0
+[drift]
+max_temperature_change_rel = 0.01
+action = "flag"
+[capture]
+max_sequence_gaps = 0
+max_samples_lost = 0
+[defaults]
+a = 1.0
+free_run_s = FREE_RUN
+sample_rate_hz = 100
+[[runs]]
+omega_rad_s = -1.0
+b = -0.4
+theta_rad = 0.0
+[[runs]]
+omega_rad_s = 0.3
+b = 0.0
+theta_rad = 0.9
+[[runs]]
+omega_rad_s = 1.0
+b = 0.4
+theta_rad = 1.8
+"""
+
+
+class Failed(Exception):
+    pass
+
+
+def Check(condition: bool, message: str) -> None:
+    if not condition:
+        raise Failed(message)
+
+
+def Strict() -> bool:
+    return os.environ.get("CI") == "true" or os.environ.get("HRGBENCH_STRICT") == "1"
+
+
+def MissingTools() -> list[str]:
+    missing = []
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        missing.append("python3-selenium")
+    if not (shutil.which("chromium") or shutil.which("chromium-browser")):
+        missing.append("chromium")
+    if not shutil.which("chromedriver"):
+        missing.append("chromium-driver (chromedriver)")
+    return missing
+
+
+def FreePort() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def WriteConfigs(source: Path, folder: Path) -> Path:
+    """The station (paced 4x) and what it offers: sequence-short (3 x 4 s), sequence-long (3 x 40 s,
+    for abort and two browsers), the example limits."""
+    folder.mkdir(parents=True)
+    station = (source / "bench_configs" / "station-sim.toml").read_text()
+    station = station.replace("faster_than_real_time = true",
+                              "faster_than_real_time = false\ntime_scale = 4.0")
+    (folder / "station-panel.toml").write_text(station)
+    (folder / "sequence-short.toml").write_text(SHORT.replace("FREE_RUN", "4.0"))
+    (folder / "sequence-long.toml").write_text(
+        SHORT.replace("FREE_RUN", "40.0").replace("panel-short", "panel-long"))
+    shutil.copy(source / "bench_configs" / "limits-example.toml", folder / "limits-example.toml")
+    return folder / "station-panel.toml"
+
+
+class Panel:
+    """`hrg-bench serve` on a free loopback port, stopped (SIGINT, as Ctrl-C) at the end."""
+
+    def __init__(self, bin_dir: Path, station: Path, sessions: Path, log: Path,
+                 extra: list[str] | None = None, listen_host: str = "127.0.0.1"):
+        self.port = FreePort()
+        self.base = f"http://127.0.0.1:{self.port}/"
+        self.log = log
+        command = [str(bin_dir / "hrg-bench"), "serve", "--station", str(station),
+                   "--listen", f"{listen_host}:{self.port}", "--sessions", str(sessions)]
+        self.process = subprocess.Popen(command + (extra or []), stdout=log.open("w"),
+                                        stderr=subprocess.STDOUT)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            if self.process.poll() is not None:
+                raise Failed(f"hrg-bench serve exited with {self.process.returncode}: "
+                             + log.read_text())
+            try:
+                with socket.create_connection(("127.0.0.1", self.port), timeout=1):
+                    return
+            except OSError:
+                time.sleep(0.1)
+        raise Failed("hrg-bench serve never listened")
+
+    def stop(self) -> None:
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)
+            try:
+                self.process.wait(timeout=120)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+
+
+def Request(url: str, method: str = "GET", body: bytes | None = None,
+            headers: dict[str, str] | None = None) -> tuple[int, dict]:
+    request = urllib.request.Request(url, data=body, method=method, headers=headers or {})
+    try:
+        with urllib.request.urlopen(request, timeout=30) as response:
+            return response.status, json.loads(response.read() or b"{}")
+    except urllib.error.HTTPError as error:
+        text = error.read()
+        try:
+            return error.code, json.loads(text)
+        except json.JSONDecodeError:
+            return error.code, {"raw": text.decode(errors="replace")}
+
+
+def PostJson(base: str, path: str, payload: object, headers: dict[str, str] | None = None):
+    return Request(base + path, "POST", json.dumps(payload).encode(),
+                   {"Content-Type": "application/json", **(headers or {})})
+
+
+class Browser:
+    def __init__(self, artifacts: Path):
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+
+        options = webdriver.ChromeOptions()
+        for arg in kChromiumArgs:
+            options.add_argument(arg)
+        options.binary_location = shutil.which("chromium") or shutil.which("chromium-browser")
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        self.driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")),
+                                       options=options)
+        self.driver.set_page_load_timeout(kWaitS)
+        self.artifacts = artifacts
+        artifacts.mkdir(parents=True, exist_ok=True)
+
+    def open(self, url: str) -> None:
+        self.driver.get(url)
+        self.wait(lambda: self.js("return document.body.dataset.stateLoaded") == "true",
+                  "the page never loaded its state")
+
+    def js(self, script: str, *args):
+        return self.driver.execute_script(script, *args)
+
+    def wait(self, condition, what: str, timeout_s: float = kWaitS):
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            value = condition()
+            if value:
+                return value
+            time.sleep(0.05)
+        self.shot("timeout")
+        raise Failed(f"waited {timeout_s:.0f} s: {what}")
+
+    def text(self, element_id: str) -> str:
+        return self.js("return document.getElementById(arguments[0]).textContent", element_id)
+
+    def data(self, element_id: str, key: str):
+        return self.js("return document.getElementById(arguments[0]).dataset[arguments[1]]",
+                       element_id, key)
+
+    def start(self, serial: str, sequence: str) -> None:
+        from selenium.webdriver.common.by import By
+        from selenium.webdriver.support.ui import Select
+
+        field = self.driver.find_element(By.ID, "serial")
+        field.clear()
+        field.send_keys(serial)
+        select = Select(self.driver.find_element(By.ID, "sequence"))
+        for option in select.options:
+            if option.text.startswith(sequence):
+                select.select_by_visible_text(option.text)
+        self.driver.find_element(By.ID, "start").click()
+
+    def click(self, element_id: str) -> None:
+        from selenium.webdriver.common.by import By
+        self.driver.find_element(By.ID, element_id).click()
+
+    def plot_pixels(self) -> int:
+        """Pixels of the live plot that are not blank (the data drawn, not only the axes)."""
+        return self.js("""
+            const c = document.getElementById('plot');
+            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+            let n = 0;
+            for (let i = 3; i < d.length; i += 4) if (d[i] !== 0) ++n;
+            return n;""")
+
+    def console_errors(self) -> list[str]:
+        return [e["message"] for e in self.driver.get_log("browser") if e["level"] == "SEVERE"]
+
+    def shot(self, name: str) -> None:
+        try:
+            self.driver.save_screenshot(str(self.artifacts / f"{name}.png"))
+        except Exception:  # noqa: BLE001 (a screenshot is evidence, never the failure itself)
+            pass
+
+    def quit(self) -> None:
+        self.driver.quit()
+
+
+def SessionJson(sessions: Path, name: str) -> dict:
+    return json.loads((sessions / name / "session.json").read_text())
+
+
+def WaitOutcome(browser: Browser) -> str:
+    return browser.wait(lambda: browser.data("outcome", "kind") or None, "no outcome on the page")
+
+
+def WaitCapture(browser: Browser, run: int = 1) -> None:
+    browser.wait(lambda: browser.data("phase", "phase") == "capture"
+                 and browser.text("run").startswith(f"{run} of"),
+                 f"run {run} never reached its capture")
+
+
+def CaseFlow(args, tmp: Path, out: Path) -> None:
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        Check(browser.text("station").startswith("sim-ci"), "the station is not named")
+        browser.start("SN-FLOW-1", "panel-short")
+        browser.wait(lambda: "started" in browser.text("message"), "no 'started' message: "
+                     + browser.text("message"))
+        WaitCapture(browser, 1)
+        first = int(browser.wait(lambda: browser.data("samples", "samples"), "no samples"))
+        browser.wait(lambda: int(browser.data("samples", "samples") or 0) > first
+                     or not browser.text("run").startswith("1 of"), "the progress never advanced")
+        browser.wait(lambda: int(browser.data("plot", "points") or 0) > 10, "no points plotted")
+        browser.wait(lambda: browser.plot_pixels() > 2000, "the live plot never drew its lines")
+        browser.shot("live")
+        kind = WaitOutcome(browser)
+        browser.wait(lambda: browser.js(
+            "return !document.getElementById('report-link').hidden"), "no report link")
+        browser.shot("outcome")
+        name = browser.text("session-name").split(" ")[0]
+        record = SessionJson(sessions, name)
+        Check(kind == record["outcome"]["kind"],
+              f"the page says {kind}, session.json {record['outcome']['kind']}")
+        Check(browser.text("outcome-reason") == record["outcome"]["reason"], "reason differs")
+        Check(browser.js("return document.querySelectorAll('#runs tbody tr').length") == 3,
+              "not three run rows")
+        colour = browser.js("return getComputedStyle(document.getElementById('outcome'))"
+                            ".backgroundColor")
+        expected = {"PASS": "rgb(26, 138, 42)", "FAIL": "rgb(198, 40, 40)",
+                    "ERROR": "rgb(224, 138, 0)"}.get(kind)
+        Check(expected is None or colour == expected, f"{kind} shown in {colour}")
+        latency = {k: browser.js(f"return document.body.dataset.{k}") for k in
+                   ("latencyCount", "latencyMedianMs", "latencyP95Ms", "latencyMaxMs",
+                    "latencySlowest")}
+        (out / "latency.json").write_text(json.dumps(latency, indent=1))
+        print(f"panel latency, event to screen: {latency}")
+        Check(int(latency["latencyCount"] or 0) > 20, "too few live events measured")
+        # The recent sessions list has it, and the report opens from the page.
+        browser.wait(lambda: browser.js(
+            "return document.querySelector('#recent tr[data-session=\"' + arguments[0] + '\"]')"
+            " !== null", name), "the session is not among the recent sessions")
+        browser.click("report-link")
+        browser.wait(lambda: browser.js("return document.readyState") == "complete"
+                     and "report/report.html" in browser.driver.current_url, "report not opened")
+        browser.wait(lambda: browser.js("return document.getElementById('outcome') && "
+                                        "document.getElementById('outcome').dataset.kind"),
+                     "the report has no outcome")
+        Check(browser.js("return document.getElementById('outcome').dataset.kind") == kind,
+              "the report's outcome differs from the panel's")
+        browser.shot("report")
+        errors = browser.console_errors()  # read once: the browser's log is emptied by reading
+        Check(not errors, f"console errors: {errors}")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
+def CaseAbort(args, tmp: Path, out: Path) -> None:
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        browser.start("SN-ABORT-1", "panel-long")
+        WaitCapture(browser, 1)
+        browser.wait(lambda: int(browser.data("samples", "samples") or 0) > 100,
+                     "the capture never got going")
+        browser.shot("before-abort")
+        browser.click("abort")
+        alert = browser.driver.switch_to.alert  # asks once
+        Check("aborted by the operator" in alert.text, "the confirmation does not say what happens")
+        alert.accept()
+        kind = WaitOutcome(browser)
+        browser.wait(lambda: browser.js("return document.getElementById('abort').disabled"),
+                     "the session never ended")
+        browser.shot("aborted")
+        Check(kind == "ABORTED", f"the page says {kind}")
+        name = browser.text("session-name").split(" ")[0]
+        record = SessionJson(sessions, name)
+        Check(record["outcome"]["kind"] == "ABORTED", f"session.json says {record['outcome']}")
+        Check("operator" in record["outcome"]["reason"], "the record does not name the operator: "
+              + record["outcome"]["reason"])
+        Check(record["runs"][0]["status"] == "aborted", "run 1 not recorded as aborted")
+        log = browser.text("log")
+        Check("abort requested by the operator" in log, "the page does not show the abort")
+        Check("table commanded to zero rate" in log, "the table was not commanded to zero: " + log)
+        Check("table commanded to zero rate" in (tmp / "serve.log").read_text(),
+              "the session's log does not say the table was commanded to zero")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
+def CaseTwoBrowsers(args, tmp: Path, out: Path) -> None:
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    first = Browser(out / "first")
+    second = None
+    try:
+        first.open(panel.base)
+        first.start("SN-TWO-1", "panel-long")
+        WaitCapture(first, 1)
+        second = Browser(out / "second")
+        second.open(panel.base)
+        second.wait(lambda: second.text("unit") == "SN-TWO-1", "the second browser does not see "
+                    "the session")
+        second.wait(lambda: int(second.data("plot", "points") or 0) > 0,
+                    "the second browser has no live plot")
+        before = int(second.data("samples", "samples") or 0)
+        second.wait(lambda: int(second.data("samples", "samples") or 0) > before,
+                    "the second browser's progress does not advance")
+        second.start("SN-TWO-2", "panel-short")
+        second.wait(lambda: "already running" in second.text("message"),
+                    "the second start was not refused clearly: " + second.text("message"))
+        second.shot("refused")
+        Check(not any(p.name.startswith("SN-TWO-2") for p in sessions.iterdir()),
+              "a folder was made for the refused session")
+        # A reload picks the running session up again.
+        first.driver.refresh()
+        first.wait(lambda: first.text("unit") == "SN-TWO-1", "the reload lost the session")
+        first.wait(lambda: int(first.data("plot", "points") or 0) > 0, "no plot after reload")
+        first.shot("reloaded")
+        second.click("abort")
+        second.driver.switch_to.alert.accept()
+        Check(WaitOutcome(first) == "ABORTED", "the first browser did not see the abort")
+        Check(WaitOutcome(second) == "ABORTED", "the second browser did not see the abort")
+    finally:
+        first.quit()
+        if second:
+            second.quit()
+        panel.stop()
+
+
+def Tree(root: Path, skip: Path) -> set[str]:
+    return {str(p.relative_to(root)) for p in root.rglob("*") if skip not in p.parents and p != skip}
+
+
+def CaseHostile(args, tmp: Path, out: Path) -> None:
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    before = Tree(tmp, sessions)
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        hostile = {
+            "dot-dot": ("../../etc/x", "'/'"),
+            "10 kB": ("A" * 10240, "too long: 10240 characters"),
+            "control characters": ("SN\u0001\u001b[2J", "control character"),
+            "dot-dot only": ("..", "must start with a letter or a digit"),
+        }
+        for label, (serial, expected) in hostile.items():
+            browser.js("document.getElementById('serial').value = arguments[0];"
+                       "document.getElementById('message').textContent = '';", serial)
+            browser.click("start")
+            browser.wait(lambda: browser.text("message"), f"{label}: no message")
+            Check(expected in browser.text("message"),
+                  f"{label}: the page says {browser.text('message')!r}")
+            status, reply = PostJson(panel.base, "api/start",
+                                     {"serial": serial, "sequence": 0, "limits": None})
+            Check(status == 400 and expected in reply.get("error", ""), f"{label}: {status} {reply}")
+        browser.shot("refused")
+        forged = [
+            ("wrong Host", Request(panel.base + "api/state", headers={"Host": "evil.example"}),
+             403, "localhost only"),
+            ("other Origin", PostJson(panel.base, "api/start", {"serial": "SN1", "sequence": 0},
+                                      {"Origin": "http://evil.example"}), 403, "another site"),
+            ("not JSON", Request(panel.base + "api/start", "POST", b"serial=SN1",
+                                 {"Content-Type": "application/x-www-form-urlencoded"}),
+             415, "application/json"),
+            ("too large", Request(panel.base + "api/start", "POST", b"{" + b" " * 100000 + b"}",
+                                  {"Content-Type": "application/json"}), 413, "too large"),
+            ("unknown sequence", PostJson(panel.base, "api/start", {"serial": "SN1", "sequence": 7}),
+             400, "allowed sequences"),
+            ("a path for a sequence", PostJson(panel.base, "api/start",
+                                               {"serial": "SN1", "sequence": "/etc/passwd"}),
+             400, "allowed sequences"),
+            ("unknown field", PostJson(panel.base, "api/start",
+                                       {"serial": "SN1", "sequence": 0, "output": "/tmp/x"}),
+             400, "unknown field"),
+            ("report outside", Request(panel.base + "sessions/..%2F..%2Fconfigs/report/x.toml"),
+             404, ""),
+            ("abort without a session", PostJson(panel.base, "api/abort", {}), 409, "no session"),
+        ]
+        for label, (status, reply), expected_status, expected in forged:
+            Check(status == expected_status and expected in json.dumps(reply),
+                  f"{label}: {status} {reply}")
+        # Another address without a token: refused at start, with the reason.
+        result = subprocess.run(
+            [str(args.bin_dir / "hrg-bench"), "serve", "--station", str(station), "--listen",
+             f"0.0.0.0:{FreePort()}", "--sessions", str(sessions)],
+            capture_output=True, text=True, timeout=60)
+        Check(result.returncode == 4 and "needs an access token" in result.stderr,
+              f"0.0.0.0 without a token: {result.returncode} {result.stderr}")
+        # With a token: every request without it (or with a wrong one) is refused.
+        token_file = tmp / "configs" / "token"
+        token_file.write_text("s3cret-token-0123456789\n")
+        guarded = Panel(args.bin_dir, station, sessions, tmp / "serve-token.log",
+                        ["--token-file", str(token_file)], listen_host="0.0.0.0")
+        try:
+            for label, url in [("no token", guarded.base + "api/state"),
+                               ("wrong token", guarded.base + "api/state?token=guess")]:
+                status, reply = Request(url)
+                Check(status == 401 and "access token" in reply.get("error", ""),
+                      f"{label}: {status} {reply}")
+            status, reply = PostJson(guarded.base, "api/start", {"serial": "SN-T", "sequence": 0})
+            Check(status == 401, f"a tokenless start: {status} {reply}")
+            status, reply = Request(guarded.base + "api/state?token=s3cret-token-0123456789")
+            Check(status == 200 and reply.get("station") == "sim-ci", f"with the token: {status}")
+            browser.open(guarded.base + "?token=s3cret-token-0123456789")
+            Check(browser.text("station").startswith("sim-ci"), "the page does not work with the "
+                  "token")
+        finally:
+            guarded.stop()
+        Check(not any(sessions.iterdir()), f"sessions written: {list(sessions.iterdir())}")
+        after = Tree(tmp, sessions) - {"serve-token.log", "configs/token"}
+        Check(after == before, f"written outside the sessions folder: {after - before}")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
+CASES = {"flow": CaseFlow, "abort": CaseAbort, "two-browsers": CaseTwoBrowsers,
+         "hostile": CaseHostile}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--case", required=True, choices=sorted(CASES))
+    parser.add_argument("--source-dir", type=Path, required=True)
+    parser.add_argument("--bin-dir", type=Path, required=True)
+    parser.add_argument("--artifacts", type=Path, required=True)
+    args = parser.parse_args()
+    missing = MissingTools()
+    if missing:
+        print("panel_browser: missing " + ", ".join(missing) + " (scripts/setup-debian.sh)")
+        return 1 if Strict() else kSkip
+    out = args.artifacts / args.case
+    shutil.rmtree(out, ignore_errors=True)
+    out.mkdir(parents=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f"hrgbench-panel-{args.case}-"))
+    try:
+        CASES[args.case](args, tmp, out)
+    except Failed as failure:
+        print(f"panel_browser.{args.case}: FAILED: {failure}")
+        for log in tmp.glob("serve*.log"):
+            print(f"--- {log.name} (last 40 lines)")
+            print("\n".join(log.read_text(errors="replace").splitlines()[-40:]))
+        return 1
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    print(f"panel_browser.{args.case}: passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
