@@ -5,6 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "hrgbench/session/session.hpp"
+
 namespace hrgbench::app {
 
 std::expected<std::unique_ptr<EventOutput>, std::string> EventOutput::Open(
@@ -39,16 +41,11 @@ void EventOutput::Close(const std::filesystem::path& session_dir) {
 }
 
 std::string RecordedSerial(const std::filesystem::path& session_dir) {
-  const std::filesystem::path file = session_dir / "session.json";
-  std::error_code ec;
-  if (std::filesystem::file_size(file, ec) > (64u << 20) || ec) return {};
-  std::ifstream in(file);
-  const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object() || !doc.contains("unit")) return {};
-  const nlohmann::json& unit = doc["unit"];
-  return unit.is_object() && unit.contains("serial") && unit["serial"].is_string()
-             ? unit["serial"].get<std::string>()
-             : std::string();
+  // The session reader's own bounds and checks on session.json; the run files are not needed.
+  session::ReadOptions options;
+  options.load_samples = false;
+  auto session = session::ReadSession(session_dir, options);
+  return session ? std::move(session->serial) : std::string();
 }
 
 }  // namespace hrgbench::app
