@@ -17,7 +17,9 @@
 // Usage: build/bin/carrier_accuracy_table [--run-s 20] [--only TEXT]   (prints to stdout; minutes
 // on 2 cores; --only: the rows whose name contains TEXT)
 //        build/bin/carrier_accuracy_table --seeds N [--chain baseline|tracking] [--run-s 20]
-// (the Monte Carlo of RunMonteCarlo below: N noisy sessions, the reported std against the scatter)
+//            [--declare none|chain|ORDER:CUTOFF_HZ] [--coloured-noise STD --coloured-time S]
+// (the Monte Carlo of RunMonteCarlo below: N noisy sessions, the reported std against the scatter,
+// the fit told the noise shape --declare names: none = white, chain = the chain's output filter)
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -32,6 +34,7 @@
 
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/estimator/reference_phase.hpp"
 #include "sim/carrier_simulation.hpp"
@@ -190,14 +193,21 @@ int RunMonteCarlo(const CarrierOptions& options, const Design& design, int seeds
   const est::Xi xi = probe.xi();
   std::vector<Eigen::Matrix<double, 10, 1>> estimates, stds;
   int flagged = 0, failed = 0;
+  std::string last_covariance;
+  double worst_ratio = 0.0, worst_z = -1e300;
   for (int i = 0; i < seeds; ++i) {
     const est::EstimateSummary s = est::EstimateMaximumLikelihood(
         Simulate(options, design, 1000u * static_cast<std::uint64_t>(i + 1)), ml);
+    last_covariance = s.diagnostics.covariance_kind;
     if (!s.IsUsable()) {
       ++failed;
       continue;
     }
     if (!s.diagnostics.Acceptable()) ++flagged;
+    for (const est::RunFitDiagnostics& run : s.diagnostics.runs) {
+      worst_ratio = std::max(worst_ratio, run.residual_ratio);
+      worst_z = std::max(worst_z, run.whiteness_z);
+    }
     Eigen::Matrix<double, 10, 1> e, d;
     e << s.delta, s.xi;
     d << s.delta_std, s.xi_std;
@@ -206,9 +216,11 @@ int RunMonteCarlo(const CarrierOptions& options, const Design& design, int seeds
   }
   const int n = static_cast<int>(estimates.size());
   std::printf(
-      "Carrier Monte Carlo: %s; production design, 6 runs × %.0f s at %.0f Hz; %d seeds, %d "
-      "fits failed, %d flagged by the fit diagnostics.\n\n",
-      chain, design.run_s, design.output_rate_hz, seeds, failed, flagged);
+      "Carrier Monte Carlo: %s; production design, 6 runs × %.0f s at %.0f Hz; noise declared: "
+      "%s; %d seeds, %d fits failed, %d flagged by the fit diagnostics (worst residual ratio "
+      "%.4f, worst whiteness z %.2f over the runs); covariance: %s.\n\n",
+      chain, design.run_s, design.output_rate_hz, ml.noise_shape.description.c_str(), seeds, failed,
+      flagged, worst_ratio, worst_z, last_covariance.c_str());
   if (n < 2) return 1;
   Eigen::Matrix<double, 10, 1> truth;
   truth << delta, xi;
@@ -245,7 +257,16 @@ int main(int argc, char** argv) {
   std::string only;                // --only TEXT: the rows whose name contains TEXT
   int seeds = 0;                   // --seeds N: the Monte Carlo instead of the table
   std::string chain = "baseline";  // --chain baseline|tracking: the Monte Carlo's chain
+  // --declare none|chain|ORDER:CUTOFF_HZ: the noise shape the fit is told (none = white; chain =
+  // the chain's own output filter; else a Butterworth of that order and cutoff).
+  std::string declare = "none";
+  double coloured_noise_std = 0.0;  // --coloured-noise STD: AR(1) converter noise beside the white
+  double coloured_noise_time_s = 1e-3;  // --coloured-time S: its correlation time
   for (int i = 1; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "--declare") == 0) declare = argv[i + 1];
+    if (std::strcmp(argv[i], "--coloured-noise") == 0) coloured_noise_std = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--coloured-time") == 0)
+      coloured_noise_time_s = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--run-s") == 0) base_design.run_s = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--only") == 0) only = argv[i + 1];
     if (std::strcmp(argv[i], "--seeds") == 0) seeds = std::atoi(argv[i + 1]);
@@ -256,7 +277,23 @@ int main(int argc, char** argv) {
   if (seeds > 0) {
     CarrierOptions options = Baseline();
     options.pickoff.white_noise_std = kWhiteNoise;
+    options.pickoff.coloured_noise_std = coloured_noise_std;
+    options.pickoff.coloured_noise_time_s = coloured_noise_time_s;
     Design design = base_design;
+    if (declare != "none") {
+      int order = options.electronics.filter_order;
+      double cutoff_hz = options.electronics.filter_cutoff_hz;
+      if (declare != "chain" && std::sscanf(declare.c_str(), "%d:%lf", &order, &cutoff_hz) != 2) {
+        std::fprintf(stderr, "--declare must be none, chain or ORDER:CUTOFF_HZ\n");
+        return 2;
+      }
+      const auto shape = est::ButterworthNoiseShape(order, cutoff_hz, design.output_rate_hz);
+      if (!shape) {
+        std::fprintf(stderr, "--declare %s: not a usable Butterworth\n", declare.c_str());
+        return 2;
+      }
+      ml.noise_shape = *shape;
+    }
     std::string name = "baseline chain (free-running reference), white converter noise σ_y ≈ 1e-4";
     if (chain == "tracking") {
       options.electronics.reference.mode = ReferenceMode::kTracking;

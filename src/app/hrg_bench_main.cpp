@@ -39,10 +39,13 @@ namespace {
 using namespace hrgbench;
 
 std::atomic<int> g_interrupts{0};
+std::atomic<int> g_interrupt_signal{0};  // the first interrupt's signal, for the record
 
 // First Ctrl-C (or SIGTERM): the session stops safely (table to zero, gyro stopped, record closed as
 // ABORTED). Second: exit at once. Both are async-signal-safe (a lock-free atomic and _exit).
-extern "C" void OnInterrupt(int) {
+extern "C" void OnInterrupt(int signal) {
+  int none = 0;
+  g_interrupt_signal.compare_exchange_strong(none, signal);
   if (g_interrupts.fetch_add(1) >= 1) _exit(bench::kExitAborted);
 }
 
@@ -200,6 +203,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
   options.simulation = (*station)->simulation();
   options.interrupts = &g_interrupts;
+  options.interrupt_signal = &g_interrupt_signal;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
   if (event_output) {

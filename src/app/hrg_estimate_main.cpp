@@ -10,6 +10,7 @@
 #include "app/logging.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
 #include "hrgbench/session/session.hpp"
 
@@ -52,6 +53,14 @@ int Run(const Arguments& args) {
     std::cerr << args.dir << ": no complete run to estimate from\n";
     return app::kExitBadInput;
   }
+  // The noise shape the station declared for this session's electronics (white when none).
+  auto noise_shape = bench::RecordedNoiseShape(session->document, session->sample_rate_hz);
+  if (!noise_shape) {
+    std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
+              << noise_shape.error() << '\n';
+    return app::kExitBadInput;
+  }
+  request.noise_shape = std::move(*noise_shape);
   spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
 
   bench::MethodResult result = bench::RunMethod(runs, request);

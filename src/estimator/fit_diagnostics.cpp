@@ -49,15 +49,19 @@ bool FitQualityLimits::IsValid(std::string* why) const {
   return true;
 }
 
-double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
+double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) { return DifferenceNoiseSigma(y, {}); }
+
+double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y, const DifferenceNoiseModel& model) {
   const Eigen::Index n = y.cols();
-  if (n < 5) return kNaN;
-  // Δ⁴y_k = y_k − 4y_{k+1} + 6y_{k+2} − 4y_{k+3} + y_{k+4}; its variance is (1+16+36+16+1)·σ² =
-  // 70σ².
-  const auto difference = [&y](Eigen::Index k) -> Eigen::Vector4d {
-    return y.col(k) - 4.0 * y.col(k + 1) + 6.0 * y.col(k + 2) - 4.0 * y.col(k + 3) + y.col(k + 4);
+  const Eigen::Index s = std::max(1, model.stride);
+  if (n < 4 * s + 1) return kNaN;
+  // Δ⁴y_k = y_k − 4y_{k+s} + 6y_{k+2s} − 4y_{k+3s} + y_{k+4s}; its variance is
+  // (1+16+36+16+1)·σ² = 70σ² for white noise, variance_factor·σ² for the declared shape.
+  const auto difference = [&y, s](Eigen::Index k) -> Eigen::Vector4d {
+    return y.col(k) - 4.0 * y.col(k + s) + 6.0 * y.col(k + 2 * s) - 4.0 * y.col(k + 3 * s) +
+           y.col(k + 4 * s);
   };
-  const auto count = static_cast<std::size_t>(n - 4);
+  const auto count = static_cast<std::size_t>(n - 4 * s);
   // A robust scale first (the median of |Δ⁴y| over at most 2^16 strided differences), then the mean
   // square of the differences within kTrim of it: as efficient as the plain mean square on Gaussian
   // noise (the trimmed share is ~1e-9), and a spike only touches the differences it is in. Two
@@ -73,7 +77,7 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
   const double limit = robust > 0.0 ? kTrim * robust : std::numeric_limits<double>::infinity();
   double sum2 = 0.0;
   std::size_t kept = 0;
-  for (Eigen::Index k = 0; k + 4 < n; ++k) {
+  for (Eigen::Index k = 0; k + 4 * s < n; ++k) {
     for (const double d : difference(k)) {
       if (std::abs(d) > limit) continue;
       sum2 += d * d;
@@ -81,13 +85,14 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y) {
     }
   }
   if (kept == 0) return 0.0;
-  return std::sqrt(sum2 / static_cast<double>(kept) / 70.0);
+  return std::sqrt(sum2 / static_cast<double>(kept) / model.variance_factor);
 }
 
-double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t samples) {
+double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t samples,
+                              double standard_error_scale) {
   if (samples == 0) return limits.residual_ratio_max;
-  return std::max(limits.residual_ratio_max, 1.0 + 5.0 * kResidualRatioStandardErrorScale /
-                                                       std::sqrt(static_cast<double>(samples)));
+  return std::max(limits.residual_ratio_max,
+                  1.0 + 5.0 * standard_error_scale / std::sqrt(static_cast<double>(samples)));
 }
 
 double ChiSquareNormalScore(double q, double dof) {
@@ -97,6 +102,13 @@ double ChiSquareNormalScore(double q, double dof) {
 }
 
 ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags) {
+  WhitenessNull white;
+  white.lags = std::max(1, lags);
+  white.dof = 4.0 * white.lags;
+  return AnalyseResiduals(residuals, white);
+}
+
+ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, const WhitenessNull& null) {
   ResidualStatistics s;
   const Eigen::Index n = residuals.cols();
   if (n < 8) return s;
@@ -110,37 +122,47 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags)
       Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).square().square().sum() / count;
   s.excess_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) - 3.0 : kNaN;
 
-  s.lags = static_cast<int>(std::clamp<Eigen::Index>(lags, 1, std::max<Eigen::Index>(1, n / 4)));
+  // Lags first_lag … first_lag + L − 1 are judged; every lag from 1 on enters the integrated
+  // correlation (the sandwich's batch length), the declared noise's memory included.
+  const Eigen::Index first = std::max(1, null.first_lag);
+  s.lags = static_cast<int>(
+      std::clamp<Eigen::Index>(null.lags, 1, std::max<Eigen::Index>(1, n / 4 - first + 1)));
+  const Eigen::Index last = first + s.lags - 1;
   const auto nd = static_cast<double>(n);
   double q = 0.0;
   double rho1_sum = 0.0;
-  Eigen::VectorXd rho_sum = Eigen::VectorXd::Zero(s.lags);
+  Eigen::VectorXd rho_sum = Eigen::VectorXd::Zero(last);
   // Every lag's products of all four channels in one pass over the columns (the residuals are
   // stored column-major: one sample's four channels are adjacent), instead of a strided copy and
   // a pass per channel and lag.
-  Eigen::Matrix4Xd lagged = Eigen::Matrix4Xd::Zero(4, s.lags);
+  Eigen::Matrix4Xd lagged = Eigen::Matrix4Xd::Zero(4, last);
   for (Eigen::Index k = 1; k < n; ++k) {
-    const Eigen::Index top = std::min<Eigen::Index>(s.lags, k);
+    const Eigen::Index top = std::min<Eigen::Index>(last, k);
     for (Eigen::Index l = 1; l <= top; ++l)
       lagged.col(l - 1) += residuals.col(k).cwiseProduct(residuals.col(k - l));
   }
   const Eigen::Vector4d c0 = residuals.rowwise().squaredNorm();
   for (int c = 0; c < 4; ++c) {
     if (!(c0[c] > 0.0)) continue;
-    for (int l = 1; l <= s.lags; ++l) {
+    for (Eigen::Index l = 1; l <= last; ++l) {
       const double rho = lagged(c, l - 1) / c0[c];
-      q += nd * (nd + 2.0) * rho * rho / (nd - l);
+      if (l >= first) q += nd * (nd + 2.0) * rho * rho / (nd - static_cast<double>(l));
       rho_sum[l - 1] += 0.25 * rho;
     }
     rho1_sum += 0.25 * lagged(c, 0) / c0[c];
   }
   s.ljung_box_q = q;
-  s.ljung_box_z = ChiSquareNormalScore(q, 4.0 * s.lags);
+  // The null's scale and degrees of freedom for the lags actually used (a short run may have
+  // fewer than asked: the scale is kept, the dof shrink in proportion).
+  const double scale = null.scale > 0.0 ? null.scale : 1.0;
+  const double dof = null.dof * static_cast<double>(s.lags) / std::max(1, null.lags);
+  s.ljung_box_z = ChiSquareNormalScore(q / scale, dof);
   s.lag1_autocorrelation = rho1_sum;
   // Integrated correlation with a Bartlett taper, so noise in the far lags does not dominate.
   double integrated = 1.0;
-  for (int l = 1; l <= s.lags; ++l)
-    integrated += 2.0 * (1.0 - static_cast<double>(l) / (s.lags + 1)) * rho_sum[l - 1];
+  for (Eigen::Index l = 1; l <= last; ++l)
+    integrated +=
+        2.0 * (1.0 - static_cast<double>(l) / static_cast<double>(last + 1)) * rho_sum[l - 1];
   s.integrated_correlation_samples = std::max(1.0, integrated);
   return s;
 }

@@ -131,6 +131,7 @@ bool MlOptions::IsValid(std::string* why) const {
     return fail("max_outlier_passes must be 0 ... 10");
   if (whiteness_lags < 1 || whiteness_lags > 1000) return fail("whiteness_lags must be 1 ... 1000");
   if (!fit_quality.IsValid(why)) return false;
+  if (!noise_shape.IsValid(why)) return false;
   return identifiability.IsValid(why);
 }
 
@@ -509,10 +510,17 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
 
   // The noise the data carry, from the data alone: it weighs the priors on Ω, and the residuals are
   // judged against it.
+  const DifferenceNoiseModel difference_noise = DifferenceNoiseModelFor(options.noise_shape);
+  const WhitenessNull whiteness_null =
+      WhitenessNullFor(options.noise_shape, options.whiteness_lags);
+  const bool declared_colour = !options.noise_shape.IsWhite();
+  diagnostics.noise_shape = options.noise_shape.description;
+  diagnostics.difference_stride = difference_noise.stride;
+  diagnostics.whiteness_first_lag = whiteness_null.first_lag;
   std::vector<double> noise_sigma(runs.size());
   double noise_sum2 = 0.0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    noise_sigma[r] = DifferenceNoiseSigma(runs[r].y);
+    noise_sigma[r] = DifferenceNoiseSigma(runs[r].y, difference_noise);
     if (std::isfinite(noise_sigma[r]))
       noise_sum2 += noise_sigma[r] * noise_sigma[r] * static_cast<double>(runs[r].size());
   }
@@ -665,8 +673,9 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
       have_information && internal::InvertScaledSpd(h_reduced, &h_reduced_inverse);
   std::vector<ResidualStatistics> run_stats(used.size());
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
-    run_stats[r] = AnalyseResiduals(residuals[r], options.whiteness_lags);
-    if (!std::isfinite(noise_sigma[r])) noise_sigma[r] = DifferenceNoiseSigma(used[r].y);
+    run_stats[r] = AnalyseResiduals(residuals[r], whiteness_null);
+    if (!std::isfinite(noise_sigma[r]))
+      noise_sigma[r] = DifferenceNoiseSigma(used[r].y, difference_noise);
   });
   residuals.clear();
   for (std::size_t r = 0; r < used.size(); ++r) {
@@ -682,7 +691,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
         std::sqrt(used[r].y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
     d.noise_free = !(d.noise_sigma > 1e-10 * signal_rms);
     d.residual_ratio = stats.rms / std::max(d.noise_sigma, 1e-10 * signal_rms);
-    d.residual_ratio_threshold = ResidualRatioThreshold(options.fit_quality, d.samples);
+    d.residual_ratio_threshold = ResidualRatioThreshold(
+        options.fit_quality, d.samples, difference_noise.ratio_standard_error_scale);
     d.lag1_autocorrelation = stats.lag1_autocorrelation;
     d.whiteness_lags = stats.lags;
     d.whiteness_q = stats.ljung_box_q;
@@ -730,15 +740,20 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     if (!(d.residual_ratio <= d.residual_ratio_threshold))
       diagnostics.problems.push_back(Format(
           "run %.0f: residual RMS %.4g times the noise of the data (%.3g, from 4th differences; "
-          "limit %.4g): the model misses something (a frequency drift, a wrong rate, coloured "
-          "noise?)",
+          "limit %.4g): the model misses something (a frequency drift, a wrong rate, noise "
+          "coloured beyond what the station declares?)",
           id, d.residual_ratio, d.noise_sigma, d.residual_ratio_threshold));
     if (!d.noise_free && !(d.whiteness_z <= q.whiteness_z_max)) {
       coloured = true;
       diagnostics.problems.push_back(
-          Format("run %.0f: residuals not white (Ljung-Box z = %.3g, limit %.3g; lag-1 "
-                 "autocorrelation %.2f): coloured noise or a model error",
-                 id, d.whiteness_z, q.whiteness_z_max, d.lag1_autocorrelation));
+          declared_colour
+              ? Format("run %.0f: residuals correlated beyond the declared noise's memory "
+                       "(Ljung-Box z = %.3g from lag %.0f, limit %.3g): noise coloured beyond "
+                       "the declaration, or a model error",
+                       id, d.whiteness_z, whiteness_null.first_lag, q.whiteness_z_max)
+              : Format("run %.0f: residuals not white (Ljung-Box z = %.3g, limit %.3g; lag-1 "
+                       "autocorrelation %.2f): coloured noise or a model error",
+                       id, d.whiteness_z, q.whiteness_z_max, d.lag1_autocorrelation));
     }
     if (std::isfinite(d.omega_offset_in_std) &&
         !(std::abs(d.omega_offset_in_std) <= q.omega_offset_max_in_std))
@@ -759,8 +774,9 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   // against the residuals' correlation so that they are nearly independent.
   // Computed only when it is reported (a pass over the data).
   Eigen::MatrixXd sandwich;
-  const bool sandwich_wanted = options.covariance == MlOptions::Covariance::kSandwich ||
-                               (options.covariance == MlOptions::Covariance::kAuto && coloured);
+  const bool sandwich_wanted =
+      options.covariance == MlOptions::Covariance::kSandwich ||
+      (options.covariance == MlOptions::Covariance::kAuto && (coloured || declared_colour));
   if (have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
       sandwich_wanted) {
     std::vector<Eigen::MatrixXd> projection;
@@ -797,11 +813,13 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   if (use_sandwich) {
     SetCovariance(sandwich, indices, &s);
     diagnostics.covariance_kind = "sandwich";
-    s.warnings.push_back(
-        Format("residuals are not white: the std are from the sandwich covariance (batches of %.0f "
-               "samples; up to %.3g times the white-noise std)",
-               static_cast<double>(diagnostics.sandwich_batch_samples),
-               diagnostics.sandwich_to_white_std_max));
+    // Colour the station declared is expected, not a warning: the record says which covariance.
+    if (coloured || !declared_colour)
+      s.warnings.push_back(Format(
+          "residuals are not white: the std are from the sandwich covariance (batches of %.0f "
+          "samples; up to %.3g times the white-noise std)",
+          static_cast<double>(diagnostics.sandwich_batch_samples),
+          diagnostics.sandwich_to_white_std_max));
   }
   for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;

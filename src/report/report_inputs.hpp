@@ -32,6 +32,7 @@ struct RunView {
 struct ReportInputs {
   std::filesystem::path session_dir;
   nlohmann::json document;  // session.json as recorded
+  double sample_rate_hz = 0.0;  // the session's (session::Session::sample_rate_hz)
   std::vector<RunView> runs;
   // The re-run estimate (method ml), when at least one run could be loaded.
   std::optional<estimator::EstimateSummary> summary;

@@ -11,6 +11,7 @@
 #include "external_outputs.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/session/session.hpp"
@@ -101,6 +102,13 @@ void Estimate(ReportInputs* in, std::set<std::string>* seen,
   }
   bench::MethodRequest request;
   request.fit_quality = RecordedFitLimits(in->document);
+  if (auto shape = bench::RecordedNoiseShape(in->document, in->sample_rate_hz); shape) {
+    request.noise_shape = std::move(*shape);
+  } else {
+    AddWarning(&in->warnings, seen,
+               "the record's noise shape is unusable (" + shape.error() +
+                   "): the report's checks assume white noise");
+  }
   bench::MethodResult estimated = bench::RunMethod(runs, request);
   std::vector<std::string> warnings = reader_warnings;
   warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
@@ -162,6 +170,7 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   ReportInputs in;
   in.session_dir = session_dir;
   in.document = session->document;
+  in.sample_rate_hz = session->sample_rate_hz;
   std::set<std::string> seen;
   std::vector<std::string> reader_warnings;
   for (const std::string& w : session->warnings) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/maximum_likelihood.hpp"
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
@@ -41,6 +42,9 @@ struct MethodRequest {
   bool omega_uncertainty = true;
   estimator::MlOptions::Covariance covariance = estimator::MlOptions::Covariance::kAuto;
   estimator::FitQualityLimits fit_quality;
+  // ML only: the pick-off noise's shape the session's record declares (RecordedNoiseShape in
+  // output_filter.hpp); white by default.
+  estimator::NoiseShape noise_shape;
 };
 
 // "auto", "white", "sandwich".

@@ -84,6 +84,9 @@ struct RunnerOptions {
   std::optional<nlohmann::json> simulation;
   // Incremented by the signal handler per Ctrl-C: the first stops the session safely (ABORTED).
   const std::atomic<int>* interrupts = nullptr;
+  // The signal behind the first interrupt (SIGINT: the operator's Ctrl-C or the panel's Abort;
+  // SIGTERM: a supervisor or shutdown), for the record's reason; null or 0: the operator.
+  const std::atomic<int>* interrupt_signal = nullptr;
   std::function<void(const Progress&)> on_progress;  // runner thread; may be empty
   std::function<void(std::string_view)> on_log;      // plain log lines; may be empty
   // The samples of run `run_id` as they are written to the record (runner thread, between ring

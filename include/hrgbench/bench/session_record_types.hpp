@@ -62,6 +62,9 @@ struct SessionHeader {
   std::vector<PlannedRun> runs;   // at least one; session.json lists them in this order
   // Simulated station: the simulator's truth (parameters, seed), recorded as "simulation".
   std::optional<nlohmann::json> simulation;
+  // What the station declares about the gyro's electronics, recorded as "electronics" (e.g. its
+  // output filter, which sets the noise shape the fit assumes: output_filter.hpp).
+  std::optional<nlohmann::json> electronics;
   // Interface name written into every candump log line ("can0", "vcan0", "sim0").
   std::string can_interface = "can0";
 };

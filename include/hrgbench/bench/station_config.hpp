@@ -20,6 +20,7 @@
 #include <string>
 #include <string_view>
 
+#include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/site.hpp"
 #include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
@@ -52,6 +53,9 @@ struct GyroLinkConfig {
   std::int64_t command_attempts = 3;      // attempts per command (a lost frame costs one retry)
   std::int64_t status_poll_ms = 20;       // status request period while waiting for "ready"
   std::int64_t sample_timeout_ms = 100;   // no sample for this long in a free run: "gyro stopped"
+  // The electronics' output low-pass (output_filter, output_filter_order, output_filter_cutoff_hz):
+  // the shape of the pick-off noise the fit's checks assume. Default: none (white noise).
+  OutputFilter output_filter;
 };
 
 // [table]: the rate table. The software limits and the acceleration apply to both kinds; the

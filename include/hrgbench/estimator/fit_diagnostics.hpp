@@ -18,12 +18,12 @@
 //
 // Pure functions; allocate (not for a real-time loop); never throw except std::bad_alloc.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 
 namespace hrgbench::estimator {
@@ -76,6 +76,12 @@ struct FitDiagnostics {
   // (NaN when not computed). About 1 for white residuals.
   double sandwich_to_white_std_max = kNaN;
   int phase_degree = 0;                  // degree of the common-phase nuisance in the fit
+  // The noise shape the checks assumed (MlOptions::noise_shape's description; "white" by
+  // default), the stride of the 4th differences that estimated σ, and the first lag the
+  // whiteness statistic judged (1 for white noise; past the declared noise's memory otherwise).
+  std::string noise_shape = "white";
+  int difference_stride = 1;
+  int whiteness_first_lag = 1;
   bool omega_nuisance = false;           // whether recorded Ω uncertainties entered the fit
   FitQualityLimits limits;               // what the checks below were judged against
   std::vector<std::string> problems;     // one line per failed check, naming the run
@@ -86,13 +92,18 @@ struct FitDiagnostics {
 // Model-free σ of each channel's white noise from the 4th differences of y (trimmed mean square).
 // Needs at least 5 samples (else NaN).
 double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y);
+// The same for noise of a declared shape (noise_shape.hpp): differences model.stride samples apart,
+// variance model.variance_factor·σ². Needs 4·stride + 1 samples.
+double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y, const DifferenceNoiseModel& model);
 
 // Standard error of the residual ratio of white noise is this over √N (N samples of four channels).
 inline constexpr double kResidualRatioStandardErrorScale = 0.451;
 
 // The residual ratio a run of `samples` samples may reach: the limit, or five standard errors of
-// the ratio above 1 when that is wider (short runs).
-double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t samples);
+// the ratio above 1 when that is wider (short runs). The scale is the noise shape's
+// (DifferenceNoiseModel::ratio_standard_error_scale; 0.451 for white noise).
+double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t samples,
+                              double standard_error_scale = kResidualRatioStandardErrorScale);
 
 struct ResidualStatistics {
   double rms = kNaN;
@@ -111,8 +122,11 @@ struct ResidualStatistics {
 // error is then ~0.5 %, ample for a scale that decides 6σ and 8σ thresholds).
 double RobustSigma(const Eigen::Matrix4Xd& values);
 
-// Statistics of one run's residuals (one column per sample) with `lags` lags (clamped to N/4).
+// Statistics of one run's residuals (one column per sample) with `lags` lags (clamped to N/4),
+// whiteness against white noise's null (χ²(4L)).
 ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, int lags);
+// ... against a declared noise shape's null: lags null.first_lag on, Q/scale ~ χ²(dof).
+ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, const WhitenessNull& null);
 
 // Normal score of a χ²(dof) value (Wilson–Hilferty): ≈ N(0, 1) under the null.
 double ChiSquareNormalScore(double q, double dof);

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/identifiability.hpp"
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
@@ -88,8 +89,12 @@ struct MlOptions {
   int max_outlier_passes = 2;
   // Lags of the whiteness statistic.
   int whiteness_lags = 20;
+  // The pick-off noise's shape as the station declares it (noise_shape.hpp; white by default): the
+  // model-free noise estimate, the whiteness null and the covariance follow it.
+  NoiseShape noise_shape;
   enum class Covariance {
-    kAuto,      // white-noise covariance, or the sandwich when a run's residuals are not white
+    kAuto,      // white-noise covariance, or the sandwich when a run's residuals are not white or
+                // the declared noise is coloured
     kWhite,     // always σ̂²·(JᵀJ)⁻¹
     kSandwich,  // always the sandwich
   };

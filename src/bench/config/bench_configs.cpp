@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/identifiability.hpp"
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/session/number_text.hpp"
 
@@ -40,6 +41,28 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
                    ? "CAN FD carries at most " + std::to_string(max_rate_hz) + " samples/s"
                    : "classic CAN carries at most " + std::to_string(max_rate_hz) +
                          " samples/s; more needs gyro.fd = true")});
+    }
+    // The fit assumes one noise shape per session (output_filter.hpp): one rate, and a filter
+    // whose memory at that rate is within the estimator's bound.
+    const OutputFilter& filter = station.gyro.output_filter;
+    if (filter.kind == OutputFilterKind::kNone) continue;
+    if (run.sample_rate_hz != sequence.runs.front().sample_rate_hz) {
+      return std::unexpected(ConfigError{
+          sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
+          std::to_string(run.sample_rate_hz),
+          "station '" + station.name +
+              "' declares gyro.output_filter, whose noise shape the fit "
+              "assumes for the whole session: every run needs the same sample rate (runs[0] has " +
+              std::to_string(sequence.runs.front().sample_rate_hz) + ")"});
+    }
+    if (!estimator::ButterworthNoiseShape(static_cast<int>(filter.order), filter.cutoff_hz,
+                                          static_cast<double>(run.sample_rate_hz))) {
+      return std::unexpected(
+          ConfigError{station.file, 0, "gyro.output_filter_cutoff_hz", Shortest(filter.cutoff_hz),
+                      "the filter's noise memory at " + std::to_string(run.sample_rate_hz) +
+                          " samples/s (" + sequence.file.string() + ", " + run_key + ") exceeds " +
+                          std::to_string(estimator::kMaxNoiseShapeLags) +
+                          " samples: the cutoff is too low for that rate"});
     }
   }
   return {};

@@ -101,9 +101,23 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
   gyro.status_poll_ms = *poll;
   HRG_TRY(sample, OptionalInteger(reader, "sample_timeout_ms", 1, 60'000, gyro.sample_timeout_ms));
   gyro.sample_timeout_ms = *sample;
+  // The electronics' output low-pass: what colours the pick-off noise (output_filter.hpp).
+  HRG_TRY(filter, Choice(reader, "output_filter", {"none", "butterworth"}, 0));
+  if (*filter == 1) {
+    gyro.output_filter.kind = OutputFilterKind::kButterworth;
+    HRG_TRY(order, OptionalInteger(reader, "output_filter_order", 1, 12, gyro.output_filter.order));
+    gyro.output_filter.order = *order;
+    HRG_TRY(cutoff, OptionalNumber(reader, "output_filter_cutoff_hz",
+                                   {0.0, 1e6, false, "in (0, 1e6]"}, gyro.output_filter.cutoff_hz));
+    gyro.output_filter.cutoff_hz = *cutoff;
+  } else {
+    for (std::string_view key : {"output_filter_order", "output_filter_cutoff_hz"})
+      HRG_CHECK(Forbid(reader, key, "applies only with output_filter = \"butterworth\""));
+  }
   HRG_CHECK(
       reader.Unknown("can_interface, bitrate, fd, data_bitrate, ack_timeout_ms, command_attempts, "
-                     "status_poll_ms, sample_timeout_ms"));
+                     "status_poll_ms, sample_timeout_ms, output_filter, output_filter_order, "
+                     "output_filter_cutoff_hz"));
   return gyro;
 }
 

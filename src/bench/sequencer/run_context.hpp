@@ -42,6 +42,9 @@ struct SessionContext {
   std::vector<LoggedCanFrame> logged_scratch;
 
   bool Interrupted() const;
+  // Who stopped the session, for the record: "aborted by operator" (SIGINT: Ctrl-C, the panel's
+  // Abort) or "stopped by SIGTERM".
+  std::string InterruptCause() const;
   void Log(std::string_view line) const;
   void ReportProgress(const Progress& progress, bool force = false);
   double Seconds(std::int64_t from_ns) const;

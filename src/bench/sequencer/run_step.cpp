@@ -38,7 +38,8 @@ StepOutcome SettleTable(SessionContext& ctx, double omega_rad_s) {
   criteria.dwell_s = seq.settle.dwell_s;
   criteria.poll_period_s = seq.settle.poll_period_s;
   for (;;) {
-    if (ctx.Interrupted()) return StepOutcome::Aborted("operator interrupt while the table settled");
+    if (ctx.Interrupted())
+      return StepOutcome::Aborted(ctx.InterruptCause() + " while the table settled");
     const double left_s = static_cast<double>(deadline - ctx.hw->clock->NowNs()) * 1e-9;
     if (left_s <= 0.0)
       return StepOutcome::Error("rate table not stable at " + Format("%g", omega_rad_s) +
@@ -65,7 +66,7 @@ std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const
   const std::int64_t deadline = ctx.hw->clock->NowNs() + Ns(ctx.configs->sequence.timeouts.excite_s);
   for (;;) {
     if (ctx.Interrupted())
-      return std::unexpected(StepOutcome::Aborted("operator interrupt during excitation"));
+      return std::unexpected(StepOutcome::Aborted(ctx.InterruptCause() + " during excitation"));
     const std::int64_t left = deadline - ctx.hw->clock->NowNs();
     if (left <= 0)
       return std::unexpected(StepOutcome::Error(
@@ -198,7 +199,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
       }
     }
     if (ctx.Interrupted()) {
-      outcome = StepOutcome::Aborted("operator interrupt during run " + std::to_string(run_id));
+      outcome =
+          StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id));
       break;
     }
     if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) {
@@ -249,12 +251,13 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   }
 
   if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
-    outcome = result.termination == CaptureTermination::kStopRequested
-                  ? StepOutcome::Aborted("operator interrupt during run " + std::to_string(run_id))
-                  : StepOutcome::Error("capture of run " + std::to_string(run_id) + " ended: " +
-                                       std::string(ToString(result.termination)) + " after " +
-                                       std::to_string(result.samples_pushed) + " of " +
-                                       std::to_string(run.Samples()) + " samples");
+    outcome =
+        result.termination == CaptureTermination::kStopRequested
+            ? StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id))
+            : StepOutcome::Error("capture of run " + std::to_string(run_id) +
+                                 " ended: " + std::string(ToString(result.termination)) +
+                                 " after " + std::to_string(result.samples_pushed) + " of " +
+                                 std::to_string(run.Samples()) + " samples");
   }
   if (outcome.ok() && !stopped)
     outcome = StepOutcome::Error("gyro: stop: " + stopped.error().ToString());

@@ -2,12 +2,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <thread>
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/realtime_setup.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
 #include "hrgbench/bench/verdict_json.hpp"
@@ -18,6 +20,11 @@ namespace internal {
 
 bool SessionContext::Interrupted() const {
   return options->interrupts != nullptr && options->interrupts->load() > 0;
+}
+
+std::string SessionContext::InterruptCause() const {
+  const int signal = options->interrupt_signal != nullptr ? options->interrupt_signal->load() : 0;
+  return signal == SIGTERM ? "stopped by SIGTERM" : "aborted by operator";
 }
 
 void SessionContext::Log(std::string_view line) const {
@@ -111,7 +118,15 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
     } else {
       MethodRequest request;
       request.fit_quality = ctx.configs->limits.fit;  // the estimator warns as the verdict judges
-      MethodResult estimated = RunMethod(runs, request);
+      auto noise_shape = RecordedNoiseShape(recorded->document, recorded->sample_rate_hz);
+      MethodResult estimated;
+      if (noise_shape) {
+        request.noise_shape = std::move(*noise_shape);
+        estimated = RunMethod(runs, request);
+      } else {
+        estimated.summary.termination = estimator::Termination::kInvalidInput;
+        estimated.summary.message = noise_shape.error();
+      }
       std::vector<std::string> warnings = recorded->warnings;
       warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
                       estimated.selection_warnings.end());
@@ -278,6 +293,8 @@ SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
                           configs.limits.sha256_hex};
   header.realtime_status = ProbeRealtime(configs.station.realtime);
   header.simulation = options.simulation;
+  header.electronics =
+      nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
   header.can_interface = hw.can_interface;
   int id = 1;
   for (const SequenceRun& run : configs.sequence.runs)

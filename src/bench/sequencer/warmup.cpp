@@ -28,7 +28,7 @@ StepOutcome WaitForWarmup(SessionContext& ctx) {
       return StepOutcome::Error("gyro: configure: " + configured.error().ToString());
   }
   for (;;) {
-    if (ctx.Interrupted()) return StepOutcome::Aborted("operator interrupt during warm-up");
+    if (ctx.Interrupted()) return StepOutcome::Aborted(ctx.InterruptCause() + " during warm-up");
     const std::int64_t now = clock.NowNs();
     const double t = s_since(now);
     auto status = gyro.RequestStatus();

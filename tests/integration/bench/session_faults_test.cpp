@@ -112,7 +112,7 @@ TEST(BenchFaults, OperatorInterruptDuringRunTwo) {
   const BenchRun run = RunOnSimulatedStation(
       "sequence-paper.toml", "", Shorten,
       [](const bench::Progress& p) { return p.run == 2 && p.phase == "capture" && p.samples > 20; });
-  ExpectStoppedSafely(run, {bench::OutcomeKind::kAborted, "operator", 1});
+  ExpectStoppedSafely(run, {bench::OutcomeKind::kAborted, "aborted by operator during run 2", 1});
 }
 
 }  // namespace

@@ -369,7 +369,8 @@ def CaseAbort(args, tmp: Path, out: Path) -> None:
         name = browser.text("session-name").split(" ")[0]
         record = SessionJson(sessions, name)
         Check(record["outcome"]["kind"] == "ABORTED", f"session.json says {record['outcome']}")
-        Check("operator" in record["outcome"]["reason"], "the record does not name the operator: "
+        Check("aborted by operator" in record["outcome"]["reason"],
+              "the record does not say the operator aborted it: "
               + record["outcome"]["reason"])
         Check(record["runs"][0]["status"] == "aborted", "run 1 not recorded as aborted")
         log = browser.text("log")

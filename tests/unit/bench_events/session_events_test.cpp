@@ -156,12 +156,12 @@ TEST(SessionEvents, AFlaggedRunIsAWarning) {
   runner.on_run_end(3, end, 10);
   RunEnd aborted;
   aborted.status = kRunAborted;
-  aborted.reason = "operator interrupt during run 4";
+  aborted.reason = "aborted by operator during run 4";
   runner.on_run_end(4, aborted, 5);
   const std::vector<nlohmann::json> warnings = OfType(capture.Events(), "warning");
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_EQ(warnings[0]["message"], "run 3 complete: flagged: temperature changed by 2 %");
-  EXPECT_EQ(warnings[1]["message"], "run 4 aborted: operator interrupt during run 4");
+  EXPECT_EQ(warnings[1]["message"], "run 4 aborted: aborted by operator during run 4");
 }
 
 TEST(SessionEvents, TheEndOfASessionInOrder) {
