@@ -28,6 +28,7 @@
 #include "app/panel/panel_server.hpp"
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
+#include "app/unit_history.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/sequencer.hpp"
@@ -117,11 +118,18 @@ class ProgressPrinter {
 
 // The session report (HTML, figures, PDF) into the closed session's directory. A report that cannot
 // be written is logged; it never changes the outcome or the exit code. Empty when none was written.
-std::string WriteReport(const bench::SessionResult& result) {
+// `results_url`: the station's results store, from which the report lists the unit's earlier
+// sessions (this one is not in it yet: the upload follows the report).
+std::string WriteReport(const bench::SessionResult& result, const std::string& results_url) {
   std::error_code ec;
   if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
   try {
-    const auto written = report::WriteSessionReport(result.dir);
+    report::ReportOptions options;
+    options.unit_history = app::ReadUnitHistory(results_url, result.dir);
+    if (options.unit_history && !options.unit_history->unavailable.empty())
+      spdlog::warn("report: the unit's earlier sessions are not available: {}",
+                   options.unit_history->unavailable);
+    const auto written = report::WriteSessionReport(result.dir, options);
     if (!written) {
       spdlog::error("session report not written: {}", written.error().ToString());
       return {};
@@ -217,7 +225,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
   if (event_output) event_output->publisher().SessionFinished(result);
-  const std::string report_path = WriteReport(result);
+  const std::string report_path = WriteReport(result, configs.station.results_url);
   if (event_output) {
     event_output->publisher().ReportWritten(report_path);
     event_output->Close(result.dir);

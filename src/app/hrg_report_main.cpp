@@ -9,6 +9,7 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
+#include "app/unit_history.hpp"
 #include "hrgbench/report/session_report.hpp"
 
 namespace {
@@ -21,6 +22,7 @@ struct Arguments {
   bool no_pdf = false;
   bool no_figures = false;
   std::string chart_js;
+  std::string results_url;
 };
 
 int Run(const Arguments& args) {
@@ -29,6 +31,10 @@ int Run(const Arguments& args) {
   options.pdf = !args.no_pdf;
   options.figures = !args.no_figures;
   options.chart_js = args.chart_js;
+  options.unit_history = app::ReadUnitHistory(args.results_url, args.dir);
+  if (options.unit_history && !options.unit_history->unavailable.empty())
+    spdlog::warn("the unit's earlier sessions are not available: {}",
+                 options.unit_history->unavailable);
   const auto written = report::WriteSessionReport(args.dir, options);
   if (!written) {
     // The message alone on stderr, so scripts can match it (it names the file and field).
@@ -63,6 +69,9 @@ int main(int argc, char** argv) {
   cli.add_option("--chart-js", args.chart_js,
                  "Chart.js UMD build to inline (default: Debian's, "
                  "/usr/share/javascript/chart.js/chart.min.js)");
+  cli.add_option("--results", args.results_url,
+                 "results store (sqlite:PATH or postgresql://...): list the unit's earlier "
+                 "sessions from it, as hrg-bench does for a station with [results] url");
   hrgbench::app::AddCommonFlags(cli, &quiet);
   return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-report", quiet,
                                     [&] { return Run(args); });

@@ -5,7 +5,7 @@
 //   hrg-results ... history SERIAL [--json|--csv]
 //   hrg-results ... sessions [--since T] [--at-station N] [--outcome O] [--serial-like P]
 //                            [--json|--csv]
-//   hrg-results ... stats PARAM [--since T] [--at-station N] [--csv]
+//   hrg-results ... stats PARAM [--since T] [--at-station N] [--json|--csv]
 //   hrg-results ... export [--since T] [--at-station N] [--outcome O] [--serial-like P]
 //
 // Exit codes: 0 done; 1 some session could not be imported or synced (each is named); 2 bad
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   stats->add_option("param", parameter, "parameter name (delta1, xi2, tau_s, q_factor, ...)")
       ->required();
   add_filters(stats, false);
-  stats->add_flag("--csv", csv, "CSV");
+  stats->add_flag("--json", json, "JSON")->excludes(stats->add_flag("--csv", csv, "CSV"));
   CLI::App* export_cmd =
       cli.add_subcommand("export", "CSV: one row per session, one column per quantity");
   add_filters(export_cmd, true);

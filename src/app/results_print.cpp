@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -142,6 +143,34 @@ void PrintHistory(std::ostream& out, const std::string& serial,
 }
 
 void PrintStats(std::ostream& out, const results::ParameterStats& st, OutputFormat format) {
+  if (format == OutputFormat::kJson) {
+    // One object; a number that is not determined (no sessions, no limit, no verdict) is null.
+    const auto value = [&](std::optional<double> v) {
+      return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json();
+    };
+    const auto sample = [&](double v) { return st.n > 0 ? value(v) : nlohmann::json(); };
+    nlohmann::json weeks = nlohmann::json::array();
+    for (const auto& w : st.weeks)
+      weeks.push_back(
+          {{"week", w.week}, {"n", w.n}, {"mean", value(w.mean)}, {"std", value(w.std)}});
+    const nlohmann::json all = {{"name", st.name},
+                                {"unit", st.unit},
+                                {"n", st.n},
+                                {"mean", sample(st.mean)},
+                                {"std", sample(st.std)},
+                                {"min", sample(st.min)},
+                                {"max", sample(st.max)},
+                                {"limit_min", value(st.limit_min)},
+                                {"limit_max", value(st.limit_max)},
+                                {"judged", st.judged},
+                                {"passed", st.passed},
+                                {"yield", value(st.yield)},
+                                {"cp", value(st.cp)},
+                                {"cpk", value(st.cpk)},
+                                {"weeks", std::move(weeks)}};
+    out << all.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    return;
+  }
   if (format == OutputFormat::kCsv) {
     out << "period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\n";
     out << "all," << st.n << ',' << NumberText(st.mean) << ',' << NumberText(st.std) << ','

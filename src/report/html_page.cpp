@@ -240,6 +240,71 @@ void Page::Verdict() {
   out_ += "</table>\n";
 }
 
+// The quantities a line compares across a unit's sessions (estimator/engineering_quantities.hpp).
+constexpr std::pair<const char*, const char*> kHistoryColumns[] = {
+    {"tau_s", "τ, s"},
+    {"q_factor", "Q"},
+    {"frequency_split_mhz", "Δf, mHz"},
+    {"damping_split_per_s", "Δ(1/τ), 1/s"},
+    {"angular_gain", "k"},
+    {"gain_mismatch_percent", "g2/g1 − 1, %"},
+};
+
+void Page::UnitHistory() {
+  const json* history = At(data_, "/derived/unit_history");
+  if (history == nullptr || !history->is_object()) return;  // no results store configured
+  out_ += "<section id=\"unit-history\">\n<h2>This unit's earlier sessions</h2>\n";
+  const std::string store = history->value("store", "");
+  const std::string unavailable = history->value("unavailable", "");
+  if (!unavailable.empty()) {
+    out_ += "<p class=\"na\">From " + HtmlEscape(store) + ": not available (" +
+            HtmlEscape(unavailable) + ").</p>\n</section>\n";
+    return;
+  }
+  const std::size_t shown = Size(data_, "/derived/unit_history/sessions");
+  const std::size_t count = history->value("count", std::size_t{0});
+  if (count == 0) {
+    out_ += "<p>None in " + HtmlEscape(store) +
+            ": this is the unit's first session there.</p>\n"
+            "</section>\n";
+    return;
+  }
+  out_ += "<p>" + std::to_string(count) + " in " + HtmlEscape(store) +
+          (shown < count ? ", the latest " + std::to_string(shown) + " shown" : std::string()) +
+          "; this session last.</p>\n<table class=\"unit-history\"><tr><th>started (UTC)</th>"
+          "<th>station</th><th>outcome</th>";
+  for (const auto& [name, label] : kHistoryColumns) out_ += "<th>" + HtmlEscape(label) + "</th>";
+  out_ += "</tr>\n";
+  for (std::size_t i = 0; i < shown; ++i) {
+    const std::string s = "/derived/unit_history/sessions/" + std::to_string(i);
+    const json& e = *At(data_, s);
+    const std::string outcome = e.value("outcome", "");
+    out_ += "<tr data-session=\"" + Attr(e.value("path", "")) + "\"><td>" +
+            HtmlEscape(e.value("started_utc", "")) + "</td><td>" +
+            HtmlEscape(e.value("station", "")) + "</td><td class=\"status-" + Attr(outcome) +
+            "\">" + HtmlEscape(outcome) + "</td>";
+    for (const auto& [name, label] : kHistoryColumns)
+      out_ += "<td>" + Der(s + "/values/" + name) + "</td>";
+    out_ += "</tr>\n";
+  }
+  // This session, from its own record.
+  const std::string kind = Has("/outcome/kind") ? doc_.at("outcome").value("kind", "") : "";
+  out_ += "<tr class=\"this-session\"><td>" + Text("/started/utc") + "</td><td>" +
+          Text("/station/name") + "</td><td class=\"status-" + Attr(kind) + "\">" +
+          HtmlEscape(kind) + " (this session)</td>";
+  const std::string quantities = "/outcome/estimate/engineering/quantities";
+  for (const auto& [name, label] : kHistoryColumns) {
+    std::string cell = kNone;
+    for (std::size_t q = 0; q < Size(doc_, quantities); ++q) {
+      const std::string p = quantities + "/" + std::to_string(q);
+      const json* n = At(doc_, p + "/name");
+      if (n != nullptr && n->is_string() && *n == name) cell = Src(p + "/value");
+    }
+    out_ += "<td>" + cell + "</td>";
+  }
+  out_ += "</tr>\n</table>\n</section>\n";
+}
+
 void Page::Figure(const std::string& name, int width, int height) {
   const auto it = captions_.find(name);
   if (it == captions_.end()) {
@@ -268,6 +333,7 @@ std::string Page::Render(const std::string& chart_js) {
   Figure("std-vs-bound", 960, 300);
   Engineering();
   Verdict();
+  UnitHistory();
   for (const RunView& run : in_.runs) Run(run);
   out_ += "<script type=\"application/json\" id=\"report-data\">" +
           ScriptSafeJson(data_.dump(-1, ' ', false, json::error_handler_t::replace)) +

@@ -103,6 +103,7 @@ class Page {
   void Estimate();
   void Engineering();
   void Verdict();
+  void UnitHistory();
   void Figure(const std::string& name, int width, int height);
   void Run(const RunView& run);
 

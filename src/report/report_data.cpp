@@ -439,6 +439,29 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
   return out;
 }
 
+// derived.unit_history: {store, unavailable, count, sessions: [{started_utc, station, outcome,
+// path, values {name: number}}]}, the newest kMaxUnitHistoryRows, oldest first; null without one.
+json UnitHistoryJson(const std::optional<UnitHistory>& history) {
+  if (!history) return nullptr;
+  json sessions = json::array();
+  const std::size_t n = history->sessions.size();
+  for (std::size_t i = n > kMaxUnitHistoryRows ? n - kMaxUnitHistoryRows : 0; i < n; ++i) {
+    const UnitHistoryEntry& e = history->sessions[i];
+    json values = json::object();
+    for (const auto& [name, value] : e.values)
+      if (std::isfinite(value)) values[name] = value;
+    sessions.push_back({{"started_utc", e.started_utc},
+                        {"station", e.station},
+                        {"outcome", e.outcome},
+                        {"path", e.path},
+                        {"values", std::move(values)}});
+  }
+  return {{"store", history->store},
+          {"unavailable", history->unavailable},
+          {"count", n},
+          {"sessions", std::move(sessions)}};
+}
+
 // (estimate − truth)/std of every δ and ξ when the session is simulated (the truth recorded under
 // outcome.estimate.truth, or the simulation spec), with the estimate and std the page shows (the
 // record's, else the re-run's); null where any of the three is missing or the std is not positive.
@@ -510,6 +533,7 @@ json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_seri
   });
   derived["crlb"] = crlb.get();
   for (json& f : crlb_figures) figures.push_back(std::move(f));
+  derived["unit_history"] = UnitHistoryJson(inputs.unit_history);
   derived["runs"] = json::object();
   for (std::size_t r = 0; r < inputs.runs.size(); ++r) {
     if (!inputs.runs[r].loaded) continue;

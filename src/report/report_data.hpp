@@ -7,7 +7,8 @@
 //              x [number] (line) | labels [string] (bar),
 //              series [{label, y [number|null], x [number] (optional, own abscissa), model}]}]
 //   derived  {estimate (the re-run's EstimateReportJson), crlb {delta_std[6], xi_std[4], valid,
-//             message}, anisotropy {...}, runs {"<id>": {...capture quality...}}}
+//             message}, anisotropy {...}, runs {"<id>": {...capture quality...}},
+//             unit_history {store, unavailable, count, sessions [...]} (null without a store)}
 //
 // Long runs are decimated min/max per bucket (decimate.hpp), values rounded to 6 digits.
 

@@ -12,6 +12,7 @@
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
+#include "hrgbench/report/session_report.hpp"
 
 namespace hrgbench::report::internal {
 
@@ -40,6 +41,7 @@ struct ReportInputs {
   // Warnings, each once, in the order found: the session reader's, the recorded estimate's, the
   // re-run's, the report's own.
   std::vector<std::string> warnings;
+  std::optional<UnitHistory> unit_history;  // ReportOptions::unit_history
 };
 
 }  // namespace hrgbench::report::internal

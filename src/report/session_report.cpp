@@ -171,6 +171,7 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   in.session_dir = session_dir;
   in.document = session->document;
   in.sample_rate_hz = session->sample_rate_hz;
+  in.unit_history = options.unit_history;
   std::set<std::string> seen;
   std::vector<std::string> reader_warnings;
   for (const std::string& w : session->warnings) {

@@ -43,10 +43,31 @@
 #include <cstddef>
 #include <expected>
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace hrgbench::report {
+
+// The unit's other sessions, from the station's results store (results/results_store.hpp). The
+// caller queries the store; the report opens no database.
+struct UnitHistoryEntry {
+  std::string started_utc;
+  std::string station;
+  std::string outcome;  // PASS, FAIL, ERROR, ABORTED
+  std::string path;     // the session folder as stored
+  // Engineering quantities by name (estimator/engineering_quantities.hpp: "tau_s", "q_factor",
+  // ...); a quantity the session did not determine is absent.
+  std::map<std::string, double> values;
+};
+struct UnitHistory {
+  std::string store;                       // where it came from (the URL without its password)
+  std::vector<UnitHistoryEntry> sessions;  // oldest first, this session excluded
+  std::string unavailable;                 // non-empty: the store could not be read, and why
+};
+// The most earlier sessions the page lists (the newest ones; the count says how many there are).
+inline constexpr std::size_t kMaxUnitHistoryRows = 50;
 
 struct ReportOptions {
   // The HTML file; empty = <session>/report/report.html. Figures and the PDF go beside it.
@@ -62,6 +83,8 @@ struct ReportOptions {
   std::size_t max_points_per_series = 2000;
   // Seconds a child process (gnuplot, chromium) may take before it is killed.
   double child_timeout_s = 60.0;
+  // The unit's earlier sessions (section "unit-history"); nullopt: no store configured, no section.
+  std::optional<UnitHistory> unit_history;
 };
 
 // Where Debian's libjs-chart.js puts its UMD build (chart.min.js is the UMD bundle in 3.x; the

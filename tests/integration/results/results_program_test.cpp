@@ -116,12 +116,97 @@ TEST_F(ResultsProgram, AnUnwritableDatabaseLeavesTheOutcomeAndSyncUploadsLater) 
   EXPECT_EQ(
       stats.out.rfind("period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\nall,1,", 0), 0u)
       << stats.out;
+  // The same as JSON, for a script: one session, no spread yet.
+  const Output stats_json = Results(db + " stats delta2 --json");
+  ASSERT_EQ(stats_json.exit_code, 0) << stats_json.out;
+  const nlohmann::json sj = nlohmann::json::parse(stats_json.out);
+  EXPECT_EQ(sj["name"], "delta2");
+  EXPECT_EQ(sj["n"], 1);
+  EXPECT_EQ(sj["mean"], doc["outcome"]["estimate"]["delta"][1]);
+  EXPECT_EQ(sj["min"], sj["max"]);
+  ASSERT_EQ(sj["weeks"].size(), 1u);
+  EXPECT_EQ(sj["weeks"][0]["n"], 1);
   const Output exported = Results(db + " export");
   EXPECT_EQ(exported.exit_code, 0) << exported.out;
   EXPECT_NE(exported.out.find(",delta1,"), std::string::npos) << exported.out;
   EXPECT_NE(exported.out.find("\n" + h[0]["id"].get<std::string>() + ",SN-RES-1,sim-ci,"),
             std::string::npos)
       << exported.out;
+}
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The page's data block (session_report.hpp's contract: one report-data script).
+nlohmann::json ReportData(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"report-data\">";
+  const std::size_t at = html.find(open);
+  if (at == std::string::npos) return nullptr;
+  const std::size_t from = at + open.size();
+  return nlohmann::json::parse(html.substr(from, html.find("</script>", from) - from));
+}
+
+// The report lists the unit's earlier sessions from the station's store (issue 10): none for its
+// first session, the first for its second, each with the quantities the store holds; hrg-report
+// --results lists the later one for the first (a session never lists itself).
+TEST_F(ResultsProgram, TheReportListsTheUnitsEarlierSessionsFromTheStore) {
+  const std::string url = "sqlite://" + (dir_ / "station.sqlite").string();
+  const fs::path station = Station(url);
+  const fs::path first = dir_ / "sessions" / "first", second = dir_ / "sessions" / "second";
+  ASSERT_EQ(Bench(station, "SN-HIST", first).exit_code, 0);
+  ASSERT_EQ(Bench(Station(url), "SN-OTHER", dir_ / "sessions" / "other").exit_code, 0);
+  const Output bench = Bench(station, "SN-HIST", second);
+  ASSERT_EQ(bench.exit_code, 0) << bench.out;
+
+  const std::string first_page = ReadText(first / "report" / "report.html");
+  EXPECT_NE(first_page.find("<section id=\"unit-history\">"), std::string::npos);
+  EXPECT_NE(first_page.find("this is the unit's first session there"), std::string::npos);
+
+  const std::string page = ReadText(second / "report" / "report.html");
+  EXPECT_NE(page.find("<section id=\"unit-history\">"), std::string::npos);
+  const nlohmann::json data = ReportData(page);
+  ASSERT_TRUE(data.is_object());
+  const nlohmann::json& history = data["derived"]["unit_history"];
+  EXPECT_EQ(history["store"], url);
+  EXPECT_EQ(history["unavailable"], "");
+  ASSERT_EQ(history["count"], 1) << history.dump();  // not SN-OTHER, not itself
+  const nlohmann::json& earlier = history["sessions"][0];
+  const nlohmann::json first_doc = ReadJson(first / "session.json");
+  EXPECT_EQ(earlier["outcome"], first_doc["outcome"]["kind"]);
+  EXPECT_EQ(earlier["started_utc"], first_doc["started"]["utc"]);
+  EXPECT_EQ(fs::path(earlier["path"].get<std::string>()), fs::absolute(first));
+  for (const nlohmann::json& q : first_doc["outcome"]["estimate"]["engineering"]["quantities"]) {
+    if (q["name"] != "tau_s") continue;
+    EXPECT_EQ(earlier["values"]["tau_s"], q["value"]);
+    // On the page, a derived number pointing at that value.
+    EXPECT_NE(page.find("data-derived=\"/derived/unit_history/sessions/0/values/tau_s\""),
+              std::string::npos);
+  }
+
+  // Regenerated afterwards with the store: the first session now sees the second.
+  const Output report =
+      RunCommand(kBin + "/hrg-report --no-pdf --no-figures --results " + url + " " + first.string(),
+                 dir_ / "report.log");
+  ASSERT_EQ(report.exit_code, 0) << report.out;
+  const nlohmann::json again = ReportData(ReadText(first / "report" / "report.html"));
+  ASSERT_EQ(again["derived"]["unit_history"]["count"], 1);
+  EXPECT_EQ(fs::path(again["derived"]["unit_history"]["sessions"][0]["path"].get<std::string>()),
+            fs::absolute(second));
+
+  // A store that cannot be read: the page says so, the report is still written.
+  std::ofstream(dir_ / "a-file") << "not a directory";
+  const Output broken =
+      RunCommand(kBin + "/hrg-report --no-pdf --no-figures --results sqlite://" +
+                     (dir_ / "a-file" / "x.sqlite").string() + " " + first.string(),
+                 dir_ / "report.log");
+  EXPECT_EQ(broken.exit_code, 0) << broken.out;
+  EXPECT_NE(broken.out.find("earlier sessions are not available"), std::string::npos) << broken.out;
+  EXPECT_NE(ReadText(first / "report" / "report.html").find(": not available ("),
+            std::string::npos);
 }
 
 TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {

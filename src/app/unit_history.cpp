@@ -1,0 +1,44 @@
+#include "app/unit_history.hpp"
+
+#include "hrgbench/results/results_store.hpp"
+#include "hrgbench/results/session_record.hpp"
+
+namespace hrgbench::app {
+
+std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
+                                                   const std::filesystem::path& session_dir) {
+  if (url.empty()) return std::nullopt;
+  report::UnitHistory history;
+  history.store = url;
+  // The serial and the stable id as the store knows them (an unfinished session has neither).
+  const auto record = results::ReadSessionRecord(session_dir);
+  if (!record) {
+    history.unavailable = record.error();
+    return history;
+  }
+  auto store = results::ResultsStore::Open(url);
+  if (!store) {
+    history.unavailable = store.error();
+    return history;
+  }
+  results::SessionFilter filter;
+  filter.serial = record->serial;
+  auto sessions = (*store)->SessionsWithParameters(filter);
+  if (!sessions) {
+    history.unavailable = sessions.error();
+    return history;
+  }
+  for (results::SessionWithParameters& s : *sessions) {
+    if (s.session.id == record->id) continue;
+    report::UnitHistoryEntry entry;
+    entry.started_utc = std::move(s.session.started_utc);
+    entry.station = std::move(s.session.station);
+    entry.outcome = std::move(s.session.outcome);
+    entry.path = std::move(s.session.path);
+    entry.values = std::move(s.values);
+    history.sessions.push_back(std::move(entry));
+  }
+  return history;
+}
+
+}  // namespace hrgbench::app
