@@ -16,11 +16,12 @@ std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
     history.unavailable = record.error();
     return history;
   }
-  auto store = results::ResultsStore::Open(url);
+  auto store = results::ResultsStore::OpenExisting(url);  // a report writes no database
   if (!store) {
     history.unavailable = store.error();
     return history;
   }
+  if (*store == nullptr) return history;  // nothing stored yet
   results::SessionFilter filter;
   filter.serial = record->serial;
   auto sessions = (*store)->SessionsWithParameters(filter);

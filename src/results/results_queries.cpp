@@ -59,8 +59,14 @@ SessionSummary ToSummary(const SqlRow& row) {
 std::expected<std::vector<SessionSummary>, std::string> ResultsStore::Sessions(
     const SessionFilter& filter) {
   std::vector<SqlValue> params;
-  const std::string sql = std::string("SELECT ") + kSessionColumns + " FROM session s" +
-                          Where(filter, params) + " ORDER BY s.started_utc, s.id";
+  const std::string selected =
+      std::string("SELECT ") + kSessionColumns + " FROM session s" + Where(filter, params);
+  // The newest N by the same order, turned back: both engines take a LIMIT in a subquery.
+  const std::string sql =
+      filter.newest == 0
+          ? selected + " ORDER BY s.started_utc, s.id"
+          : "SELECT * FROM (" + selected + " ORDER BY s.started_utc DESC, s.id DESC LIMIT " +
+                std::to_string(filter.newest) + ") newest ORDER BY started_utc, id";
   auto rows = db_->Query(sql, params);
   if (!rows) return std::unexpected(rows.error().message);
   std::vector<SessionSummary> out;

@@ -2,6 +2,8 @@
 
 #include "hrgbench/results/results_store.hpp"
 
+#include <filesystem>
+
 #include "results/schema.hpp"
 #include "results/sql_connection.hpp"
 #include "results/sql_values.hpp"
@@ -61,6 +63,29 @@ std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
   auto parsed = ParseResultsUrl(url);
   if (!parsed) return std::unexpected(parsed.error());
   return Open(*parsed, options);
+}
+
+std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::OpenExisting(
+    std::string_view url) {
+  auto parsed = ParseResultsUrl(url);
+  if (!parsed) return std::unexpected(parsed.error());
+  std::unique_ptr<internal::SqlConnection> connection;
+  if (parsed->engine == Engine::kSqlite) {
+    std::error_code ec;
+    if (!std::filesystem::exists(parsed->sqlite_path, ec) && !ec) return nullptr;
+    auto opened = internal::OpenSqlite(*parsed, OpenOptions{}.sqlite_busy_timeout_ms, false);
+    if (!opened) return std::unexpected(opened.error());
+    connection = std::move(*opened);
+  } else {
+    auto opened = internal::OpenPostgres(*parsed);
+    if (!opened) return std::unexpected(opened.error());
+    connection = std::move(*opened);
+  }
+  std::unique_ptr<ResultsStore> store(new ResultsStore(std::move(connection), parsed->text));
+  OpenOptions read_only;
+  read_only.migrate = false;
+  if (auto ok = store->Migrate(read_only); !ok) return std::unexpected(ok.error());
+  return store;
 }
 
 std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(

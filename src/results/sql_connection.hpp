@@ -40,11 +40,13 @@ class SqlConnection {
   virtual Engine engine() const = 0;
 };
 
-// Opens a connection. SQLite: creates the file's parent directory and the file; waits up to
-// `busy_timeout_ms` for another writer. PostgreSQL: PQconnectdb with the URL, connect_timeout 10 s
-// unless the URL says otherwise. Errors name the URL (never a password: the URL has none).
+// Opens a connection. SQLite: creates the file's parent directory and the file (unless `create`
+// is false: then a missing file is an error); waits up to `busy_timeout_ms` for another writer.
+// PostgreSQL: PQconnectdb with the URL, connect_timeout 10 s unless the URL says otherwise. Errors
+// name the URL (never a password: the URL has none).
 std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const ResultsUrl& url,
-                                                                      int busy_timeout_ms);
+                                                                      int busy_timeout_ms,
+                                                                      bool create = true);
 std::expected<std::unique_ptr<SqlConnection>, std::string> OpenPostgres(const ResultsUrl& url);
 
 }  // namespace hrgbench::results::internal

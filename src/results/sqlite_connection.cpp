@@ -87,14 +87,15 @@ class SqliteConnection final : public SqlConnection {
 }  // namespace
 
 std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const ResultsUrl& url,
-                                                                      int busy_timeout_ms) {
+                                                                      int busy_timeout_ms,
+                                                                      bool create) {
   const std::filesystem::path file(url.sqlite_path);
   std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (create && file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   sqlite3* db = nullptr;
-  const int rc =
-      sqlite3_open_v2(url.sqlite_path.c_str(), &db,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  const int rc = sqlite3_open_v2(
+      url.sqlite_path.c_str(), &db,
+      SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_FULLMUTEX, nullptr);
   if (rc != SQLITE_OK) {
     std::string message = "sqlite '" + url.sqlite_path +
                           "': cannot open: " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));

@@ -24,6 +24,7 @@
 // the same session is retried. Never throws (except std::bad_alloc); errors are values naming the
 // database and what failed.
 
+#include <cstddef>
 #include <cstdint>
 #include <expected>
 #include <functional>
@@ -55,6 +56,8 @@ struct SessionFilter {
   std::string outcome;      // PASS, FAIL, ERROR, ABORTED
   std::string serial_like;  // SQL LIKE pattern on the serial (% and _), case-insensitive
   std::string serial;       // exact serial
+  // Sessions() only: at most this many, the newest (still returned oldest first); 0: all.
+  std::size_t newest = 0;
 };
 
 struct SessionSummary {
@@ -96,6 +99,11 @@ class ResultsStore {
   // Parses `url` first (results_url.hpp).
   static std::expected<std::unique_ptr<ResultsStore>, std::string> Open(
       std::string_view url, const OpenOptions& options = {});
+  // For readers that must write nothing (the panel's recent sessions, a report's unit history):
+  // no file, directory or schema is created or migrated. nullptr when `url` names a SQLite file
+  // that does not exist yet: nothing is stored, an empty answer rather than an error.
+  static std::expected<std::unique_ptr<ResultsStore>, std::string> OpenExisting(
+      std::string_view url);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;
   ResultsStore& operator=(const ResultsStore&) = delete;

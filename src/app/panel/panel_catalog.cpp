@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <fstream>
 
+#include "hrgbench/results/results_store.hpp"
+
 namespace hrgbench::app {
 namespace {
 
@@ -72,6 +74,40 @@ bool IsSessionName(const fs::path& sessions_dir, std::string_view name) {
   }
   std::error_code ec;
   return fs::is_directory(sessions_dir / std::string(name), ec);
+}
+
+std::expected<nlohmann::json, std::string> RecentSessionsFromStore(const std::string& url,
+                                                                   const std::string& station,
+                                                                   const fs::path& sessions_dir,
+                                                                   std::size_t count) {
+  auto store = results::ResultsStore::OpenExisting(url);  // the panel writes no database
+  if (!store) return std::unexpected(store.error());
+  if (*store == nullptr) return nlohmann::json::array();  // nothing stored yet
+  results::SessionFilter filter;
+  filter.station = station;
+  filter.newest = count;
+  auto rows = (*store)->Sessions(filter);
+  if (!rows) return std::unexpected(rows.error());
+  std::error_code here_error;
+  const fs::path here = fs::weakly_canonical(sessions_dir, here_error);
+  nlohmann::json out = nlohmann::json::array();
+  for (auto it = rows->rbegin(); it != rows->rend(); ++it) {
+    const fs::path folder(it->path);
+    const std::string name = folder.filename().string();
+    std::error_code ec;
+    const fs::path parent = fs::weakly_canonical(folder.parent_path(), ec);
+    const bool ours = !here_error && !ec && parent == here && IsSessionName(sessions_dir, name);
+    out.push_back({{"name", name},
+                   {"unit", it->serial},
+                   {"station", it->station},
+                   {"outcome", it->outcome},
+                   {"reason", it->reason},
+                   {"started", it->started_utc},
+                   {"report", ours && fs::exists(folder / "report" / "report.html", ec)
+                                  ? nlohmann::json("sessions/" + name + "/report/report.html")
+                                  : nlohmann::json(nullptr)}});
+  }
+  return out;
 }
 
 nlohmann::json RecentSessions(const fs::path& sessions_dir, std::size_t count) {

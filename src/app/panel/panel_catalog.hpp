@@ -8,8 +8,10 @@
 // names file, line and key). The page picks by id (the index in these lists), never by path: no
 // path from the page reaches the file system.
 //
-// Recent sessions: the sessions folder's sub-folders with a session.json (read with a size bound),
-// newest first. Not thread-safe: the lists are built once; RecentSessions reads the disk per call.
+// Recent sessions: from the station's results store when it has one ([results] url: the station's
+// sessions wherever they were recorded), else the sessions folder's sub-folders with a
+// session.json (read with a size bound); newest first. Not thread-safe: the lists are built once;
+// the recent sessions are read per call.
 
 #include <cstdint>
 #include <expected>
@@ -41,6 +43,14 @@ std::expected<PanelCatalog, std::string> LoadPanelCatalog(const std::filesystem:
 // At most `count` sessions, newest first: [{name, unit, station, outcome, reason, started,
 // report}] (report: the page's URL of the report, or null). Unreadable folders are skipped.
 nlohmann::json RecentSessions(const std::filesystem::path& sessions_dir, std::size_t count);
+
+// The same rows from the results store at `url`: the newest `count` sessions of `station`. A row's
+// name is its folder's name; its report is linked only when that folder is in `sessions_dir`
+// (the page can open nothing else). Error: the store cannot be opened or read (the message says
+// which and why).
+std::expected<nlohmann::json, std::string> RecentSessionsFromStore(
+    const std::string& url, const std::string& station, const std::filesystem::path& sessions_dir,
+    std::size_t count);
 
 // The session folder name as the page may ask for it (for the report link): a direct sub-folder of
 // the sessions folder, no "..", no leading '.'. True when `name` is that and exists.

@@ -224,12 +224,31 @@ class Panel {
     nlohmann::json limits = nlohmann::json::array();
     for (std::size_t i = 0; i < catalog_.limits.size(); ++i)
       limits.push_back({{"id", i}, {"name", catalog_.limits[i].name}});
+    // The station's last sessions: from its results store when it has one, else this folder.
+    nlohmann::json recent;
+    std::string recent_source;
+    if (!catalog_.station.results_url.empty()) {
+      auto stored = RecentSessionsFromStore(catalog_.station.results_url, catalog_.station.name,
+                                            sessions_, kRecentSessions);
+      if (stored) {
+        recent = std::move(*stored);
+        recent_source = catalog_.station.results_url;
+      } else {
+        spdlog::warn("panel: recent sessions from the folder: {}", stored.error());
+        recent_source = "the sessions folder (the results store: " + stored.error() + ")";
+      }
+    }
+    if (recent.is_null()) {
+      recent = RecentSessions(sessions_, kRecentSessions);
+      if (recent_source.empty()) recent_source = "the sessions folder";
+    }
     return {{"station", catalog_.station.name},
             {"station_kind", std::string(bench::ToString(catalog_.station.kind))},
             {"sequences", sequences},
             {"limits", limits},
             {"session", nlohmann::json::parse(process_.StatusJson())},
-            {"recent", RecentSessions(sessions_, kRecentSessions)}};
+            {"recent", recent},
+            {"recent_source", recent_source}};
   }
 
   void Start(const httplib::Request& req, httplib::Response& res) {

@@ -131,6 +131,10 @@ def WriteConfigs(source: Path, folder: Path) -> Path:
     station = (source / "bench_configs" / "station-sim.toml").read_text()
     station = station.replace("faster_than_real_time = true",
                               "faster_than_real_time = false\ntime_scale = 4.0")
+    # The station's own results store, in the test's folder: the panel lists its recent sessions.
+    shipped_store = 'url = "sqlite://build/out/results.sqlite"'
+    assert shipped_store in station, "station-sim.toml's [results] url changed"
+    station = station.replace(shipped_store, f'url = "sqlite://{folder / "results.sqlite"}"')
     (folder / "station-panel.toml").write_text(station)
     (folder / "sequence-short.toml").write_text(SHORT.replace("FREE_RUN", "4.0"))
     (folder / "sequence-long.toml").write_text(
@@ -325,10 +329,17 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
         (out / "latency.json").write_text(json.dumps(latency, indent=1))
         print(f"panel latency, event to screen: {latency}")
         Check(int(latency["latencyCount"] or 0) > 20, "too few live events measured")
-        # The recent sessions list has it, and the report opens from the page.
+        # The recent sessions list has it, from the station's results store (issue 11), with its
+        # report linked, and the report opens from the page.
         browser.wait(lambda: browser.js(
             "return document.querySelector('#recent tr[data-session=\"' + arguments[0] + '\"]')"
             " !== null", name), "the session is not among the recent sessions")
+        source = browser.text("recent-source")
+        Check(source.startswith("from sqlite://") and source.endswith("results.sqlite"),
+              f"the recent sessions do not come from the store: {source}")
+        Check(browser.js(
+            "return document.querySelector('#recent tr[data-session=\"' + arguments[0] + '\"] a')"
+            " !== null", name), "the recent session has no report link")
         browser.click("report-link")
         browser.wait(lambda: browser.js("return document.readyState") == "complete"
                      and "report/report.html" in browser.driver.current_url, "report not opened")

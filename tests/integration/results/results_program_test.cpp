@@ -198,15 +198,24 @@ TEST_F(ResultsProgram, TheReportListsTheUnitsEarlierSessionsFromTheStore) {
             fs::absolute(second));
 
   // A store that cannot be read: the page says so, the report is still written.
-  std::ofstream(dir_ / "a-file") << "not a directory";
-  const Output broken =
-      RunCommand(kBin + "/hrg-report --no-pdf --no-figures --results sqlite://" +
-                     (dir_ / "a-file" / "x.sqlite").string() + " " + first.string(),
-                 dir_ / "report.log");
+  std::ofstream(dir_ / "corrupt.sqlite") << "not a database, but long enough to be read as one";
+  const Output broken = RunCommand(kBin + "/hrg-report --no-pdf --no-figures --results sqlite://" +
+                                       (dir_ / "corrupt.sqlite").string() + " " + first.string(),
+                                   dir_ / "report.log");
   EXPECT_EQ(broken.exit_code, 0) << broken.out;
   EXPECT_NE(broken.out.find("earlier sessions are not available"), std::string::npos) << broken.out;
   EXPECT_NE(ReadText(first / "report" / "report.html").find(": not available ("),
             std::string::npos);
+  // A store that does not exist yet is not created by a reader: no earlier sessions.
+  const fs::path absent = dir_ / "no-such-dir" / "x.sqlite";
+  const Output fresh = RunCommand(kBin + "/hrg-report --no-pdf --no-figures --results sqlite://" +
+                                      absent.string() + " " + first.string(),
+                                  dir_ / "report.log");
+  EXPECT_EQ(fresh.exit_code, 0) << fresh.out;
+  EXPECT_FALSE(fs::exists(absent.parent_path()));
+  EXPECT_EQ(
+      ReportData(ReadText(first / "report" / "report.html"))["derived"]["unit_history"]["count"],
+      0);
 }
 
 TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {

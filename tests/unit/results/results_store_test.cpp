@@ -116,6 +116,27 @@ TEST_P(ResultsStoreTest, ImportTwiceChangesNothingAndRowsMatchTheFolder) {
   EXPECT_EQ(*warnings, std::vector<std::string>{"fixture warning"});
 }
 
+// Readers (the panel, a report) open without writing: a SQLite file not there yet is nullptr and
+// stays absent; an existing store answers as Open's does.
+TEST_P(ResultsStoreTest, OpenExistingWritesNothing) {
+  if (GetParam() == "sqlite") {
+    const fs::path absent = dir_ / "not-yet" / "results.sqlite";
+    auto none = results::ResultsStore::OpenExisting("sqlite://" + absent.string());
+    ASSERT_TRUE(none.has_value()) << none.error();
+    EXPECT_EQ(*none, nullptr);
+    EXPECT_FALSE(fs::exists(absent.parent_path()));
+  }
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  ASSERT_TRUE(results::UploadSession(*store, Write("s1", FixtureSession{})).uploaded);
+  auto reader = results::ResultsStore::OpenExisting(url_);
+  ASSERT_TRUE(reader.has_value()) << reader.error();
+  ASSERT_NE(*reader, nullptr);
+  auto rows = (*reader)->Sessions({});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  EXPECT_EQ(rows->size(), 1u);
+}
+
 TEST_P(ResultsStoreTest, AResumedSessionReplacesItsRowsAndTheUploadMarkChangesNoHash) {
   auto store = Open();
   ASSERT_NE(store, nullptr);
@@ -181,6 +202,16 @@ TEST_P(ResultsStoreTest, SessionsHistoryAndFiltersAnswerFromKnownSessions) {
   EXPECT_EQ(count({.serial_like = "sn-000_"}), 12u);  // case-insensitive
   EXPECT_EQ(count({.serial_like = "%2"}), 3u);
   EXPECT_EQ(count({.station = "st-b", .outcome = "FAIL"}), 3u);
+  // The panel's "last sessions of this station": the newest N, still oldest first.
+  auto newest = store->Sessions({.station = "st-a", .newest = 2});
+  ASSERT_TRUE(newest.has_value()) << newest.error();
+  ASSERT_EQ(newest->size(), 2u);
+  auto all_a = store->Sessions({.station = "st-a"});
+  ASSERT_TRUE(all_a.has_value());
+  EXPECT_EQ(newest->at(0).id, all_a->at(all_a->size() - 2).id);
+  EXPECT_EQ(newest->at(1).id, all_a->back().id);
+  EXPECT_LT(newest->at(0).started_utc, newest->at(1).started_utc);
+  EXPECT_EQ(count({.newest = 50}), 12u);
 
   auto history = store->SessionsWithParameters({.serial = "SN-0001"});
   ASSERT_TRUE(history.has_value());

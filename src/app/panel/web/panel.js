@@ -197,6 +197,7 @@ async function loadState() {
     fill($("limits"), s.limits, true);
     if (s.limits.length > 0) $("limits").value = "0";
   }
+  $('recent-source').textContent = 'from ' + (s.recent_source ?? 'the sessions folder');
   const body = $("recent").tBodies[0];
   body.innerHTML = "";
   for (const r of s.recent) {
