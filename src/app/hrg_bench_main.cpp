@@ -26,6 +26,8 @@
 #include "app/event_output.hpp"
 #include "app/logging.hpp"
 #include "app/panel/panel_server.hpp"
+#include "app/serial_check.hpp"
+#include "app/session_folder.hpp"
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
 #include "app/unit_history.hpp"
@@ -56,15 +58,6 @@ void InstallSignalHandlers() {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-}
-
-std::string DefaultSessionDir(const std::string& serial) {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
-  return "sessions/" + serial + "-" + stamp;
 }
 
 // A progress line on a terminal (rewritten in place), plain log lines otherwise.
@@ -324,13 +317,26 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*run) {
+      // One rule for a serial wherever it comes from (the panel checks the same).
+      if (auto problem = app::SerialProblem(serial)) {
+        std::cerr << "--serial: " << *problem << '\n';
+        return bench::kExitUsage;
+      }
       auto configs = bench::LoadBenchConfigs(station, sequence, limits);
       if (!configs) {
         std::cerr << configs.error().ToString() << '\n';
         return bench::kExitUsage;
       }
-      return RunOrResume(*configs, out_dir.empty() ? DefaultSessionDir(serial) : out_dir, serial,
-                         false, json, events);
+      std::string dir = out_dir;
+      if (dir.empty()) {
+        const auto folder = app::NewSessionFolder("sessions", serial, std::time(nullptr));
+        if (!folder) {
+          std::cerr << folder.error() << '\n';
+          return bench::kExitUsage;
+        }
+        dir = folder->string();
+      }
+      return RunOrResume(*configs, dir, serial, false, json, events);
     }
     auto configs = bench::LoadSavedConfigs(resume_dir);
     if (!configs) {

@@ -12,8 +12,9 @@
 
 #include "app/panel/panel_assets.hpp"
 #include "app/panel/panel_catalog.hpp"
-#include "app/panel/serial_check.hpp"
 #include "app/panel/session_process.hpp"
+#include "app/serial_check.hpp"
+#include "app/session_folder.hpp"
 #include "hrgbench/report/session_report.hpp"
 // Last: it brings <resolv.h>, whose `_res` macro breaks Eigen's headers (bench_configs.hpp).
 #include <httplib.h>  // NOLINT(llvm-include-order)
@@ -89,15 +90,6 @@ bool SameToken(const std::string& given, const std::string& token) {
 void Error(httplib::Response& res, int status, const std::string& message) {
   res.status = status;
   res.set_content(nlohmann::json({{"error", message}}).dump(), "application/json");
-}
-
-std::string UtcStamp() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
-  return stamp;
 }
 
 std::string ContentType(const fs::path& file) {
@@ -281,13 +273,11 @@ class Panel {
                    "a session is already running on this station: one session at a time; wait "
                    "for it to end or abort it");
     // The folder: the checked serial and a time stamp, directly in the sessions folder.
-    std::string name = serial + "-" + UtcStamp();
-    std::error_code ec;
-    for (int i = 2; fs::exists(sessions_ / name, ec) && i < 100; ++i)
-      name = serial + "-" + UtcStamp() + "-" + std::to_string(i);
-    const fs::path dir = sessions_ / name;
-    if (fs::exists(dir, ec) || dir.parent_path() != sessions_)
+    const auto folder = NewSessionFolder(sessions_, serial, std::time(nullptr));
+    if (!folder || folder->parent_path() != sessions_)
       return Error(res, 409, "cannot choose a new session folder for " + serial);
+    const fs::path& dir = *folder;
+    const std::string name = dir.filename().string();
     SessionLaunch launch;
     launch.program = options_.program.string();
     launch.arguments = {"run",

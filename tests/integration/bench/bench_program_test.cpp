@@ -163,6 +163,28 @@ TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   fs::remove_all(work);
 }
 
+// A serial that could name a folder outside the sessions folder is refused before anything runs
+// (the panel's rule, serial_check.hpp), and nothing is written.
+TEST(BenchProgram, ASerialThatCouldLeaveTheSessionsFolderIsAUsageError) {
+  const fs::path work = FreshDir("serial");
+  fs::create_directories(work);
+  const pid_t pid = Spawn({"run", "--station", (kConfigs / "station-sim.toml").string(),
+                           "--sequence", (kConfigs / "sequence-paper.toml").string(), "--serial",
+                           "../escaped", "-o", (work / "session").string()},
+                          work / "run.log");
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 4);  // usage
+  std::ifstream log(work / "run.log");
+  std::stringstream text;
+  text << log.rdbuf();
+  EXPECT_NE(text.str().find("--serial: "), std::string::npos) << text.str();
+  EXPECT_FALSE(fs::exists(work / "session"));
+  fs::remove_all(work);
+}
+
 // A signal in the middle of run 2: the session stops safely, ABORTED, and the record says who.
 void ExpectSignalAborts(int signal, const std::string& reason) {
   const fs::path work = FreshDir("signal" + std::to_string(signal));

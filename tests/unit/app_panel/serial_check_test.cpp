@@ -1,7 +1,7 @@
 // A serial from the page becomes part of a folder name only if SerialProblem accepts it: every way
 // out of the sessions folder, and every character a file system or a shell treats specially, is
 // refused with a sentence that says why.
-#include "app/panel/serial_check.hpp"
+#include "app/serial_check.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "app/panel/serial_check.hpp"
+#include "app/serial_check.hpp"
 
 #include "hrgbench/config_file/toml_reader.hpp"
 

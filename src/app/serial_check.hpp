@@ -1,5 +1,6 @@
 #pragma once
-// A unit serial from the operator panel, checked before it becomes part of a folder name.
+// A unit serial, from the operator panel or `hrg-bench run --serial`, checked before it becomes
+// part of a folder name or the record.
 //
 // Accepted: 1..64 characters, letters, digits and . _ - only, starting with a letter or digit, and
 // no "..": a serial can then never name a parent folder, a hidden file, an option or anything
