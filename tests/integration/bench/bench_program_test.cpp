@@ -221,12 +221,13 @@ void ExpectSignalAborts(int signal, const std::string& reason) {
 
 // Ctrl-C at the terminal, and the panel's Abort (which sends SIGINT to the session's process).
 TEST(BenchProgram, CtrlCStopsSafelyAndTheRecordSaysAbortedByOperator) {
-  ExpectSignalAborts(SIGINT, "aborted by operator during ");
+  // "... during run 2", "... while the table settled": wherever the signal lands.
+  ExpectSignalAborts(SIGINT, "aborted by operator ");
 }
 
 // A supervisor (systemd, a shutdown) is not the operator: the record says which signal.
 TEST(BenchProgram, SigtermStopsSafelyAndTheRecordSaysSo) {
-  ExpectSignalAborts(SIGTERM, "stopped by SIGTERM during ");
+  ExpectSignalAborts(SIGTERM, "stopped by SIGTERM ");
 }
 
 }  // namespace
