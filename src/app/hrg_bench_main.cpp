@@ -119,9 +119,6 @@ std::string WriteReport(const bench::SessionResult& result, const std::string& r
   try {
     report::ReportOptions options;
     options.unit_history = app::ReadUnitHistory(results_url, result.dir);
-    if (options.unit_history && !options.unit_history->unavailable.empty())
-      spdlog::warn("report: the unit's earlier sessions are not available: {}",
-                   options.unit_history->unavailable);
     const auto written = report::WriteSessionReport(result.dir, options);
     if (!written) {
       spdlog::error("session report not written: {}", written.error().ToString());

@@ -32,9 +32,6 @@ int Run(const Arguments& args) {
   options.figures = !args.no_figures;
   options.chart_js = args.chart_js;
   options.unit_history = app::ReadUnitHistory(args.results_url, args.dir);
-  if (options.unit_history && !options.unit_history->unavailable.empty())
-    spdlog::warn("the unit's earlier sessions are not available: {}",
-                 options.unit_history->unavailable);
   const auto written = report::WriteSessionReport(args.dir, options);
   if (!written) {
     // The message alone on stderr, so scripts can match it (it names the file and field).

@@ -1,9 +1,20 @@
 #include "app/unit_history.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include "hrgbench/results/results_store.hpp"
 #include "hrgbench/results/session_record.hpp"
 
 namespace hrgbench::app {
+namespace {
+
+report::UnitHistory Unavailable(report::UnitHistory history, std::string why) {
+  spdlog::warn("report: the unit's earlier sessions are not available: {}", why);
+  history.unavailable = std::move(why);
+  return history;
+}
+
+}  // namespace
 
 std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
                                                    const std::filesystem::path& session_dir) {
@@ -12,23 +23,14 @@ std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
   history.store = url;
   // The serial and the stable id as the store knows them (an unfinished session has neither).
   const auto record = results::ReadSessionRecord(session_dir);
-  if (!record) {
-    history.unavailable = record.error();
-    return history;
-  }
+  if (!record) return Unavailable(std::move(history), record.error());
   auto store = results::ResultsStore::OpenExisting(url);  // a report writes no database
-  if (!store) {
-    history.unavailable = store.error();
-    return history;
-  }
+  if (!store) return Unavailable(std::move(history), store.error());
   if (*store == nullptr) return history;  // nothing stored yet
   results::SessionFilter filter;
   filter.serial = record->serial;
   auto sessions = (*store)->SessionsWithParameters(filter);
-  if (!sessions) {
-    history.unavailable = sessions.error();
-    return history;
-  }
+  if (!sessions) return Unavailable(std::move(history), sessions.error());
   for (results::SessionWithParameters& s : *sessions) {
     if (s.session.id == record->id) continue;
     report::UnitHistoryEntry entry;

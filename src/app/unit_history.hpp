@@ -13,8 +13,8 @@ namespace hrgbench::app {
 
 // `url` empty: nullopt (no store, no section). Otherwise the sessions of the unit recorded in
 // `session_dir` (its serial), oldest first, without that session itself; a store or a session that
-// cannot be read gives a history with `unavailable` saying why (the report says so). Never throws
-// except std::bad_alloc.
+// cannot be read gives a history with `unavailable` saying why (the report says so, and a warning
+// is logged). Never throws except std::bad_alloc.
 std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
                                                    const std::filesystem::path& session_dir);
 

@@ -44,8 +44,8 @@ bool NoiseShape::IsValid(std::string* why) const {
 
 std::optional<NoiseShape> ButterworthNoiseShape(int order, double cutoff_hz,
                                                 double sample_rate_hz) {
-  if (order < 1 || order > 12 || !(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz) ||
-      !(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz))
+  if (order < 1 || order > kMaxButterworthOrder || !(cutoff_hz > 0.0) ||
+      !std::isfinite(cutoff_hz) || !(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz))
     return std::nullopt;
   const double omega_c = 2.0 * std::numbers::pi * cutoff_hz;
   const double dt = 1.0 / sample_rate_hz;

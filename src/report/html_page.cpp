@@ -288,7 +288,10 @@ void Page::UnitHistory() {
     out_ += "</tr>\n";
   }
   // This session, from its own record.
-  const std::string kind = Has("/outcome/kind") ? doc_.at("outcome").value("kind", "") : "";
+  const json* recorded_kind = At(doc_, "/outcome/kind");
+  const std::string kind = recorded_kind != nullptr && recorded_kind->is_string()
+                               ? recorded_kind->get<std::string>()
+                               : "";
   out_ += "<tr class=\"this-session\"><td>" + Text("/started/utc") + "</td><td>" +
           Text("/station/name") + "</td><td class=\"status-" + Attr(kind) + "\">" +
           HtmlEscape(kind) + " (this session)</td>";

@@ -69,29 +69,19 @@ std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::OpenExis
     std::string_view url) {
   auto parsed = ParseResultsUrl(url);
   if (!parsed) return std::unexpected(parsed.error());
-  std::unique_ptr<internal::SqlConnection> connection;
-  if (parsed->engine == Engine::kSqlite) {
-    std::error_code ec;
-    if (!std::filesystem::exists(parsed->sqlite_path, ec) && !ec) return nullptr;
-    auto opened = internal::OpenSqlite(*parsed, OpenOptions{}.sqlite_busy_timeout_ms, false);
-    if (!opened) return std::unexpected(opened.error());
-    connection = std::move(*opened);
-  } else {
-    auto opened = internal::OpenPostgres(*parsed);
-    if (!opened) return std::unexpected(opened.error());
-    connection = std::move(*opened);
-  }
-  std::unique_ptr<ResultsStore> store(new ResultsStore(std::move(connection), parsed->text));
+  std::error_code ec;
+  if (parsed->engine == Engine::kSqlite && !std::filesystem::exists(parsed->sqlite_path, ec) && !ec)
+    return nullptr;
   OpenOptions read_only;
   read_only.migrate = false;
-  if (auto ok = store->Migrate(read_only); !ok) return std::unexpected(ok.error());
-  return store;
+  read_only.create = false;
+  return Open(*parsed, read_only);
 }
 
 std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
     const ResultsUrl& url, const OpenOptions& options) {
   auto connection = url.engine == Engine::kSqlite
-                        ? internal::OpenSqlite(url, options.sqlite_busy_timeout_ms)
+                        ? internal::OpenSqlite(url, options.sqlite_busy_timeout_ms, options.create)
                         : internal::OpenPostgres(url);
   if (!connection) return std::unexpected(connection.error());
   std::unique_ptr<ResultsStore> store(new ResultsStore(std::move(*connection), url.text));

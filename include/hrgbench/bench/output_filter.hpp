@@ -27,7 +27,7 @@ enum class OutputFilterKind {
 
 struct OutputFilter {
   OutputFilterKind kind = OutputFilterKind::kNone;
-  std::int64_t order = 4;    // 1 … 12
+  std::int64_t order = 4;    // 1 … estimator::kMaxButterworthOrder
   double cutoff_hz = 200.0;  // > 0
 };
 

@@ -96,9 +96,6 @@ double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y);
 // variance model.variance_factor·σ². Needs 4·stride + 1 samples.
 double DifferenceNoiseSigma(const Eigen::Matrix4Xd& y, const DifferenceNoiseModel& model);
 
-// Standard error of the residual ratio of white noise is this over √N (N samples of four channels).
-inline constexpr double kResidualRatioStandardErrorScale = 0.451;
-
 // The residual ratio a run of `samples` samples may reach: the limit, or five standard errors of
 // the ratio above 1 when that is wider (short runs). The scale is the noise shape's
 // (DifferenceNoiseModel::ratio_standard_error_scale; 0.451 for white noise).

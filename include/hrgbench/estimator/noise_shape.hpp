@@ -35,6 +35,11 @@ namespace hrgbench::estimator {
 
 // Longest declared memory, in output samples (a bound on what a declaration may cost).
 inline constexpr std::size_t kMaxNoiseShapeLags = 4096;
+// Highest Butterworth order ButterworthNoiseShape takes (and a station may declare).
+inline constexpr int kMaxButterworthOrder = 12;
+// Standard error of the residual ratio of white noise is this over √N (N samples of four
+// channels); derived in DifferenceNoiseModel below.
+inline constexpr double kResidualRatioStandardErrorScale = 0.451;
 
 struct NoiseShape {
   // ρ[0..K] at the output sample spacing, ρ[0] = 1, ρ[k] = 0 beyond K. One element or none: white.
@@ -48,15 +53,15 @@ struct NoiseShape {
   bool IsValid(std::string* why) const;
 };
 
-// The noise of a Butterworth low-pass of `order` (1..12) with cutoff `cutoff_hz` fed with white
-// noise, sampled every 1/sample_rate_hz (decimation by taking every n-th sample keeps the
-// autocorrelation at the output lags). Closed form: with the analog filter's left-half-plane poles
-// p_k = ω_c·e^{iπ(2k + n − 1)/(2n)}, |H(iω)|² = 1/(1 + (ω/ω_c)^{2n}) has the autocorrelation
-// R(τ) = Σ_k −p_k·e^{p_k·|τ|}/(2n) (residues of the inverse Fourier integral closed to the left),
-// so ρ[k] = R(k/f_s)/R(0). A digital filter designed by the bilinear transform at a converter rate
-// far above the cutoff (the real chain, drivers/sim) differs by (cutoff/converter rate)² relative.
-// nullopt when the arguments are out of range or the memory exceeds kMaxNoiseShapeLags samples
-// (a cutoff far below the sample rate: say so rather than truncate).
+// The noise of a Butterworth low-pass of `order` (1..kMaxButterworthOrder) with cutoff `cutoff_hz`
+// fed with white noise, sampled every 1/sample_rate_hz (decimation by taking every n-th sample
+// keeps the autocorrelation at the output lags). Closed form: with the analog filter's
+// left-half-plane poles p_k = ω_c·e^{iπ(2k + n − 1)/(2n)}, |H(iω)|² = 1/(1 + (ω/ω_c)^{2n}) has the
+// autocorrelation R(τ) = Σ_k −p_k·e^{p_k·|τ|}/(2n) (residues of the inverse Fourier integral closed
+// to the left), so ρ[k] = R(k/f_s)/R(0). A digital filter designed by the bilinear transform at a
+// converter rate far above the cutoff (the real chain, drivers/sim) differs by (cutoff/converter
+// rate)² relative. nullopt when the arguments are out of range or the memory exceeds
+// kMaxNoiseShapeLags samples (a cutoff far below the sample rate: say so rather than truncate).
 std::optional<NoiseShape> ButterworthNoiseShape(int order, double cutoff_hz, double sample_rate_hz);
 
 // How far the declared noise's memory reaches: the smallest lag from which every |ρ| is at most
@@ -72,7 +77,7 @@ struct DifferenceNoiseModel {
   // ratio² = m_r/m_d with m_r the residuals' and m_d the scaled differences' mean square; for
   // Gaussian noise Var(m_a)·N = 2·Σ_k R_aa[k]² and Cov(m_a, m_b)·N = 2·Σ_k R_ab[k]², so
   // Var(ratio) = (S_rr + S_dd − 2·S_rd)/(8N) over four channels: 0.451²/N for white noise.
-  double ratio_standard_error_scale = 0.451;
+  double ratio_standard_error_scale = kResidualRatioStandardErrorScale;
 };
 DifferenceNoiseModel DifferenceNoiseModelFor(const NoiseShape& shape);
 

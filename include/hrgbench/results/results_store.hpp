@@ -86,6 +86,7 @@ struct SessionWithParameters {
 struct OpenOptions {
   int sqlite_busy_timeout_ms = 30'000;  // a queued writer waits this long for the lock
   bool migrate = true;                  // false: refuse an older schema instead of migrating it
+  bool create = true;  // false (SQLite): a missing file is an error, no file or directory made
 };
 
 // Test seam: called before each statement of an import with its 0-based index, so a test can stop

@@ -55,7 +55,9 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
               "assumes for the whole session: every run needs the same sample rate (runs[0] has " +
               std::to_string(sequence.runs.front().sample_rate_hz) + ")"});
     }
-    if (!estimator::ButterworthNoiseShape(static_cast<int>(filter.order), filter.cutoff_hz,
+    // Every run has runs[0]'s rate (above): the shape is the same for all, computed once.
+    if (i == 0 &&
+        !estimator::ButterworthNoiseShape(static_cast<int>(filter.order), filter.cutoff_hz,
                                           static_cast<double>(run.sample_rate_hz))) {
       return std::unexpected(
           ConfigError{station.file, 0, "gyro.output_filter_cutoff_hz", Shortest(filter.cutoff_hz),

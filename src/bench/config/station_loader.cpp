@@ -12,6 +12,7 @@
 #include "hrgbench/bench/station_config.hpp"
 #include "hrgbench/config_file/config_bounds.hpp"
 #include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/results/results_url.hpp"
 
@@ -105,7 +106,8 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
   HRG_TRY(filter, Choice(reader, "output_filter", {"none", "butterworth"}, 0));
   if (*filter == 1) {
     gyro.output_filter.kind = OutputFilterKind::kButterworth;
-    HRG_TRY(order, OptionalInteger(reader, "output_filter_order", 1, 12, gyro.output_filter.order));
+    HRG_TRY(order, OptionalInteger(reader, "output_filter_order", 1,
+                                   estimator::kMaxButterworthOrder, gyro.output_filter.order));
     gyro.output_filter.order = *order;
     HRG_TRY(cutoff, OptionalNumber(reader, "output_filter_cutoff_hz",
                                    {0.0, 1e6, false, "in (0, 1e6]"}, gyro.output_filter.cutoff_hz));

@@ -58,9 +58,10 @@ std::expected<estimator::NoiseShape, std::string> RecordedNoiseShape(
   OutputFilter declared;
   declared.kind = OutputFilterKind::kButterworth;
   const nlohmann::json* order = Member(*filter, "order");
-  if (order == nullptr || !order->is_number_integer() || *order < 1 || *order > 12)
-    return std::unexpected(field + ".order" + Shown(order) +
-                           ": missing or not an integer 1 ... 12");
+  if (order == nullptr || !order->is_number_integer() || *order < 1 ||
+      *order > estimator::kMaxButterworthOrder)
+    return std::unexpected(field + ".order" + Shown(order) + ": missing or not an integer 1 ... " +
+                           std::to_string(estimator::kMaxButterworthOrder));
   declared.order = order->get<std::int64_t>();
   const nlohmann::json* cutoff = Member(*filter, "cutoff_hz");
   if (cutoff == nullptr || !cutoff->is_number() || !(cutoff->get<double>() > 0.0) ||
