@@ -412,6 +412,13 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t t
   }
 }
 
+CanStatus GyroCanDevice::ProcessIncoming(std::int64_t timeout_ns) noexcept {
+  const CanStatus status =
+      PumpUntil(clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0), [] { return false; });
+  if (status == CanStatus::kBusOff) OnBusOff();
+  return status;
+}
+
 std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
   if (auto ok = RequireState({GyroMode::kReady}, "release"); !ok)
     return std::unexpected(ok.error());

@@ -74,6 +74,13 @@ class GyroCanDevice final : public hw::GyroElectronics {
   hw::GyroStatus LastStatus() const noexcept override;
   hw::GyroCounters Counters() const noexcept override;
 
+  // Receives and processes what arrives within `timeout_ns` (status, stale acks, samples into the
+  // buffer) and sends nothing: what WaitReady does between two status polls. For a host that keeps
+  // LastStatus() current while it does something else, and for replaying recorded traffic
+  // (gyro_traffic_replay.hpp). Returns the bus status that ended the wait (kTimeout normally;
+  // kBusOff puts the device in kFaulted). Same thread rules as the commands.
+  hw::CanStatus ProcessIncoming(std::int64_t timeout_ns) noexcept;
+
   FrameFormat frame_format() const noexcept { return format_; }
   std::uint32_t sample_rate_hz() const noexcept { return sample_rate_hz_; }
 

@@ -4,11 +4,14 @@
 //                 [--json] [--events FILE|-]
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
+//   hrg-bench replay DIR [--json] [--no-estimate]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
 // (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
-// 4 usage or config error (nothing was started).
+// 4 usage or config error (nothing was started). replay: 0 the raw CAN log rebuilds the record bit
+// for bit, 1 it does not (the first difference, damage or divergence is printed), 4 not a session
+// or no log.
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -28,6 +31,7 @@
 #include "app/panel/panel_server.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
+#include "app/session_replay.hpp"
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
 #include "app/unit_history.hpp"
@@ -268,6 +272,15 @@ int main(int argc, char** argv) {
   check->add_option("sequence", check_sequence, "sequence config")->required();
   check->add_option("limits", check_limits, "limits config");
 
+  std::string replay_dir;
+  bool replay_no_estimate = false;
+  CLI::App* replay = cli.add_subcommand(
+      "replay", "play a session's raw CAN log back through the gyro driver and compare");
+  replay->add_option("dir", replay_dir, "session directory")->required();
+  replay->add_flag("--json", json, "print the comparison as one JSON object");
+  replay->add_flag("--no-estimate", replay_no_estimate,
+                   "compare the samples only, not the estimate made from them");
+
   app::PanelOptions panel;
   CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
   serve
@@ -299,6 +312,21 @@ int main(int argc, char** argv) {
       InstallSignalHandlers();
       ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
       return app::RunPanel(panel, g_interrupts);
+    }
+    if (*replay) {
+      app::ReplayOptions options;
+      options.estimate = !replay_no_estimate;
+      auto replayed = app::ReplaySession(replay_dir, options);
+      if (!replayed) {
+        std::cerr << replayed.error() << '\n';
+        return bench::kExitUsage;
+      }
+      if (json) {
+        std::cout << app::ReplayJson(*replayed).dump(1) << '\n';
+      } else {
+        std::cout << app::ReplayText(*replayed);
+      }
+      return replayed->Identical() ? 0 : 1;
     }
     if (*check) {
       auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);

@@ -17,12 +17,15 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <expected>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hrgbench/bench/session_record_types.hpp"
 #include "hrgbench/hw/can_frame.hpp"
@@ -97,5 +100,81 @@ class CandumpLogWriter {
   std::string interface_name_;
   std::uint64_t frames_written_ = 0;
 };
+
+// Where a log stops being readable: the 1-based line and what is wrong with it. Everything before
+// that line was read.
+struct CandumpLogDamage {
+  std::uint64_t line = 0;
+  std::string message;  // "line 1234: no frame text after the interface name: '(17000..."
+};
+
+// Bounds on what the reader accepts. A production session is ~1e6 frames; the defaults are far
+// above any session the bench records and far below what would exhaust memory or time.
+struct CandumpLogReadLimits {
+  std::uint64_t max_bytes = std::uint64_t{8} << 30;  // 8 GiB, ~1.3e8 lines
+  std::uint64_t max_frames = 200'000'000;
+};
+
+// Reads a candump -L log one frame at a time (constant memory: a 1 MiB read buffer), in the
+// notation FormatCandumpLine writes and can-utils' candump -L, canplayer and python-can's
+// CanutilsLogWriter write. Error frames (CAN_ERR_FLAG set) are counted and skipped: they are
+// events of the controller, not traffic a driver receives. Every line must name the same
+// interface as the first.
+//
+// Damage: a line that is not a log line (bad time stamp, missing interface, bad frame text, too
+// long), a last line without its end of line (a torn write) or a file past a limit ends the
+// reading. Next() then returns nullopt and damage() says which line and why; frames before it
+// were all returned. A log that ends cleanly has no damage.
+//
+// Not thread-safe. Throws nothing but std::bad_alloc.
+class CandumpLogReader {
+ public:
+  CandumpLogReader();
+  ~CandumpLogReader();
+  CandumpLogReader(CandumpLogReader&&) noexcept;
+  CandumpLogReader& operator=(CandumpLogReader&&) noexcept;
+
+  // Opens `path`. kIo when it cannot be opened or is not a regular file; kInvalidArgument when
+  // it is larger than limits.max_bytes.
+  static std::expected<CandumpLogReader, RecordError> Open(const std::filesystem::path& path,
+                                                           const CandumpLogReadLimits& limits = {});
+
+  // The next frame, or nullopt at the end of the log or at its damage.
+  std::optional<LoggedCanFrame> Next();
+
+  const std::optional<CandumpLogDamage>& damage() const noexcept { return damage_; }
+  std::uint64_t lines_read() const noexcept { return line_; }  // good lines, error frames too
+  std::uint64_t frames_read() const noexcept { return frames_; }
+  std::uint64_t error_frames() const noexcept { return error_frames_; }
+  const std::string& interface_name() const noexcept { return interface_name_; }
+  const std::filesystem::path& path() const noexcept { return path_; }
+
+ private:
+  // The next line without its '\n' in line_text_; false at the end of the file or damage.
+  bool ReadLine();
+  void Damage(std::string message);
+
+  std::FILE* file_ = nullptr;
+  std::filesystem::path path_;
+  CandumpLogReadLimits limits_;
+  std::vector<char> buffer_;
+  std::size_t buffer_begin_ = 0;
+  std::size_t buffer_end_ = 0;
+  bool eof_ = false;
+  std::string line_text_;
+  std::uint64_t line_ = 0;
+  std::uint64_t frames_ = 0;
+  std::uint64_t error_frames_ = 0;
+  std::string interface_name_;
+  std::optional<CandumpLogDamage> damage_;
+};
+
+// One log line (without '\n') parsed: the frame and the interface name, or why it is not a log
+// line. Error frames parse (frame.error set, id = the class bits).
+struct CandumpLine {
+  LoggedCanFrame logged;
+  std::string_view interface_name;  // a view into the line
+};
+std::expected<CandumpLine, std::string> ParseCandumpLine(std::string_view line);
 
 }  // namespace hrgbench::bench

@@ -37,6 +37,7 @@
 // Failure modes: Start returns CaptureError (invalid run, already running, thread not created);
 // everything during the run is a count or a termination value in CaptureResult.
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +48,7 @@
 #include <vector>
 
 #include "hrgbench/bench/realtime_setup.hpp"
+#include "hrgbench/bench/session_record_types.hpp"
 #include "hrgbench/bench/spsc_ring.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
@@ -54,6 +56,18 @@
 namespace hrgbench::bench {
 
 using SampleRing = SpscRing<hw::GyroSample>;
+
+// A captured sample as the run's record stores it. t_s counts from the stamp Release() returned;
+// both are on the transport's time base and the driver stamps sample k at that stamp + k/fs in
+// integer ns, so t_s is k/fs whatever the stamp was: `hrg-bench replay` rebuilds it bit for bit
+// from a log whose stamps have another origin.
+inline GyroSampleRecord ToSampleRecord(const hw::GyroSample& sample, std::int64_t release_t_ns) {
+  GyroSampleRecord record;
+  record.seq = sample.seq;
+  record.t_s = static_cast<double>(sample.t_ns - release_t_ns) * 1e-9;
+  std::copy(std::begin(sample.y), std::end(sample.y), std::begin(record.y));
+  return record;
+}
 
 struct CaptureRun {
   // Count stop: capture seq first_seq … first_seq + sample_count − 1 (round(T·fs) samples of a

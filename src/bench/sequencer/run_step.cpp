@@ -161,11 +161,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     drained.clear();
     Drain(ring, drained);
     records.resize(drained.size());
-    for (std::size_t i = 0; i < drained.size(); ++i) {
-      records[i].seq = drained[i].seq;
-      records[i].t_s = static_cast<double>(drained[i].t_ns - *release) * 1e-9;
-      std::copy(std::begin(drained[i].y), std::end(drained[i].y), std::begin(records[i].y));
-    }
+    for (std::size_t i = 0; i < drained.size(); ++i)
+      records[i] = ToSampleRecord(drained[i], *release);
     if (records.empty()) return true;
     progress.samples += records.size();
     if (ctx.options->on_samples) ctx.options->on_samples(run_id, records);

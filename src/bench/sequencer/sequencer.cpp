@@ -7,10 +7,8 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
-#include "hrgbench/bench/estimate_method.hpp"
-#include "hrgbench/bench/estimate_report_json.hpp"
-#include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/realtime_setup.hpp"
+#include "hrgbench/bench/recorded_estimate.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
 #include "hrgbench/bench/verdict_json.hpp"
 #include "hrgbench/session/session.hpp"
@@ -110,28 +108,16 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
     outcome.kind = OutcomeKind::kError;
     outcome.reason = "the record cannot be read back: " + recorded.error().ToString();
   } else {
-    const std::vector<estimator::RunData> runs = session::ToRunData(*recorded);
-    result.complete_runs = static_cast<int>(runs.size());
-    if (runs.empty()) {
+    result.complete_runs = static_cast<int>(recorded->loaded_samples.size());
+    if (recorded->loaded_samples.empty()) {
       outcome.kind = OutcomeKind::kError;
       outcome.reason = "no complete run to estimate from";
     } else {
-      MethodRequest request;
-      request.fit_quality = ctx.configs->limits.fit;  // the estimator warns as the verdict judges
-      auto noise_shape = RecordedNoiseShape(recorded->document, recorded->sample_rate_hz);
-      MethodResult estimated;
-      if (noise_shape) {
-        request.noise_shape = std::move(*noise_shape);
-        estimated = RunMethod(runs, request);
-      } else {
-        estimated.summary.termination = estimator::Termination::kInvalidInput;
-        estimated.summary.message = noise_shape.error();
-      }
-      std::vector<std::string> warnings = recorded->warnings;
-      warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
-                      estimated.selection_warnings.end());
-      result.estimate_json =
-          EstimateReportJson("ml", estimated.summary, warnings, recorded->document);
+      RecordedEstimate recorded_estimate =
+          EstimateRecordedSession(*recorded, ctx.configs->limits.fit);
+      MethodResult& estimated = recorded_estimate.method;
+      std::vector<std::string> warnings = std::move(recorded_estimate.warnings);
+      result.estimate_json = std::move(recorded_estimate.report);
       outcome.estimate = result.estimate_json;
       for (const std::string& w : estimated.summary.warnings) warnings.push_back(w);
       result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());

@@ -1,20 +1,21 @@
 // The hrg-bench program as an operator (or a crash) meets it: config check, bad configs, an
 // unwritable output directory, kill -9 in the middle of a session and `resume`, and Ctrl-C.
 // The station is the simulated one, paced at 20× real time so a process can be killed mid-run.
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <vector>
 
 #include "hrgbench/session/session.hpp"
 
@@ -45,6 +46,28 @@ Output RunBench(const std::string& args) {
   std::stringstream text;
   text << in.rdbuf();
   o.out = text.str();
+  fs::remove(log);
+  return o;
+}
+
+// stdout alone (the logs on stderr are dropped), parsed as one JSON object.
+struct JsonOutput {
+  int exit_code = -1;
+  nlohmann::json doc;
+  std::string text;
+};
+
+JsonOutput RunBenchJson(const std::string& args) {
+  const fs::path log = FreshDir("json");
+  const std::string command = kBench + " " + args + " > " + log.string() + " 2>/dev/null";
+  const int status = std::system(command.c_str());
+  JsonOutput o;
+  o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  o.text = text.str();
+  o.doc = nlohmann::json::parse(o.text, nullptr, false);
   fs::remove(log);
   return o;
 }
@@ -160,6 +183,147 @@ TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   EXPECT_EQ(done->document.at("state"), "closed");
   EXPECT_EQ(done->document.at("outcome").at("kind"), "PASS");
   EXPECT_TRUE(done->document.contains("resumed_at"));
+
+  // The raw CAN log of both processes rebuilds every run, the one the crash cut short included,
+  // and the estimate the resumed process made.
+  const JsonOutput replay = RunBenchJson("replay " + session_dir.string() + " --json");
+  ASSERT_FALSE(replay.doc.is_discarded()) << replay.text;
+  EXPECT_EQ(replay.exit_code, 0) << replay.doc.dump(1);
+  EXPECT_EQ(replay.doc.at("identical"), true);
+  EXPECT_EQ(replay.doc.at("driver").at("host_starts"), 2);
+  EXPECT_EQ(replay.doc.at("estimate").at("compared"), true);
+  EXPECT_EQ(replay.doc.at("estimate").at("identical"), true);
+  std::size_t complete = 0;
+  std::size_t earlier_attempts = 0;
+  for (const auto& capture : replay.doc.at("captures")) {
+    complete += capture.at("status") == "complete" && capture.at("identical") == true;
+    earlier_attempts += capture.at("attempt") != "";
+  }
+  EXPECT_EQ(complete, 5u);
+  // The run the kill cut short, when it had been released (else the kill hit between runs).
+  EXPECT_LE(earlier_attempts, 1u) << replay.doc.dump(1);
+  fs::remove_all(work);
+}
+
+// One LSB changed in a sample frame (with its CRC-8 made valid again, as a gateway that rewrote
+// it would), a mangled line, a torn end: each is found and named.
+std::uint8_t Crc8J1850(std::uint32_t id, const std::uint8_t* data, std::size_t n) {
+  // SAE J1850: poly 0x1D, init 0xFF, xor-out 0xFF, over the id (2 bytes, little-endian) then the
+  // payload (drivers/gyro_can/README.md).
+  std::uint8_t crc = 0xFF;
+  const auto feed = [&crc](std::uint8_t byte) {
+    crc ^= byte;
+    for (int bit = 0; bit < 8; ++bit)
+      crc = static_cast<std::uint8_t>((crc & 0x80) != 0 ? (crc << 1) ^ 0x1D : crc << 1);
+  };
+  feed(static_cast<std::uint8_t>(id & 0xFF));
+  feed(static_cast<std::uint8_t>(id >> 8));
+  for (std::size_t i = 0; i < n; ++i) feed(data[i]);
+  return static_cast<std::uint8_t>(crc ^ 0xFF);
+}
+
+std::vector<std::string> Lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+void WriteLines(const fs::path& file, const std::vector<std::string>& lines, bool torn = false) {
+  std::ofstream out(file, std::ios::trunc);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    out << lines[i];
+    if (!(torn && i + 1 == lines.size())) out << '\n';
+  }
+}
+
+TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged) {
+  const fs::path work = FreshDir("replay");
+  const fs::path session_dir = work / "session";
+  fs::create_directories(work);
+  const Output ran = RunBench("run --station " + (kConfigs / "station-sim.toml").string() +
+                              " --sequence " + (kConfigs / "sequence-paper.toml").string() +
+                              " --serial SN-RP -o " + session_dir.string());
+  ASSERT_EQ(ran.exit_code, 0) << ran.out;
+
+  const JsonOutput replay = RunBenchJson("replay " + session_dir.string() + " --json");
+  ASSERT_FALSE(replay.doc.is_discarded()) << replay.text;
+  EXPECT_EQ(replay.exit_code, 0) << replay.doc.dump(1);
+  ASSERT_EQ(replay.doc.at("captures").size(), 5u);
+  for (const auto& capture : replay.doc.at("captures")) {
+    EXPECT_EQ(capture.at("identical"), true) << capture.dump();
+    EXPECT_EQ(capture.at("recorded_samples"), 1000);  // 10 s at 100 Hz
+  }
+  EXPECT_EQ(replay.doc.at("samples_rebuilt"), 5000);
+  EXPECT_EQ(replay.doc.at("estimate").at("identical"), true);
+  EXPECT_EQ(replay.doc.at("driver").at("host_starts"), 1);
+  EXPECT_TRUE(replay.doc.at("log").at("damage").is_null());
+
+  const fs::path log = session_dir / "can" / "session.log";
+  const std::vector<std::string> original = Lines(log);
+  // The 100th SampleA frame after the first release: y1's low byte + 1, CRC made valid again.
+  std::size_t released = 0;
+  std::size_t changed = 0;
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < original.size() && changed == 0; ++i) {
+    if (original[i].find(" 042#") != std::string::npos) released = i;
+    if (released == 0 || original[i].find(" 100#") == std::string::npos || ++seen != 100) continue;
+    changed = i;
+  }
+  ASSERT_NE(changed, 0u);
+  std::vector<std::string> lines = original;
+  {
+    std::string& line = lines[changed];
+    const std::size_t hash = line.find(" 100#") + 5;
+    std::uint8_t data[8];
+    for (int b = 0; b < 8; ++b)
+      data[b] = static_cast<std::uint8_t>(std::stoi(line.substr(hash + 2 * b, 2), nullptr, 16));
+    data[1] = static_cast<std::uint8_t>(data[1] + 1);
+    data[7] = Crc8J1850(0x100, data, 7);
+    char hex[17];
+    for (int b = 0; b < 8; ++b) std::snprintf(hex + 2 * b, 3, "%02X", data[b]);
+    line.replace(hash, 16, hex);
+  }
+  WriteLines(log, lines);
+  Output changed_replay = RunBench("replay " + session_dir.string());
+  EXPECT_EQ(changed_replay.exit_code, 1) << changed_replay.out;
+  EXPECT_NE(changed_replay.out.find("run 1 [complete]: DIFFERS: sample "), std::string::npos)
+      << changed_replay.out;
+  EXPECT_NE(changed_replay.out.find("y1 recorded "), std::string::npos) << changed_replay.out;
+  EXPECT_NE(changed_replay.out.find("does NOT rebuild the record"), std::string::npos);
+
+  // A line mangled in the middle of run 3: read up to it, named, and the runs before it stand.
+  lines = original;
+  std::size_t releases = 0;
+  std::size_t mangled = 0;
+  for (std::size_t i = 0; i < lines.size() && mangled == 0; ++i) {
+    if (lines[i].find(" 042#") != std::string::npos && ++releases == 3) mangled = i + 50;
+  }
+  ASSERT_LT(mangled, lines.size());
+  lines[mangled] = lines[mangled].substr(0, 20) + "#garbage";
+  WriteLines(log, lines);
+  const JsonOutput damaged = RunBenchJson("replay " + session_dir.string() + " --json");
+  EXPECT_EQ(damaged.exit_code, 1);
+  ASSERT_TRUE(damaged.doc.at("log").at("damage").is_string()) << damaged.text;
+  const std::string damage = damaged.doc.at("log").at("damage");
+  EXPECT_NE(damage.find("line " + std::to_string(mangled + 1) + ": "), std::string::npos) << damage;
+  EXPECT_EQ(damaged.doc.at("captures").at(0).at("identical"), true);
+  EXPECT_EQ(damaged.doc.at("captures").at(1).at("identical"), true);
+  EXPECT_EQ(damaged.doc.at("captures").at(2).at("identical"), false);
+
+  // Torn at the end, as a crash mid-write leaves it.
+  lines = original;
+  lines.back() = lines.back().substr(0, lines.back().size() / 2);
+  WriteLines(log, lines, true);
+  const Output torn = RunBench("replay " + session_dir.string());
+  EXPECT_EQ(torn.exit_code, 1) << torn.out;
+  EXPECT_NE(torn.out.find("line " + std::to_string(lines.size()) + ": cut off"), std::string::npos)
+      << torn.out;
+
+  // Not a session: a usage error naming the file.
+  const Output absent = RunBench("replay " + (work / "absent").string());
+  EXPECT_EQ(absent.exit_code, 4) << absent.out;
+  EXPECT_NE(absent.out.find("session.json"), std::string::npos) << absent.out;
   fs::remove_all(work);
 }
 

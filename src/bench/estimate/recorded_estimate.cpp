@@ -1,0 +1,30 @@
+#include "hrgbench/bench/recorded_estimate.hpp"
+
+#include <utility>
+
+#include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/output_filter.hpp"
+
+namespace hrgbench::bench {
+
+RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const estimator::FitQualityLimits& fit_quality) {
+  RecordedEstimate out;
+  MethodRequest request;
+  request.fit_quality = fit_quality;  // the estimator warns as the verdict judges
+  auto noise_shape = RecordedNoiseShape(recorded.document, recorded.sample_rate_hz);
+  if (noise_shape) {
+    request.noise_shape = std::move(*noise_shape);
+    out.method = RunMethod(session::ToRunData(recorded), request);
+  } else {
+    out.method.summary.termination = estimator::Termination::kInvalidInput;
+    out.method.summary.message = noise_shape.error();
+  }
+  out.warnings = recorded.warnings;
+  out.warnings.insert(out.warnings.end(), out.method.selection_warnings.begin(),
+                      out.method.selection_warnings.end());
+  out.report = EstimateReportJson("ml", out.method.summary, out.warnings, recorded.document);
+  return out;
+}
+
+}  // namespace hrgbench::bench
