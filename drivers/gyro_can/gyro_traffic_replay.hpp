@@ -49,7 +49,8 @@ struct GyroReplay {
   std::uint64_t frames_matched = 0;  // host frames the driver sent, retries included
   std::uint64_t frames_delivered = 0;
   int host_starts = 0;  // driver instances: 1, plus one per resume
-  // "line 812: release: no ack after 3 attempts of 50 ms": what failed as it failed then.
+  // "line 812: timeout: release (token 13): no ack after 3 attempts of 50 ms": a call that
+  // failed on the recorded traffic (as it failed live, when the driver is the one recorded).
   std::vector<std::string> notes;
   std::optional<std::string> divergence;
 };

@@ -488,7 +488,7 @@ std::string ReplayText(const SessionReplay& replay) {
     out += "  estimate: " + replay.estimate_difference + "\n";
   }
   for (const std::string& note : replay.driver_notes)
-    out += "  as recorded, the driver failed: " + note + "\n";
+    out += "  in the recorded traffic the driver met: " + note + "\n";
   for (const std::string& release : replay.unrecorded_releases) out += "  note: " + release + "\n";
   for (const std::string& problem : replay.problems) out += "  problem: " + problem + "\n";
   if (replay.log_damage) out += "  the log is damaged: " + *replay.log_damage + "\n";

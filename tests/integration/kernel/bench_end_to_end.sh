@@ -3,9 +3,13 @@
 # as separate processes, inside the QEMU guest (busybox sh). Usage:
 #   bench_end_to_end.sh BIN_DIR CONFIG_DIR
 # Passes when the session is PASS (no limits: the estimate is usable), with 3 complete runs in
-# session.json, the CAN log stamped in Unix time, and the estimate within 5 std of the truth.
+# session.json, the CAN log stamped in Unix time, the estimate within 5 std of the truth, and the
+# raw CAN log rebuilding every run and the estimate bit for bit: through the gyro driver
+# (hrg-bench replay), and again after can-utils' canplayer has put it back on vcan0 in real time
+# and candump has recorded that traffic (CANUTILS_DIR: where canplayer and candump are).
 bin="$1"
 cfg="$2"
+canutils="${3:-/usr/bin}"
 out=/tmp/bench-e2e
 "$bin/hrg-table-sim" --tcp 127.0.0.1:1502 --noise 1e-6 &
 table=$!
@@ -51,4 +55,30 @@ awk '
   END { if (good < 6 || bad > 0) { print "estimate: " good " agree, " bad " off"; exit 1 } }
 ' /tmp/bench-e2e.out
 check "estimate within 5 std of the truth" $?
+
+# The raw CAN log, recorded on a real kernel interface across processes, rebuilds the record.
+"$bin/hrg-bench" replay "$out" > /tmp/replay.out 2>&1
+replayed=$?
+cat /tmp/replay.out
+[ "$replayed" -eq 0 ]; check "hrg-bench replay: the CAN log rebuilds every run and the estimate" $?
+# can-utils puts the same log back on vcan0 (canplayer keeps its timing) while candump records
+# the bus; that recording, in place of the session's log, rebuilds them too.
+played=/tmp/bench-e2e-played
+cp -r "$out" "$played"
+"$canutils/candump" -L vcan0 > "$played/can/session.log" &
+dump=$!
+sleep 1
+"$canutils/canplayer" -I "$out/can/session.log"
+player=$?
+sleep 1
+kill "$dump"
+wait "$dump" 2>/dev/null
+[ "$player" -eq 0 ]; check "canplayer played the session's log on vcan0" $?
+sent=$(wc -l < "$out/can/session.log")
+seen=$(wc -l < "$played/can/session.log")
+[ "$seen" -eq "$sent" ]; check "candump saw every frame canplayer sent ($seen of $sent)" $?
+"$bin/hrg-bench" replay "$played" > /tmp/replay-played.out 2>&1
+replayed=$?
+cat /tmp/replay-played.out
+[ "$replayed" -eq 0 ]; check "the log as canplayer played it rebuilds every run and the estimate" $?
 exit "$fail"
