@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "can_virtual/can_bit_timing.hpp"
+#include "hrgbench/hw/can_frame_bits.hpp"
 
 namespace hrgbench::drivers::can_virtual {
 
@@ -97,8 +97,8 @@ void VirtualCanBus::Transmit(const VirtualCanEndpoint* sender, const hw::CanFram
     // The frame starts when the bus is idle and occupies it for its bit time; a lost or corrupted
     // frame still used the bus.
     const std::int64_t start_ns = std::max(now_ns, bus_idle_at_ns_);
-    end_of_frame_ns = start_ns + FrameDurationNs(frame, options_.nominal_bit_rate_bps,
-                                                 options_.data_bit_rate_bps);
+    end_of_frame_ns = start_ns + hw::FrameDurationNs(frame, options_.nominal_bit_rate_bps,
+                                                     options_.data_bit_rate_bps);
     bus_idle_at_ns_ = end_of_frame_ns;
   }
   ++statistics_.frames_on_bus;

@@ -7,9 +7,9 @@
 // Send calls; arbitration by identifier priority between simultaneous senders is not modelled).
 //
 // Timing: with nominal_bit_rate_bps > 0 a frame occupies the bus for its bit time (see
-// can_bit_timing.hpp; 111 µs for an 8-byte classic frame at 1 Mbit/s), frames queue behind each
-// other on the bus, and a receiver sees a frame only once its end of frame has passed on the
-// bus's Clock; the frame's timestamp is that end-of-frame time. With 0 (default) delivery is
+// hrgbench/hw/can_frame_bits.hpp; 111 µs for an 8-byte classic frame at 1 Mbit/s), frames queue
+// behind each other on the bus, and a receiver sees a frame only once its end of frame has passed
+// on the bus's Clock; the frame's timestamp is that end-of-frame time. With 0 (default) delivery is
 // immediate and stamped with the clock at Send.
 //
 // Faults (explicit failure modes, STYLE rule 6): DropNext(n) / drop_probability lose a frame for

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/gyro_link_load.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 
@@ -95,6 +96,15 @@ static_assert(kMaxClassicSampleRateHz == hw::kMaxSampleRateClassicCanHz &&
               "the bench judges plans by hw/gyro_electronics.hpp's limits: keep them the same");
 static_assert(((1 << 24) - 1) * kFrequencyLsbHz == hw::kMaxReportedResonantFrequencyHz);
 inline constexpr std::uint8_t kDefaultStatusRateHz = 10;
+static_assert(
+    hw::kGyroClassicFramesPerSample == 2 && hw::kGyroClassicFrameBytes == length::kSample &&
+        hw::kGyroClassicFrameBytes == length::kReferencePhase &&
+        hw::kGyroClassicFrameBytes == length::kStatus &&
+        hw::kGyroSamplesPerFdFrame == kSamplesPerFdFrame &&
+        hw::kGyroFdFrameBytes == length::kSampleFd &&
+        hw::kGyroSamplesPerReferencePhase == kReferencePhaseInterval &&
+        hw::kGyroStatusRateHz == kDefaultStatusRateHz,
+    "the bench plans bus load by hw/gyro_link_load.hpp's frame shapes: keep them the same");
 
 // The electronics' sample counter on the wire: 8 bits on classic frames, 16 bits on FD frames.
 inline constexpr std::uint32_t kClassicSeqModulo = 256;

@@ -38,7 +38,7 @@ std::expected<void, std::string> SimulatedStation::Build() {
   can_virtual::VirtualCanBusOptions bus_options;
   bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
   bus_options.fd = options_.can_fd;
-  bus_options.data_bit_rate_bps = options_.can_fd ? 5'000'000 : 0;
+  bus_options.data_bit_rate_bps = options_.can_fd ? options_.can_data_bit_rate_bps : 0;
   // Real time: nullptr = the bus's own steady clock with condition-variable wake-ups (the same
   // time base as steady_clock_). Virtual time: the station's clock, for stamps and bit timing.
   bus_options.clock = virtual_clock_.get();

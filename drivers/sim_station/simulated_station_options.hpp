@@ -52,7 +52,8 @@ struct SimulatedStationOptions {
 
   // The in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
   std::int64_t can_bit_rate_bps = 1'000'000;
-  bool can_fd = false;                   // FD bus (5 Mbit/s data phase); gyro_link.prefer_fd
+  bool can_fd = false;                             // FD bus; gyro_link.prefer_fd
+  std::int64_t can_data_bit_rate_bps = 5'000'000;  // FD data phase
   std::size_t host_queue_frames = 4096;  // the gyro driver's receive queue (2 s at 1 kHz)
   // The raw-frame tap's queue: 64 Ki frames is 32 s of a 1 kHz classic stream, so a recorder
   // that writes in bursts does not lose frames. Oldest dropped when full (counted).

@@ -339,6 +339,12 @@ int main(int argc, char** argv) {
                 << " runs, " << configs->sequence.TotalFreeRunS() << " s of free run)"
                 << (configs->limits.file.empty() ? "" : ", limits '" + configs->limits.name + "'")
                 << '\n';
+      const bench::PlannedBusLoad bus = bench::BusiestRunLoad(*configs);
+      std::cout << "gyro bus: " << bus.bus << ", at most " << bench::Percent(bus.load.bus_share)
+                << " busy (" << bus.sample_rate_hz << " samples/s, "
+                << static_cast<long long>(bus.load.frames_per_s)
+                << " frames/s, worst-case stuffing; planned maximum "
+                << bench::Percent(hw::kMaxPlannedBusShare) << ")\n";
       return 0;
     }
     if (*run) {

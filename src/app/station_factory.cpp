@@ -117,6 +117,9 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.gyro_link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
   // The transport the plan was checked against is the one the simulated station uses.
   o.can_fd = config.gyro.fd;
+  // The in-process bus runs at the rates the plan was judged at (hrg-bench check's bus load).
+  o.can_bit_rate_bps = config.gyro.bitrate;
+  o.can_data_bit_rate_bps = config.gyro.data_bitrate;
   o.gyro_link.prefer_fd = config.gyro.fd;
   const bench::SimulatedFaults& f = sim.faults;
   o.table.faults.never_stable = f.table_never_stable;

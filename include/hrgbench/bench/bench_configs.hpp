@@ -15,11 +15,13 @@
 
 #include <expected>
 #include <filesystem>
+#include <string>
 
 #include "hrgbench/bench/limits_config.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 #include "hrgbench/bench/station_config.hpp"
 #include "hrgbench/config_file/config_error.hpp"
+#include "hrgbench/hw/gyro_link_load.hpp"
 
 namespace hrgbench::bench {
 
@@ -35,6 +37,17 @@ std::expected<BenchConfigs, config_file::ConfigError> LoadBenchConfigs(
     const std::filesystem::path& limits_path);
 
 // The cross-file checks alone, on configs already loaded (for configs parsed from memory).
+// Among them: the gyro's bus must carry every run's sample rate within hw::kMaxPlannedBusShare
+// (hw/gyro_link_load.hpp, worst-case stuffing, the reference phase planned as sent).
 std::expected<void, config_file::ConfigError> CheckBenchConfigs(const BenchConfigs& configs);
+
+// The busiest run's load on the gyro's bus, for `hrg-bench check` to print.
+struct PlannedBusLoad {
+  hw::GyroLinkLoad load;
+  std::uint32_t sample_rate_hz = 0;
+  std::string bus;  // "can0 at 1000 kbit/s", "the simulated bus at 1000 kbit/s, FD data ..."
+};
+PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs);
+std::string Percent(double share);  // "27.0 %"
 
 }  // namespace hrgbench::bench

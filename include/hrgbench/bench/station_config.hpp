@@ -46,9 +46,13 @@ std::string_view ToString(OmegaSourceSetting setting) noexcept;
 // electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
 struct GyroLinkConfig {
   std::string can_interface;         // real: SocketCAN interface name ("can0", "vcan0")
-  std::int64_t bitrate = 1'000'000;  // real: nominal bit rate, bit/s (set by `ip link`; checked)
-  bool fd = false;                   // ask for the CAN FD sample stream when the interface has FD
-  std::int64_t data_bitrate = 2'000'000;  // real, fd only: FD data-phase bit rate, bit/s
+  // Nominal bit rate, bit/s: real, set by `ip link` (checked); simulated, the in-process bus's
+  // (1 Mbit/s). The plan's bus load is judged at it (hrg-bench check).
+  std::int64_t bitrate = 1'000'000;
+  bool fd = false;  // ask for the CAN FD sample stream when the interface has FD
+  // FD data-phase bit rate, bit/s: real, fd only (default 2 Mbit/s); simulated, the in-process
+  // bus's (5 Mbit/s, set by the loader).
+  std::int64_t data_bitrate = 2'000'000;
   std::int64_t ack_timeout_ms = 50;       // per command attempt; the electronics answer in < 5 ms
   std::int64_t command_attempts = 3;      // attempts per command (a lost frame costs one retry)
   std::int64_t status_poll_ms = 20;       // status request period while waiting for "ready"

@@ -2,12 +2,14 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "hrgbench/estimator/identifiability.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/gyro_link_load.hpp"
 #include "hrgbench/session/number_text.hpp"
 
 namespace hrgbench::bench {
@@ -17,6 +19,38 @@ using config_file::ConfigError;
 
 // The loaded value, as close to the written one as a double allows.
 std::string Shortest(double v) { return session::NumberText(v); }
+
+hw::GyroLinkPlan LinkPlan(const StationConfig& station, std::uint32_t sample_rate_hz) {
+  hw::GyroLinkPlan plan;
+  plan.sample_rate_hz = sample_rate_hz;
+  plan.can_fd = station.gyro.fd;
+  plan.nominal_bit_rate_bps = station.gyro.bitrate;
+  plan.data_bit_rate_bps = station.gyro.data_bitrate;
+  return plan;
+}
+
+std::string BusName(const StationConfig& station) {
+  const std::string rates =
+      std::to_string(station.gyro.bitrate / 1000) + " kbit/s" +
+      (station.gyro.fd ? ", FD data " + std::to_string(station.gyro.data_bitrate / 1000) + " kbit/s"
+                       : "");
+  return (station.gyro.can_interface.empty() ? "the simulated bus" : station.gyro.can_interface) +
+         " at " + rates;
+}
+
+// The highest sample rate whose link load is within the planned maximum (the load grows with it).
+std::uint32_t MaxPlannableRate(const StationConfig& station) {
+  std::uint32_t lo = 0;
+  std::uint32_t hi = hw::MaxSampleRateHz(station.gyro.fd);
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo + 1) / 2;
+    if (hw::WorstCaseLinkLoad(LinkPlan(station, mid)).bus_share <= hw::kMaxPlannedBusShare)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
 
 std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
   const StationConfig& station = configs.station;
@@ -41,6 +75,20 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
                    ? "CAN FD carries at most " + std::to_string(max_rate_hz) + " samples/s"
                    : "classic CAN carries at most " + std::to_string(max_rate_hz) +
                          " samples/s; more needs gyro.fd = true")});
+    }
+    // The bus must carry the plan with room to spare (hw/gyro_link_load.hpp).
+    const hw::GyroLinkLoad load = hw::WorstCaseLinkLoad(LinkPlan(station, run.sample_rate_hz));
+    if (load.bus_share > hw::kMaxPlannedBusShare) {
+      return std::unexpected(ConfigError{
+          sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
+          std::to_string(run.sample_rate_hz),
+          "the gyro's bus (" + BusName(station) + ") would be " + Percent(load.bus_share) +
+              " busy (" + std::to_string(static_cast<long long>(load.frames_per_s)) +
+              " frames/s, worst-case stuffing), above the planned maximum of " +
+              Percent(hw::kMaxPlannedBusShare) + ": at most " +
+              std::to_string(MaxPlannableRate(station)) + " samples/s fit" +
+              (station.gyro.fd ? "; a faster data phase (gyro.data_bitrate) would carry more"
+                               : "; CAN FD (gyro.fd = true) or a faster bus would carry more")});
     }
     // The fit assumes one noise shape per session (output_filter.hpp): one rate, and a filter
     // whose memory at that rate is within the estimator's bound.
@@ -108,6 +156,26 @@ std::expected<void, ConfigError> CheckIdentifiable(const BenchConfigs& configs) 
 }
 
 }  // namespace
+
+std::string Percent(double share) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", 100.0 * share);
+  return text;
+}
+
+PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs) {
+  PlannedBusLoad busiest;
+  busiest.bus = BusName(configs.station);
+  for (const SequenceRun& run : configs.sequence.runs) {
+    const hw::GyroLinkLoad load =
+        hw::WorstCaseLinkLoad(LinkPlan(configs.station, run.sample_rate_hz));
+    if (load.bus_share > busiest.load.bus_share) {
+      busiest.load = load;
+      busiest.sample_rate_hz = run.sample_rate_hz;
+    }
+  }
+  return busiest;
+}
 
 std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs) {
   if (auto ok = CheckRuns(configs); !ok) return ok;

@@ -23,6 +23,8 @@ using namespace config_file;  // NOLINT(google-build-using-namespace): the loade
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::string_view kRealOnly = "applies only to kind = \"real\"";
+// The simulated station's in-process bus: FD data phase at 5 Mbit/s (a common FD setting).
+constexpr std::int64_t kSimulatedFdDataBitRateBps = 5'000'000;
 
 std::expected<SiteConfig, ConfigError> ReadSite(TableReader& reader) {
   SiteConfig site;
@@ -93,6 +95,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
   } else {
     for (std::string_view key : {"can_interface", "bitrate", "data_bitrate"})
       HRG_CHECK(Forbid(reader, key, kRealOnly));
+    gyro.data_bitrate = kSimulatedFdDataBitRateBps;
   }
   HRG_TRY(ack, OptionalInteger(reader, "ack_timeout_ms", 1, 10'000, gyro.ack_timeout_ms));
   gyro.ack_timeout_ms = *ack;
