@@ -17,24 +17,6 @@ using can_virtual::PlaybackFrame;
 // driver's waits what they were live.
 constexpr std::int64_t kReadTimeoutNs = 10'000'000;
 
-hw::GyroCounters Delta(const hw::GyroCounters& end, const hw::GyroCounters& start) {
-  hw::GyroCounters d;
-  d.frames_received = end.frames_received - start.frames_received;
-  d.samples_decoded = end.samples_decoded - start.samples_decoded;
-  d.bad_frames = end.bad_frames - start.bad_frames;
-  d.sequence_gaps = end.sequence_gaps - start.sequence_gaps;
-  d.samples_lost = end.samples_lost - start.samples_lost;
-  d.timeouts = end.timeouts - start.timeouts;
-  d.kernel_drops = end.kernel_drops - start.kernel_drops;
-  d.buffer_overruns = end.buffer_overruns - start.buffer_overruns;
-  d.command_retries = end.command_retries - start.command_retries;
-  d.nacks = end.nacks - start.nacks;
-  d.bus_errors = end.bus_errors - start.bus_errors;
-  d.unexpected_frames = end.unexpected_frames - start.unexpected_frames;
-  d.reference_phases_missing = end.reference_phases_missing - start.reference_phases_missing;
-  return d;
-}
-
 bool IsHostFrame(const hw::CanFrame& frame) {
   return !frame.extended && !frame.fd && IsCommandId(frame.id);
 }
@@ -188,7 +170,7 @@ class Replayer {
       // Everything up to the host's next command is the run's.
       if (read.count == 0 && !bus_.HasDeliverable()) break;
     }
-    run.counters = Delta(device_->Counters(), before);
+    run.counters = hw::CountersSince(before, device_->Counters());
     result_.runs.push_back(std::move(run));
   }
 

@@ -139,6 +139,26 @@ struct GyroCounters {
                                                // their electronics report (its report lost)
 };
 
+// What happened between two readings of the same device's counters (cumulative, never reset, so
+// later − earlier is the interval's count of each kind).
+constexpr GyroCounters CountersSince(const GyroCounters& earlier, const GyroCounters& later) {
+  GyroCounters d;
+  d.frames_received = later.frames_received - earlier.frames_received;
+  d.samples_decoded = later.samples_decoded - earlier.samples_decoded;
+  d.bad_frames = later.bad_frames - earlier.bad_frames;
+  d.sequence_gaps = later.sequence_gaps - earlier.sequence_gaps;
+  d.samples_lost = later.samples_lost - earlier.samples_lost;
+  d.timeouts = later.timeouts - earlier.timeouts;
+  d.kernel_drops = later.kernel_drops - earlier.kernel_drops;
+  d.buffer_overruns = later.buffer_overruns - earlier.buffer_overruns;
+  d.command_retries = later.command_retries - earlier.command_retries;
+  d.nacks = later.nacks - earlier.nacks;
+  d.bus_errors = later.bus_errors - earlier.bus_errors;
+  d.unexpected_frames = later.unexpected_frames - earlier.unexpected_frames;
+  d.reference_phases_missing = later.reference_phases_missing - earlier.reference_phases_missing;
+  return d;
+}
+
 enum class GyroErrorCode : std::uint8_t {
   kInvalidArgument,   // a value out of its documented range: nothing sent
   kInvalidState,      // not allowed in the current State(): nothing sent

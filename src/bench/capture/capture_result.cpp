@@ -55,24 +55,7 @@ std::string_view ToString(CaptureTermination termination) noexcept {
 }
 
 hw::GyroCounters CaptureResult::CounterDelta() const noexcept {
-  // Counters are cumulative and never reset (hw::GyroCounters), so end − start is this run's.
-  const hw::GyroCounters& a = counters_at_start;
-  const hw::GyroCounters& b = counters_at_end;
-  hw::GyroCounters d;
-  d.frames_received = b.frames_received - a.frames_received;
-  d.samples_decoded = b.samples_decoded - a.samples_decoded;
-  d.bad_frames = b.bad_frames - a.bad_frames;
-  d.sequence_gaps = b.sequence_gaps - a.sequence_gaps;
-  d.samples_lost = b.samples_lost - a.samples_lost;
-  d.timeouts = b.timeouts - a.timeouts;
-  d.kernel_drops = b.kernel_drops - a.kernel_drops;
-  d.buffer_overruns = b.buffer_overruns - a.buffer_overruns;
-  d.command_retries = b.command_retries - a.command_retries;
-  d.nacks = b.nacks - a.nacks;
-  d.bus_errors = b.bus_errors - a.bus_errors;
-  d.unexpected_frames = b.unexpected_frames - a.unexpected_frames;
-  d.reference_phases_missing = b.reference_phases_missing - a.reference_phases_missing;
-  return d;
+  return hw::CountersSince(counters_at_start, counters_at_end);
 }
 
 std::string CaptureResult::Report() const {
