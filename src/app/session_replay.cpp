@@ -13,6 +13,7 @@
 #include "hrgbench/bench/recorded_estimate.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
 #include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"
 
@@ -44,10 +45,25 @@ std::size_t PlannedSamples(const json& run) {
       !plan.contains("sample_rate_hz") || !plan.at("sample_rate_hz").is_number()) {
     return 0;
   }
+  const double free_run_s = plan.at("free_run_s").get<double>();
+  const double rate_hz = plan.at("sample_rate_hz").get<double>();
+  // A damaged record's plan keeps nothing rather than an absurd bound.
+  if (!(free_run_s > 0.0 && rate_hz >= 1.0 && rate_hz <= hw::kMaxSampleRateCanFdHz &&
+        free_run_s * rate_hz <= bench::kMaxSamplesPerRun)) {
+    return 0;
+  }
   bench::SequenceRun planned;
-  planned.free_run_s = plan.at("free_run_s").get<double>();
-  planned.sample_rate_hz = static_cast<std::uint32_t>(plan.at("sample_rate_hz").get<double>());
+  planned.free_run_s = free_run_s;
+  planned.sample_rate_hz = static_cast<std::uint32_t>(rate_hz);
   return planned.Samples();
+}
+
+// A path the record names, if it stays inside the session (relative, no "..").
+bool InsideSession(const std::string& name) {
+  const fs::path relative(name);
+  return !name.empty() && relative.is_relative() &&
+         std::none_of(relative.begin(), relative.end(),
+                      [](const fs::path& part) { return part == ".."; });
 }
 
 std::vector<BegunCapture> BegunCaptures(const json& document) {
@@ -133,6 +149,7 @@ std::string FirstDifference(const session::RunSamples& recorded,
 
 // The recorded file of a capture: as named, else its .partial (a run the bench stopped).
 fs::path RecordedFile(const fs::path& dir, const std::string& file) {
+  if (!InsideSession(file)) return {};
   std::error_code ec;
   if (!file.empty() && fs::exists(dir / file, ec)) return dir / file;
   if (!file.empty() && fs::exists(dir / (file + ".partial"), ec)) return dir / (file + ".partial");
@@ -166,7 +183,7 @@ void Compare(const fs::path& dir, const BegunCapture& begun, const RecordedCaptu
              const std::vector<bench::GyroSampleRecord>& rebuilt, ReplayedCapture& capture) {
   capture.rebuilt_samples = rebuilt.size();
   if (recorded.file.empty()) {
-    capture.difference = "the recorded file '" + begun.file + "' is not in the session";
+    capture.difference = "the recorded file '" + begun.file + "' is not in the session folder";
     return;
   }
   capture.file = fs::relative(recorded.file, dir).string();
@@ -284,11 +301,7 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   std::string log_name = "can/session.log";
   if (document.contains("can_log")) {
     log_name = StringAt(document.at("can_log"), "file");
-    const fs::path relative(log_name);
-    const bool inside = !log_name.empty() && relative.is_relative() &&
-                        std::none_of(relative.begin(), relative.end(),
-                                     [](const fs::path& part) { return part == ".."; });
-    if (!inside) {
+    if (!InsideSession(log_name)) {
       return std::unexpected((dir / "session.json").string() + ": field 'can_log.file': '" +
                              log_name + "' is not a file inside the session");
     }
