@@ -4,7 +4,7 @@
 //                 [--json] [--events FILE|-]
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
-//   hrg-bench replay DIR [--json] [--no-estimate]
+//   hrg-bench replay DIR [--json] [--no-estimate] [--rebuild-into NEW_DIR]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
@@ -280,6 +280,10 @@ int main(int argc, char** argv) {
   replay->add_flag("--json", json, "print the comparison as one JSON object");
   replay->add_flag("--no-estimate", replay_no_estimate,
                    "compare the samples only, not the estimate made from them");
+  std::string replay_rebuild;
+  replay->add_option("--rebuild-into", replay_rebuild,
+                     "write a new session folder whose complete runs are rebuilt from the log "
+                     "(restores a lost or damaged run file)");
 
   app::PanelOptions panel;
   CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
@@ -316,6 +320,7 @@ int main(int argc, char** argv) {
     if (*replay) {
       app::ReplayOptions options;
       options.estimate = !replay_no_estimate;
+      options.rebuild_into = replay_rebuild;
       auto replayed = app::ReplaySession(replay_dir, options);
       if (!replayed) {
         std::cerr << replayed.error() << '\n';

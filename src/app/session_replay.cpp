@@ -280,6 +280,47 @@ void CompareEstimate(
   replay.estimate_identical = replay.estimate_difference.empty();
 }
 
+std::expected<void, std::string> StartRebuiltSession(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  if (fs::exists(to, ec) && !fs::is_empty(to, ec))
+    return std::unexpected(to.string() + ": exists and is not empty");
+  if (auto made = session::CreateDirectoriesDurably(to / "runs"); !made)
+    return std::unexpected(made.error().ToString());
+  for (const char* part : {"config", "can"}) {
+    fs::copy(from / part, to / part, fs::copy_options::recursive, ec);
+    if (ec) return std::unexpected((to / part).string() + ": " + ec.message());
+  }
+  fs::copy_file(from / "session.json", to / "session.json", ec);
+  if (ec) return std::unexpected((to / "session.json").string() + ": " + ec.message());
+  return {};
+}
+
+// A complete run's file from its rebuilt samples, with the recorded file's table columns when
+// they belong to the same samples.
+std::expected<void, std::string> WriteRebuiltRun(
+    const fs::path& path, const std::vector<bench::GyroSampleRecord>& rebuilt,
+    const RecordedCapture& recorded) {
+  session::RunSamples samples;
+  samples.y.resize(4, static_cast<Eigen::Index>(rebuilt.size()));
+  std::vector<double> seq;
+  seq.reserve(rebuilt.size());
+  samples.t_s.reserve(rebuilt.size());
+  for (std::size_t k = 0; k < rebuilt.size(); ++k) {
+    samples.t_s.push_back(rebuilt[k].t_s);
+    for (int c = 0; c < 4; ++c) samples.y(c, static_cast<Eigen::Index>(k)) = rebuilt[k].y[c];
+    seq.push_back(rebuilt[k].seq);
+  }
+  samples.extra_columns.emplace("seq", std::move(seq));
+  if (recorded.samples && recorded.samples->size() == rebuilt.size() &&
+      FirstDifference(*recorded.samples, rebuilt, rebuilt.size()).empty()) {
+    for (const auto& [name, values] : recorded.samples->extra_columns)
+      samples.extra_columns.emplace(name, values);
+  }
+  if (auto written = session::WriteRunCsv(path, samples); !written)
+    return std::unexpected(written.error().ToString());
+  return {};
+}
+
 }  // namespace
 
 bool SessionReplay::Identical() const {
@@ -298,6 +339,10 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   const json& document = session->document;
 
   SessionReplay replay;
+  if (!options.rebuild_into.empty()) {
+    if (auto started = StartRebuiltSession(dir, options.rebuild_into); !started)
+      return std::unexpected(started.error());
+  }
   std::string log_name = "can/session.log";
   if (document.contains("can_log")) {
     log_name = StringAt(document.at("can_log"), "file");
@@ -415,6 +460,17 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
     }
     replay.captures.push_back(std::move(capture));
   }
+  if (!options.rebuild_into.empty()) {
+    for (std::size_t k = 0; k < begun.size(); ++k) {
+      if (match[k] == none || !begun[k].attempt.empty() || begun[k].status != bench::kRunComplete ||
+          !InsideSession(begun[k].file)) {
+        continue;
+      }
+      auto written = WriteRebuiltRun(options.rebuild_into / begun[k].file, kept[k], recorded[k]);
+      if (!written) return std::unexpected(written.error());
+      replay.rebuilt_files.push_back(begun[k].file);
+    }
+  }
   for (std::size_t j = 0; j < replayed.runs.size(); ++j) {
     if (taken[j]) continue;
     replay.unrecorded_releases.push_back(
@@ -466,6 +522,7 @@ json ReplayJson(const SessionReplay& replay) {
           {"problems", replay.problems},
           {"unrecorded_releases", replay.unrecorded_releases},
           {"samples_rebuilt", replay.samples_rebuilt},
+          {"rebuilt_files", replay.rebuilt_files},
           {"replay_seconds", replay.replay_seconds},
           {"estimate",
            {{"compared", replay.estimate_compared},
@@ -506,6 +563,7 @@ std::string ReplayText(const SessionReplay& replay) {
   for (const std::string& problem : replay.problems) out += "  problem: " + problem + "\n";
   if (replay.log_damage) out += "  the log is damaged: " + *replay.log_damage + "\n";
   if (replay.divergence) out += "  the driver diverged: " + *replay.divergence + "\n";
+  for (const std::string& file : replay.rebuilt_files) out += "  rebuilt: " + file + "\n";
   out += replay.Identical() ? "the raw CAN log rebuilds the record bit for bit\n"
                             : "the raw CAN log does NOT rebuild the record\n";
   return out;

@@ -27,6 +27,12 @@ namespace hrgbench::app {
 
 struct ReplayOptions {
   bool estimate = true;  // also make the estimate again and compare it
+  // Not empty: a new session folder (refused if it exists and is not empty) that takes the
+  // session's record (session.json, config/, can/) and, for every complete run, the run file the
+  // log rebuilds: t_s, y1…y4 and seq from the log, the table's columns from the recorded file
+  // when it is readable and has the same samples. A run file lost or damaged is restored so; the
+  // new folder replays identical and estimates as the record did.
+  std::filesystem::path rebuild_into;
 };
 
 struct ReplayedCapture {
@@ -66,6 +72,7 @@ struct SessionReplay {
   bool estimate_compared = false;
   bool estimate_identical = false;
   std::string estimate_difference;
+  std::vector<std::string> rebuilt_files;  // written under rebuild_into, relative to it
 
   // Every capture identical, the estimate (when compared) identical, nothing damaged or diverged.
   bool Identical() const;

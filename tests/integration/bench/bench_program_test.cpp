@@ -259,6 +259,31 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   EXPECT_EQ(replay.doc.at("driver").at("host_starts"), 1);
   EXPECT_TRUE(replay.doc.at("log").at("damage").is_null());
 
+  // A run file cut in half (a disk error): the log restores it, byte for byte, into a new
+  // session folder that replays identical.
+  const fs::path run2 = session_dir / "runs" / "run-002.csv";
+  const std::string run2_text = [&] {
+    std::ifstream in(run2, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }();
+  std::ofstream(run2, std::ios::binary | std::ios::trunc)
+      << run2_text.substr(0, run2_text.size() / 2);
+  const fs::path rebuilt = work / "rebuilt";
+  const Output restoring =
+      RunBench("replay " + session_dir.string() + " --rebuild-into " + rebuilt.string());
+  EXPECT_EQ(restoring.exit_code, 1) << restoring.out;  // the damaged record is not the log's
+  EXPECT_NE(restoring.out.find("run 2 [complete]: DIFFERS: the recorded file cannot be read"),
+            std::string::npos)
+      << restoring.out;
+  std::ifstream restored_file(rebuilt / "runs" / "run-002.csv", std::ios::binary);
+  std::stringstream restored;
+  restored << restored_file.rdbuf();
+  EXPECT_EQ(restored.str(), run2_text);
+  EXPECT_EQ(RunBench("replay " + rebuilt.string()).exit_code, 0);
+  std::ofstream(run2, std::ios::binary | std::ios::trunc) << run2_text;
+
   const fs::path log = session_dir / "can" / "session.log";
   const std::vector<std::string> original = Lines(log);
   // The 100th SampleA frame after the first release: y1's low byte + 1, CRC made valid again.
