@@ -345,6 +345,39 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   EXPECT_NE(torn.out.find("line " + std::to_string(lines.size()) + ": cut off"), std::string::npos)
       << torn.out;
 
+  // A run cut short (its record says so) whose log lost the end of it, as a kill -9 can leave
+  // them (the run file and the log are written out independently): the common beginning is
+  // compared, and identical.
+  lines = original;
+  std::size_t fifth = 0;
+  releases = 0;
+  for (std::size_t i = 0; i < lines.size() && fifth == 0; ++i) {
+    if (lines[i].find(" 042#") != std::string::npos && ++releases == 5) fifth = i;
+  }
+  ASSERT_NE(fifth, 0u);
+  lines.resize(fifth + 600);  // about 300 of run 5's 1000 samples
+  WriteLines(log, lines);
+  const fs::path record = session_dir / "session.json";
+  const std::string record_text = [&] {
+    std::ifstream in(record);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }();
+  nlohmann::json doc = nlohmann::json::parse(record_text);
+  doc.at("runs").at(4).at("status") = "aborted";
+  std::ofstream(record, std::ios::trunc) << doc.dump(2);
+  const JsonOutput cut = RunBenchJson("replay " + session_dir.string() + " --json --no-estimate");
+  EXPECT_EQ(cut.exit_code, 0) << cut.text;
+  const nlohmann::json& fifth_capture = cut.doc.at("captures").at(4);
+  EXPECT_EQ(fifth_capture.at("identical"), true) << fifth_capture.dump();
+  EXPECT_EQ(fifth_capture.at("recorded_samples"), 1000);
+  EXPECT_LT(fifth_capture.at("rebuilt_samples").get<int>(), 1000);
+  EXPECT_NE(fifth_capture.at("note").get<std::string>().find("the log kept the first"),
+            std::string::npos)
+      << fifth_capture.dump();
+  std::ofstream(record, std::ios::trunc) << record_text;
+
   // Not a session: a usage error naming the file.
   const Output absent = RunBench("replay " + (work / "absent").string());
   EXPECT_EQ(absent.exit_code, 4) << absent.out;
