@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cstdint>
 #include <system_error>
 #include <utility>
 
@@ -97,13 +98,16 @@ std::vector<BegunCapture> BegunCaptures(const json& document) {
 
 // What the bench's capture keeps of what the driver delivered (bench/capture.hpp: the count stop
 // from seq 0, and no sample that is not after the previous one).
+// At most `limit` of them (a fingerprint needs only the first few).
 std::vector<bench::GyroSampleRecord> KeptSamples(const drivers::gyro_can::ReplayedRun& run,
-                                                 std::size_t planned) {
+                                                 std::size_t planned,
+                                                 std::size_t limit = SIZE_MAX) {
   std::vector<bench::GyroSampleRecord> kept;
-  kept.reserve(std::min(planned, run.samples.size()));
+  kept.reserve(std::min({planned, run.samples.size(), limit}));
   bool any = false;
   std::uint32_t last = 0;
   for (const hw::GyroSample& sample : run.samples) {
+    if (kept.size() == limit) break;
     if (sample.seq >= planned) continue;
     if (any && sample.seq <= last) continue;
     kept.push_back(bench::ToSampleRecord(sample, run.release_t_ns));
@@ -129,18 +133,20 @@ std::string FirstDifference(const session::RunSamples& recorded,
   const auto seq = recorded.extra_columns.find("seq");
   static constexpr const char* kY[] = {"y1", "y2", "y3", "y4"};
   for (std::size_t k = 0; k < compare; ++k) {
-    const std::string where = "sample " + std::to_string(k + 1) + " (line " +
-                              std::to_string(k + 2) + ", seq " + std::to_string(rebuilt[k].seq) +
-                              "): ";
+    // Named only when the sample differs: the loop runs over every sample of a session.
+    const auto where = [&] {
+      return "sample " + std::to_string(k + 1) + " (line " + std::to_string(k + 2) + ", seq " +
+             std::to_string(rebuilt[k].seq) + "): ";
+    };
     if (seq != recorded.extra_columns.end() &&
         !SameBits(seq->second[k], static_cast<double>(rebuilt[k].seq))) {
-      return where + "seq " + Values(seq->second[k], rebuilt[k].seq);
+      return where() + "seq " + Values(seq->second[k], rebuilt[k].seq);
     }
     if (!SameBits(recorded.t_s[k], rebuilt[k].t_s))
-      return where + "t_s " + Values(recorded.t_s[k], rebuilt[k].t_s);
+      return where() + "t_s " + Values(recorded.t_s[k], rebuilt[k].t_s);
     for (int c = 0; c < 4; ++c) {
       if (!SameBits(recorded.y(c, static_cast<Eigen::Index>(k)), rebuilt[k].y[c]))
-        return where + kY[c] + " " +
+        return where() + kY[c] + " " +
                Values(recorded.y(c, static_cast<Eigen::Index>(k)), rebuilt[k].y[c]);
     }
   }
@@ -172,10 +178,12 @@ RecordedCapture ReadRecorded(const fs::path& dir, const BegunCapture& begun) {
 
 // The rebuilt samples start as the recorded ones do: the capture they belong to. Noise makes a
 // few samples a fingerprint.
+constexpr std::size_t kFingerprintSamples = 8;
+
 bool StartsAlike(const RecordedCapture& recorded,
                  const std::vector<bench::GyroSampleRecord>& rebuilt) {
   if (!recorded.samples || recorded.samples->size() == 0 || rebuilt.empty()) return false;
-  const std::size_t n = std::min({recorded.samples->size(), rebuilt.size(), std::size_t{8}});
+  const std::size_t n = std::min({recorded.samples->size(), rebuilt.size(), kFingerprintSamples});
   return FirstDifference(*recorded.samples, rebuilt, n).empty();
 }
 
@@ -409,7 +417,8 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   for (std::size_t k = 0; k < begun.size(); ++k) {
     recorded[k] = ReadRecorded(dir, begun[k]);
     for (std::size_t j = after; j < replayed.runs.size(); ++j) {
-      if (StartsAlike(recorded[k], KeptSamples(replayed.runs[j], begun[k].samples_planned))) {
+      if (StartsAlike(recorded[k], KeptSamples(replayed.runs[j], begun[k].samples_planned,
+                                               kFingerprintSamples))) {
         match[k] = j;
         taken[j] = true;
         after = j + 1;
