@@ -44,15 +44,19 @@ std::int64_t GyroSimNode::SampleDueNs(std::uint64_t k) const noexcept {
                                                  std::max<std::uint16_t>(sample_rate_hz_, 1));
 }
 
+bool GyroSimNode::Stalled(const GyroSimFaults& faults) const noexcept {
+  // statistics_.runs counts the releases so far, this run's included.
+  return faults.stall_after_samples >= 0 && statistics_.runs >= faults.stall_from_run &&
+         next_sample_ >= static_cast<std::uint64_t>(faults.stall_after_samples);
+}
+
 std::int64_t GyroSimNode::StatusPeriodNs() const noexcept {
   return status_rate_hz_ == 0 ? kNever : 1'000'000'000 / status_rate_hz_;
 }
 
 std::int64_t GyroSimNode::NextTimedEventNs() const noexcept {
   std::int64_t next = status_rate_hz_ == 0 ? kNever : next_status_ns_;
-  const bool stalled =
-      options_.faults.stall_after_samples >= 0 &&
-      next_sample_ >= static_cast<std::uint64_t>(options_.faults.stall_after_samples);
+  const bool stalled = Stalled(options_.faults);
   if (mode_ == GyroMode::kFreeRun && !stalled) next = std::min(next, SampleDueNs(next_sample_));
   if (mode_ == GyroMode::kExciting && !options_.faults.never_ready) {
     next = std::min(next, excite_done_ns_);
@@ -231,10 +235,7 @@ void GyroSimNode::Advance(std::int64_t now_ns) noexcept {
     mode_ = GyroMode::kReady;
   }
   while (mode_ == GyroMode::kFreeRun && SampleDueNs(next_sample_) <= now_ns) {
-    if (faults.stall_after_samples >= 0 &&
-        next_sample_ >= static_cast<std::uint64_t>(faults.stall_after_samples)) {
-      break;
-    }
+    if (Stalled(faults)) break;
     if (faults.bus_off_after_samples >= 0 && !bus_shorted_ &&
         next_sample_ >= static_cast<std::uint64_t>(faults.bus_off_after_samples)) {
       bus_shorted_ = true;

@@ -84,6 +84,8 @@ class GyroSimNode final : public SimulationParticipant {
   void Send(const hw::CanFrame& frame) noexcept;
   std::int64_t NextTimedEventNs() const noexcept;  // samples and status, without the poll tick
   std::int64_t SampleDueNs(std::uint64_t k) const noexcept;
+  // The stream has stopped at the fault's sample in this run.
+  bool Stalled(const GyroSimFaults& faults) const noexcept;
   std::int64_t StatusPeriodNs() const noexcept;
   double TemperatureC() const noexcept;  // housing temperature now
 

@@ -25,6 +25,7 @@ struct GyroSimFaults {
   std::uint32_t corrupt_sample_frames = 0;  // send the next N sample frames with one bit flipped
                                             // after the CRC was computed
   std::int64_t stall_after_samples = -1;    // the stream stops after N samples (acks continue)
+  std::uint64_t stall_from_run = 1;         // ... in the Nth free run since start and later ones
   std::uint32_t ignore_commands = 0;        // no reply (and no action) to the next N commands
   bool no_reply = false;                    // no reply to any command, ever
   std::int64_t bus_off_after_samples = -1;  // after N samples, short the bus (bus-off hook)

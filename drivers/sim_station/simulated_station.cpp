@@ -35,6 +35,18 @@ std::expected<void, std::string> SimulatedStation::Build() {
   physics_ = std::make_unique<sim::TablePhysics>(options_.table_physics, *clock_);
   table_ = std::make_unique<InProcessRateTable>(options_.table, *physics_, *clock_);
 
+  units_.resize(options_.gyros.size());
+  for (std::size_t i = 0; i < units_.size(); ++i) {
+    if (auto built = BuildUnit(options_.gyros[i], units_[i]); !built)
+      return std::unexpected(units_.size() == 1 ? built.error()
+                                                : "unit " + std::to_string(i + 1) + ": " +
+                                                      built.error());
+  }
+  return {};
+}
+
+std::expected<void, std::string> SimulatedStation::BuildUnit(const sim::GyroSimOptions& gyro,
+                                                             Unit& unit) {
   can_virtual::VirtualCanBusOptions bus_options;
   bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
   bus_options.fd = options_.can_fd;
@@ -44,92 +56,99 @@ std::expected<void, std::string> SimulatedStation::Build() {
   bus_options.clock = virtual_clock_.get();
   auto bus = can_virtual::VirtualCanBus::Create(bus_options);
   if (!bus) return std::unexpected("simulated station: " + bus.error());
-  bus_ = std::move(*bus);
-  host_endpoint_ = bus_->CreateEndpoint({.queue_capacity = options_.host_queue_frames});
-  node_endpoint_ = bus_->CreateEndpoint();
-  monitor_endpoint_ = bus_->CreateEndpoint({.queue_capacity = options_.monitor_queue_frames});
+  unit.bus = std::move(*bus);
+  unit.host_endpoint = unit.bus->CreateEndpoint({.queue_capacity = options_.host_queue_frames});
+  unit.node_endpoint = unit.bus->CreateEndpoint();
+  unit.monitor_endpoint =
+      unit.bus->CreateEndpoint({.queue_capacity = options_.monitor_queue_frames});
   if (virtual_clock_) {
-    host_clocked_ = std::make_unique<ClockedCanEndpoint>(*bus_, *host_endpoint_, *virtual_clock_);
-    monitor_clocked_ =
-        std::make_unique<ClockedCanEndpoint>(*bus_, *monitor_endpoint_, *virtual_clock_);
-    host_bus_ = host_clocked_.get();
-    monitor_bus_ = monitor_clocked_.get();
+    unit.host_clocked =
+        std::make_unique<ClockedCanEndpoint>(*unit.bus, *unit.host_endpoint, *virtual_clock_);
+    unit.monitor_clocked =
+        std::make_unique<ClockedCanEndpoint>(*unit.bus, *unit.monitor_endpoint, *virtual_clock_);
+    unit.host_bus = unit.host_clocked.get();
+    unit.monitor_bus = unit.monitor_clocked.get();
   } else {
-    host_bus_ = host_endpoint_.get();
-    monitor_bus_ = monitor_endpoint_.get();
+    unit.host_bus = unit.host_endpoint.get();
+    unit.monitor_bus = unit.monitor_endpoint.get();
   }
 
   InProcessRateTable* table = table_.get();
   const double earth_rate_rad_s = options_.earth_rate_rad_s;
-  can_virtual::VirtualCanBus* shorted_bus = bus_.get();
-  node_ = std::make_unique<sim::GyroSimNode>(
-      *node_endpoint_, *clock_, options_.gyro,
+  can_virtual::VirtualCanBus* shorted_bus = unit.bus.get();
+  unit.node = std::make_unique<sim::GyroSimNode>(
+      *unit.node_endpoint, *clock_, gyro,
       [table, earth_rate_rad_s] { return table->SenseTrueRateRadS() + earth_rate_rad_s; },
       [shorted_bus] { shorted_bus->SetBusOff(true); });
 
   gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
   link.clock = clock_;
-  auto device = gyro_can::GyroCanDevice::Create(*host_bus_, link);
+  auto device = gyro_can::GyroCanDevice::Create(*unit.host_bus, link);
   if (!device)
     return std::unexpected("simulated station: gyro driver: " + device.error().ToString());
-  device_ = std::move(*device);
+  unit.device = std::move(*device);
 
   if (virtual_clock_) {
-    virtual_clock_->AddParticipant(node_.get());
+    virtual_clock_->AddParticipant(unit.node.get());
   } else {
-    node_thread_ = std::thread([this] { node_->Run(stop_node_); });
+    sim::GyroSimNode* node = unit.node.get();
+    unit.node_thread = std::thread([this, node] { node->Run(stop_node_); });
   }
   return {};
 }
 
 SimulatedStation::~SimulatedStation() {
-  if (node_thread_.joinable()) {
-    stop_node_.store(true, std::memory_order_release);
-    node_thread_.join();  // Run sees `stop` within 50 ms
+  stop_node_.store(true, std::memory_order_release);
+  for (Unit& unit : units_) {
+    if (unit.node_thread.joinable()) unit.node_thread.join();  // Run sees `stop` within 50 ms
+    if (virtual_clock_ && unit.node) virtual_clock_->RemoveParticipant(unit.node.get());
   }
-  if (virtual_clock_ && node_) virtual_clock_->RemoveParticipant(node_.get());
 }
 
-SimulatedTruth SimulatedStation::truth() const {
-  if (options_.gyro.physics == sim::GyroPhysics::kCarrier) {
-    const sim::CarrierOptions& c = options_.gyro.carrier;
+SimulatedTruth SimulatedStation::truth(std::size_t i) const {
+  const sim::GyroSimOptions& gyro = options_.gyros[i];
+  if (gyro.physics == sim::GyroPhysics::kCarrier) {
+    const sim::CarrierOptions& c = gyro.carrier;
     // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1
     // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
     estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
     delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
         delta[0], c.frequency_temperature_coefficient_per_c *
-                      options_.gyro.temperature_drift_c_per_s /
+                      gyro.temperature_drift_c_per_s /
                       (1.0 + c.frequency_temperature_coefficient_per_c *
-                                 (options_.gyro.temperature_c - c.reference_temperature_c)));
+                                 (gyro.temperature_c - c.reference_temperature_c)));
     return {true,
             delta,
             estimator::XiSeenBySlowModel(estimator::XiFromPickoff(c.pickoff.errors), delta,
                                          c.resonator.frequency_hz),
             0.0,
-            options_.gyro.seed,
+            gyro.seed,
             options_.earth_rate_rad_s};
   }
   return {false,
-          options_.gyro.delta,
-          options_.gyro.xi,
-          options_.gyro.sigma,
-          options_.gyro.seed,
+          gyro.delta,
+          gyro.xi,
+          gyro.sigma,
+          gyro.seed,
           options_.earth_rate_rad_s};
 }
 
-sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics() const {
+sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics(std::size_t i) const {
   sim::GyroSimStatistics statistics;
+  const sim::GyroSimNode& node = *units_[i].node;
   if (virtual_clock_) {
-    virtual_clock_->WithParticipantsLocked([&] { statistics = node_->Statistics(); });
+    virtual_clock_->WithParticipantsLocked([&] { statistics = node.Statistics(); });
   } else {
-    statistics = node_->Statistics();
+    statistics = node.Statistics();
   }
   return statistics;
 }
 
-bool SimulatedStation::InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change) {
+bool SimulatedStation::InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change,
+                                        std::size_t i) {
   if (!virtual_clock_) return false;
-  virtual_clock_->WithParticipantsLocked([&] { change(node_->faults()); });
+  sim::GyroSimNode& node = *units_[i].node;
+  virtual_clock_->WithParticipantsLocked([&] { change(node.faults()); });
   return true;
 }
 

@@ -3,10 +3,10 @@
 // from the real protocol peers where they exist:
 //
 //   RateTable  = InProcessRateTable on a TablePhysics (the table simulator's physics)
-//   Gyro       = GyroCanDevice (the real gyro driver) --VirtualCanBus--> GyroSimNode (the
+//   Gyro i     = GyroCanDevice (the real gyro driver) --VirtualCanBus i--> GyroSimNode (the
 //                simulated electronics, protocol v1), whose Ω is the table physics' true rate
-//                plus the Earth-rate component
-//   Monitor    = a third node on the same bus that receives every frame, both directions: the
+//                plus the Earth-rate component: one per unit on the table, each on its own bus
+//   Monitor i  = a third node on unit i's bus that receives every frame, both directions: the
 //                raw-frame tap the bench records (candump log)
 //   Clock      = one clock for all of them (see SimulatedStationOptions for the three modes)
 //
@@ -19,8 +19,8 @@
 //
 // Ownership: the station owns everything; the references it hands out live as long as it does.
 // Destroying it stops the gyro node's thread; it commands nothing (call SafeStop first).
-// Threads: table() belongs to one thread (the sequencer), gyro() to one (the capture thread),
-// monitor() to one reader; clock() is shared. See each interface's header.
+// Threads: table() belongs to one thread (the sequencer), each gyro(i) to one (its capture
+// thread), each monitor(i) to one reader; clock() is shared. See each interface's header.
 // Failure modes: the options' gyro.faults and table.faults; bus() for bus-level injection
 // (DropNext, CorruptNext, SetBusOff); InjectGyroFaults at run time.
 
@@ -30,6 +30,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "can_virtual/virtual_can_bus.hpp"
 #include "gyro_can/gyro_can_device.hpp"
@@ -56,33 +57,53 @@ class SimulatedStation {
   SimulatedStation(const SimulatedStation&) = delete;
   SimulatedStation& operator=(const SimulatedStation&) = delete;
 
+  // Unit `i` is options().gyros[i]; i < unit_count().
+  std::size_t unit_count() const noexcept { return units_.size(); }
   hw::RateTable& table() noexcept { return *table_; }
-  hw::GyroElectronics& gyro() noexcept { return *device_; }
+  hw::GyroElectronics& gyro(std::size_t i = 0) noexcept { return *units_[i].device; }
   hw::Clock& clock() noexcept { return *clock_; }
-  // The raw-frame tap: every frame on the bus, from both nodes, in bus order, stamped on the
+  // The raw-frame tap: every frame on unit i's bus, from both nodes, in bus order, stamped on the
   // station's clock. One reader thread. Frames not read pile up to monitor_queue_frames.
-  hw::CanBus& monitor() noexcept { return *monitor_bus_; }
+  hw::CanBus& monitor(std::size_t i = 0) noexcept { return *units_[i].monitor_bus; }
 
-  SimulatedTruth truth() const;
+  SimulatedTruth truth(std::size_t i = 0) const;
   const SimulatedStationOptions& options() const noexcept { return options_; }
   bool faster_than_real_time() const noexcept { return virtual_clock_ != nullptr; }
 
   // The concrete parts, for tests and the app's diagnostics.
   InProcessRateTable& in_process_table() noexcept { return *table_; }
-  gyro_can::GyroCanDevice& gyro_device() noexcept { return *device_; }
-  can_virtual::VirtualCanBus& bus() noexcept { return *bus_; }
+  gyro_can::GyroCanDevice& gyro_device(std::size_t i = 0) noexcept { return *units_[i].device; }
+  can_virtual::VirtualCanBus& bus(std::size_t i = 0) noexcept { return *units_[i].bus; }
   VirtualTimeClock* virtual_clock() noexcept { return virtual_clock_.get(); }  // null: real time
   // The simulated electronics' counters. In real time they are read racily (diagnostics only).
-  sim::GyroSimStatistics gyro_sim_statistics() const;
+  sim::GyroSimStatistics gyro_sim_statistics(std::size_t i = 0) const;
 
   // Changes the simulated electronics' failure modes while running, safely with respect to the
   // thread that drives the node. False in real time (the node's thread owns them; set them in
   // the options instead).
-  bool InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change);
+  bool InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change,
+                        std::size_t i = 0);
 
  private:
+  // One unit: its bus, the three nodes on it, the driver. Declaration order is construction
+  // order.
+  struct Unit {
+    std::unique_ptr<can_virtual::VirtualCanBus> bus;
+    std::unique_ptr<can_virtual::VirtualCanEndpoint> host_endpoint;
+    std::unique_ptr<can_virtual::VirtualCanEndpoint> node_endpoint;
+    std::unique_ptr<can_virtual::VirtualCanEndpoint> monitor_endpoint;
+    std::unique_ptr<ClockedCanEndpoint> host_clocked;     // faster than real time only
+    std::unique_ptr<ClockedCanEndpoint> monitor_clocked;  // faster than real time only
+    hw::CanBus* host_bus = nullptr;
+    hw::CanBus* monitor_bus = nullptr;
+    std::unique_ptr<sim::GyroSimNode> node;
+    std::unique_ptr<gyro_can::GyroCanDevice> device;
+    std::thread node_thread;  // real time only
+  };
+
   explicit SimulatedStation(const SimulatedStationOptions& options);
   std::expected<void, std::string> Build();
+  std::expected<void, std::string> BuildUnit(const sim::GyroSimOptions& gyro, Unit& unit);
 
   SimulatedStationOptions options_;
   // Declaration order is construction order; destruction runs backwards (the node thread is
@@ -92,18 +113,8 @@ class SimulatedStation {
   hw::Clock* clock_ = nullptr;
   std::unique_ptr<sim::TablePhysics> physics_;
   std::unique_ptr<InProcessRateTable> table_;
-  std::unique_ptr<can_virtual::VirtualCanBus> bus_;
-  std::unique_ptr<can_virtual::VirtualCanEndpoint> host_endpoint_;
-  std::unique_ptr<can_virtual::VirtualCanEndpoint> node_endpoint_;
-  std::unique_ptr<can_virtual::VirtualCanEndpoint> monitor_endpoint_;
-  std::unique_ptr<ClockedCanEndpoint> host_clocked_;     // faster than real time only
-  std::unique_ptr<ClockedCanEndpoint> monitor_clocked_;  // faster than real time only
-  hw::CanBus* host_bus_ = nullptr;
-  hw::CanBus* monitor_bus_ = nullptr;
-  std::unique_ptr<sim::GyroSimNode> node_;
-  std::unique_ptr<gyro_can::GyroCanDevice> device_;
+  std::vector<Unit> units_;
   std::atomic<bool> stop_node_{false};
-  std::thread node_thread_;  // real time only
 };
 
 }  // namespace hrgbench::drivers::sim_station

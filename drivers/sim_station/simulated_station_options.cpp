@@ -19,7 +19,12 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
                 std::to_string(earth_rate_rad_s));
   }
   std::string part;
-  if (!gyro.IsValid(&part)) return fail("gyro: " + part);
+  if (gyros.empty() || gyros.size() > kMaxSimulatedUnits)
+    return fail("gyros: between 1 and " + std::to_string(kMaxSimulatedUnits) + " units, got " +
+                std::to_string(gyros.size()));
+  for (std::size_t i = 0; i < gyros.size(); ++i) {
+    if (!gyros[i].IsValid(&part)) return fail("gyros[" + std::to_string(i) + "]: " + part);
+  }
   if (!table_physics.IsValid(&part)) return fail("table_physics: " + part);
   if (!table.IsValid(&part)) return fail("table: " + part);
   gyro_can::GyroCanDeviceConfig link = gyro_link;

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "sim/gyro_sim_options.hpp"
@@ -22,6 +23,9 @@
 #include "sim_station/in_process_rate_table.hpp"
 
 namespace hrgbench::drivers::sim_station {
+
+// A fixture carries at most this many units (the station config's bound too).
+inline constexpr std::size_t kMaxSimulatedUnits = 16;
 
 struct SimulatedStationOptions {
   bool faster_than_real_time = true;
@@ -35,9 +39,10 @@ struct SimulatedStationOptions {
   // it (batching; see VirtualTimeClockOptions::output_lookahead_ns). 0: strictly conservative.
   std::int64_t output_lookahead_ns = 20'000'000;
 
-  // The simulated electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes
-  // (gyro.faults). Defaults: the paper's experiment, noise-free; set sigma for realism.
-  sim::GyroSimOptions gyro;
+  // The simulated electronics of each unit on the table (one per fitted fixture position, each on
+  // its own bus): the truth (δ, ξ, σ, seed), their behaviour, their failure modes (faults).
+  // Defaults: one unit, the paper's experiment, noise-free; set sigma for realism.
+  std::vector<sim::GyroSimOptions> gyros{sim::GyroSimOptions{}};
   // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
   // axis (bench::EarthRateOnAxisRadS of the station's site), rad/s.
   double earth_rate_rad_s = 0.0;
@@ -50,7 +55,7 @@ struct SimulatedStationOptions {
   // The host side of the gyro link (GyroCanDevice); its clock is the station's (ignored here).
   gyro_can::GyroCanDeviceConfig gyro_link;
 
-  // The in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
+  // Each unit's in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
   std::int64_t can_bit_rate_bps = 1'000'000;
   bool can_fd = false;                             // FD bus; gyro_link.prefer_fd
   std::int64_t can_data_bit_rate_bps = 5'000'000;  // FD data phase

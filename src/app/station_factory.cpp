@@ -12,17 +12,23 @@ std::string Where(const bench::StationConfig& config) { return config.file.strin
 
 class SimulatedStationAdapter final : public Station {
  public:
-  explicit SimulatedStationAdapter(std::unique_ptr<drivers::sim_station::SimulatedStation> station)
+  SimulatedStationAdapter(std::unique_ptr<drivers::sim_station::SimulatedStation> station,
+                          const std::vector<const bench::FixturePosition*>& fitted)
       : station_(std::move(station)) {
     hardware_.table = &station_->table();
-    hardware_.gyro = &station_->gyro();
     hardware_.clock = &station_->clock();
-    hardware_.monitor = &station_->monitor();
-    hardware_.can_interface = "vcan-sim";
+    for (std::size_t i = 0; i < fitted.size(); ++i) {
+      bench::UnitHardware unit;
+      unit.gyro = &station_->gyro(i);
+      unit.monitor = &station_->monitor(i);
+      unit.can_interface = fitted[i]->can_interface;
+      unit.position = fitted[i]->name;
+      hardware_.units.push_back(unit);
+    }
   }
   bench::BenchHardware& hardware() override { return hardware_; }
-  std::optional<nlohmann::json> simulation() const override {
-    const drivers::sim_station::SimulatedTruth truth = station_->truth();
+  std::optional<nlohmann::json> simulation(std::size_t i) const override {
+    const drivers::sim_station::SimulatedTruth truth = station_->truth(i);
     nlohmann::json j;
     j["generator"] =
         truth.carrier ? "hrgbench in-process simulated station (drivers/sim_station), "
@@ -46,12 +52,17 @@ class SimulatedStationAdapter final : public Station {
 class RealStation final : public Station {
  public:
   bench::BenchHardware& hardware() override { return hardware_; }
-  std::optional<nlohmann::json> simulation() const override { return std::nullopt; }
+  std::optional<nlohmann::json> simulation(std::size_t) const override { return std::nullopt; }
+
+  // One unit's link: its bus, the tap on it, the driver.
+  struct UnitLink {
+    std::unique_ptr<drivers::socketcan::SocketCanBus> bus;
+    std::unique_ptr<drivers::socketcan::SocketCanBus> monitor;
+    std::unique_ptr<drivers::gyro_can::GyroCanDevice> gyro;
+  };
 
   hw::SteadyClock clock;
-  std::unique_ptr<drivers::socketcan::SocketCanBus> bus;
-  std::unique_ptr<drivers::socketcan::SocketCanBus> monitor;
-  std::unique_ptr<drivers::gyro_can::GyroCanDevice> gyro;
+  std::vector<UnitLink> units;
   std::unique_ptr<drivers::modbus_rate_table::ModbusRateTable> table;
   bench::BenchHardware hardware_;
 };
@@ -78,23 +89,38 @@ drivers::sim::CarrierOptions MapCarrier(const bench::SimulatedCarrierConfig& c) 
   return o;
 }
 
+// One simulated unit: a fixture position's [simulated] (the station's with its own keys).
+drivers::sim::GyroSimOptions MapSimulatedUnit(const bench::SimulatedStationConfig& sim) {
+  drivers::sim::GyroSimOptions o;
+  if (sim.physics == bench::SimulatedPhysics::kCarrier) {
+    o.physics = drivers::sim::GyroPhysics::kCarrier;
+    o.carrier = MapCarrier(sim.carrier);
+  }
+  o.delta = sim.delta;
+  o.xi = sim.xi;
+  o.sigma = sim.sigma;
+  o.seed = sim.seed;
+  o.excite_time_s = sim.excite_time_s;
+  o.resonant_frequency_hz = sim.resonant_frequency_hz;
+  o.temperature_c = sim.temperature_c;
+  o.temperature_drift_c_per_s = sim.temperature_drift_c_per_s;
+  const bench::SimulatedFaults& f = sim.faults;
+  if (f.gyro_stall_after_samples) o.faults.stall_after_samples = *f.gyro_stall_after_samples;
+  o.faults.stall_from_run = static_cast<std::uint64_t>(f.gyro_stall_from_run);
+  if (f.gyro_bus_off_after_samples) o.faults.bus_off_after_samples = *f.gyro_bus_off_after_samples;
+  o.faults.drop_every_nth_frame = static_cast<std::uint32_t>(f.gyro_drop_every_nth_sample);
+  o.faults.never_ready = f.gyro_never_ready;
+  return o;
+}
+
 drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationConfig& config) {
   const bench::SimulatedStationConfig& sim = config.simulated;
   drivers::sim_station::SimulatedStationOptions o;
   o.faster_than_real_time = sim.faster_than_real_time;
   o.time_scale = sim.time_scale;
-  if (sim.physics == bench::SimulatedPhysics::kCarrier) {
-    o.gyro.physics = drivers::sim::GyroPhysics::kCarrier;
-    o.gyro.carrier = MapCarrier(sim.carrier);
-  }
-  o.gyro.delta = sim.delta;
-  o.gyro.xi = sim.xi;
-  o.gyro.sigma = sim.sigma;
-  o.gyro.seed = sim.seed;
-  o.gyro.excite_time_s = sim.excite_time_s;
-  o.gyro.resonant_frequency_hz = sim.resonant_frequency_hz;
-  o.gyro.temperature_c = sim.temperature_c;
-  o.gyro.temperature_drift_c_per_s = sim.temperature_drift_c_per_s;
+  o.gyros.clear();
+  for (const bench::FixturePosition* position : bench::FittedPositions(config))
+    o.gyros.push_back(MapSimulatedUnit(bench::PositionSimulated(config, *position)));
   o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
@@ -125,10 +151,6 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.table.faults.never_stable = f.table_never_stable;
   if (f.table_fault_after_s) o.table.faults.fault_after_s = *f.table_fault_after_s;
   if (f.table_unresponsive_after_s) o.table.faults.unresponsive_after_s = *f.table_unresponsive_after_s;
-  if (f.gyro_stall_after_samples) o.gyro.faults.stall_after_samples = *f.gyro_stall_after_samples;
-  if (f.gyro_bus_off_after_samples) o.gyro.faults.bus_off_after_samples = *f.gyro_bus_off_after_samples;
-  o.gyro.faults.drop_every_nth_frame = static_cast<std::uint32_t>(f.gyro_drop_every_nth_sample);
-  o.gyro.faults.never_ready = f.gyro_never_ready;
   return o;
 }
 
@@ -138,28 +160,37 @@ std::expected<std::unique_ptr<Station>, std::string> OpenSimulated(
   if (!station) return std::unexpected(Where(config) + "simulated station: " + station.error());
   if (auto connected = (*station)->table().Connect(); !connected)
     return std::unexpected(Where(config) + "simulated table: " + connected.error().ToString());
-  return std::make_unique<SimulatedStationAdapter>(std::move(*station));
+  return std::make_unique<SimulatedStationAdapter>(std::move(*station),
+                                                   bench::FittedPositions(config));
 }
 
 std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::StationConfig& config) {
   auto station = std::make_unique<RealStation>();
   drivers::socketcan::SocketCanOptions can;
   can.fd = config.gyro.fd;
-  auto bus = drivers::socketcan::SocketCanBus::Open(config.gyro.can_interface, can);
-  if (!bus) return std::unexpected(Where(config) + "gyro CAN: " + bus.error());
-  station->bus = std::move(*bus);
-  auto monitor = drivers::socketcan::SocketCanBus::Open(config.gyro.can_interface, can);
-  if (!monitor) return std::unexpected(Where(config) + "CAN tap: " + monitor.error());
-  station->monitor = std::move(*monitor);
   drivers::gyro_can::GyroCanDeviceConfig link;
   link.clock = &station->clock;
   link.ack_timeout_ns = config.gyro.ack_timeout_ms * 1'000'000;
   link.command_attempts = static_cast<int>(config.gyro.command_attempts);
   link.status_poll_ns = config.gyro.status_poll_ms * 1'000'000;
   link.prefer_fd = config.gyro.fd;
-  auto gyro = drivers::gyro_can::GyroCanDevice::Create(*station->bus, link);
-  if (!gyro) return std::unexpected(Where(config) + "gyro: " + gyro.error().ToString());
-  station->gyro = std::move(*gyro);
+  const std::vector<const bench::FixturePosition*> fitted = bench::FittedPositions(config);
+  for (const bench::FixturePosition* position : fitted) {
+    // "gyro CAN" for a station of one unit, as before; the position's name on a fixture.
+    const std::string unit =
+        fitted.size() == 1 ? std::string() : "position " + position->name + ": ";
+    RealStation::UnitLink unit_link;
+    auto bus = drivers::socketcan::SocketCanBus::Open(position->can_interface, can);
+    if (!bus) return std::unexpected(Where(config) + unit + "gyro CAN: " + bus.error());
+    unit_link.bus = std::move(*bus);
+    auto monitor = drivers::socketcan::SocketCanBus::Open(position->can_interface, can);
+    if (!monitor) return std::unexpected(Where(config) + unit + "CAN tap: " + monitor.error());
+    unit_link.monitor = std::move(*monitor);
+    auto gyro = drivers::gyro_can::GyroCanDevice::Create(*unit_link.bus, link);
+    if (!gyro) return std::unexpected(Where(config) + unit + "gyro: " + gyro.error().ToString());
+    unit_link.gyro = std::move(*gyro);
+    station->units.push_back(std::move(unit_link));
+  }
 
   drivers::modbus_rate_table::ModbusRateTableConfig table;
   const bench::TableLinkConfig& t = config.table;
@@ -191,11 +222,16 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
     return std::unexpected(Where(config) + "rate table (" + table.Describe() +
                            "): " + connected.error().ToString());
   station->hardware_.table = station->table.get();
-  station->hardware_.gyro = station->gyro.get();
   station->hardware_.clock = &station->clock;
-  station->hardware_.monitor = station->monitor.get();
-  station->hardware_.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
-  station->hardware_.can_interface = config.gyro.can_interface;
+  for (std::size_t i = 0; i < fitted.size(); ++i) {
+    bench::UnitHardware unit;
+    unit.gyro = station->units[i].gyro.get();
+    unit.monitor = station->units[i].monitor.get();
+    unit.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
+    unit.can_interface = fitted[i]->can_interface;
+    unit.position = fitted[i]->name;
+    station->hardware_.units.push_back(unit);
+  }
   return station;
 }
 

@@ -5,8 +5,8 @@
 //   protocol on
 //              a virtual CAN bus with the simulated electronics, the table physics behind an
 //              in-process RateTable; faster than real time or paced.
-//   real:      SocketCAN on the station's interface (a second socket taps every frame for the
-//              candump log), GyroCanDevice, and the Modbus rate table (TCP or RTU).
+//   real:      per fitted position, SocketCAN on its interface (a second socket taps every frame
+//              for the candump log) and a GyroCanDevice; the Modbus rate table (TCP or RTU).
 
 #include <expected>
 #include <memory>
@@ -22,9 +22,10 @@ namespace hrgbench::app {
 class Station {
  public:
   virtual ~Station() = default;
+  // The table and one unit per fitted fixture position, in the station's order.
   virtual bench::BenchHardware& hardware() = 0;
-  // Truth of a simulated station for the record ("simulation"); nullopt for real hardware.
-  virtual std::optional<nlohmann::json> simulation() const = 0;
+  // Truth of the simulated unit `i` for its record ("simulation"); nullopt for real hardware.
+  virtual std::optional<nlohmann::json> simulation(std::size_t i = 0) const = 0;
 };
 
 // Builds and connects the station (the table is connected; the gyro driver is created). Errors name

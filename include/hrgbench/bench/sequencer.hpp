@@ -17,7 +17,7 @@
 // its limits: the record names which), ERROR (the bench: timeout, bus-off, Modbus failure, too many
 // drops, disk), ABORTED (operator). Exit codes in session_outcome.hpp.
 //
-// Threads: RunSession runs on the caller's thread (plus the capture thread it starts per run).
+// Threads: a session runs on the caller's thread (plus one capture thread per unit and run).
 // Every timed wait goes through the hardware's Clock or a driver call, so a simulated station can
 // run in virtual time. Nothing here throws across the API except std::bad_alloc.
 
@@ -45,19 +45,26 @@
 
 namespace hrgbench::bench {
 
-// What the session runs on. Not owned; all must outlive RunSession. The table must be connected.
-struct BenchHardware {
-  hw::RateTable* table = nullptr;
+// One gyro on the table: its electronics and the tap on its bus. Not owned.
+struct UnitHardware {
   hw::GyroElectronics* gyro = nullptr;
-  hw::Clock* clock = nullptr;
   // Optional tap that receives every frame on the gyro's bus (a second socket on the interface, or
-  // the virtual bus's monitor endpoint): everything it receives goes to the candump log.
+  // the virtual bus's monitor endpoint): everything it receives goes to the unit's candump log.
   hw::CanBus* monitor = nullptr;
-  // The monitor's receive stamps: on `clock` (a virtual bus) or, for software stamps, Unix time
-  // (SocketCAN: CLOCK_REALTIME). Other stamps (a controller's own clock) are replaced by the
+  // The monitor's receive stamps: on the bench clock (a virtual bus) or, for software stamps, Unix
+  // time (SocketCAN: CLOCK_REALTIME). Other stamps (a controller's own clock) are replaced by the
   // bench clock at the time the frame is taken off the monitor.
   bool monitor_stamps_on_bench_clock = true;
   std::string can_interface = "can0";  // name written in the candump log
+  std::string position;                // the fixture position it sits in ("A", "1")
+};
+
+// What a session runs on: one table and the units on it (a fixture of N positions, one bus each).
+// Not owned; all must outlive the session. The table must be connected.
+struct BenchHardware {
+  hw::RateTable* table = nullptr;
+  hw::Clock* clock = nullptr;
+  std::vector<UnitHardware> units;  // at least one; the fitted positions in the station's order
 };
 
 // What the operator sees, handed to RunnerOptions::on_progress about every progress_period_s.
@@ -71,16 +78,20 @@ struct Progress {
   std::string_view phase;
   double elapsed_s = 0.0;     // since the session (or the resume) started, on the hardware clock
   double remaining_s = 0.0;   // rough: the free-run time still to capture plus settling
+  // Summed over the units capturing the current run.
   std::uint64_t samples = 0;  // captured in the current run
   std::uint64_t samples_expected = 0;
   std::uint64_t samples_lost = 0;  // sequence gaps + ring overruns in the current run
+  int units_active = 0;  // units still in the session (the others ended on their own fault)
+  int unit_count = 0;
   double table_rate_rad_s = std::numeric_limits<double>::quiet_NaN();  // last measured, capture
 };
 
 struct RunnerOptions {
-  std::string unit_serial;       // required
+  std::string unit_serial;       // RunSession's unit; required there
   std::string software_version;  // git describe of the build
-  // Truth of a simulated station, recorded under "simulation" (std::nullopt on real hardware).
+  // RunSession's unit: the truth of a simulated station, recorded under "simulation" (std::nullopt
+  // on real hardware).
   std::optional<nlohmann::json> simulation;
   // Incremented by the signal handler per Ctrl-C: the first stops the session safely (ABORTED).
   const std::atomic<int>* interrupts = nullptr;
@@ -91,8 +102,10 @@ struct RunnerOptions {
   std::function<void(std::string_view)> on_log;      // plain log lines; may be empty
   // The samples of run `run_id` as they are written to the record (runner thread, between ring
   // drains: must return quickly, never block; the event stream decimates them). May be empty.
+  // Called for a session of one unit only (the event stream is one unit's).
   std::function<void(int run_id, std::span<const GyroSampleRecord>)> on_samples;
-  // A run as recorded (complete, rejected or aborted) with its sample count. May be empty.
+  // A run as recorded (complete, rejected or aborted) with its sample count. May be empty. One
+  // unit only, as on_samples.
   std::function<void(int run_id, const RunEnd&, std::uint64_t samples)> on_run_end;
   double progress_period_s = 0.5;
 };
@@ -112,13 +125,40 @@ struct SessionResult {
   int complete_runs = 0;
 };
 
-// Runs the whole sequence into the new, empty directory `dir`. The three config files are copied
-// into <dir>/config/ (so `resume` needs nothing else and the record shows what was run).
+// One unit of a session: what it is and where its record goes.
+struct UnitSession {
+  std::string serial;          // required
+  std::filesystem::path dir;   // new and empty (run), or the unit's session to continue (resume)
+  std::optional<nlohmann::json> simulation;  // its truth on a simulated station
+  // Recorded as "fixture" in its session.json (position, the fixture folder, the other units);
+  // std::nullopt for a session of one unit.
+  std::optional<nlohmann::json> fixture;
+};
+
+// Runs the whole sequence for every unit on the table: the table is sequenced once, and at each Ω
+// every unit still in the session is excited, released and captured (one capture thread per unit,
+// each with its own ring and drop accounting). Each unit has its own session folder, record,
+// estimate and verdict. A unit's own fault (never ready, never warm, stalls, bus-off on its bus,
+// too many drops, its record) ends that unit's session as ERROR and the others go on; a table
+// fault or an interrupt stops every unit safely, each record saying why. `units[i]` runs on
+// `hardware.units[i]`; the result i is its. The config files are copied into every unit's
+// <dir>/config/ (so `resume` needs nothing else and the record shows what was run).
+std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchHardware& hardware,
+                                       const std::vector<UnitSession>& units,
+                                       const RunnerOptions& options);
+
+// Continues the units' sessions (each interrupted or failed) with the runs each has not
+// completed, using the configs saved in the first unit's <dir>/config/ (loaded by the caller with
+// LoadSavedConfigs), then estimates each from all its runs. A run is made if any unit needs it;
+// a unit that has it already sits it out.
+std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs,
+                                          const BenchHardware& hardware,
+                                          const std::vector<UnitSession>& units,
+                                          const RunnerOptions& options);
+
+// One unit (hardware.units has one): RunSessions with options.unit_serial, options.simulation.
 SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hardware,
                          const std::filesystem::path& dir, const RunnerOptions& options);
-
-// Continues an interrupted or failed session with the runs that are not complete, using the configs
-// saved in <dir>/config/ (loaded by the caller with LoadSavedConfigs), then estimates all runs.
 SessionResult ResumeSession(const BenchConfigs& configs, const BenchHardware& hardware,
                             const std::filesystem::path& dir, const RunnerOptions& options);
 

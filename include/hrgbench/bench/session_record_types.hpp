@@ -67,6 +67,8 @@ struct SessionHeader {
   std::optional<nlohmann::json> electronics;
   // Interface name written into every candump log line ("can0", "vcan0", "sim0").
   std::string can_interface = "can0";
+  // A unit of a fixture session: its position and the units beside it, recorded as "fixture".
+  std::optional<nlohmann::json> fixture;
 };
 
 // Conditions at the release of a run (t = 0).

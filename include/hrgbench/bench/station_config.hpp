@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/site.hpp"
@@ -96,6 +97,7 @@ struct SimulatedFaults {
   std::optional<double> table_fault_after_s;               // table latches a drive fault after t s
   std::optional<double> table_unresponsive_after_s;        // table stops answering after t s
   std::optional<std::int64_t> gyro_stall_after_samples;    // gyro stops streaming in a free run
+  std::int64_t gyro_stall_from_run = 1;  // ... in this free run of the session and every later one
   std::optional<std::int64_t> gyro_bus_off_after_samples;  // the bus goes bus-off in a free run
   std::int64_t gyro_drop_every_nth_sample = 0;  // drop every n-th sample frame (0 = none)
   bool gyro_never_ready = false;                // excitation never reports ready
@@ -163,6 +165,39 @@ struct RealtimeConfig {
   bool lock_memory = false;  // mlockall(MCL_CURRENT | MCL_FUTURE) before the first run
 };
 
+// [[fixture]]: one position of the table's fixture and the unit in it. A station without
+// [[fixture]] has one position, "1", on [gyro] can_interface. Each unit has its own bus (its own
+// interface); [gyro]'s other keys apply to every position.
+struct FixturePosition {
+  std::string name;  // position = "A": 1..8 letters, digits, '-' or '_'; unique on the fixture
+  // real: the unit's SocketCAN interface; simulated: the name its candump log gives the
+  // in-process bus ("vcan-sim" for the one position of a station without [[fixture]]).
+  std::string can_interface;
+  bool fitted = true;  // false: nothing in this position today (it takes no part)
+  std::size_t index = 0;  // in the order declared
+  // kind = simulated: the keys the position sets for its unit over [simulated]'s (delta, xi, sigma,
+  // seed, resonant_frequency_hz, temperature_c, temperature_drift_c_per_s, excite_time_s and
+  // [fixture.faults]' gyro_* keys). PositionSimulated applies them.
+  struct SimulatedKeys {
+    std::optional<estimator::Delta> delta;
+    std::optional<estimator::Xi> xi;
+    std::optional<double> sigma;
+    std::optional<std::uint64_t> seed;
+    std::optional<double> resonant_frequency_hz;
+    std::optional<double> temperature_c;
+    std::optional<double> temperature_drift_c_per_s;
+    std::optional<double> excite_time_s;
+    std::optional<std::int64_t> gyro_stall_after_samples;
+    std::optional<std::int64_t> gyro_stall_from_run;
+    std::optional<std::int64_t> gyro_bus_off_after_samples;
+    std::optional<std::int64_t> gyro_drop_every_nth_sample;
+    std::optional<bool> gyro_never_ready;
+  } simulated;
+};
+
+// A fixture carries at most this many positions.
+inline constexpr std::size_t kMaxFixturePositions = 16;
+
 struct StationConfig {
   std::filesystem::path file;  // where it was loaded from
   std::string sha256_hex;      // SHA-256 of the file's bytes (recorded in the session)
@@ -174,11 +209,21 @@ struct StationConfig {
   GyroLinkConfig gyro;
   TableLinkConfig table;
   SimulatedStationConfig simulated;  // meaningful only for kind = kSimulated
+  std::vector<FixturePosition> fixture;  // at least one, in the order declared
   RealtimeConfig realtime;
   // [results] url: where hrg-bench uploads each closed session (results/results_url.hpp:
   // "sqlite:///path" or "postgresql://host/db", never a password). Empty: no upload.
   std::string results_url;
 };
+
+// The fitted positions, in the order declared.
+std::vector<const FixturePosition*> FittedPositions(const StationConfig& station);
+
+// The simulated unit in `position`: [simulated] with the position's own keys. Its seed, when the
+// position gives none: [simulated]'s seed + 1000 × the position's index, so that no two units
+// draw the same noise (the first position's is [simulated]'s).
+SimulatedStationConfig PositionSimulated(const StationConfig& station,
+                                         const FixturePosition& position);
 
 std::expected<StationConfig, config_file::ConfigError> LoadStationConfig(
     const std::filesystem::path& file);

@@ -34,6 +34,14 @@ std::string BusName(const StationConfig& station) {
       std::to_string(station.gyro.bitrate / 1000) + " kbit/s" +
       (station.gyro.fd ? ", FD data " + std::to_string(station.gyro.data_bitrate / 1000) + " kbit/s"
                        : "");
+  const std::vector<const FixturePosition*> fitted = FittedPositions(station);
+  if (fitted.size() > 1) {
+    // One unit per bus (protocol v1 has no node id): each bus carries the same load.
+    std::string names;
+    for (const FixturePosition* position : fitted)
+      names += (names.empty() ? "" : ", ") + position->can_interface;
+    return "each unit's own bus (" + names + ") at " + rates;
+  }
   return (station.gyro.can_interface.empty() ? "the simulated bus" : station.gyro.can_interface) +
          " at " + rates;
 }

@@ -1,6 +1,7 @@
 // Loader of station files. Reads table by table; each table reader reports its unknown keys last,
 // so a misspelt key is reported even when everything else is right.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -22,6 +23,8 @@ namespace {
 using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// gyro_stall_from_run: a session has at most this many runs (the sequence's bound).
+constexpr auto kMaxRunsBound = static_cast<std::int64_t>(kMaxRuns);
 constexpr std::string_view kRealOnly = "applies only to kind = \"real\"";
 // The simulated station's in-process bus: FD data phase at 5 Mbit/s (a common FD setting).
 constexpr std::int64_t kSimulatedFdDataBitRateBps = 5'000'000;
@@ -66,19 +69,27 @@ std::expected<SiteConfig, ConfigError> ReadSite(TableReader& reader) {
   return site;
 }
 
-std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, StationKind kind) {
+// `fixture_declared`: the station has [[fixture]], whose positions name the interfaces.
+std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, StationKind kind,
+                                                    bool fixture_declared) {
   GyroLinkConfig gyro;
   HRG_TRY(fd, OptionalBool(reader, "fd", gyro.fd));
   gyro.fd = *fd;
   if (kind == StationKind::kReal) {
-    HRG_TRY(iface, RequiredString(reader, "can_interface"));
-    // IFNAMSIZ is 16 including the terminating zero.
-    if (iface->size() > 15) {
-      return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
-                                          "out of range: a Linux interface name has <= 15 "
-                                          "characters"));
+    if (fixture_declared) {
+      HRG_CHECK(Forbid(reader, "can_interface",
+                       "conflict: with [[fixture]], each position names its own can_interface"));
+    } else {
+      HRG_TRY(iface, RequiredString(reader, "can_interface"));
+      // IFNAMSIZ is 16 including the terminating zero.
+      if (iface->size() > 15) {
+        return std::unexpected(reader.Error(*reader.table().get("can_interface"),
+                                            "can_interface",
+                                            "out of range: a Linux interface name has <= 15 "
+                                            "characters"));
+      }
+      gyro.can_interface = *iface;
     }
-    gyro.can_interface = *iface;
     HRG_TRY(bitrate, OptionalInteger(reader, "bitrate", 10'000, 1'000'000, gyro.bitrate));
     gyro.bitrate = *bitrate;
     if (gyro.fd) {
@@ -231,9 +242,38 @@ std::expected<TableLinkConfig, ConfigError> ReadTable(TableReader& reader, Stati
   return table;
 }
 
-std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader) {
-  SimulatedFaults faults;
+// [simulated.faults], or a position's [fixture.faults] (`unit_only`: the gyro_* keys, starting from
+// `faults`, the station's).
+std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader, SimulatedFaults faults,
+                                                       bool unit_only) {
   constexpr std::int64_t kMaxCount = std::numeric_limits<std::int64_t>::max();
+  if (unit_only) {
+    for (std::string_view key :
+         {"table_never_stable", "table_fault_after_s", "table_unresponsive_after_s"})
+      HRG_CHECK(Forbid(reader, key, "a table's fault belongs in [simulated.faults]"));
+    HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
+    if (*stall) faults.gyro_stall_after_samples = *stall;
+    HRG_TRY(stall_run, OptionalInteger(reader, "gyro_stall_from_run", 1, kMaxRunsBound,
+                                       faults.gyro_stall_from_run));
+    faults.gyro_stall_from_run = *stall_run;
+    HRG_TRY(bus_off, MaybeInteger(reader, "gyro_bus_off_after_samples", 0, kMaxCount));
+    if (*bus_off) faults.gyro_bus_off_after_samples = *bus_off;
+    HRG_TRY(drop, OptionalInteger(reader, "gyro_drop_every_nth_sample", 0, kMaxCount,
+                                  faults.gyro_drop_every_nth_sample));
+    if (*drop == 1) {
+      return std::unexpected(reader.Error(*reader.table().get("gyro_drop_every_nth_sample"),
+                                          "gyro_drop_every_nth_sample",
+                                          "out of range: 1 would drop every sample; use 0 (off) "
+                                          "or >= 2"));
+    }
+    faults.gyro_drop_every_nth_sample = *drop;
+    HRG_TRY(never_ready, OptionalBool(reader, "gyro_never_ready", faults.gyro_never_ready));
+    faults.gyro_never_ready = *never_ready;
+    HRG_CHECK(reader.Unknown(
+        "gyro_stall_after_samples, gyro_stall_from_run, gyro_bus_off_after_samples, "
+        "gyro_drop_every_nth_sample, gyro_never_ready"));
+    return faults;
+  }
   HRG_TRY(never_stable, OptionalBool(reader, "table_never_stable", false));
   faults.table_never_stable = *never_stable;
   // Absent means never; a time beyond any session is a typo, not a way to say never.
@@ -244,6 +284,8 @@ std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader) {
   faults.table_unresponsive_after_s = *silent_after;
   HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
   faults.gyro_stall_after_samples = *stall;
+  HRG_TRY(stall_run, OptionalInteger(reader, "gyro_stall_from_run", 1, kMaxRunsBound, 1));
+  faults.gyro_stall_from_run = *stall_run;
   HRG_TRY(bus_off, MaybeInteger(reader, "gyro_bus_off_after_samples", 0, kMaxCount));
   faults.gyro_bus_off_after_samples = *bus_off;
   HRG_TRY(drop, OptionalInteger(reader, "gyro_drop_every_nth_sample", 0, kMaxCount, 0));
@@ -258,9 +300,63 @@ std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader) {
   faults.gyro_never_ready = *never_ready;
   HRG_CHECK(reader.Unknown(
       "table_never_stable, table_fault_after_s, table_unresponsive_after_s, "
-      "gyro_stall_after_samples, gyro_bus_off_after_samples, gyro_drop_every_nth_sample, "
-      "gyro_never_ready"));
+      "gyro_stall_after_samples, gyro_stall_from_run, gyro_bus_off_after_samples, "
+      "gyro_drop_every_nth_sample, gyro_never_ready"));
   return faults;
+}
+
+// HRG_TRY for a function that returns std::optional<ConfigError>.
+#define HRG_UNIT_TRY(var, expr) \
+  auto var = (expr);            \
+  if (!var) return std::move(var).error()
+
+// The keys that describe one simulated unit (its truth and behaviour), read into `sim` over the
+// values it has: [simulated]'s, or a position's over the station's. Physics as sim.physics says.
+std::optional<ConfigError> ReadSimulatedUnit(TableReader& reader, SimulatedStationConfig& sim,
+                                             std::int64_t default_seed) {
+  const bool carrier = sim.physics == SimulatedPhysics::kCarrier;
+  if (!carrier && reader.table().get("delta") != nullptr) {
+    HRG_UNIT_TRY(delta, RequiredVector<6>(reader, "delta", kAnyFinite));
+    sim.delta = *delta;
+  } else if (!carrier) {
+    reader.Find("delta");
+  }
+  if (!carrier && reader.table().get("xi") != nullptr) {
+    // Each |ξi| < 1/4 keeps I + C(ξ) invertible (estimator/model.hpp).
+    HRG_UNIT_TRY(xi, RequiredVector<4>(reader, "xi",
+                                  {-0.25, 0.25, false,
+                                   "in (-0.25, 0.25) so that I + C(xi) is "
+                                   "invertible",
+                                   false}));
+    sim.xi = *xi;
+  } else if (!carrier) {
+    reader.Find("xi");
+  }
+  if (!carrier) {
+    HRG_UNIT_TRY(sigma, OptionalNumber(reader, "sigma", {0.0, 1.0, true, "in [0, 1]"}, sim.sigma));
+    sim.sigma = *sigma;
+  }
+  HRG_UNIT_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(),
+                                default_seed));
+  sim.seed = static_cast<std::uint64_t>(*seed);
+  // The electronics report it in a 24-bit mHz field: the simulated ones refuse more.
+  if (!carrier) {
+    HRG_UNIT_TRY(f,
+            OptionalNumber(reader, "resonant_frequency_hz",
+                           {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
+                           sim.resonant_frequency_hz));
+    sim.resonant_frequency_hz = *f;
+  }
+  HRG_UNIT_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},
+                            sim.temperature_c));
+  sim.temperature_c = *t;
+  HRG_UNIT_TRY(drift, OptionalNumber(reader, "temperature_drift_c_per_s",
+                                {-1.0, 1.0, true, "in [-1, 1]"}, sim.temperature_drift_c_per_s));
+  sim.temperature_drift_c_per_s = *drift;
+  HRG_UNIT_TRY(excite, OptionalNumber(reader, "excite_time_s", {0.0, 600.0, true, "in [0, 600]"},
+                                 sim.excite_time_s));
+  sim.excite_time_s = *excite;
+  return std::nullopt;
 }
 
 std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& reader) {
@@ -296,46 +392,7 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
     HRG_CHECK(
         Forbid(reader, "carrier", "[simulated.carrier] applies only to physics = \"carrier\""));
   }
-  if (!carrier && reader.table().get("delta") != nullptr) {
-    HRG_TRY(delta, RequiredVector<6>(reader, "delta", kAnyFinite));
-    sim.delta = *delta;
-  } else if (!carrier) {
-    reader.Find("delta");
-  }
-  if (!carrier && reader.table().get("xi") != nullptr) {
-    // Each |ξi| < 1/4 keeps I + C(ξ) invertible (estimator/model.hpp).
-    HRG_TRY(xi, RequiredVector<4>(reader, "xi",
-                                  {-0.25, 0.25, false,
-                                   "in (-0.25, 0.25) so that I + C(xi) is "
-                                   "invertible",
-                                   false}));
-    sim.xi = *xi;
-  } else if (!carrier) {
-    reader.Find("xi");
-  }
-  if (!carrier) {
-    HRG_TRY(sigma, OptionalNumber(reader, "sigma", {0.0, 1.0, true, "in [0, 1]"}, sim.sigma));
-    sim.sigma = *sigma;
-  }
-  HRG_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(), 1));
-  sim.seed = static_cast<std::uint64_t>(*seed);
-  // The electronics report it in a 24-bit mHz field: the simulated ones refuse more.
-  if (!carrier) {
-    HRG_TRY(f,
-            OptionalNumber(reader, "resonant_frequency_hz",
-                           {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
-                           sim.resonant_frequency_hz));
-    sim.resonant_frequency_hz = *f;
-  }
-  HRG_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},
-                            sim.temperature_c));
-  sim.temperature_c = *t;
-  HRG_TRY(drift, OptionalNumber(reader, "temperature_drift_c_per_s",
-                                {-1.0, 1.0, true, "in [-1, 1]"}, sim.temperature_drift_c_per_s));
-  sim.temperature_drift_c_per_s = *drift;
-  HRG_TRY(excite, OptionalNumber(reader, "excite_time_s", {0.0, 600.0, true, "in [0, 600]"},
-                                 sim.excite_time_s));
-  sim.excite_time_s = *excite;
+  HRG_CHECK(ReadSimulatedUnit(reader, sim, 1));
   HRG_TRY(tau, OptionalNumber(reader, "table_settle_time_constant_s",
                               {0.0, 60.0, false, "in (0, 60]"}, sim.table_settle_time_constant_s));
   sim.table_settle_time_constant_s = *tau;
@@ -360,7 +417,7 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   HRG_TRY(faults_table, SubTable(reader, "faults", false));
   if (*faults_table != nullptr) {
     TableReader faults_reader(**faults_table, reader.KeyPath("faults"), reader.source());
-    HRG_TRY(faults, ReadFaults(faults_reader));
+    HRG_TRY(faults, ReadFaults(faults_reader, SimulatedFaults{}, false));
     sim.faults = *faults;
   }
   HRG_CHECK(reader.Unknown(
@@ -370,6 +427,145 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
       "table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], "
       "[simulated.faults]"));
   return sim;
+}
+
+bool IsPositionName(std::string_view name) {
+  if (name.empty() || name.size() > 8) return false;
+  for (char c : name) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                    c == '-' || c == '_';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
+                                                         const StationConfig& station,
+                                                         std::size_t index) {
+  FixturePosition position;
+  position.index = index;
+  HRG_TRY(name, RequiredString(reader, "position"));
+  if (!IsPositionName(*name)) {
+    return std::unexpected(reader.Error(*reader.table().get("position"), "position",
+                                        "out of range: 1 to 8 letters, digits, '-' or '_' (it "
+                                        "names the unit's session folder)"));
+  }
+  position.name = *name;
+  HRG_TRY(fitted, OptionalBool(reader, "fitted", true));
+  position.fitted = *fitted;
+  if (station.kind == StationKind::kReal) {
+    HRG_TRY(iface, RequiredString(reader, "can_interface"));
+    if (iface->size() > 15) {
+      return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
+                                          "out of range: a Linux interface name has <= 15 "
+                                          "characters"));
+    }
+    position.can_interface = *iface;
+    for (std::string_view key : {"delta", "xi", "sigma", "seed", "resonant_frequency_hz",
+                                 "temperature_c", "temperature_drift_c_per_s", "excite_time_s",
+                                 "faults"})
+      HRG_CHECK(Forbid(reader, key, "applies only to kind = \"simulated\""));
+  } else {
+    HRG_CHECK(Forbid(reader, "can_interface",
+                     "applies only to kind = \"real\" (each simulated position has its own "
+                     "in-process bus)"));
+    position.can_interface = "vsim-" + position.name;
+    if (station.simulated.physics == SimulatedPhysics::kCarrier) {
+      for (std::string_view key : {"delta", "xi", "sigma", "resonant_frequency_hz"})
+        HRG_CHECK(Forbid(reader, key,
+                         "applies only to physics = \"slow\" (a carrier unit's truth is "
+                         "[simulated.carrier])"));
+    }
+    // Read (and checked) as a whole unit; what the position itself sets is kept.
+    SimulatedStationConfig unit = station.simulated;
+    HRG_CHECK(ReadSimulatedUnit(reader, unit, 0));
+    const toml::table& keys = reader.table();
+    FixturePosition::SimulatedKeys& own = position.simulated;
+    if (keys.contains("delta")) own.delta = unit.delta;
+    if (keys.contains("xi")) own.xi = unit.xi;
+    if (keys.contains("sigma")) own.sigma = unit.sigma;
+    if (keys.contains("seed")) own.seed = unit.seed;
+    if (keys.contains("resonant_frequency_hz"))
+      own.resonant_frequency_hz = unit.resonant_frequency_hz;
+    if (keys.contains("temperature_c")) own.temperature_c = unit.temperature_c;
+    if (keys.contains("temperature_drift_c_per_s"))
+      own.temperature_drift_c_per_s = unit.temperature_drift_c_per_s;
+    if (keys.contains("excite_time_s")) own.excite_time_s = unit.excite_time_s;
+    HRG_TRY(faults_table, SubTable(reader, "faults", false));
+    if (*faults_table != nullptr) {
+      TableReader faults_reader(**faults_table, reader.KeyPath("faults"), reader.source());
+      HRG_TRY(faults, ReadFaults(faults_reader, SimulatedFaults{}, true));
+      const toml::table& fault_keys = faults_reader.table();
+      if (fault_keys.contains("gyro_stall_after_samples"))
+        own.gyro_stall_after_samples = faults->gyro_stall_after_samples;
+      if (fault_keys.contains("gyro_stall_from_run"))
+        own.gyro_stall_from_run = faults->gyro_stall_from_run;
+      if (fault_keys.contains("gyro_bus_off_after_samples"))
+        own.gyro_bus_off_after_samples = faults->gyro_bus_off_after_samples;
+      if (fault_keys.contains("gyro_drop_every_nth_sample"))
+        own.gyro_drop_every_nth_sample = faults->gyro_drop_every_nth_sample;
+      if (fault_keys.contains("gyro_never_ready")) own.gyro_never_ready = faults->gyro_never_ready;
+    }
+  }
+  HRG_CHECK(reader.Unknown(
+      "position, fitted, can_interface, delta, xi, sigma, seed, resonant_frequency_hz, "
+      "temperature_c, temperature_drift_c_per_s, excite_time_s, [fixture.faults]"));
+  return position;
+}
+
+// [[fixture]] (absent: one position on [gyro]'s interface). Names unique; no two fitted positions
+// on one bus (several units on one bus need node ids in the protocol, which v1 does not have).
+std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader& root,
+                                                                     const StationConfig& station,
+                                                                     const Source& source) {
+  std::vector<FixturePosition> fixture;
+  const toml::node* node = root.Find("fixture");
+  if (node == nullptr) {
+    FixturePosition only;
+    only.name = "1";
+    only.can_interface = station.kind == StationKind::kReal ? station.gyro.can_interface
+                                                            : "vcan-sim";
+    fixture.push_back(std::move(only));
+    return fixture;
+  }
+  const toml::array* positions = node->as_array();
+  if (positions == nullptr || !positions->is_array_of_tables() || positions->empty()) {
+    return std::unexpected(root.Error(
+        *node, "fixture", "wrong type: expected one or more [[fixture]] tables, one per position"));
+  }
+  if (positions->size() > kMaxFixturePositions) {
+    return std::unexpected(ConfigError{source.file(), LineOf(*positions->get(0)), "fixture", "",
+                                       "out of range: " + std::to_string(positions->size()) +
+                                           " [[fixture]] positions; a fixture has at most " +
+                                           std::to_string(kMaxFixturePositions)});
+  }
+  for (std::size_t i = 0; i < positions->size(); ++i) {
+    const toml::table& table = *positions->get(i)->as_table();
+    TableReader reader(table, "fixture[" + std::to_string(i) + "]", source);
+    HRG_TRY(position, ReadPosition(reader, station, i));
+    for (const FixturePosition& earlier : fixture) {
+      if (earlier.name == position->name) {
+        return std::unexpected(reader.Error(*table.get("position"), "position",
+                                            "conflict: position '" + position->name +
+                                                "' is declared twice"));
+      }
+      if (earlier.fitted && position->fitted && station.kind == StationKind::kReal &&
+          earlier.can_interface == position->can_interface) {
+        return std::unexpected(reader.Error(
+            *table.get("can_interface"), "can_interface",
+            "conflict: positions '" + earlier.name + "' and '" + position->name + "' are both on " +
+                position->can_interface +
+                "; gyro protocol v1 has no node id, so each unit needs its own bus"));
+      }
+    }
+    fixture.push_back(std::move(*position));
+  }
+  if (std::none_of(fixture.begin(), fixture.end(),
+                   [](const FixturePosition& position) { return position.fitted; })) {
+    return std::unexpected(
+        root.Error(*node, "fixture", "out of range: no position is fitted (fitted = false on all)"));
+  }
+  return fixture;
 }
 
 std::expected<RealtimeConfig, ConfigError> ReadRealtime(TableReader& reader) {
@@ -417,7 +613,7 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
   HRG_TRY(gyro_table, SubTable(root, "gyro", real));
   if (*gyro_table != nullptr) {
     TableReader reader(**gyro_table, "gyro", source);
-    HRG_TRY(gyro, ReadGyro(reader, station.kind));
+    HRG_TRY(gyro, ReadGyro(reader, station.kind, root.table().get("fixture") != nullptr));
     station.gyro = *gyro;
   }
 
@@ -436,6 +632,9 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     HRG_TRY(sim, ReadSimulated(reader));
     station.simulated = *sim;
   }
+
+  HRG_TRY(fixture, ReadFixture(root, station, source));
+  station.fixture = std::move(*fixture);
 
   HRG_TRY(rt_table, SubTable(root, "realtime", false));
   if (*rt_table != nullptr) {
@@ -458,11 +657,43 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     HRG_CHECK(reader.Unknown("url"));
   }
 
-  HRG_CHECK(root.Unknown("[station], [site], [gyro], [table], [simulated], [realtime], [results]"));
+  HRG_CHECK(root.Unknown(
+      "[station], [site], [gyro], [table], [simulated], [[fixture]], [realtime], [results]"));
   return station;
 }
 
 }  // namespace
+
+std::vector<const FixturePosition*> FittedPositions(const StationConfig& station) {
+  std::vector<const FixturePosition*> fitted;
+  for (const FixturePosition& position : station.fixture) {
+    if (position.fitted) fitted.push_back(&position);
+  }
+  return fitted;
+}
+
+SimulatedStationConfig PositionSimulated(const StationConfig& station,
+                                         const FixturePosition& position) {
+  SimulatedStationConfig unit = station.simulated;
+  const FixturePosition::SimulatedKeys& own = position.simulated;
+  constexpr std::uint64_t kSeedStride = 1000;
+  unit.seed = own.seed.value_or(station.simulated.seed + kSeedStride * position.index);
+  if (own.delta) unit.delta = *own.delta;
+  if (own.xi) unit.xi = *own.xi;
+  if (own.sigma) unit.sigma = *own.sigma;
+  if (own.resonant_frequency_hz) unit.resonant_frequency_hz = *own.resonant_frequency_hz;
+  if (own.temperature_c) unit.temperature_c = *own.temperature_c;
+  if (own.temperature_drift_c_per_s) unit.temperature_drift_c_per_s = *own.temperature_drift_c_per_s;
+  if (own.excite_time_s) unit.excite_time_s = *own.excite_time_s;
+  if (own.gyro_stall_after_samples) unit.faults.gyro_stall_after_samples = own.gyro_stall_after_samples;
+  if (own.gyro_stall_from_run) unit.faults.gyro_stall_from_run = *own.gyro_stall_from_run;
+  if (own.gyro_bus_off_after_samples)
+    unit.faults.gyro_bus_off_after_samples = own.gyro_bus_off_after_samples;
+  if (own.gyro_drop_every_nth_sample)
+    unit.faults.gyro_drop_every_nth_sample = *own.gyro_drop_every_nth_sample;
+  if (own.gyro_never_ready) unit.faults.gyro_never_ready = *own.gyro_never_ready;
+  return unit;
+}
 
 std::string_view ToString(StationKind kind) noexcept {
   return kind == StationKind::kReal ? "real" : "simulated";

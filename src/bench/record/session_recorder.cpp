@@ -95,6 +95,7 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   doc["can_log"] = {{"file", "can/session.log"}, {"interface", header.can_interface}};
   if (header.simulation) doc["simulation"] = *header.simulation;
   if (header.electronics) doc["electronics"] = *header.electronics;
+  if (header.fixture) doc["fixture"] = *header.fixture;
   json runs = json::array();
   for (const PlannedRun& plan : header.runs) {
     session::RunEntry entry{plan.id, internal::RunFileName(plan.id), plan.commanded_omega_rad_s,

@@ -1,8 +1,11 @@
 #pragma once
-// State shared by the steps of one session (internal to the sequencer).
+// State shared by the steps of one session (internal to the sequencer): the table's part, and one
+// lane per unit on it.
 
 #include <atomic>
 #include <cstdint>
+#include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -12,7 +15,8 @@
 
 namespace hrgbench::bench::internal {
 
-// Why a step stopped the session. kNone: go on.
+// Why a step stopped. kNone: go on. A step returns the table's (every unit's) stop; a unit's own
+// stop ends only its lane (SessionContext::EndUnit).
 enum class StopKind { kNone, kError, kAborted };
 
 struct StepOutcome {
@@ -24,38 +28,58 @@ struct StepOutcome {
   bool ok() const { return stop == StopKind::kNone; }
 };
 
+// One unit's part of the session.
+struct UnitLane {
+  const UnitHardware* hw = nullptr;
+  SessionRecorder* recorder = nullptr;
+  std::filesystem::path dir;
+  std::string label;        // "A SN-1: " before its log lines when the table carries several
+  std::set<int> remaining;  // run ids still to make
+  bool ended = false;       // its session is closed; it takes no further part
+  SessionResult result;     // its warnings as they come; the rest once it ends
+  std::vector<LoggedCanFrame> logged_scratch;
+
+  bool Takes(int run_id) const { return !ended && remaining.contains(run_id); }
+};
+
 struct SessionContext {
   const BenchConfigs* configs = nullptr;
   const BenchHardware* hw = nullptr;
   const RunnerOptions* options = nullptr;
-  SessionRecorder* recorder = nullptr;
+  std::vector<UnitLane> lanes;
   double earth_rate_rad_s = 0.0;
   std::int64_t start_ns = 0;            // hardware clock at the start of this invocation
   std::int64_t unix_offset_ns = 0;      // unix time = hardware clock + offset (CAN log stamps)
   std::int64_t last_progress_ns = 0;
-  std::atomic<bool> stop_capture{false};  // set on the first interrupt; read by the capture thread
+  std::atomic<bool> stop_capture{false};  // set on the first interrupt; read by capture threads
   int run_index = 0;                    // 1-based, this invocation
   int run_count = 0;
   double remaining_free_run_s = 0.0;    // of the runs not yet captured
-  std::vector<std::string> warnings;
-  std::vector<hw::CanFrame> frame_scratch;
-  std::vector<LoggedCanFrame> logged_scratch;
 
   bool Interrupted() const;
   // Who stopped the session, for the record: "aborted by operator" (SIGINT: Ctrl-C, the panel's
   // Abort) or "stopped by SIGTERM".
   std::string InterruptCause() const;
   void Log(std::string_view line) const;
+  void Log(const UnitLane& lane, std::string_view line) const;
   void ReportProgress(const Progress& progress, bool force = false);
   double Seconds(std::int64_t from_ns) const;
-  // Moves every frame the monitor has received to the CAN log. Never blocks.
-  StepOutcome PumpCanLog();
+  int LiveUnits() const;
+  // Moves every frame the lane's monitor has received to its CAN log. Never blocks.
+  StepOutcome PumpCanLog(UnitLane& lane);
+  // Every live lane's; a lane whose log cannot be written is ended (its own fault).
+  void PumpCanLogs();
+  // Ends a lane on its own fault: its gyro stopped (and the table brought to zero rate first when
+  // it was the last unit on it), its log completed, its session closed with the reason.
+  void EndUnit(UnitLane& lane, const StepOutcome& why);
 };
 
 StepOutcome WaitForWarmup(SessionContext& ctx);
 StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id);
 
-// Puts the hardware in its safe state: table to zero rate, gyro stopped. Never throws.
+// Puts the table in its safe state (zero rate) and every gyro in its own (stopped). Never throws.
 void MakeSafe(const BenchHardware& hw) noexcept;
+// Stops one gyro. Never throws.
+void StopGyro(const UnitHardware& unit) noexcept;
 
 }  // namespace hrgbench::bench::internal

@@ -1,7 +1,10 @@
-// One free run: table to Ω, settle, excite, ready, release, capture, stop, judge, record.
+// One free run: table to Ω, settle, excite, ready, release, capture, stop, judge, record; every
+// unit that still needs the run takes part.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <expected>
+#include <memory>
 #include <vector>
 
 #include "bench/sequencer/run_context.hpp"
@@ -50,20 +53,25 @@ StepOutcome SettleTable(SessionContext& ctx, double omega_rad_s) {
     if (stable) return StepOutcome::Ok();
     if (stable.error().code != hw::RateTableErrorCode::kNotStable)
       return StepOutcome::Error("rate table: " + stable.error().ToString());
-    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) return pumped;
+    ctx.PumpCanLogs();
   }
 }
 
-// Gyro configured, excited and ready; returns the ready status.
-std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const SequenceRun& run) {
-  hw::GyroElectronics& gyro = *ctx.hw->gyro;
+// Gyro configured and excited (the wait for "ready" comes after every unit is excited).
+StepOutcome ExciteGyro(hw::GyroElectronics& gyro, const SequenceRun& run) {
   if (gyro.State() != hw::GyroMode::kConfigured && gyro.State() != hw::GyroMode::kReady) {
     if (auto configured = gyro.Configure({.sample_rate_hz = run.sample_rate_hz}); !configured)
-      return std::unexpected(StepOutcome::Error("gyro: configure: " + configured.error().ToString()));
+      return StepOutcome::Error("gyro: configure: " + configured.error().ToString());
   }
   if (auto excited = gyro.Excite({run.a, run.b, run.theta_rad}); !excited)
-    return std::unexpected(StepOutcome::Error("gyro: excite: " + excited.error().ToString()));
-  const std::int64_t deadline = ctx.hw->clock->NowNs() + Ns(ctx.configs->sequence.timeouts.excite_s);
+    return StepOutcome::Error("gyro: excite: " + excited.error().ToString());
+  return StepOutcome::Ok();
+}
+
+// Waits until the lane's gyro reports ready or `deadline` passes; the unit's fault as an error
+// (the caller ends its lane), an interrupt as the table's stop.
+std::expected<hw::GyroStatus, StepOutcome> WaitUntilReady(SessionContext& ctx, UnitLane& lane,
+                                                          std::int64_t deadline) {
   for (;;) {
     if (ctx.Interrupted())
       return std::unexpected(StepOutcome::Aborted(ctx.InterruptCause() + " during excitation"));
@@ -71,8 +79,9 @@ std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const
     if (left <= 0)
       return std::unexpected(StepOutcome::Error(
           "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s"));
-    auto ready = gyro.WaitReady(std::min(left, Ns(kWaitSliceS)));
-    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) return std::unexpected(pumped);
+    auto ready = lane.hw->gyro->WaitReady(std::min(left, Ns(kWaitSliceS)));
+    ctx.PumpCanLogs();
+    if (lane.ended) return std::unexpected(StepOutcome::Error(lane.result.reason));
     if (ready) return *ready;
     if (ready.error().code != hw::GyroErrorCode::kTimeout)
       return std::unexpected(StepOutcome::Error("gyro: " + ready.error().ToString()));
@@ -82,6 +91,138 @@ std::expected<hw::GyroStatus, StepOutcome> ExciteGyro(SessionContext& ctx, const
 double RelativeChange(double start, double end) {
   if (!std::isfinite(start) || !std::isfinite(end) || start == 0.0) return 0.0;
   return std::abs(end - start) / std::abs(start);
+}
+
+// One unit's part of a run: from its release to its end in the record.
+struct UnitRun {
+  UnitLane* lane = nullptr;
+  RunStart start;
+  std::int64_t release_stamp_ns = 0;  // the acknowledged release, transport time base
+  std::int64_t released_at_ns = 0;    // the same on the bench clock (deadlines, progress)
+  bool begun = false;                 // BeginRun recorded: EndRun must follow
+  std::unique_ptr<SampleRing> ring;
+  std::unique_ptr<CaptureThread> capture;
+  StepOutcome outcome;  // the unit's own fault in this run
+  std::uint64_t samples = 0;
+  std::uint64_t samples_lost = 0;
+};
+
+// Moves what the unit's capture pushed to its record; a record that cannot be written is the
+// unit's fault (its capture is asked to stop).
+void DrainUnit(SessionContext& ctx, UnitRun& unit, int run_id, std::vector<hw::GyroSample>& drained,
+               std::vector<GyroSampleRecord>& records) {
+  drained.clear();
+  Drain(*unit.ring, drained);
+  if (drained.empty() || !unit.outcome.ok()) return;
+  records.clear();
+  records.reserve(drained.size());
+  for (const hw::GyroSample& sample : drained)
+    records.push_back(ToSampleRecord(sample, unit.release_stamp_ns));
+  unit.samples += records.size();
+  if (ctx.options->on_samples && ctx.lanes.size() == 1) ctx.options->on_samples(run_id, records);
+  if (auto appended = unit.lane->recorder->AppendSamples(records); !appended) {
+    unit.outcome = StepOutcome::Error("record: " + appended.error().ToString());
+    unit.capture->RequestStop();
+  }
+}
+
+// The unit's run as the record ends it: counts, Ω, drift; the unit's fault, if any, in
+// unit.outcome; `table` is the table's stop, if the run ended on one.
+void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int run_id,
+                const CaptureResult& result, const RunOmegaReadings& omega,
+                const StepOutcome& table) {
+  const SequenceConfig& seq = ctx.configs->sequence;
+  UnitLane& lane = *unit.lane;
+  hw::GyroElectronics& gyro = *lane.hw->gyro;
+  RunEnd end;
+  end.temperature_start_c = unit.start.temperature_c;
+  end.frequency_start_hz = unit.start.resonant_frequency_hz;
+  const hw::GyroCounters delta = result.CounterDelta();
+  end.sequence_gaps = result.sequence_gaps;
+  end.kernel_drops = delta.kernel_drops;
+  end.bad_frames = delta.bad_frames;
+  end.reference_phase_undone_samples = result.samples_reference_phase_undone;
+  end.reference_phases_missing = delta.reference_phases_missing;
+  if (auto status = gyro.RequestStatus(); status) {
+    end.temperature_end_c = status->temperature_c;
+    end.frequency_end_hz = status->resonant_frequency_hz;
+  }
+  const auto stopped = gyro.Stop();
+  // The run's closing frames (status request, Stop and their acks) belong to this run's record,
+  // not the next one's, and the last run's would otherwise never be logged.
+  if (StepOutcome pumped = ctx.PumpCanLog(lane); !pumped.ok() && unit.outcome.ok())
+    unit.outcome = pumped;
+  StepOutcome outcome = table.ok() ? unit.outcome : table;
+  if (StepOutcome measured = omega.Finish(ctx.earth_rate_rad_s, unit.start.measured_omega_rad_s, end);
+      !measured.ok() && outcome.ok()) {
+    outcome = measured;
+  }
+  if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
+    outcome =
+        result.termination == CaptureTermination::kStopRequested
+            ? StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id))
+            : StepOutcome::Error("capture of run " + std::to_string(run_id) +
+                                 " ended: " + std::string(ToString(result.termination)) +
+                                 " after " + std::to_string(result.samples_pushed) + " of " +
+                                 std::to_string(run.Samples()) + " samples");
+  }
+  if (outcome.ok() && !stopped)
+    outcome = StepOutcome::Error("gyro: stop: " + stopped.error().ToString());
+  const std::uint64_t lost = result.samples_missing + result.ring_overruns;
+  if (outcome.ok() &&
+      (static_cast<std::int64_t>(result.sequence_gaps) > seq.capture.max_sequence_gaps ||
+       static_cast<std::int64_t>(lost) > seq.capture.max_samples_lost)) {
+    outcome = StepOutcome::Error("too many drops in run " + std::to_string(run_id) + ": " +
+                                 std::to_string(result.sequence_gaps) + " gaps, " +
+                                 std::to_string(lost) + " samples lost (allowed " +
+                                 std::to_string(seq.capture.max_sequence_gaps) + ", " +
+                                 std::to_string(seq.capture.max_samples_lost) + ")");
+  }
+
+  if (!outcome.ok()) {
+    end.status = kRunAborted;
+    end.reason = outcome.reason;
+  } else {
+    // The paper estimates only when temperature is stationary (change < 1 %).
+    const double temperature_change = RelativeChange(end.temperature_start_c, end.temperature_end_c);
+    const double frequency_change = RelativeChange(end.frequency_start_hz, end.frequency_end_hz);
+    std::string drift;
+    if (temperature_change > seq.drift.max_temperature_change_rel)
+      drift = "temperature changed by " + Format("%.3g %%", 100 * temperature_change);
+    if (seq.drift.max_frequency_change_rel && frequency_change > *seq.drift.max_frequency_change_rel)
+      drift += (drift.empty() ? "" : ", ") +
+               ("resonant frequency changed by " + Format("%.3g %%", 100 * frequency_change));
+    if (!drift.empty()) {
+      const std::string line = "run " + std::to_string(run_id) + ": " + drift;
+      if (seq.drift.action == DriftAction::kReject) {
+        end.status = kRunRejected;
+        end.reason = drift;
+        lane.result.warnings.push_back(line + " (rejected)");
+      } else {
+        end.reason = "flagged: " + drift;  // kept for the estimator, marked in the record
+        lane.result.warnings.push_back(line + " (flagged)");
+      }
+      ctx.Log(lane, lane.result.warnings.back());
+    }
+  }
+  if (auto ended = lane.recorder->EndRun(end); !ended && outcome.ok())
+    outcome = StepOutcome::Error("record: " + ended.error().ToString());
+  if (ctx.options->on_run_end && ctx.lanes.size() == 1)
+    ctx.options->on_run_end(run_id, end, unit.samples);
+  if (outcome.ok()) {
+    lane.remaining.erase(run_id);
+    ctx.Log(lane,
+            "run " + std::to_string(run_id) + " " +
+                (end.status == kRunComplete ? "complete" : end.status) + ": " +
+                std::to_string(unit.samples) + " samples, Ω = " +
+                Format("%.12g", end.omega_rad_s) + " ± " +
+                Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " + end.omega_source +
+                (end.omega_source == "rate" &&
+                         ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
+                     ? " readings (" + omega.NoAngleReason() + ")"
+                     : ""));
+  }
+  if (table.ok()) unit.outcome = outcome;
 }
 
 }  // namespace
@@ -94,23 +235,44 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   progress.run_count = ctx.run_count;
   progress.run_id = run_id;
   progress.omega_rad_s = run.omega_rad_s;
-  progress.samples_expected = run.Samples();
   progress.phase = "table";
   ctx.ReportProgress(progress, true);
   if (StepOutcome settled = SettleTable(ctx, run.omega_rad_s); !settled.ok()) return settled;
 
+  // Every unit excited first, then each waited for: their excitations overlap in time.
   progress.phase = "excite";
   ctx.ReportProgress(progress, true);
-  auto ready = ExciteGyro(ctx, run);
-  if (!ready) return ready.error();
+  std::vector<UnitRun> units;
+  for (UnitLane& lane : ctx.lanes) {
+    if (!lane.Takes(run_id)) continue;
+    if (StepOutcome excited = ExciteGyro(*lane.hw->gyro, run); !excited.ok()) {
+      ctx.EndUnit(lane, excited);
+      continue;
+    }
+    units.push_back({});
+    units.back().lane = &lane;
+  }
+  const std::int64_t ready_deadline = hw.clock->NowNs() + Ns(seq.timeouts.excite_s);
+  for (UnitRun& unit : units) {
+    if (unit.lane->ended) continue;
+    auto ready = WaitUntilReady(ctx, *unit.lane, ready_deadline);
+    if (!ready) {
+      if (ready.error().stop == StopKind::kAborted) return ready.error();
+      ctx.EndUnit(*unit.lane, ready.error());
+      continue;
+    }
+    unit.start.commanded_omega_rad_s = run.omega_rad_s;
+    unit.start.earth_rate_rad_s = ctx.earth_rate_rad_s;
+    unit.start.temperature_c = ready->temperature_c;
+    unit.start.resonant_frequency_hz = ready->resonant_frequency_hz;
+  }
+  std::erase_if(units, [](const UnitRun& unit) { return unit.lane->ended; });
+  if (units.empty()) return StepOutcome::Ok();
+  progress.samples_expected = run.Samples() * units.size();
 
-  RunStart start;
-  start.commanded_omega_rad_s = run.omega_rad_s;
-  start.earth_rate_rad_s = ctx.earth_rate_rad_s;
-  start.temperature_c = ready->temperature_c;
-  start.resonant_frequency_hz = ready->resonant_frequency_hz;
+  double measured_omega_rad_s = 0.0;
   if (auto table = hw.table->ReadStatus(); table) {
-    start.measured_omega_rad_s = table->measured_rate_rad_s;
+    measured_omega_rad_s = table->measured_rate_rad_s;
   } else {
     return StepOutcome::Error("rate table: " + table.error().ToString());
   }
@@ -119,61 +281,63 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   ctx.ReportProgress(progress, true);
   progress.phase = "release";
   ctx.ReportProgress(progress, true);
-  auto release = hw.gyro->Release();
-  if (!release) return StepOutcome::Error("gyro: release: " + release.error().ToString());
-  // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the samples'
-  // too; deadlines and progress run on the bench's clock, so note the release there as well.
-  const std::int64_t released_at = hw.clock->NowNs();
+  for (UnitRun& unit : units) {
+    unit.start.measured_omega_rad_s = measured_omega_rad_s;
+    auto release = unit.lane->hw->gyro->Release();
+    if (!release) {
+      unit.outcome = StepOutcome::Error("gyro: release: " + release.error().ToString());
+      continue;
+    }
+    // The release stamp is on the transport's time base (SocketCAN: CLOCK_REALTIME), the
+    // samples' too; deadlines and progress run on the bench's clock, so note the release there.
+    unit.released_at_ns = hw.clock->NowNs();
+    unit.release_stamp_ns = *release;
+    unit.start.release_t_ns = *release;
+  }
   // One table read per loop period for the run and its margin, the release and the end.
   const auto table_reads = static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) *
                                                     1e9 / static_cast<double>(kTableReadPeriodNs));
   RunOmegaReadings omega(ctx.configs->station.table.omega_source, table_reads + 8);
-  if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) {
-    MakeSafe(hw);
-    return read;
-  }
-  start.release_t_ns = *release;
-  if (auto begun = ctx.recorder->BeginRun(run_id, start); !begun)
-    return StepOutcome::Error("record: " + begun.error().ToString());
+  if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) return read;
 
-  // Capture on its own thread; this thread streams to the record and keeps the table alive.
-  SampleRing ring(1u << 16);
-  CaptureThread capture;
-  CaptureRun capture_run;
-  capture_run.sample_count = run.Samples();
-  capture_run.deadline_ns = released_at + Ns(run.free_run_s + seq.timeouts.run_margin_s);
-  capture_run.clock = hw.clock;
-  capture_run.max_silence_ns = ctx.configs->station.gyro.sample_timeout_ms * 1'000'000;
-  capture_run.external_stop = &ctx.stop_capture;
+  // Capture on one thread per unit; this thread streams to the records and keeps the table alive.
   const RealtimeConfig& rt = ctx.configs->station.realtime;
-  capture_run.realtime = {rt.priority, rt.cpu, rt.lock_memory};
-  if (auto started = capture.Start(*hw.gyro, ring, capture_run); !started) {
-    MakeSafe(hw);
-    return StepOutcome::Error("capture: " + started.error().message);
+  for (UnitRun& unit : units) {
+    if (!unit.outcome.ok()) continue;
+    if (auto begun = unit.lane->recorder->BeginRun(run_id, unit.start); !begun) {
+      unit.outcome = StepOutcome::Error("record: " + begun.error().ToString());
+      continue;
+    }
+    unit.begun = true;
+    unit.ring = std::make_unique<SampleRing>(1u << 16);
+    unit.capture = std::make_unique<CaptureThread>();
+    CaptureRun capture_run;
+    capture_run.sample_count = run.Samples();
+    capture_run.deadline_ns = unit.released_at_ns + Ns(run.free_run_s + seq.timeouts.run_margin_s);
+    capture_run.clock = hw.clock;
+    capture_run.max_silence_ns = ctx.configs->station.gyro.sample_timeout_ms * 1'000'000;
+    capture_run.external_stop = &ctx.stop_capture;
+    capture_run.realtime = {rt.priority, rt.cpu, rt.lock_memory};
+    if (auto started = unit.capture->Start(*unit.lane->hw->gyro, *unit.ring, capture_run);
+        !started)
+      unit.outcome = StepOutcome::Error("capture: " + started.error().message);
   }
 
   progress.phase = "capture";
   std::vector<hw::GyroSample> drained;
   std::vector<GyroSampleRecord> records;
   std::int64_t next_table_read = 0;
-  StepOutcome outcome = StepOutcome::Ok();
-  const auto drain = [&]() -> bool {
-    drained.clear();
-    Drain(ring, drained);
-    records.resize(drained.size());
-    for (std::size_t i = 0; i < drained.size(); ++i)
-      records[i] = ToSampleRecord(drained[i], *release);
-    if (records.empty()) return true;
-    progress.samples += records.size();
-    if (ctx.options->on_samples) ctx.options->on_samples(run_id, records);
-    if (auto appended = ctx.recorder->AppendSamples(records); !appended) {
-      outcome = StepOutcome::Error("record: " + appended.error().ToString());
-      return false;
+  StepOutcome outcome = StepOutcome::Ok();  // the table's
+  const auto capturing = [&units] {
+    for (const UnitRun& unit : units) {
+      if (unit.capture && unit.capture->Running()) return true;
     }
-    return true;
+    return false;
   };
-  while (capture.Running()) {
-    if (!drain()) break;
+  while (capturing()) {
+    for (UnitRun& unit : units) {
+      if (unit.capture) DrainUnit(ctx, unit, run_id, drained, records);
+    }
     const std::int64_t now = hw.clock->NowNs();
     if (now >= next_table_read) {
       next_table_read = now + kTableReadPeriodNs;
@@ -200,115 +364,55 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
           StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id));
       break;
     }
-    if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok()) {
-      outcome = pumped;
-      break;
+    progress.samples = 0;
+    progress.samples_lost = 0;
+    std::int64_t released_at = now;
+    for (UnitRun& unit : units) {
+      if (!unit.capture) continue;
+      if (StepOutcome pumped = ctx.PumpCanLog(*unit.lane); !pumped.ok() && unit.outcome.ok()) {
+        unit.outcome = pumped;
+        unit.capture->RequestStop();
+      }
+      const CaptureProgress live = unit.capture->Progress();
+      progress.samples += unit.samples;
+      progress.samples_lost += live.samples_missing + live.ring_overruns;
+      released_at = std::min(released_at, unit.released_at_ns);
     }
-    const CaptureProgress live = capture.Progress();
-    progress.samples_lost = live.samples_missing + live.ring_overruns;
     progress.elapsed_s = ctx.Seconds(now);
     progress.remaining_s = ctx.remaining_free_run_s -
                            std::min(run.free_run_s, static_cast<double>(now - released_at) * 1e-9);
     ctx.ReportProgress(progress);
     hw.clock->SleepForNs(kLoopPeriodNs);
   }
-  if (!outcome.ok()) capture.RequestStop();
-  // Running() is false (or the stop was requested): the join is short.
-  while (capture.Running()) hw.clock->SleepForNs(kLoopPeriodNs);
-  const CaptureResult result = capture.Join();
-  if (outcome.ok()) drain();
-  // The angle once more, now that the capture is over: the fit spans the whole run.
+  if (!outcome.ok()) {
+    for (UnitRun& unit : units) {
+      if (unit.capture) unit.capture->RequestStop();
+    }
+  }
+  // Every loop has ended (or been asked to): the joins are short.
+  while (capturing()) hw.clock->SleepForNs(kLoopPeriodNs);
+  std::vector<CaptureResult> results;
+  for (UnitRun& unit : units) {
+    results.push_back(unit.capture ? unit.capture->Join() : CaptureResult{});
+    if (outcome.ok() && unit.capture) DrainUnit(ctx, unit, run_id, drained, records);
+  }
+  // The angle once more, now that the captures are over: the fit spans the whole run.
   if (outcome.ok()) {
     if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) outcome = read;
   }
-  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
 
   progress.phase = "stop";
   ctx.ReportProgress(progress, true);
-  RunEnd end;
-  end.temperature_start_c = start.temperature_c;
-  end.frequency_start_hz = start.resonant_frequency_hz;
-  const hw::GyroCounters delta = result.CounterDelta();
-  end.sequence_gaps = result.sequence_gaps;
-  end.kernel_drops = delta.kernel_drops;
-  end.bad_frames = delta.bad_frames;
-  end.reference_phase_undone_samples = result.samples_reference_phase_undone;
-  end.reference_phases_missing = delta.reference_phases_missing;
-  if (auto status = hw.gyro->RequestStatus(); status) {
-    end.temperature_end_c = status->temperature_c;
-    end.frequency_end_hz = status->resonant_frequency_hz;
-  }
-  const auto stopped = hw.gyro->Stop();
-  // The run's closing frames (status request, Stop and their acks) belong to this run's record,
-  // not the next one's, and the last run's would otherwise never be logged.
-  if (StepOutcome pumped = ctx.PumpCanLog(); !pumped.ok() && outcome.ok()) outcome = pumped;
-  if (StepOutcome measured = omega.Finish(ctx.earth_rate_rad_s, start.measured_omega_rad_s, end);
-      !measured.ok() && outcome.ok()) {
-    outcome = measured;
-  }
-
-  if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
-    outcome =
-        result.termination == CaptureTermination::kStopRequested
-            ? StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id))
-            : StepOutcome::Error("capture of run " + std::to_string(run_id) +
-                                 " ended: " + std::string(ToString(result.termination)) +
-                                 " after " + std::to_string(result.samples_pushed) + " of " +
-                                 std::to_string(run.Samples()) + " samples");
-  }
-  if (outcome.ok() && !stopped)
-    outcome = StepOutcome::Error("gyro: stop: " + stopped.error().ToString());
-  const std::uint64_t lost = result.samples_missing + result.ring_overruns;
-  if (outcome.ok() && (static_cast<std::int64_t>(result.sequence_gaps) > seq.capture.max_sequence_gaps ||
-                       static_cast<std::int64_t>(lost) > seq.capture.max_samples_lost)) {
-    outcome = StepOutcome::Error("too many drops in run " + std::to_string(run_id) + ": " +
-                                 std::to_string(result.sequence_gaps) + " gaps, " +
-                                 std::to_string(lost) + " samples lost (allowed " +
-                                 std::to_string(seq.capture.max_sequence_gaps) + ", " +
-                                 std::to_string(seq.capture.max_samples_lost) + ")");
-  }
-
-  if (!outcome.ok()) {
-    end.status = kRunAborted;
-    end.reason = outcome.reason;
-  } else {
-    // The paper estimates only when temperature is stationary (change < 1 %).
-    const double temperature_change = RelativeChange(end.temperature_start_c, end.temperature_end_c);
-    const double frequency_change = RelativeChange(end.frequency_start_hz, end.frequency_end_hz);
-    std::string drift;
-    if (temperature_change > seq.drift.max_temperature_change_rel)
-      drift = "temperature changed by " + Format("%.3g %%", 100 * temperature_change);
-    if (seq.drift.max_frequency_change_rel && frequency_change > *seq.drift.max_frequency_change_rel)
-      drift += (drift.empty() ? "" : ", ") +
-               ("resonant frequency changed by " + Format("%.3g %%", 100 * frequency_change));
-    if (!drift.empty()) {
-      const std::string line = "run " + std::to_string(run_id) + ": " + drift;
-      if (seq.drift.action == DriftAction::kReject) {
-        end.status = kRunRejected;
-        end.reason = drift;
-        ctx.warnings.push_back(line + " (rejected)");
-      } else {
-        end.reason = "flagged: " + drift;  // kept for the estimator, marked in the record
-        ctx.warnings.push_back(line + " (flagged)");
-      }
-      ctx.Log(ctx.warnings.back());
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    UnitRun& unit = units[i];
+    if (unit.begun) {
+      EndUnitRun(ctx, unit, run, run_id, results[i], omega, outcome);
+    } else {
+      StopGyro(*unit.lane->hw);
     }
+    if (outcome.ok() && !unit.outcome.ok()) ctx.EndUnit(*unit.lane, unit.outcome);
   }
-  if (auto ended = ctx.recorder->EndRun(end); !ended && outcome.ok())
-    outcome = StepOutcome::Error("record: " + ended.error().ToString());
   ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
-  if (ctx.options->on_run_end) ctx.options->on_run_end(run_id, end, progress.samples);
-  if (outcome.ok()) {
-    ctx.Log("run " + std::to_string(run_id) + " " +
-            (end.status == kRunComplete ? "complete" : end.status) + ": " +
-            std::to_string(progress.samples) + " samples, Ω = " + Format("%.12g", end.omega_rad_s) +
-            " ± " + Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " +
-            end.omega_source +
-            (end.omega_source == "rate" &&
-                     ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
-                 ? " readings (" + omega.NoAngleReason() + ")"
-                 : ""));
-  }
   return outcome;
 }
 

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <optional>
+#include <set>
 #include <thread>
 
 #include "bench/sequencer/run_context.hpp"
@@ -29,6 +31,16 @@ void SessionContext::Log(std::string_view line) const {
   if (options->on_log) options->on_log(line);
 }
 
+void SessionContext::Log(const UnitLane& lane, std::string_view line) const {
+  if (options->on_log) options->on_log(lane.label + std::string(line));
+}
+
+int SessionContext::LiveUnits() const {
+  int live = 0;
+  for (const UnitLane& lane : lanes) live += lane.ended ? 0 : 1;
+  return live;
+}
+
 void SessionContext::ReportProgress(const Progress& progress, bool force) {
   if (!options->on_progress) return;
   const std::int64_t now = hw->clock->NowNs();
@@ -39,6 +51,8 @@ void SessionContext::ReportProgress(const Progress& progress, bool force) {
   Progress p = progress;
   p.run_count = run_count;
   p.elapsed_s = Seconds(now);
+  p.units_active = LiveUnits();
+  p.unit_count = static_cast<int>(lanes.size());
   // Outside a capture the free-run time still ahead is the estimate (the capture knows better).
   if (p.phase != "capture") p.remaining_s = remaining_free_run_s;
   options->on_progress(p);
@@ -48,36 +62,70 @@ double SessionContext::Seconds(std::int64_t from_ns) const {
   return static_cast<double>(from_ns - start_ns) * 1e-9;
 }
 
-StepOutcome SessionContext::PumpCanLog() {
-  if (hw->monitor == nullptr) return StepOutcome::Ok();
-  logged_scratch.clear();
+StepOutcome SessionContext::PumpCanLog(UnitLane& lane) {
+  hw::CanBus* monitor = lane.hw->monitor;
+  if (monitor == nullptr || lane.ended) return StepOutcome::Ok();
+  std::vector<LoggedCanFrame>& logged = lane.logged_scratch;
+  logged.clear();
   hw::CanFrame frame;
   hw::ReceiveInfo info;
   // Bounded: a babbling bus must not keep the sequencer from its other duties.
   for (int i = 0; i < 100000; ++i) {
-    if (hw->monitor->Receive(&frame, 0, &info) != hw::CanStatus::kOk) break;
+    if (monitor->Receive(&frame, 0, &info) != hw::CanStatus::kOk) break;
     std::int64_t unix_ns = hw->clock->NowNs() + unix_offset_ns;
     if (info.timestamp_ns != 0) {
-      if (hw->monitor_stamps_on_bench_clock)
+      if (lane.hw->monitor_stamps_on_bench_clock)
         unix_ns = info.timestamp_ns + unix_offset_ns;
       else if (info.timestamp_source == hw::TimestampSource::kSoftware)
         unix_ns = info.timestamp_ns;  // already CLOCK_REALTIME
     }
-    logged_scratch.push_back({unix_ns, frame});
+    logged.push_back({unix_ns, frame});
   }
-  if (logged_scratch.empty()) return StepOutcome::Ok();
-  if (auto appended = recorder->AppendCanFrames(logged_scratch); !appended)
+  if (logged.empty()) return StepOutcome::Ok();
+  if (auto appended = lane.recorder->AppendCanFrames(logged); !appended)
     return StepOutcome::Error("record: CAN log: " + appended.error().ToString());
   return StepOutcome::Ok();
 }
 
+void SessionContext::PumpCanLogs() {
+  for (UnitLane& lane : lanes) {
+    if (StepOutcome pumped = PumpCanLog(lane); !pumped.ok()) EndUnit(lane, pumped);
+  }
+}
+
+void SessionContext::EndUnit(UnitLane& lane, const StepOutcome& why) {
+  if (lane.ended) return;
+  const bool last = LiveUnits() == 1;
+  if (last) hw->table->SafeStop();
+  StopGyro(*lane.hw);
+  // The safe-state commands and whatever came before them, in the log before it closes; a log
+  // that cannot be written now changes nothing (the unit already stops with its reason).
+  (void)PumpCanLog(lane);
+  Log(lane, "stopping: " + why.reason +
+                (last ? "; table commanded to zero rate, gyro stopped" : "; gyro stopped"));
+  SessionOutcome outcome;
+  outcome.kind = why.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
+  outcome.reason = why.reason;
+  lane.result.dir = lane.dir;
+  lane.result.outcome = outcome.kind;
+  lane.result.reason = why.reason;
+  if (auto closed = lane.recorder->Close(outcome); !closed)
+    lane.result.reason += "; record: cannot close: " + closed.error().ToString();
+  lane.result.exit_code = ExitCode(lane.result.outcome);
+  lane.ended = true;
+}
+
+void StopGyro(const UnitHardware& unit) noexcept {
+  try {
+    (void)unit.gyro->Stop();
+  } catch (...) {
+    // Only std::bad_alloc can get here.
+  }
+}
+
 void MakeSafe(const BenchHardware& hw) noexcept {
   hw.table->SafeStop();
-  try {
-    (void)hw.gyro->Stop();
-  } catch (...) {
-    // Only std::bad_alloc can get here; the table is already safe.
-  }
+  for (const UnitHardware& unit : hw.units) StopGyro(unit);
 }
 
 }  // namespace internal
@@ -87,23 +135,22 @@ namespace {
 using internal::SessionContext;
 using internal::StepOutcome;
 using internal::StopKind;
+using internal::UnitLane;
 
 SessionResult Finish(SessionResult result) {
   result.exit_code = ExitCode(result.outcome);
   return result;
 }
 
-// Estimates every complete run as recorded on disk (so the verdict is about exactly what the record
-// holds), judges it against the limits, and closes the session.
-SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path& dir,
-                               SessionResult result) {
-  Progress progress;
-  progress.phase = "estimate";
-  ctx.ReportProgress(progress, true);
+// Estimates every complete run of the lane as recorded on disk (so the verdict is about exactly
+// what the record holds), judges it against the limits, and closes the unit's session.
+void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
+  SessionResult& result = lane.result;
+  result.dir = lane.dir;
   SessionOutcome outcome;
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
-  auto recorded = session::ReadSession(dir, read);
+  auto recorded = session::ReadSession(lane.dir, read);
   if (!recorded) {
     outcome.kind = OutcomeKind::kError;
     outcome.reason = "the record cannot be read back: " + recorded.error().ToString();
@@ -172,62 +219,90 @@ SessionResult EstimateAndClose(SessionContext& ctx, const std::filesystem::path&
   }
   result.outcome = outcome.kind;
   result.reason = outcome.reason;
-  if (auto closed = ctx.recorder->Close(outcome); !closed) {
+  if (auto closed = lane.recorder->Close(outcome); !closed) {
     result.outcome = OutcomeKind::kError;
     result.reason = "record: cannot close: " + closed.error().ToString();
   }
-  return Finish(std::move(result));
+  result = Finish(std::move(result));
+  lane.ended = true;
 }
 
-// The runs `ids` in order, then the estimate; any stop makes the hardware safe and closes the
-// session with the reason.
-SessionResult RunPlanned(SessionContext& ctx, const std::filesystem::path& dir,
-                         const std::vector<int>& ids, bool warm_up) {
-  SessionResult result;
-  result.dir = dir;
+// The runs `ids` in order (each with the units that still need it), then each unit's estimate.
+// A unit's own fault ends its lane and the others go on; a stop of the table's (a table fault, an
+// interrupt) makes the hardware safe and closes every unit still in with the reason.
+std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int>& ids,
+                                      bool warm_up) {
   const SequenceConfig& seq = ctx.configs->sequence;
   ctx.run_count = static_cast<int>(ids.size());
   for (int id : ids)
     ctx.remaining_free_run_s += seq.runs[static_cast<std::size_t>(id - 1)].free_run_s;
   StepOutcome step = warm_up ? internal::WaitForWarmup(ctx) : StepOutcome::Ok();
-  for (std::size_t i = 0; i < ids.size() && step.ok(); ++i) {
+  for (std::size_t i = 0; i < ids.size() && step.ok() && ctx.LiveUnits() > 0; ++i) {
     ctx.run_index = static_cast<int>(i) + 1;
-    step = internal::RunOne(ctx, seq.runs[static_cast<std::size_t>(ids[i] - 1)], ids[i]);
+    const SequenceRun& run = seq.runs[static_cast<std::size_t>(ids[i] - 1)];
+    bool needed = false;
+    for (const UnitLane& lane : ctx.lanes) needed = needed || lane.Takes(ids[i]);
+    if (needed) {
+      step = internal::RunOne(ctx, run, ids[i]);
+    } else {
+      ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
+    }
   }
-  result.warnings = ctx.warnings;
   if (step.ok()) {
-    // Normal end: bring the table to rest before the (long) estimate, the log complete first.
-    if (auto stopped = ctx.hw->table->Stop(); !stopped) ctx.hw->table->SafeStop();
-    step = ctx.PumpCanLog();
-    if (step.ok()) return EstimateAndClose(ctx, dir, std::move(result));
+    if (ctx.LiveUnits() > 0) {
+      // Normal end: bring the table to rest before the (long) estimates, the logs complete first.
+      if (auto stopped = ctx.hw->table->Stop(); !stopped) ctx.hw->table->SafeStop();
+      ctx.PumpCanLogs();
+      Progress progress;
+      progress.phase = "estimate";
+      ctx.ReportProgress(progress, true);
+      for (UnitLane& lane : ctx.lanes) {
+        if (!lane.ended) EstimateAndClose(ctx, lane);
+      }
+    }
+  } else {
+    internal::MakeSafe(*ctx.hw);
+    // The safe-state commands and whatever came before them, in the logs before they close; a
+    // log that cannot be written now changes nothing (the session already stops with its reason).
+    for (UnitLane& lane : ctx.lanes) {
+      if (lane.ended) continue;
+      (void)ctx.PumpCanLog(lane);
+      ctx.Log(lane, "stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
+      SessionOutcome outcome;
+      outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
+      outcome.reason = step.reason;
+      lane.result.dir = lane.dir;
+      lane.result.outcome = outcome.kind;
+      lane.result.reason = step.reason;
+      if (auto closed = lane.recorder->Close(outcome); !closed)
+        lane.result.reason += "; record: cannot close: " + closed.error().ToString();
+      lane.result = Finish(std::move(lane.result));
+      lane.ended = true;
+    }
   }
-  internal::MakeSafe(*ctx.hw);
-  // The safe-state commands and whatever came before them, in the log before it closes; a log
-  // that cannot be written now changes nothing (the session already stops with its reason).
-  (void)ctx.PumpCanLog();
-  ctx.Log("stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
-  SessionOutcome outcome;
-  outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
-  outcome.reason = step.reason;
-  result.outcome = outcome.kind;
-  result.reason = step.reason;
-  if (auto closed = ctx.recorder->Close(outcome); !closed)
-    result.reason += "; record: cannot close: " + closed.error().ToString();
-  return Finish(std::move(result));
+  std::vector<SessionResult> results;
+  for (UnitLane& lane : ctx.lanes) results.push_back(std::move(lane.result));
+  return results;
 }
 
 void Begin(SessionContext& ctx, const BenchConfigs& configs, const BenchHardware& hw,
-           const RunnerOptions& options, SessionRecorder* recorder) {
+           const RunnerOptions& options) {
   ctx.configs = &configs;
   ctx.hw = &hw;
   ctx.options = &options;
-  ctx.recorder = recorder;
   ctx.earth_rate_rad_s = EarthRateOnAxisRadS(configs.station.site);
   ctx.start_ns = hw.clock->NowNs();
   const std::int64_t unix_now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                     std::chrono::system_clock::now().time_since_epoch())
                                     .count();
   ctx.unix_offset_ns = unix_now - ctx.start_ns;
+}
+
+// The lanes' labels: none for a session of one unit (its log reads as before), "A SN-1: " else.
+void LabelLanes(SessionContext& ctx, const std::vector<UnitSession>& units) {
+  if (ctx.lanes.size() < 2) return;
+  for (std::size_t i = 0; i < ctx.lanes.size(); ++i)
+    ctx.lanes[i].label = ctx.hw->units[i].position + " " + units[i].serial + ": ";
 }
 
 // What the capture thread will get, asked of the system before the session starts, so the record
@@ -266,64 +341,150 @@ SessionResult Refused(const std::filesystem::path& dir, std::string reason) {
   return Finish(std::move(result));
 }
 
+// Every unit refused with the same reason, the hardware made safe; nothing was run.
+std::vector<SessionResult> RefuseAll(const BenchHardware& hw, const std::vector<UnitSession>& units,
+                                     const std::string& reason) {
+  internal::MakeSafe(hw);
+  std::vector<SessionResult> results;
+  for (const UnitSession& unit : units) results.push_back(Refused(unit.dir, reason));
+  return results;
+}
+
+std::optional<std::string> HardwareProblem(const BenchHardware& hw,
+                                           const std::vector<UnitSession>& units) {
+  if (hw.units.empty()) return "no unit on the table";
+  if (units.size() != hw.units.size())
+    return std::to_string(units.size()) + " unit session(s) for " +
+           std::to_string(hw.units.size()) + " fitted position(s)";
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchHardware& hw,
+                                       const std::vector<UnitSession>& units,
+                                       const RunnerOptions& options) {
+  if (auto problem = HardwareProblem(hw, units)) return RefuseAll(hw, units, *problem);
+  const ClockAttachment attached(*hw.clock);
+  const std::string realtime_status = ProbeRealtime(configs.station.realtime);
+  std::vector<SessionRecorder> recorders;
+  recorders.reserve(units.size());
+  std::vector<SessionResult> refused;
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    SessionHeader header;
+    header.unit_serial = units[i].serial;
+    header.station_name = configs.station.name;
+    header.software_version = options.software_version;
+    header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
+                            configs.limits.sha256_hex};
+    header.realtime_status = realtime_status;
+    header.simulation = units[i].simulation;
+    header.electronics =
+        nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
+    header.can_interface = hw.units[i].can_interface;
+    header.fixture = units[i].fixture;
+    int id = 1;
+    for (const SequenceRun& run : configs.sequence.runs)
+      header.runs.push_back({id++, run.omega_rad_s, run.a, run.b, run.theta_rad, run.free_run_s,
+                             static_cast<double>(run.sample_rate_hz)});
+    auto recorder = SessionRecorder::Create(units[i].dir, header);
+    std::string problem;
+    if (!recorder) {
+      problem = "record: " + recorder.error().ToString();
+    } else if (auto saved = internal::SaveConfigs(configs, units[i].dir); !saved) {
+      problem = "record: " + saved.error();
+      SessionOutcome outcome{OutcomeKind::kError, problem, {}, std::nullopt, std::nullopt};
+      (void)recorder->Close(outcome);
+    }
+    // A unit whose record cannot be made runs nothing; nor, then, does the table: a session
+    // starts with every record in place or not at all.
+    if (!problem.empty()) {
+      for (SessionRecorder& made : recorders) {
+        SessionOutcome outcome{OutcomeKind::kError,
+                               "record of " + units[i].serial + ": " + problem,
+                               {},
+                               std::nullopt,
+                               std::nullopt};
+        (void)made.Close(outcome);
+      }
+      std::vector<SessionResult> results =
+          RefuseAll(hw, units, "record of " + units[i].serial + ": " + problem);
+      results[i].reason = problem;
+      return results;
+    }
+    recorders.push_back(std::move(*recorder));
+  }
+  SessionContext ctx;
+  Begin(ctx, configs, hw, options);
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    UnitLane lane;
+    lane.hw = &hw.units[i];
+    lane.recorder = &recorders[i];
+    lane.dir = units[i].dir;
+    for (const RecordedRun& run : recorders[i].Runs()) lane.remaining.insert(run.plan.id);
+    ctx.lanes.push_back(std::move(lane));
+  }
+  LabelLanes(ctx, units);
+  std::vector<int> ids;
+  for (const RecordedRun& run : recorders.front().Runs()) ids.push_back(run.plan.id);
+  return RunPlanned(ctx, ids, /*warm_up=*/true);
+}
+
+std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs, const BenchHardware& hw,
+                                          const std::vector<UnitSession>& units,
+                                          const RunnerOptions& options) {
+  if (auto problem = HardwareProblem(hw, units)) return RefuseAll(hw, units, *problem);
+  const ClockAttachment attached(*hw.clock);
+  std::vector<SessionRecorder> recorders;
+  recorders.reserve(units.size());
+  for (const UnitSession& unit : units) {
+    auto recorder = SessionRecorder::OpenForResume(unit.dir);
+    if (!recorder) {
+      // The others stay as they were (they read as interrupted, and resume again).
+      std::vector<SessionResult> results =
+          RefuseAll(hw, units, "record of " + unit.dir.string() + ": " +
+                                   recorder.error().ToString());
+      return results;
+    }
+    recorders.push_back(std::move(*recorder));
+  }
+  SessionContext ctx;
+  Begin(ctx, configs, hw, options);
+  std::set<int> all;
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    UnitLane lane;
+    lane.hw = &hw.units[i];
+    lane.recorder = &recorders[i];
+    lane.dir = units[i].dir;
+    for (int id : recorders[i].RemainingRunIds()) {
+      if (id < 1 || static_cast<std::size_t>(id) > configs.sequence.runs.size())
+        return RefuseAll(hw, units,
+                         units[i].dir.string() + ": session plans run " + std::to_string(id) +
+                             ", which the saved sequence does not have");
+      lane.remaining.insert(id);
+      all.insert(id);
+    }
+    ctx.lanes.push_back(std::move(lane));
+  }
+  LabelLanes(ctx, units);
+  const std::vector<int> ids(all.begin(), all.end());
+  for (const UnitLane& lane : ctx.lanes)
+    ctx.Log(lane, "resuming " + lane.dir.string() + ": " + std::to_string(lane.remaining.size()) +
+                      " run(s) to go");
+  // Warm-up again: the gyros may have cooled since the session stopped.
+  return RunPlanned(ctx, ids, /*warm_up=*/!ids.empty());
+}
 
 SessionResult RunSession(const BenchConfigs& configs, const BenchHardware& hw,
                          const std::filesystem::path& dir, const RunnerOptions& options) {
-  const ClockAttachment attached(*hw.clock);
-  SessionHeader header;
-  header.unit_serial = options.unit_serial;
-  header.station_name = configs.station.name;
-  header.software_version = options.software_version;
-  header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
-                          configs.limits.sha256_hex};
-  header.realtime_status = ProbeRealtime(configs.station.realtime);
-  header.simulation = options.simulation;
-  header.electronics =
-      nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
-  header.can_interface = hw.can_interface;
-  int id = 1;
-  for (const SequenceRun& run : configs.sequence.runs)
-    header.runs.push_back({id++, run.omega_rad_s, run.a, run.b, run.theta_rad, run.free_run_s,
-                           static_cast<double>(run.sample_rate_hz)});
-  auto recorder = SessionRecorder::Create(dir, header);
-  if (!recorder) {
-    internal::MakeSafe(hw);
-    return Refused(dir, "record: " + recorder.error().ToString());
-  }
-  if (auto saved = internal::SaveConfigs(configs, dir); !saved) {
-    SessionOutcome outcome{
-        OutcomeKind::kError, "record: " + saved.error(), {}, std::nullopt, std::nullopt};
-    (void)recorder->Close(outcome);
-    internal::MakeSafe(hw);
-    return Refused(dir, outcome.reason);
-  }
-  SessionContext ctx;
-  Begin(ctx, configs, hw, options, &*recorder);
-  std::vector<int> ids;
-  for (const RecordedRun& run : recorder->Runs()) ids.push_back(run.plan.id);
-  return RunPlanned(ctx, dir, ids, /*warm_up=*/true);
+  const std::vector<UnitSession> unit{{options.unit_serial, dir, options.simulation, std::nullopt}};
+  return RunSessions(configs, hw, unit, options).front();
 }
 
 SessionResult ResumeSession(const BenchConfigs& configs, const BenchHardware& hw,
                             const std::filesystem::path& dir, const RunnerOptions& options) {
-  const ClockAttachment attached(*hw.clock);
-  auto recorder = SessionRecorder::OpenForResume(dir);
-  if (!recorder) {
-    internal::MakeSafe(hw);
-    return Refused(dir, "record: " + recorder.error().ToString());
-  }
-  SessionContext ctx;
-  Begin(ctx, configs, hw, options, &*recorder);
-  const std::vector<int> ids = recorder->RemainingRunIds();
-  for (int id : ids) {
-    if (id < 1 || static_cast<std::size_t>(id) > configs.sequence.runs.size())
-      return Refused(dir, "session plans run " + std::to_string(id) +
-                              ", which the saved sequence does not have");
-  }
-  ctx.Log("resuming " + dir.string() + ": " + std::to_string(ids.size()) + " run(s) to go");
-  // Warm-up again: the gyro may have cooled since the session stopped.
-  return RunPlanned(ctx, dir, ids, /*warm_up=*/!ids.empty());
+  const std::vector<UnitSession> unit{{options.unit_serial, dir, std::nullopt, std::nullopt}};
+  return ResumeSessions(configs, hw, unit, options).front();
 }
 
 }  // namespace hrgbench::bench
