@@ -2,6 +2,8 @@
 //
 //   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR]
 //                 [--json] [--events FILE|-]
+//   hrg-bench run ... --serial SN1 --serial SN2 ...   a fixture: one serial per fitted position
+//                 (or POSITION=SN); exit code the worst unit's
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
 //   hrg-bench replay DIR [--json] [--no-estimate] [--rebuild-into NEW_DIR]
@@ -17,6 +19,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -27,6 +30,7 @@
 
 #include "app/cli_exit.hpp"
 #include "app/event_output.hpp"
+#include "app/fixture_session.hpp"
 #include "app/logging.hpp"
 #include "app/panel/panel_server.hpp"
 #include "app/serial_check.hpp"
@@ -40,6 +44,7 @@
 #include "hrgbench/bench/sequencer.hpp"
 #include "hrgbench/bench/verdict_json.hpp"
 #include "hrgbench/report/session_report.hpp"
+#include "hrgbench/session/session.hpp"
 
 namespace {
 
@@ -137,28 +142,32 @@ std::string WriteReport(const bench::SessionResult& result, const std::string& r
   }
 }
 
+nlohmann::json ResultJson(const bench::SessionResult& result, const std::string& report_path) {
+  nlohmann::json out;
+  out["outcome"] = std::string(bench::ToString(result.outcome));
+  out["exit_code"] = result.exit_code;
+  out["reason"] = result.reason;
+  out["session"] = result.dir.string();
+  out["complete_runs"] = result.complete_runs;
+  out["estimate"] = result.estimate_json;
+  out["warnings"] = result.warnings;
+  out["report"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
+  // "limits" (each limit) predates "verdict" (the limits and the fit checks): both kept.
+  if (result.verdict) {
+    out["verdict"] = bench::VerdictJson(*result.verdict);
+    out["limits"] = out["verdict"]["limits"];
+  } else {
+    out["verdict"] = nullptr;
+    out["limits"] = nlohmann::json::array();
+  }
+  return out;
+}
+
 // `out`: stdout, or stderr when the events go to stdout (--events -: stdout is JSON lines only).
 int Report(const bench::SessionResult& result, bool json, const std::string& report_path,
            std::ostream& out_text) {
   if (json) {
-    nlohmann::json out;
-    out["outcome"] = std::string(bench::ToString(result.outcome));
-    out["exit_code"] = result.exit_code;
-    out["reason"] = result.reason;
-    out["session"] = result.dir.string();
-    out["complete_runs"] = result.complete_runs;
-    out["estimate"] = result.estimate_json;
-    out["warnings"] = result.warnings;
-    out["report"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
-    // "limits" (each limit) predates "verdict" (the limits and the fit checks): both kept.
-    if (result.verdict) {
-      out["verdict"] = bench::VerdictJson(*result.verdict);
-      out["limits"] = out["verdict"]["limits"];
-    } else {
-      out["verdict"] = nullptr;
-      out["limits"] = nlohmann::json::array();
-    }
-    out_text << out.dump(1) << '\n';
+    out_text << ResultJson(result, report_path).dump(1) << '\n';
     return result.exit_code;
   }
   if (result.estimate) out_text << result.estimate->Report();
@@ -230,6 +239,117 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
 }
 
+// The fixture's exit code: the worst of its units' (ABORTED over ERROR over FAIL over PASS).
+int FixtureExitCode(const std::vector<bench::SessionResult>& results) {
+  int code = bench::kExitPass;
+  for (const bench::SessionResult& result : results) code = std::max(code, result.exit_code);
+  return code;
+}
+
+// Every unit on the table in one session (a station with several fitted positions): the units'
+// folders under `dir`, fixture.json beside them. `resume`: continues the units that did not close
+// with a verdict; the others keep theirs.
+int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& dir,
+               const app::FixtureRecord& record, bool resume, bool json) {
+  auto station = app::OpenStation(configs.station);
+  if (!station) {
+    spdlog::error("{}", station.error());
+    return bench::kExitError;
+  }
+  const bench::BenchHardware& all = (*station)->hardware();
+  std::vector<bench::UnitSession> sessions = app::FixtureUnitSessions(record, dir);
+  // The units this invocation drives: all of them, or on a resume those without a verdict, each
+  // on the hardware of its recorded position.
+  bench::BenchHardware hardware{all.table, all.clock, {}};
+  std::vector<bench::UnitSession> driven;
+  std::vector<std::size_t> driven_index;
+  for (std::size_t i = 0; i < record.units.size(); ++i) {
+    const auto at = std::find_if(all.units.begin(), all.units.end(), [&](const auto& unit) {
+      return unit.position == record.units[i].position;
+    });
+    if (at == all.units.end()) {
+      spdlog::error("{}: position '{}' of the fixture record is not fitted on station '{}'",
+                    dir.string(), record.units[i].position, configs.station.name);
+      return bench::kExitUsage;
+    }
+    if (resume && !app::NeedsResume(sessions[i].dir)) continue;
+    sessions[i].simulation = (*station)->simulation(static_cast<std::size_t>(at - all.units.begin()));
+    hardware.units.push_back(*at);
+    driven.push_back(sessions[i]);
+    driven_index.push_back(i);
+  }
+  if (!resume) {
+    if (auto written = app::WriteFixtureRecord(dir, record, {}, HRGBENCH_SOFTWARE_VERSION);
+        !written) {
+      spdlog::error("{}", written.error());
+      return bench::kExitUsage;
+    }
+  }
+  ProgressPrinter printer;
+  bench::RunnerOptions options;
+  options.software_version = HRGBENCH_SOFTWARE_VERSION;
+  options.interrupts = &g_interrupts;
+  options.interrupt_signal = &g_interrupt_signal;
+  options.on_progress = [&](const bench::Progress& p) { printer(p); };
+  options.on_log = [&](std::string_view line) { printer.Log(line); };
+  InstallSignalHandlers();
+  std::vector<bench::SessionResult> ran;
+  if (!driven.empty()) {
+    ran = resume ? bench::ResumeSessions(configs, hardware, driven, options)
+                 : bench::RunSessions(configs, hardware, driven, options);
+  }
+  printer.EndLine();
+  // Every unit's result: this invocation's, or (resume) the verdict its session already had.
+  std::vector<bench::SessionResult> results(record.units.size());
+  std::vector<std::string> reports(record.units.size());
+  for (std::size_t i = 0; i < record.units.size(); ++i) {
+    results[i].dir = sessions[i].dir;
+    const auto k = std::find(driven_index.begin(), driven_index.end(), i);
+    if (k != driven_index.end()) {
+      results[i] = ran[static_cast<std::size_t>(k - driven_index.begin())];
+      reports[i] = WriteReport(results[i], configs.station.results_url);
+      app::UploadClosedSession(configs.station.results_url, results[i].dir);
+      continue;
+    }
+    session::ReadOptions read;
+    read.load_samples = false;
+    if (auto kept = session::ReadSession(sessions[i].dir, read);
+        kept && kept->document.contains("outcome") && kept->document.at("outcome").is_object()) {
+      const nlohmann::json& outcome = kept->document.at("outcome");
+      results[i].outcome = outcome.value("kind", "") == "PASS" ? bench::OutcomeKind::kPass
+                                                                : bench::OutcomeKind::kFail;
+      results[i].exit_code = bench::ExitCode(results[i].outcome);
+      results[i].reason = "kept from before: " + outcome.value("reason", std::string());
+    }
+  }
+  if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);
+      !written)
+    spdlog::error("{}", written.error());
+  const int code = FixtureExitCode(results);
+  if (json) {
+    nlohmann::json out;
+    out["fixture"] = dir.string();
+    out["exit_code"] = code;
+    out["units"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      nlohmann::json unit = ResultJson(results[i], reports[i]);
+      unit["position"] = record.units[i].position;
+      unit["serial"] = record.units[i].serial;
+      out["units"].push_back(std::move(unit));
+    }
+    std::cout << out.dump(1) << '\n';
+    return code;
+  }
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    std::cout << record.units[i].position << "  " << record.units[i].serial << "  "
+              << bench::ToString(results[i].outcome) << ": " << results[i].reason << '\n'
+              << "    session: " << results[i].dir.string() << '\n';
+    if (!reports[i].empty()) std::cout << "    report: " << reports[i] << '\n';
+  }
+  std::cout << "fixture: " << dir.string() << '\n';
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,13 +363,19 @@ int main(int argc, char** argv) {
   bool json = false;
   hrgbench::app::AddCommonFlags(cli, &quiet);
 
-  std::string station, sequence, limits, serial, out_dir, resume_dir;
+  std::string station, sequence, limits, out_dir, resume_dir;
+  std::vector<std::string> serials;
   CLI::App* run = cli.add_subcommand("run", "run a session");
   run->add_option("--station", station, "station config (TOML)")->required();
   run->add_option("--sequence", sequence, "sequence config (TOML)")->required();
   run->add_option("--limits", limits, "limits config (TOML) for the verdict");
-  run->add_option("--serial", serial, "unit serial number")->required();
-  run->add_option("-o,--output", out_dir, "session directory (default sessions/SERIAL-UTC)");
+  run->add_option("--serial", serials,
+                  "unit serial number; on a fixture of N positions, one per fitted position in "
+                  "order, or POSITION=SERIAL")
+      ->required();
+  run->add_option("-o,--output", out_dir,
+                  "session directory (default sessions/SERIAL-UTC; a fixture's: "
+                  "sessions/fixture-UTC)");
   run->add_flag("--json", json, "print the result as one JSON object");
   EventsRequest events;
   const auto add_events = [&events](CLI::App* command) {
@@ -353,14 +479,47 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*run) {
-      // One rule for a serial wherever it comes from (the panel checks the same).
-      if (auto problem = app::SerialProblem(serial)) {
-        std::cerr << "--serial: " << *problem << '\n';
-        return bench::kExitUsage;
-      }
       auto configs = bench::LoadBenchConfigs(station, sequence, limits);
       if (!configs) {
         std::cerr << configs.error().ToString() << '\n';
+        return bench::kExitUsage;
+      }
+      if (bench::FittedPositions(configs->station).size() > 1) {
+        auto record = app::PlanFixture(configs->station, serials);
+        if (!record) {
+          std::cerr << record.error() << '\n';
+          return bench::kExitUsage;
+        }
+        if (!events.target.empty()) {
+          std::cerr << "--events: the event stream is one unit's; a fixture of "
+                    << record->units.size() << " units has none yet\n";
+          return bench::kExitUsage;
+        }
+        std::filesystem::path dir = out_dir;
+        if (dir.empty()) {
+          const auto folder = app::NewSessionFolder("sessions", "fixture", std::time(nullptr));
+          if (!folder) {
+            std::cerr << folder.error() << '\n';
+            return bench::kExitUsage;
+          }
+          dir = *folder;
+        }
+        std::error_code ec;
+        if (std::filesystem::exists(dir, ec) && !std::filesystem::is_empty(dir, ec)) {
+          std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
+          return bench::kExitUsage;
+        }
+        return RunFixture(*configs, dir, *record, false, json);
+      }
+      if (serials.size() != 1) {
+        std::cerr << "--serial: " << serials.size() << " serials for station '"
+                  << configs->station.name << "', which has one fitted position\n";
+        return bench::kExitUsage;
+      }
+      const std::string& serial = serials.front();
+      // One rule for a serial wherever it comes from (the panel checks the same).
+      if (auto problem = app::SerialProblem(serial)) {
+        std::cerr << "--serial: " << *problem << '\n';
         return bench::kExitUsage;
       }
       std::string dir = out_dir;
@@ -373,6 +532,25 @@ int main(int argc, char** argv) {
         dir = folder->string();
       }
       return RunOrResume(*configs, dir, serial, false, json, events);
+    }
+    if (app::IsFixtureFolder(resume_dir)) {
+      auto record = app::ReadFixtureRecord(resume_dir);
+      if (!record) {
+        std::cerr << record.error() << '\n';
+        return bench::kExitUsage;
+      }
+      // Every unit ran with the same configs (each folder holds a copy); the first's are used.
+      auto configs =
+          bench::LoadSavedConfigs(std::filesystem::path(resume_dir) / record->units.front().folder);
+      if (!configs) {
+        std::cerr << configs.error() << '\n';
+        return bench::kExitUsage;
+      }
+      if (!events.target.empty()) {
+        std::cerr << "--events: the event stream is one unit's; a fixture has none yet\n";
+        return bench::kExitUsage;
+      }
+      return RunFixture(*configs, resume_dir, *record, true, json);
     }
     auto configs = bench::LoadSavedConfigs(resume_dir);
     if (!configs) {

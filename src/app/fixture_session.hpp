@@ -1,0 +1,68 @@
+#pragma once
+// A fixture session: several units on one table, sequenced together (bench::RunSessions), each
+// with its own session folder under the fixture's, and a record that ties them together:
+//
+//   <dir>/fixture.json            {"format": "hrgbench-fixture", "version": 1, "station",
+//                                  "software", "started", "units": [{"position", "serial",
+//                                  "folder", "can_interface", "outcome": null until the unit's
+//                                  session closes, then {"kind", "exit_code", "reason"}}]}
+//   <dir>/<position>-<serial>/    each unit's session, in the one-unit format; its session.json
+//                                 says under "fixture" where it sat and who sat beside it
+//
+// A station with one fitted position runs a plain session instead (no fixture.json).
+// Not thread-safe; files only (no hardware).
+
+#include <cstddef>
+#include <expected>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/bench/station_config.hpp"
+
+namespace hrgbench::app {
+
+inline constexpr const char* kFixtureFile = "fixture.json";
+// fixture.json is small (16 units of a few hundred bytes); anything far larger is not ours.
+inline constexpr std::size_t kMaxFixtureFileBytes = 1 << 20;
+
+struct FixtureUnit {
+  std::string position;
+  std::string serial;
+  std::string folder;  // relative to the fixture's folder: "<position>-<serial>"
+  std::string can_interface;
+};
+
+struct FixtureRecord {
+  std::string station;
+  std::vector<FixtureUnit> units;  // the fitted positions, in the station's order
+};
+
+// Maps the operator's serials onto the station's fitted positions: either one serial per fitted
+// position, in their order ("SN1", "SN2", ...), or each as "POSITION=SERIAL" naming every fitted
+// position once. Errors name the serial, the position or the counts.
+std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig& station,
+                                                      const std::vector<std::string>& serials);
+
+// The units' sessions: folders under `dir`, and what each records under "fixture".
+std::vector<bench::UnitSession> FixtureUnitSessions(const FixtureRecord& record,
+                                                    const std::filesystem::path& dir);
+
+// Writes <dir>/fixture.json (creating dir), replacing it whole (a temporary file renamed), with
+// each unit's outcome from `results` (parallel to record.units; empty: none yet).
+std::expected<void, std::string> WriteFixtureRecord(const std::filesystem::path& dir,
+                                                    const FixtureRecord& record,
+                                                    const std::vector<bench::SessionResult>& results,
+                                                    const std::string& software_version);
+
+bool IsFixtureFolder(const std::filesystem::path& dir);
+// Reads <dir>/fixture.json; errors name the file and the field.
+std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesystem::path& dir);
+
+// Whether the unit's session is to be continued by a resume: it did not close with a verdict
+// (PASS or FAIL): it is running (interrupted), or closed as ERROR or ABORTED.
+bool NeedsResume(const std::filesystem::path& unit_dir);
+
+}  // namespace hrgbench::app
