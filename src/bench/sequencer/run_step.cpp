@@ -20,6 +20,9 @@ constexpr double kWaitSliceS = 0.5;
 // How often the run loop drains the ring, reads the table and reports progress (hardware clock).
 constexpr std::int64_t kLoopPeriodNs = 20'000'000;
 constexpr std::int64_t kTableReadPeriodNs = 20'000'000;
+// The wait for "ready" is cut into slices this long, the table's heartbeat sent between them:
+// well inside any heartbeat period the station allows.
+constexpr std::int64_t kReadySliceNs = 50'000'000;
 
 std::int64_t Ns(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
 
@@ -68,23 +71,35 @@ StepOutcome ExciteGyro(hw::GyroElectronics& gyro, const SequenceRun& run) {
   return StepOutcome::Ok();
 }
 
-// Waits until the lane's gyro reports ready or `deadline` passes; the unit's fault as an error
-// (the caller ends its lane), an interrupt as the table's stop.
-std::expected<hw::GyroStatus, StepOutcome> WaitUntilReady(SessionContext& ctx, UnitLane& lane,
-                                                          std::int64_t deadline) {
+// Why a unit did not become ready: its own fault (its lane ends), or the table's stop (an
+// interrupt, the table's link: every unit's).
+struct NotReady {
+  StepOutcome outcome;
+  bool table = false;
+};
+
+// Waits until the lane's gyro reports ready or `deadline` passes.
+std::expected<hw::GyroStatus, NotReady> WaitUntilReady(SessionContext& ctx, UnitLane& lane,
+                                                       std::int64_t deadline) {
   for (;;) {
     if (ctx.Interrupted())
-      return std::unexpected(StepOutcome::Aborted(ctx.InterruptCause() + " during excitation"));
+      return std::unexpected(
+          NotReady{StepOutcome::Aborted(ctx.InterruptCause() + " during excitation"), true});
     const std::int64_t left = deadline - ctx.hw->clock->NowNs();
     if (left <= 0)
-      return std::unexpected(StepOutcome::Error(
-          "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s"));
-    auto ready = lane.hw->gyro->WaitReady(std::min(left, Ns(kWaitSliceS)));
+      return std::unexpected(NotReady{StepOutcome::Error(
+          "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s")});
+    // The table turns meanwhile: its watchdog is fed between slices (a unit's excitation may
+    // take longer than the watchdog's timeout, and so may the wait for several units).
+    auto ready = lane.hw->gyro->WaitReady(std::min(left, kReadySliceNs));
+    if (auto fed = ctx.hw->table->Heartbeat(); !fed)
+      return std::unexpected(
+          NotReady{StepOutcome::Error("rate table: " + fed.error().ToString()), true});
     ctx.PumpCanLogs();
-    if (lane.ended) return std::unexpected(StepOutcome::Error(lane.result.reason));
+    if (lane.ended) return std::unexpected(NotReady{StepOutcome::Error(lane.result.reason)});
     if (ready) return *ready;
     if (ready.error().code != hw::GyroErrorCode::kTimeout)
-      return std::unexpected(StepOutcome::Error("gyro: " + ready.error().ToString()));
+      return std::unexpected(NotReady{StepOutcome::Error("gyro: " + ready.error().ToString())});
   }
 }
 
@@ -257,8 +272,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     if (unit.lane->ended) continue;
     auto ready = WaitUntilReady(ctx, *unit.lane, ready_deadline);
     if (!ready) {
-      if (ready.error().stop == StopKind::kAborted) return ready.error();
-      ctx.EndUnit(*unit.lane, ready.error());
+      if (ready.error().table) return ready.error().outcome;
+      ctx.EndUnit(*unit.lane, ready.error().outcome);
       continue;
     }
     unit.start.commanded_omega_rad_s = run.omega_rad_s;

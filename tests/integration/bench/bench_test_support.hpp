@@ -10,6 +10,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
@@ -71,6 +72,51 @@ inline BenchRun RunOnSimulatedStation(
     hardware.table = run.table.get();
   }
   run.result = bench::RunSession(*configs, hardware, run.dir, options);
+  return run;
+}
+
+struct FixtureRun {
+  std::vector<bench::SessionResult> results;  // one per fitted position, in order
+  std::vector<std::filesystem::path> dirs;
+  std::unique_ptr<app::Station> station;
+};
+
+// A session of every unit on the fixture of `station_file` (default station-sim-fixture.toml),
+// serials "FX-<position>", each unit's folder under one fresh fixture folder.
+inline FixtureRun RunFixtureOnSimulatedStation(
+    const std::string& sequence, const std::string& limits,
+    const std::function<void(bench::BenchConfigs&)>& edit = {},
+    const std::function<bool(const bench::Progress&)>& interrupt_when = {},
+    const std::string& station_file = "station-sim-fixture.toml") {
+  FixtureRun run;
+  auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
+                                         limits.empty() ? "" : ConfigPath(limits));
+  EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
+  if (!configs) return run;
+  if (edit) edit(*configs);
+  auto station = app::OpenStation(configs->station);
+  EXPECT_TRUE(station) << (station ? "" : station.error());
+  if (!station) return run;
+  run.station = std::move(*station);
+  const std::filesystem::path fixture = FreshDir("fixture");
+  std::vector<bench::UnitSession> units;
+  const bench::BenchHardware& hardware = run.station->hardware();
+  for (std::size_t i = 0; i < hardware.units.size(); ++i) {
+    bench::UnitSession unit;
+    unit.serial = "FX-" + hardware.units[i].position;
+    unit.dir = fixture / (hardware.units[i].position + "-" + unit.serial);
+    unit.simulation = run.station->simulation(i);
+    run.dirs.push_back(unit.dir);
+    units.push_back(std::move(unit));
+  }
+  std::atomic<int> interrupts{0};
+  bench::RunnerOptions options;
+  options.software_version = "test";
+  options.interrupts = &interrupts;
+  options.on_progress = [&](const bench::Progress& p) {
+    if (interrupt_when && interrupt_when(p)) interrupts = 1;
+  };
+  run.results = bench::RunSessions(*configs, hardware, units, options);
   return run;
 }
 
