@@ -85,10 +85,9 @@ std::expected<hw::GyroStatus, NotReady> WaitUntilReady(SessionContext& ctx, Unit
     if (ctx.Interrupted())
       return std::unexpected(
           NotReady{StepOutcome::Aborted(ctx.InterruptCause() + " during excitation"), true});
-    const std::int64_t left = deadline - ctx.hw->clock->NowNs();
-    if (left <= 0)
-      return std::unexpected(NotReady{StepOutcome::Error(
-          "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s")});
+    // Asked at least once, however late: the units are waited for in turn, and one that became
+    // ready while another was waited for is ready, whatever the deadline says by now.
+    const std::int64_t left = std::max<std::int64_t>(0, deadline - ctx.hw->clock->NowNs());
     // The table turns meanwhile: its watchdog is fed between slices (a unit's excitation may
     // take longer than the watchdog's timeout, and so may the wait for several units).
     auto ready = lane.hw->gyro->WaitReady(std::min(left, kReadySliceNs));
@@ -98,6 +97,9 @@ std::expected<hw::GyroStatus, NotReady> WaitUntilReady(SessionContext& ctx, Unit
     ctx.PumpCanLogs();
     if (lane.ended) return std::unexpected(NotReady{StepOutcome::Error(lane.result.reason)});
     if (ready) return *ready;
+    if (ready.error().code == hw::GyroErrorCode::kTimeout && left == 0)
+      return std::unexpected(NotReady{StepOutcome::Error(
+          "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s")});
     if (ready.error().code != hw::GyroErrorCode::kTimeout)
       return std::unexpected(NotReady{StepOutcome::Error("gyro: " + ready.error().ToString())});
   }

@@ -72,9 +72,11 @@ JsonOutput RunBenchJson(const std::string& args) {
   return o;
 }
 
-// station-sim.toml, paced at 20× real time instead of as fast as possible.
-fs::path PacedStation(const fs::path& dir) {
-  std::ifstream in(kConfigs / "station-sim.toml");
+// A shipped station (station-sim.toml by default), paced at 20× real time instead of as fast as
+// possible, with `extra` appended.
+fs::path PacedStation(const fs::path& dir, const std::string& shipped = "station-sim.toml",
+                      const std::string& extra = "") {
+  std::ifstream in(kConfigs / shipped);
   std::stringstream text;
   text << in.rdbuf();
   std::string toml = text.str();
@@ -82,8 +84,20 @@ fs::path PacedStation(const fs::path& dir) {
   toml.replace(toml.find(fast), fast.size(), "faster_than_real_time = false\ntime_scale = 20.0");
   fs::create_directories(dir);
   const fs::path path = dir / "station-paced.toml";
-  std::ofstream(path) << toml;
+  std::ofstream(path) << toml << extra;
   return path;
+}
+
+nlohmann::json ReadJson(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 // Starts hrg-bench in the background; returns its pid.
@@ -450,6 +464,122 @@ TEST(BenchProgram, CtrlCStopsSafelyAndTheRecordSaysAbortedByOperator) {
 // A supervisor (systemd, a shutdown) is not the operator: the record says which signal.
 TEST(BenchProgram, SigtermStopsSafelyAndTheRecordSaysSo) {
   ExpectSignalAborts(SIGTERM, "stopped by SIGTERM ");
+}
+
+// A fixture of four units (station-sim-fixture.toml): killed after two runs, resumed; every unit
+// ends with all its runs and its verdict, and fixture.json ties the four together.
+TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
+  const fs::path work = FreshDir("fixture-kill9");
+  const fs::path fixture = work / "fixture";
+  const fs::path station = PacedStation(work, "station-sim-fixture.toml");
+  const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
+                           (kConfigs / "sequence-paper.toml").string(), "--serial", "FX-1",
+                           "--serial", "FX-2", "--serial", "FX-3", "--serial", "FX-4", "-o",
+                           fixture.string()},
+                          work / "run.log");
+  ASSERT_GT(pid, 0);
+  const bool reached = WaitForCompleteRuns(fixture / "D-FX-4", 2, std::chrono::seconds(90));
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(reached) << ReadText(work / "run.log");
+  // The fixture's record was written before the first run: which unit sits where.
+  const nlohmann::json before = ReadJson(fixture / "fixture.json");
+  ASSERT_FALSE(before.is_discarded());
+  ASSERT_EQ(before.at("units").size(), 4u);
+  EXPECT_EQ(before.at("units").at(2).at("position"), "C");
+  EXPECT_EQ(before.at("units").at(2).at("serial"), "FX-3");
+  EXPECT_EQ(before.at("units").at(2).at("folder"), "C-FX-3");
+  EXPECT_TRUE(before.at("units").at(2).at("outcome").is_null());
+
+  const JsonOutput resumed = RunBenchJson("resume " + fixture.string() + " --json");
+  ASSERT_FALSE(resumed.doc.is_discarded()) << resumed.text;
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.doc.dump(1);
+  EXPECT_EQ(resumed.doc.at("fixture"), fixture.string());
+  const nlohmann::json after = ReadJson(fixture / "fixture.json");
+  EXPECT_EQ(after.at("started"), before.at("started"));
+  const std::vector<std::string> folders{"A-FX-1", "B-FX-2", "C-FX-3", "D-FX-4"};
+  for (std::size_t u = 0; u < 4; ++u) {
+    SCOPED_TRACE(folders[u]);
+    EXPECT_EQ(resumed.doc.at("units").at(u).at("outcome"), "PASS");
+    EXPECT_EQ(after.at("units").at(u).at("outcome").at("kind"), "PASS");
+    auto done = hrgbench::session::ReadSession(fixture / folders[u]);
+    ASSERT_TRUE(done) << done.error().ToString();
+    EXPECT_EQ(done->loaded_run_ids.size(), 5u);
+    EXPECT_TRUE(done->document.contains("resumed_at"));
+    EXPECT_EQ(done->document.at("fixture").at("position"), std::string(1, "ABCD"[u]));
+    EXPECT_EQ(done->document.at("fixture").at("units").size(), 4u);
+    // Each unit's raw CAN log rebuilds its record, across both processes.
+    const JsonOutput replay = RunBenchJson("replay " + (fixture / folders[u]).string() + " --json");
+    EXPECT_EQ(replay.exit_code, 0) << replay.text;
+  }
+  fs::remove_all(work);
+}
+
+// A unit that never gets ready ends as ERROR; the others PASS; the fixture's exit code is the
+// worst unit's. A resume continues that unit only: the others' records are not touched.
+TEST(BenchProgram, FixtureResumeContinuesOnlyTheUnitsWithoutAVerdict) {
+  const fs::path work = FreshDir("fixture-resume");
+  const fs::path fixture = work / "fixture";
+  fs::create_directories(work);
+  std::string toml = ReadText(kConfigs / "station-sim-fixture.toml");
+  const std::string b = "position = \"B\"\n";
+  toml.replace(toml.find(b), b.size(), b + "[fixture.faults]\ngyro_never_ready = true\n[[fixture]]\n" +
+                                           "position = \"B2\"\nfitted = false\n");
+  std::ofstream(work / "station.toml") << toml;
+  // The paper's sequence with a short warm-up window (the units are at rest at 25 °C).
+  std::string sequence = ReadText(kConfigs / "sequence-paper.toml");
+  const std::string window = "window_s = 60.0";
+  sequence.replace(sequence.find(window), window.size(), "window_s = 1.0");
+  std::ofstream(work / "sequence.toml") << sequence;
+  const JsonOutput first =
+      RunBenchJson("run --station " + (work / "station.toml").string() + " --sequence " +
+                   (work / "sequence.toml").string() +
+                   " --serial A=U1 --serial C=U3 --serial B=U2 --serial D=U4 --json -o " +
+                   fixture.string());
+  ASSERT_FALSE(first.doc.is_discarded()) << first.text;
+  EXPECT_EQ(first.exit_code, 2) << first.doc.dump(1);
+  const std::vector<std::string> expected{"PASS", "ERROR", "PASS", "PASS"};
+  for (std::size_t u = 0; u < 4; ++u)
+    EXPECT_EQ(first.doc.at("units").at(u).at("outcome"), expected[u]) << first.doc.dump(1);
+  EXPECT_EQ(first.doc.at("units").at(1).at("serial"), "U2");
+  const std::string passed = ReadText(fixture / "A-U1" / "session.json");
+
+  const JsonOutput again = RunBenchJson("resume " + fixture.string() + " --json");
+  ASSERT_FALSE(again.doc.is_discarded()) << again.text;
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_EQ(ReadText(fixture / "A-U1" / "session.json"), passed);  // not touched
+  EXPECT_NE(again.doc.at("units").at(0).at("reason").get<std::string>().find("kept from before"),
+            std::string::npos);
+  const nlohmann::json b_doc = ReadJson(fixture / "B-U2" / "session.json");
+  EXPECT_TRUE(b_doc.contains("resumed_at"));
+  EXPECT_EQ(b_doc.at("outcome").at("kind"), "ERROR");
+  fs::remove_all(work);
+}
+
+TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
+  const std::string run = "run --station " + (kConfigs / "station-sim-fixture.toml").string() +
+                          " --sequence " + (kConfigs / "sequence-paper.toml").string();
+  const Output three = RunBench(run + " --serial S1 --serial S2 --serial S3 -o /tmp/never");
+  EXPECT_EQ(three.exit_code, 4);
+  EXPECT_NE(three.out.find("3 serial(s) for 4 fitted position(s) (A, B, C, D)"),
+            std::string::npos)
+      << three.out;
+  const Output unknown =
+      RunBench(run + " --serial A=S1 --serial B=S2 --serial C=S3 --serial E=S4 -o /tmp/never");
+  EXPECT_EQ(unknown.exit_code, 4);
+  EXPECT_NE(unknown.out.find("no fitted position 'E'"), std::string::npos) << unknown.out;
+  const Output twice = RunBench(run + " --serial S1 --serial S1 --serial S3 --serial S4 -o /tmp/never");
+  EXPECT_EQ(twice.exit_code, 4);
+  EXPECT_NE(twice.out.find("the same unit in two positions"), std::string::npos) << twice.out;
+  EXPECT_FALSE(fs::exists("/tmp/never"));
+  const Output check = RunBench("check " + (kConfigs / "station-sim-fixture.toml").string() + " " +
+                                (kConfigs / "sequence-production.toml").string());
+  EXPECT_EQ(check.exit_code, 0) << check.out;
+  EXPECT_NE(check.out.find("each unit's own bus (vsim-A, vsim-B, vsim-C, vsim-D)"),
+            std::string::npos)
+      << check.out;
 }
 
 }  // namespace
