@@ -81,14 +81,18 @@ class ProgressPrinter {
       Show(line, p);
       return;
     }
-    std::snprintf(line, sizeof line,
-                  "run %d/%d  Ω %+.4g rad/s  %-8.*s  %6.1f s elapsed  ~%6.1f s left  %llu/%llu "
-                  "samples  %llu lost",
-                  p.run, p.run_count, p.omega_rad_s, static_cast<int>(p.phase.size()),
-                  p.phase.data(), p.elapsed_s, p.remaining_s,
-                  static_cast<unsigned long long>(p.samples),
-                  static_cast<unsigned long long>(p.samples_expected),
-                  static_cast<unsigned long long>(p.samples_lost));
+    const int written = std::snprintf(
+        line, sizeof line,
+        "run %d/%d  Ω %+.4g rad/s  %-8.*s  %6.1f s elapsed  ~%6.1f s left  %llu/%llu "
+        "samples  %llu lost",
+        p.run, p.run_count, p.omega_rad_s, static_cast<int>(p.phase.size()), p.phase.data(),
+        p.elapsed_s, p.remaining_s, static_cast<unsigned long long>(p.samples),
+        static_cast<unsigned long long>(p.samples_expected),
+        static_cast<unsigned long long>(p.samples_lost));
+    // A fixture: how many of its units are still in (the samples are theirs together).
+    if (p.unit_count > 1 && written > 0 && static_cast<std::size_t>(written) < sizeof line)
+      std::snprintf(line + written, sizeof line - static_cast<std::size_t>(written),
+                    "  units %d/%d", p.units_active, p.unit_count);
     Show(line, p);
   }
   void Show(const char* line, const bench::Progress& p) {
