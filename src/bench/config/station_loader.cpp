@@ -242,46 +242,24 @@ std::expected<TableLinkConfig, ConfigError> ReadTable(TableReader& reader, Stati
   return table;
 }
 
-// [simulated.faults], or a position's [fixture.faults] (`unit_only`: the gyro_* keys, starting from
-// `faults`, the station's).
-std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader, SimulatedFaults faults,
-                                                       bool unit_only) {
+// [simulated.faults], or (`unit_only`) a position's [fixture.faults]: the gyro_* keys only.
+std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader, bool unit_only) {
+  SimulatedFaults faults;
   constexpr std::int64_t kMaxCount = std::numeric_limits<std::int64_t>::max();
   if (unit_only) {
     for (std::string_view key :
          {"table_never_stable", "table_fault_after_s", "table_unresponsive_after_s"})
       HRG_CHECK(Forbid(reader, key, "a table's fault belongs in [simulated.faults]"));
-    HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
-    if (*stall) faults.gyro_stall_after_samples = *stall;
-    HRG_TRY(stall_run, OptionalInteger(reader, "gyro_stall_from_run", 1, kMaxRunsBound,
-                                       faults.gyro_stall_from_run));
-    faults.gyro_stall_from_run = *stall_run;
-    HRG_TRY(bus_off, MaybeInteger(reader, "gyro_bus_off_after_samples", 0, kMaxCount));
-    if (*bus_off) faults.gyro_bus_off_after_samples = *bus_off;
-    HRG_TRY(drop, OptionalInteger(reader, "gyro_drop_every_nth_sample", 0, kMaxCount,
-                                  faults.gyro_drop_every_nth_sample));
-    if (*drop == 1) {
-      return std::unexpected(reader.Error(*reader.table().get("gyro_drop_every_nth_sample"),
-                                          "gyro_drop_every_nth_sample",
-                                          "out of range: 1 would drop every sample; use 0 (off) "
-                                          "or >= 2"));
-    }
-    faults.gyro_drop_every_nth_sample = *drop;
-    HRG_TRY(never_ready, OptionalBool(reader, "gyro_never_ready", faults.gyro_never_ready));
-    faults.gyro_never_ready = *never_ready;
-    HRG_CHECK(reader.Unknown(
-        "gyro_stall_after_samples, gyro_stall_from_run, gyro_bus_off_after_samples, "
-        "gyro_drop_every_nth_sample, gyro_never_ready"));
-    return faults;
+  } else {
+    HRG_TRY(never_stable, OptionalBool(reader, "table_never_stable", false));
+    faults.table_never_stable = *never_stable;
+    // Absent means never; a time beyond any session is a typo, not a way to say never.
+    constexpr Range kFaultTime{0.0, kMaxLongWaitS, true, "in [0, 86400] s (a day)"};
+    HRG_TRY(fault_after, MaybeNumber(reader, "table_fault_after_s", kFaultTime));
+    faults.table_fault_after_s = *fault_after;
+    HRG_TRY(silent_after, MaybeNumber(reader, "table_unresponsive_after_s", kFaultTime));
+    faults.table_unresponsive_after_s = *silent_after;
   }
-  HRG_TRY(never_stable, OptionalBool(reader, "table_never_stable", false));
-  faults.table_never_stable = *never_stable;
-  // Absent means never; a time beyond any session is a typo, not a way to say never.
-  constexpr Range kFaultTime{0.0, kMaxLongWaitS, true, "in [0, 86400] s (a day)"};
-  HRG_TRY(fault_after, MaybeNumber(reader, "table_fault_after_s", kFaultTime));
-  faults.table_fault_after_s = *fault_after;
-  HRG_TRY(silent_after, MaybeNumber(reader, "table_unresponsive_after_s", kFaultTime));
-  faults.table_unresponsive_after_s = *silent_after;
   HRG_TRY(stall, MaybeInteger(reader, "gyro_stall_after_samples", 0, kMaxCount));
   faults.gyro_stall_after_samples = *stall;
   HRG_TRY(stall_run, OptionalInteger(reader, "gyro_stall_from_run", 1, kMaxRunsBound, 1));
@@ -298,10 +276,13 @@ std::expected<SimulatedFaults, ConfigError> ReadFaults(TableReader& reader, Simu
   faults.gyro_drop_every_nth_sample = *drop;
   HRG_TRY(never_ready, OptionalBool(reader, "gyro_never_ready", false));
   faults.gyro_never_ready = *never_ready;
-  HRG_CHECK(reader.Unknown(
-      "table_never_stable, table_fault_after_s, table_unresponsive_after_s, "
+  constexpr std::string_view kGyroKeys =
       "gyro_stall_after_samples, gyro_stall_from_run, gyro_bus_off_after_samples, "
-      "gyro_drop_every_nth_sample, gyro_never_ready"));
+      "gyro_drop_every_nth_sample, gyro_never_ready";
+  HRG_CHECK(reader.Unknown(
+      unit_only ? std::string(kGyroKeys)
+                : "table_never_stable, table_fault_after_s, table_unresponsive_after_s, " +
+                      std::string(kGyroKeys)));
   return faults;
 }
 
@@ -417,7 +398,7 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   HRG_TRY(faults_table, SubTable(reader, "faults", false));
   if (*faults_table != nullptr) {
     TableReader faults_reader(**faults_table, reader.KeyPath("faults"), reader.source());
-    HRG_TRY(faults, ReadFaults(faults_reader, SimulatedFaults{}, false));
+    HRG_TRY(faults, ReadFaults(faults_reader, false));
     sim.faults = *faults;
   }
   HRG_CHECK(reader.Unknown(
@@ -494,7 +475,7 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
     HRG_TRY(faults_table, SubTable(reader, "faults", false));
     if (*faults_table != nullptr) {
       TableReader faults_reader(**faults_table, reader.KeyPath("faults"), reader.source());
-      HRG_TRY(faults, ReadFaults(faults_reader, SimulatedFaults{}, true));
+      HRG_TRY(faults, ReadFaults(faults_reader, true));
       const toml::table& fault_keys = faults_reader.table();
       if (fault_keys.contains("gyro_stall_after_samples"))
         own.gyro_stall_after_samples = faults->gyro_stall_after_samples;

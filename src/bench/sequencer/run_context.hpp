@@ -72,6 +72,9 @@ struct SessionContext {
   // Ends a lane on its own fault: its gyro stopped (and the table brought to zero rate first when
   // it was the last unit on it), its log completed, its session closed with the reason.
   void EndUnit(UnitLane& lane, const StepOutcome& why);
+  // Closes a lane whose hardware is already safe (`made_safe` says how, for the log) with the
+  // stop's reason, its log completed first.
+  void CloseStopped(UnitLane& lane, const StepOutcome& why, std::string_view made_safe);
 };
 
 StepOutcome WaitForWarmup(SessionContext& ctx);

@@ -121,7 +121,6 @@ struct UnitRun {
   std::unique_ptr<CaptureThread> capture;
   StepOutcome outcome;  // the unit's own fault in this run
   std::uint64_t samples = 0;
-  std::uint64_t samples_lost = 0;
 };
 
 // Moves what the unit's capture pushed to its record; a record that cannot be written is the

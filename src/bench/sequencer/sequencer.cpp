@@ -98,11 +98,15 @@ void SessionContext::EndUnit(UnitLane& lane, const StepOutcome& why) {
   const bool last = LiveUnits() == 1;
   if (last) hw->table->SafeStop();
   StopGyro(*lane.hw);
+  CloseStopped(lane, why, last ? "table commanded to zero rate, gyro stopped" : "gyro stopped");
+}
+
+void SessionContext::CloseStopped(UnitLane& lane, const StepOutcome& why,
+                                  std::string_view made_safe) {
   // The safe-state commands and whatever came before them, in the log before it closes; a log
   // that cannot be written now changes nothing (the unit already stops with its reason).
   (void)PumpCanLog(lane);
-  Log(lane, "stopping: " + why.reason +
-                (last ? "; table commanded to zero rate, gyro stopped" : "; gyro stopped"));
+  Log(lane, "stopping: " + why.reason + "; " + std::string(made_safe));
   SessionOutcome outcome;
   outcome.kind = why.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
   outcome.reason = why.reason;
@@ -262,22 +266,8 @@ std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int
     }
   } else {
     internal::MakeSafe(*ctx.hw);
-    // The safe-state commands and whatever came before them, in the logs before they close; a
-    // log that cannot be written now changes nothing (the session already stops with its reason).
     for (UnitLane& lane : ctx.lanes) {
-      if (lane.ended) continue;
-      (void)ctx.PumpCanLog(lane);
-      ctx.Log(lane, "stopping: " + step.reason + "; table commanded to zero rate, gyro stopped");
-      SessionOutcome outcome;
-      outcome.kind = step.stop == StopKind::kAborted ? OutcomeKind::kAborted : OutcomeKind::kError;
-      outcome.reason = step.reason;
-      lane.result.dir = lane.dir;
-      lane.result.outcome = outcome.kind;
-      lane.result.reason = step.reason;
-      if (auto closed = lane.recorder->Close(outcome); !closed)
-        lane.result.reason += "; record: cannot close: " + closed.error().ToString();
-      lane.result = Finish(std::move(lane.result));
-      lane.ended = true;
+      if (!lane.ended) ctx.CloseStopped(lane, step, "table commanded to zero rate, gyro stopped");
     }
   }
   std::vector<SessionResult> results;
