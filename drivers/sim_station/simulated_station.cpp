@@ -35,9 +35,9 @@ std::expected<void, std::string> SimulatedStation::Build() {
   physics_ = std::make_unique<sim::TablePhysics>(options_.table_physics, *clock_);
   table_ = std::make_unique<InProcessRateTable>(options_.table, *physics_, *clock_);
 
-  units_.resize(options_.gyros.size());
+  units_.resize(options_.units.size());
   for (std::size_t i = 0; i < units_.size(); ++i) {
-    if (auto built = BuildUnit(options_.gyros[i], units_[i]); !built)
+    if (auto built = BuildUnit(options_.units[i], units_[i]); !built)
       return std::unexpected(units_.size() == 1 ? built.error()
                                                 : "unit " + std::to_string(i + 1) + ": " +
                                                       built.error());
@@ -45,7 +45,7 @@ std::expected<void, std::string> SimulatedStation::Build() {
   return {};
 }
 
-std::expected<void, std::string> SimulatedStation::BuildUnit(const sim::GyroSimOptions& gyro,
+std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnitOptions& options,
                                                              Unit& unit) {
   can_virtual::VirtualCanBusOptions bus_options;
   bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
@@ -75,10 +75,13 @@ std::expected<void, std::string> SimulatedStation::BuildUnit(const sim::GyroSimO
 
   InProcessRateTable* table = table_.get();
   const double earth_rate_rad_s = options_.earth_rate_rad_s;
+  const double axis_sign = options.inverted ? -1.0 : 1.0;
   can_virtual::VirtualCanBus* shorted_bus = unit.bus.get();
   unit.node = std::make_unique<sim::GyroSimNode>(
-      *unit.node_endpoint, *clock_, gyro,
-      [table, earth_rate_rad_s] { return table->SenseTrueRateRadS() + earth_rate_rad_s; },
+      *unit.node_endpoint, *clock_, options.gyro,
+      [table, earth_rate_rad_s, axis_sign] {
+        return axis_sign * (table->SenseTrueRateRadS() + earth_rate_rad_s);
+      },
       [shorted_bus] { shorted_bus->SetBusOff(true); });
 
   gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
@@ -106,7 +109,7 @@ SimulatedStation::~SimulatedStation() {
 }
 
 SimulatedTruth SimulatedStation::truth(std::size_t i) const {
-  const sim::GyroSimOptions& gyro = options_.gyros[i];
+  const sim::GyroSimOptions& gyro = options_.units[i].gyro;
   if (gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = gyro.carrier;
     // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1

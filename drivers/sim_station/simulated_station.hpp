@@ -57,7 +57,7 @@ class SimulatedStation {
   SimulatedStation(const SimulatedStation&) = delete;
   SimulatedStation& operator=(const SimulatedStation&) = delete;
 
-  // Unit `i` is options().gyros[i]; i < unit_count().
+  // Unit `i` is options().units[i]; i < unit_count().
   std::size_t unit_count() const noexcept { return units_.size(); }
   hw::RateTable& table() noexcept { return *table_; }
   hw::GyroElectronics& gyro(std::size_t i = 0) noexcept { return *units_[i].device; }
@@ -103,7 +103,7 @@ class SimulatedStation {
 
   explicit SimulatedStation(const SimulatedStationOptions& options);
   std::expected<void, std::string> Build();
-  std::expected<void, std::string> BuildUnit(const sim::GyroSimOptions& gyro, Unit& unit);
+  std::expected<void, std::string> BuildUnit(const SimulatedUnitOptions& options, Unit& unit);
 
   SimulatedStationOptions options_;
   // Declaration order is construction order; destruction runs backwards (the node thread is

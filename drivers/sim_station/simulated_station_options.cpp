@@ -19,11 +19,12 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
                 std::to_string(earth_rate_rad_s));
   }
   std::string part;
-  if (gyros.empty() || gyros.size() > kMaxSimulatedUnits)
-    return fail("gyros: between 1 and " + std::to_string(kMaxSimulatedUnits) + " units, got " +
-                std::to_string(gyros.size()));
-  for (std::size_t i = 0; i < gyros.size(); ++i) {
-    if (!gyros[i].IsValid(&part)) return fail("gyros[" + std::to_string(i) + "]: " + part);
+  if (units.empty() || units.size() > kMaxSimulatedUnits)
+    return fail("units: between 1 and " + std::to_string(kMaxSimulatedUnits) + " units, got " +
+                std::to_string(units.size()));
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    if (!units[i].gyro.IsValid(&part))
+      return fail("units[" + std::to_string(i) + "].gyro: " + part);
   }
   if (!table_physics.IsValid(&part)) return fail("table_physics: " + part);
   if (!table.IsValid(&part)) return fail("table: " + part);

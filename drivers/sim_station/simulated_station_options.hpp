@@ -27,6 +27,15 @@ namespace hrgbench::drivers::sim_station {
 // A fixture carries at most this many units (the station config's bound too).
 inline constexpr std::size_t kMaxSimulatedUnits = 16;
 
+// One simulated unit on the table.
+struct SimulatedUnitOptions {
+  // Its electronics: the truth (δ, ξ, σ, seed), their behaviour, their failure modes (faults).
+  sim::GyroSimOptions gyro;
+  // Mounted with its sensitive axis against the table's axis: it senses −(table rate + the
+  // Earth-rate component on the table's axis).
+  bool inverted = false;
+};
+
 struct SimulatedStationOptions {
   bool faster_than_real_time = true;
   double time_scale = 1.0;  // used only when !faster_than_real_time; > 0
@@ -39,10 +48,9 @@ struct SimulatedStationOptions {
   // it (batching; see VirtualTimeClockOptions::output_lookahead_ns). 0: strictly conservative.
   std::int64_t output_lookahead_ns = 20'000'000;
 
-  // The simulated electronics of each unit on the table (one per fitted fixture position, each on
-  // its own bus): the truth (δ, ξ, σ, seed), their behaviour, their failure modes (faults).
-  // Defaults: one unit, the paper's experiment, noise-free; set sigma for realism.
-  std::vector<sim::GyroSimOptions> gyros{sim::GyroSimOptions{}};
+  // Each unit on the table (one per fitted fixture position, each on its own bus). Default: one
+  // unit, the paper's experiment, noise-free; set its gyro.sigma for realism.
+  std::vector<SimulatedUnitOptions> units{SimulatedUnitOptions{}};
   // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
   // axis (bench::EarthRateOnAxisRadS of the station's site), rad/s.
   double earth_rate_rad_s = 0.0;

@@ -102,8 +102,8 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
       return std::unexpected("--serial (position " + fitted[i]->name + "): " + *problem);
     if (!seen.insert(serial).second)
       return std::unexpected("--serial " + serial + ": the same unit in two positions");
-    record.units.push_back(
-        {fitted[i]->name, serial, fitted[i]->name + "-" + serial, fitted[i]->can_interface});
+    record.units.push_back({fitted[i]->name, serial, fitted[i]->name + "-" + serial,
+                            fitted[i]->can_interface, fitted[i]->inverted});
   }
   return record;
 }
@@ -119,6 +119,7 @@ std::vector<bench::UnitSession> FixtureUnitSessions(const FixtureRecord& record,
     session.serial = unit.serial;
     session.dir = dir / unit.folder;
     session.fixture = nlohmann::json{{"position", unit.position},
+                                     {"inverted", unit.inverted},
                                      {"folder", dir.filename().string()},
                                      {"units", beside}};
     sessions.push_back(std::move(session));
@@ -151,6 +152,7 @@ std::expected<void, std::string> WriteFixtureRecord(const std::filesystem::path&
                          {"serial", unit.serial},
                          {"folder", unit.folder},
                          {"can_interface", unit.can_interface},
+                         {"inverted", unit.inverted},
                          {"outcome", nullptr}};
     if (i < results.size()) {
       entry["outcome"] = {{"kind", std::string(bench::ToString(results[i].outcome))},
@@ -207,7 +209,9 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
     // The folder is followed: it must be the one this program names, inside the fixture's.
     if (*folder != *position + "-" + *serial || SerialProblem(*serial))
       return std::unexpected(where + ".folder: '" + *folder + "' is not <position>-<serial>");
-    record.units.push_back({*position, *serial, *folder, *iface});
+    const bool inverted = units[i].contains("inverted") && units[i].at("inverted").is_boolean() &&
+                          units[i].at("inverted").get<bool>();
+    record.units.push_back({*position, *serial, *folder, *iface, inverted});
   }
   return record;
 }

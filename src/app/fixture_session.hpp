@@ -4,7 +4,7 @@
 //
 //   <dir>/fixture.json            {"format": "hrgbench-fixture", "version": 1, "station",
 //                                  "software", "started", "units": [{"position", "serial",
-//                                  "folder", "can_interface", "outcome": null until the unit's
+//                                  "folder", "can_interface", "inverted", "outcome": null until the unit's
 //                                  session closes, then {"kind", "exit_code", "reason"}}]}
 //   <dir>/<position>-<serial>/    each unit's session, in the one-unit format; its session.json
 //                                 says under "fixture" where it sat and who sat beside it
@@ -33,6 +33,7 @@ struct FixtureUnit {
   std::string serial;
   std::string folder;  // relative to the fixture's folder: "<position>-<serial>"
   std::string can_interface;
+  bool inverted = false;  // mounted against the table's axis (recorded in its session.json)
 };
 
 struct FixtureRecord {

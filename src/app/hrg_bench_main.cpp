@@ -6,7 +6,7 @@
 //                 (or POSITION=SN); exit code the worst unit's
 //   hrg-bench resume DIR [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
-//   hrg-bench replay DIR [--json] [--no-estimate] [--rebuild-into NEW_DIR]
+//   hrg-bench replay DIR [--unit POSITION|SERIAL] [--json] [--no-estimate] [--rebuild-into NEW_DIR]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
 // Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
@@ -354,6 +354,55 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   return code;
 }
 
+// `hrg-bench replay FIXTURE [--unit POSITION|SERIAL]`: each unit's session replayed in turn (or
+// the one named); exit 0 when every one is identical, 1 otherwise, 4 when the record is not read.
+int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, bool estimate,
+                  const std::string& rebuild_into, bool json) {
+  auto record = app::ReadFixtureRecord(dir);
+  if (!record) {
+    std::cerr << record.error() << '\n';
+    return bench::kExitUsage;
+  }
+  std::vector<app::FixtureUnit> chosen;
+  for (const app::FixtureUnit& u : record->units) {
+    if (unit.empty() || u.position == unit || u.serial == unit) chosen.push_back(u);
+  }
+  if (chosen.empty()) {
+    std::cerr << "--unit " << unit << ": no such position or serial in " << dir.string() << '\n';
+    return bench::kExitUsage;
+  }
+  if (!rebuild_into.empty() && chosen.size() != 1) {
+    std::cerr << "--rebuild-into: rebuilds one unit's session; name it with --unit\n";
+    return bench::kExitUsage;
+  }
+  nlohmann::json out{{"fixture", dir.string()}, {"units", nlohmann::json::array()}};
+  bool identical = true;
+  for (const app::FixtureUnit& u : chosen) {
+    app::ReplayOptions options;
+    options.estimate = estimate;
+    options.rebuild_into = rebuild_into;
+    auto replayed = app::ReplaySession(dir / u.folder, options);
+    if (!replayed) {
+      std::cerr << replayed.error() << '\n';
+      return bench::kExitUsage;
+    }
+    identical = identical && replayed->Identical();
+    if (json) {
+      nlohmann::json one = app::ReplayJson(*replayed);
+      one["position"] = u.position;
+      one["serial"] = u.serial;
+      out["units"].push_back(std::move(one));
+    } else {
+      std::cout << "== " << u.position << "  " << u.serial << '\n' << app::ReplayText(*replayed);
+    }
+  }
+  if (json) {
+    out["identical"] = identical;
+    std::cout << out.dump(1) << '\n';
+  }
+  return identical ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -410,6 +459,9 @@ int main(int argc, char** argv) {
   replay->add_flag("--json", json, "print the comparison as one JSON object");
   replay->add_flag("--no-estimate", replay_no_estimate,
                    "compare the samples only, not the estimate made from them");
+  std::string replay_unit;
+  replay->add_option("--unit", replay_unit,
+                     "a fixture's folder: replay only this unit (its position or its serial)");
   std::string replay_rebuild;
   replay->add_option("--rebuild-into", replay_rebuild,
                      "write a new session folder whose complete runs are rebuilt from the log "
@@ -447,7 +499,14 @@ int main(int argc, char** argv) {
       ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
       return app::RunPanel(panel, g_interrupts);
     }
+    if (*replay && app::IsFixtureFolder(replay_dir)) {
+      return ReplayFixture(replay_dir, replay_unit, !replay_no_estimate, replay_rebuild, json);
+    }
     if (*replay) {
+      if (!replay_unit.empty()) {
+        std::cerr << "--unit: " << replay_dir << " is one unit's session, not a fixture's\n";
+        return bench::kExitUsage;
+      }
       app::ReplayOptions options;
       options.estimate = !replay_no_estimate;
       options.rebuild_into = replay_rebuild;

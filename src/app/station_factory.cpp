@@ -23,6 +23,7 @@ class SimulatedStationAdapter final : public Station {
       unit.monitor = &station_->monitor(i);
       unit.can_interface = fitted[i]->can_interface;
       unit.position = fitted[i]->name;
+      unit.axis_sign = fitted[i]->inverted ? -1 : 1;
       hardware_.units.push_back(unit);
     }
   }
@@ -118,9 +119,10 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   drivers::sim_station::SimulatedStationOptions o;
   o.faster_than_real_time = sim.faster_than_real_time;
   o.time_scale = sim.time_scale;
-  o.gyros.clear();
+  o.units.clear();
   for (const bench::FixturePosition* position : bench::FittedPositions(config))
-    o.gyros.push_back(MapSimulatedUnit(bench::PositionSimulated(config, *position)));
+    o.units.push_back({MapSimulatedUnit(bench::PositionSimulated(config, *position)),
+                       position->inverted});
   o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
@@ -230,6 +232,7 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
     unit.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
     unit.can_interface = fitted[i]->can_interface;
     unit.position = fitted[i]->name;
+    unit.axis_sign = fitted[i]->inverted ? -1 : 1;
     station->hardware_.units.push_back(unit);
   }
   return station;

@@ -57,6 +57,9 @@ struct UnitHardware {
   bool monitor_stamps_on_bench_clock = true;
   std::string can_interface = "can0";  // name written in the candump log
   std::string position;                // the fixture position it sits in ("A", "1")
+  // +1: its sensitive axis along the table's axis; −1: against it (mounted upside down). Its Ω,
+  // Earth rate and record are in its own frame: −1 × the table's.
+  int axis_sign = 1;
 };
 
 // What a session runs on: one table and the units on it (a fixture of N positions, one bus each).

@@ -174,6 +174,9 @@ struct FixturePosition {
   // in-process bus ("vcan-sim" for the one position of a station without [[fixture]]).
   std::string can_interface;
   bool fitted = true;  // false: nothing in this position today (it takes no part)
+  // The unit is mounted with its sensitive axis against the table's axis (upside down): it senses
+  // −Ω and the Earth rate on −axis; its record is in its own frame.
+  bool inverted = false;
   std::size_t index = 0;  // in the order declared
   // kind = simulated: the keys the position sets for its unit over [simulated]'s (delta, xi, sigma,
   // seed, resonant_frequency_hz, temperature_c, temperature_drift_c_per_s, excite_time_s and

@@ -434,6 +434,8 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
   position.name = *name;
   HRG_TRY(fitted, OptionalBool(reader, "fitted", true));
   position.fitted = *fitted;
+  HRG_TRY(inverted, OptionalBool(reader, "inverted", false));
+  position.inverted = *inverted;
   if (station.kind == StationKind::kReal) {
     HRG_TRY(iface, RequiredString(reader, "can_interface"));
     if (iface->size() > 15) {
@@ -489,7 +491,7 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
     }
   }
   HRG_CHECK(reader.Unknown(
-      "position, fitted, can_interface, delta, xi, sigma, seed, resonant_frequency_hz, "
+      "position, fitted, inverted, can_interface, delta, xi, sigma, seed, resonant_frequency_hz, "
       "temperature_c, temperature_drift_c_per_s, excite_time_s, [fixture.faults]"));
   return position;
 }

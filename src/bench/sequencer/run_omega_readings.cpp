@@ -27,10 +27,12 @@ StepOutcome RunOmegaReadings::ReadAngle(hw::RateTable& table, int run_id) {
                             angle.error().ToString());
 }
 
-StepOutcome RunOmegaReadings::Finish(double earth_rate_rad_s, double measured_at_start_rad_s,
-                                     RunEnd& end) const {
-  const OmegaEstimate by_rate = rate_.Result();
-  const OmegaEstimate by_angle = angle_.Result();
+StepOutcome RunOmegaReadings::Finish(int axis_sign, double earth_rate_rad_s,
+                                     double measured_at_start_rad_s, RunEnd& end) const {
+  OmegaEstimate by_rate = rate_.Result();
+  OmegaEstimate by_angle = angle_.Result();
+  by_rate.omega_rad_s *= axis_sign;
+  by_angle.omega_rad_s *= axis_sign;
   end.omega_rate_rad_s = by_rate.omega_rad_s + earth_rate_rad_s;
   end.omega_rate_std_error_rad_s = by_rate.std_error_rad_s;
   end.omega_rate_readings = by_rate.readings;

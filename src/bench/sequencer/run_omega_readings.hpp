@@ -27,10 +27,12 @@ class RunOmegaReadings {
   // is an error only when the station asks for the angle. Transport errors are errors.
   StepOutcome ReadAngle(hw::RateTable& table, int run_id);
 
-  // Fills the Ω fields of `end` (each + the Earth-rate component); with no rate reading either,
-  // the rate measured before the release stands in. An error when the station asks for the angle
-  // and there is no Ω from it.
-  StepOutcome Finish(double earth_rate_rad_s, double measured_at_start_rad_s, RunEnd& end) const;
+  // Fills the Ω fields of `end` in the unit's frame: `axis_sign` × the table's measurement (−1 for
+  // a unit mounted against the table's axis) + the Earth-rate component on the unit's axis; with
+  // no rate reading either, `measured_at_start_rad_s` (the unit's frame) stands in. An error when
+  // the station asks for the angle and there is no Ω from it.
+  StepOutcome Finish(int axis_sign, double earth_rate_rad_s, double measured_at_start_rad_s,
+                     RunEnd& end) const;
 
   // Why the angle gave no Ω, for the log.
   std::string NoAngleReason() const;

@@ -169,7 +169,8 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
   if (StepOutcome pumped = ctx.PumpCanLog(lane); !pumped.ok() && unit.outcome.ok())
     unit.outcome = pumped;
   StepOutcome outcome = table.ok() ? unit.outcome : table;
-  if (StepOutcome measured = omega.Finish(ctx.earth_rate_rad_s, unit.start.measured_omega_rad_s, end);
+  if (StepOutcome measured = omega.Finish(lane.hw->axis_sign, unit.start.earth_rate_rad_s,
+                                          unit.start.measured_omega_rad_s, end);
       !measured.ok() && outcome.ok()) {
     outcome = measured;
   }
@@ -277,8 +278,10 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
       ctx.EndUnit(*unit.lane, ready.error().outcome);
       continue;
     }
-    unit.start.commanded_omega_rad_s = run.omega_rad_s;
-    unit.start.earth_rate_rad_s = ctx.earth_rate_rad_s;
+    // In the unit's own frame (an inverted unit senses −Ω and the Earth rate on −axis).
+    const double sign = unit.lane->hw->axis_sign;
+    unit.start.commanded_omega_rad_s = sign * run.omega_rad_s;
+    unit.start.earth_rate_rad_s = sign * ctx.earth_rate_rad_s;
     unit.start.temperature_c = ready->temperature_c;
     unit.start.resonant_frequency_hz = ready->resonant_frequency_hz;
   }
@@ -298,7 +301,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   progress.phase = "release";
   ctx.ReportProgress(progress, true);
   for (UnitRun& unit : units) {
-    unit.start.measured_omega_rad_s = measured_omega_rad_s;
+    unit.start.measured_omega_rad_s = unit.lane->hw->axis_sign * measured_omega_rad_s;
     auto release = unit.lane->hw->gyro->Release();
     if (!release) {
       unit.outcome = StepOutcome::Error("gyro: release: " + release.error().ToString());

@@ -373,10 +373,12 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
         nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
     header.can_interface = hw.units[i].can_interface;
     header.fixture = units[i].fixture;
+    // The plan in the unit's own frame: an inverted unit is commanded −Ω.
+    const double sign = hw.units[i].axis_sign;
     int id = 1;
     for (const SequenceRun& run : configs.sequence.runs)
-      header.runs.push_back({id++, run.omega_rad_s, run.a, run.b, run.theta_rad, run.free_run_s,
-                             static_cast<double>(run.sample_rate_hz)});
+      header.runs.push_back({id++, sign * run.omega_rad_s, run.a, run.b, run.theta_rad,
+                             run.free_run_s, static_cast<double>(run.sample_rate_hz)});
     auto recorder = SessionRecorder::Create(units[i].dir, header);
     std::string problem;
     if (!recorder) {

@@ -510,10 +510,22 @@ TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
     EXPECT_TRUE(done->document.contains("resumed_at"));
     EXPECT_EQ(done->document.at("fixture").at("position"), std::string(1, "ABCD"[u]));
     EXPECT_EQ(done->document.at("fixture").at("units").size(), 4u);
-    // Each unit's raw CAN log rebuilds its record, across both processes.
-    const JsonOutput replay = RunBenchJson("replay " + (fixture / folders[u]).string() + " --json");
-    EXPECT_EQ(replay.exit_code, 0) << replay.text;
   }
+  // Each unit's raw CAN log rebuilds its record, across both processes.
+  const JsonOutput replay = RunBenchJson("replay " + fixture.string() + " --json");
+  EXPECT_EQ(replay.exit_code, 0) << replay.text;
+  ASSERT_FALSE(replay.doc.is_discarded()) << replay.text;
+  EXPECT_EQ(replay.doc.at("identical"), true);
+  ASSERT_EQ(replay.doc.at("units").size(), 4u);
+  for (const auto& unit : replay.doc.at("units")) {
+    EXPECT_EQ(unit.at("identical"), true) << unit.dump(1);
+    EXPECT_EQ(unit.at("driver").at("host_starts"), 2) << unit.at("position");
+  }
+  const JsonOutput one = RunBenchJson("replay " + fixture.string() + " --unit FX-3 --json");
+  EXPECT_EQ(one.exit_code, 0) << one.text;
+  ASSERT_EQ(one.doc.at("units").size(), 1u);
+  EXPECT_EQ(one.doc.at("units").at(0).at("position"), "C");
+  EXPECT_EQ(RunBench("replay " + fixture.string() + " --unit Z").exit_code, 4);
   fs::remove_all(work);
 }
 

@@ -139,6 +139,40 @@ TEST(BenchFixture, UnitNeverReadyEndsOnlyItsSession) {
   for (const auto& dir : run.dirs) std::filesystem::remove_all(dir.parent_path());
 }
 
+// Position C mounted upside down: it senses −Ω and the Earth rate on −axis. Its record is in its
+// own frame (the plan's Ω, the measured Ω and the Earth rate all of the opposite sign to A's), and
+// its estimate finds its own truth; given the table's Ω instead, the fit would not be in its model.
+TEST(BenchFixture, AnInvertedUnitIsRecordedAndEstimatedInItsOwnFrame) {
+  const FixtureRun run = RunFixtureOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.fixture[2].inverted = true;
+  });
+  ASSERT_EQ(run.results.size(), 4u);
+  const bench::SessionResult& c = run.results[2];
+  EXPECT_EQ(c.outcome, bench::OutcomeKind::kPass) << c.reason;
+  ASSERT_TRUE(c.estimate.has_value()) << c.reason;
+  for (int j = 0; j < 6; ++j)
+    EXPECT_NEAR(c.estimate->delta[j], kTruths[2].delta[static_cast<std::size_t>(j)],
+                4 * c.estimate->delta_std[j])
+        << "delta" << j + 1;
+  const nlohmann::json a_doc = Document(run.results[0].dir);
+  const nlohmann::json c_doc = Document(c.dir);
+  for (std::size_t r = 0; r < 5; ++r) {
+    const nlohmann::json& a_run = a_doc.at("runs").at(r);
+    const nlohmann::json& c_run = c_doc.at("runs").at(r);
+    EXPECT_EQ(c_run.at("plan").at("commanded_omega_rad_s").get<double>(),
+              -a_run.at("plan").at("commanded_omega_rad_s").get<double>());
+    EXPECT_EQ(c_run.at("end").at("omega_rad_s").get<double>(),
+              -a_run.at("end").at("omega_rad_s").get<double>());
+    EXPECT_EQ(c_run.at("start").at("earth_rate_rad_s").get<double>(),
+              -a_run.at("start").at("earth_rate_rad_s").get<double>());
+    EXPECT_NE(a_run.at("start").at("earth_rate_rad_s").get<double>(), 0.0);
+  }
+  for (std::size_t u : {0u, 1u, 3u})
+    EXPECT_EQ(run.results[u].outcome, bench::OutcomeKind::kPass) << run.results[u].reason;
+  for (const auto& dir : run.dirs) std::filesystem::remove_all(dir.parent_path());
+}
+
 // A fault of what the units share stops every unit, safely, each record saying why.
 void ExpectEveryUnitStopped(const FixtureRun& run, bench::OutcomeKind outcome,
                             const std::string& reason_contains) {

@@ -115,7 +115,7 @@ TEST(SimStationFaultsTest, TableConnectionLost) {
 
 TEST(SimStationFaultsTest, GyroStopsStreaming) {
   SimulatedStationOptions options;
-  options.gyros[0].faults.stall_after_samples = 3'000;
+  options.units[0].gyro.faults.stall_after_samples = 3'000;
   auto station = MakeStation(options);
   ASSERT_NE(station, nullptr);
   StartRun(*station, 0.3);
@@ -130,7 +130,7 @@ TEST(SimStationFaultsTest, GyroStopsStreaming) {
 
 TEST(SimStationFaultsTest, GyroBusGoesBusOff) {
   SimulatedStationOptions options;
-  options.gyros[0].faults.bus_off_after_samples = 2'000;
+  options.units[0].gyro.faults.bus_off_after_samples = 2'000;
   auto station = MakeStation(options);
   ASSERT_NE(station, nullptr);
   StartRun(*station, 0.3);
@@ -146,7 +146,7 @@ TEST(SimStationFaultsTest, GyroBusGoesBusOff) {
 
 TEST(SimStationFaultsTest, GyroNeverReady) {
   SimulatedStationOptions options;
-  options.gyros[0].faults.never_ready = true;
+  options.units[0].gyro.faults.never_ready = true;
   auto station = MakeStation(options);
   ASSERT_NE(station, nullptr);
   ASSERT_TRUE(station->gyro().Configure({1000}).has_value());
@@ -159,7 +159,7 @@ TEST(SimStationFaultsTest, GyroNeverReady) {
 
 TEST(SimStationFaultsTest, GyroDropsSampleFramesAndTheGapsAreCounted) {
   SimulatedStationOptions options;
-  options.gyros[0].faults.drop_every_nth_frame = 100;
+  options.units[0].gyro.faults.drop_every_nth_frame = 100;
   auto station = MakeStation(options);
   ASSERT_NE(station, nullptr);
   const std::int64_t t0 = StartRun(*station, 0.3);
@@ -192,7 +192,7 @@ TEST(SimStationFaultsTest, GyroReportsAFaultWhileExciting) {
 
 TEST(SimStationFaultsTest, GyroSilentCommandsTimeOutAfterTheRetries) {
   SimulatedStationOptions options;
-  options.gyros[0].faults.no_reply = true;
+  options.units[0].gyro.faults.no_reply = true;
   auto station = MakeStation(options);
   ASSERT_NE(station, nullptr);
   const auto configured = station->gyro().Configure({1000});

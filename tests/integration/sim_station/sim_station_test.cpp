@@ -34,10 +34,10 @@ double WallSince(std::chrono::steady_clock::time_point start) {
 
 SimulatedStationOptions Options(double sigma = 0.0) {
   SimulatedStationOptions o;
-  o.gyros[0].delta << -0.001, 0.3, 2e-4, -1e-4, 3e-4, -2e-4;
-  o.gyros[0].xi << 0.01, -0.004, 0.003, 0.002;
-  o.gyros[0].sigma = sigma;
-  o.gyros[0].seed = 7;
+  o.units[0].gyro.delta << -0.001, 0.3, 2e-4, -1e-4, 3e-4, -2e-4;
+  o.units[0].gyro.xi << 0.01, -0.004, 0.003, 0.002;
+  o.units[0].gyro.sigma = sigma;
+  o.units[0].gyro.seed = 7;
   o.earth_rate_rad_s = kEarthRate;
   return o;
 }
@@ -313,15 +313,15 @@ TEST(SimStationTest, InvalidOptionsNameTheField) {
   ASSERT_FALSE(station.has_value());
   EXPECT_NE(station.error().find("time_scale"), std::string::npos);
   options = {};
-  options.gyros[0].sigma = -1.0;
+  options.units[0].gyro.sigma = -1.0;
   station = SimulatedStation::Create(options);
   ASSERT_FALSE(station.has_value());
-  EXPECT_NE(station.error().find("gyros[0]: sigma"), std::string::npos);
+  EXPECT_NE(station.error().find("units[0].gyro: sigma"), std::string::npos);
   options = {};
-  options.gyros.clear();
+  options.units.clear();
   station = SimulatedStation::Create(options);
   ASSERT_FALSE(station.has_value());
-  EXPECT_NE(station.error().find("gyros: between 1 and 16 units, got 0"), std::string::npos);
+  EXPECT_NE(station.error().find("units: between 1 and 16 units, got 0"), std::string::npos);
 }
 
 }  // namespace

@@ -79,6 +79,7 @@ fitted = false
 [[fixture]]
 position = "D_4"
 sigma = 0.0
+inverted = true
 )");
   ASSERT_TRUE(station.has_value()) << station.error().ToString();
   ASSERT_EQ(station->fixture.size(), 4u);
@@ -86,6 +87,8 @@ sigma = 0.0
   ASSERT_EQ(fitted.size(), 3u);
   EXPECT_EQ(fitted[2]->name, "D_4");
   EXPECT_EQ(fitted[1]->can_interface, "vsim-B");
+  EXPECT_FALSE(fitted[1]->inverted);
+  EXPECT_TRUE(fitted[2]->inverted);
 
   const SimulatedStationConfig a = PositionSimulated(*station, *fitted[0]);
   EXPECT_EQ(a.seed, 7u);  // the first position's is [simulated]'s
