@@ -83,8 +83,7 @@ Row RunFixture(bench::BenchConfigs configs, int units, const std::filesystem::pa
   const auto wall_start = std::chrono::steady_clock::now();
   const std::vector<bench::SessionResult> results =
       bench::RunSessions(configs, hardware, sessions, options);
-  row.wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   row.cpu_s = CpuSeconds() - cpu_start;
   row.table_s = static_cast<double>(hardware.clock->NowNs() - table_start) * 1e-9;
   for (const bench::SessionResult& result : results) {
@@ -115,8 +114,8 @@ int main(int argc, char** argv) {
       for (std::string n; std::getline(list, n, ',');) counts.push_back(std::stoi(n));
     }
   }
-  const std::filesystem::path configs_dir = std::filesystem::path(HRGBENCH_SOURCE_DIR) /
-                                            "bench_configs";
+  const std::filesystem::path configs_dir =
+      std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
   auto configs = bench::LoadBenchConfigs(configs_dir / "station-sim-fixture.toml",
                                          configs_dir / "sequence-production.toml",
                                          configs_dir / "limits-example.toml");
@@ -128,8 +127,9 @@ int main(int argc, char** argv) {
   std::random_device rd;
   const std::filesystem::path work =
       std::filesystem::temp_directory_path() / ("hrgbench-fixture-table-" + std::to_string(rd()));
-  std::printf("| units | table time | units per table-hour | each bus busy | samples | lost | PASS "
-              "| wall here | CPU here |\n");
+  std::printf(
+      "| units | table time | units per table-hour | each bus busy | samples | lost | PASS "
+      "| wall here | CPU here |\n");
   std::printf("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int units : counts) {
     const Row row = RunFixture(*configs, units, work);

@@ -38,9 +38,9 @@ std::expected<void, std::string> SimulatedStation::Build() {
   units_.resize(options_.units.size());
   for (std::size_t i = 0; i < units_.size(); ++i) {
     if (auto built = BuildUnit(options_.units[i], units_[i]); !built)
-      return std::unexpected(units_.size() == 1 ? built.error()
-                                                : "unit " + std::to_string(i + 1) + ": " +
-                                                      built.error());
+      return std::unexpected(units_.size() == 1
+                                 ? built.error()
+                                 : "unit " + std::to_string(i + 1) + ": " + built.error());
   }
   return {};
 }
@@ -110,14 +110,16 @@ SimulatedStation::~SimulatedStation() {
 
 SimulatedTruth SimulatedStation::truth(std::size_t i) const {
   const sim::GyroSimOptions& gyro = options_.units[i].gyro;
+  // What the unit senses of the Earth's rate: on its own axis.
+  const double earth_rate_rad_s =
+      (options_.units[i].inverted ? -1.0 : 1.0) * options_.earth_rate_rad_s;
   if (gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = gyro.carrier;
     // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1
     // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
     estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
     delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
-        delta[0], c.frequency_temperature_coefficient_per_c *
-                      gyro.temperature_drift_c_per_s /
+        delta[0], c.frequency_temperature_coefficient_per_c * gyro.temperature_drift_c_per_s /
                       (1.0 + c.frequency_temperature_coefficient_per_c *
                                  (gyro.temperature_c - c.reference_temperature_c)));
     return {true,
@@ -126,14 +128,9 @@ SimulatedTruth SimulatedStation::truth(std::size_t i) const {
                                          c.resonator.frequency_hz),
             0.0,
             gyro.seed,
-            options_.earth_rate_rad_s};
+            earth_rate_rad_s};
   }
-  return {false,
-          gyro.delta,
-          gyro.xi,
-          gyro.sigma,
-          gyro.seed,
-          options_.earth_rate_rad_s};
+  return {false, gyro.delta, gyro.xi, gyro.sigma, gyro.seed, earth_rate_rad_s};
 }
 
 sim::GyroSimStatistics SimulatedStation::gyro_sim_statistics(std::size_t i) const {

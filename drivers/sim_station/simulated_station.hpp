@@ -81,8 +81,7 @@ class SimulatedStation {
   // Changes the simulated electronics' failure modes while running, safely with respect to the
   // thread that drives the node. False in real time (the node's thread owns them; set them in
   // the options instead).
-  bool InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change,
-                        std::size_t i = 0);
+  bool InjectGyroFaults(const std::function<void(sim::GyroSimFaults&)>& change, std::size_t i = 0);
 
  private:
   // One unit: its bus, the three nodes on it, the driver. Declaration order is construction

@@ -63,7 +63,8 @@ struct SimulatedStationOptions {
   // The host side of the gyro link (GyroCanDevice); its clock is the station's (ignored here).
   gyro_can::GyroCanDeviceConfig gyro_link;
 
-  // Each unit's in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the cable.
+  // Each unit's in-process CAN bus. 1 Mbit/s classic CAN: a frame takes its bit time, as on the
+  // cable.
   std::int64_t can_bit_rate_bps = 1'000'000;
   bool can_fd = false;                             // FD bus; gyro_link.prefer_fd
   std::int64_t can_data_bit_rate_bps = 5'000'000;  // FD data phase

@@ -70,9 +70,8 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
         return std::unexpected("--serial " + entry +
                                ": give every serial as POSITION=SERIAL, or none of them");
       const std::string position = entry.substr(0, eq);
-      const auto at = std::find_if(fitted.begin(), fitted.end(), [&](const auto* p) {
-        return p->name == position;
-      });
+      const auto at = std::find_if(fitted.begin(), fitted.end(),
+                                   [&](const auto* p) { return p->name == position; });
       if (at == fitted.end())
         return std::unexpected("--serial " + entry + ": no fitted position '" + position +
                                "' on station '" + station.name + "'");
@@ -127,10 +126,9 @@ std::vector<bench::UnitSession> FixtureUnitSessions(const FixtureRecord& record,
   return sessions;
 }
 
-std::expected<void, std::string> WriteFixtureRecord(const std::filesystem::path& dir,
-                                                    const FixtureRecord& record,
-                                                    const std::vector<bench::SessionResult>& results,
-                                                    const std::string& software_version) {
+std::expected<void, std::string> WriteFixtureRecord(
+    const std::filesystem::path& dir, const FixtureRecord& record,
+    const std::vector<bench::SessionResult>& results, const std::string& software_version) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return std::unexpected(dir.string() + ": cannot create: " + ec.message());
@@ -148,12 +146,9 @@ std::expected<void, std::string> WriteFixtureRecord(const std::filesystem::path&
   nlohmann::json units = nlohmann::json::array();
   for (std::size_t i = 0; i < record.units.size(); ++i) {
     const FixtureUnit& unit = record.units[i];
-    nlohmann::json entry{{"position", unit.position},
-                         {"serial", unit.serial},
-                         {"folder", unit.folder},
-                         {"can_interface", unit.can_interface},
-                         {"inverted", unit.inverted},
-                         {"outcome", nullptr}};
+    nlohmann::json entry{{"position", unit.position}, {"serial", unit.serial},
+                         {"folder", unit.folder},     {"can_interface", unit.can_interface},
+                         {"inverted", unit.inverted}, {"outcome", nullptr}};
     if (i < results.size()) {
       entry["outcome"] = {{"kind", std::string(bench::ToString(results[i].outcome))},
                           {"exit_code", results[i].exit_code},

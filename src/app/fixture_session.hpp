@@ -4,8 +4,8 @@
 //
 //   <dir>/fixture.json            {"format": "hrgbench-fixture", "version": 1, "station",
 //                                  "software", "started", "units": [{"position", "serial",
-//                                  "folder", "can_interface", "inverted", "outcome": null until the unit's
-//                                  session closes, then {"kind", "exit_code", "reason"}}]}
+//                                  "folder", "can_interface", "inverted", "outcome": null until the
+//                                  unit's session closes, then {"kind", "exit_code", "reason"}}]}
 //   <dir>/<position>-<serial>/    each unit's session, in the one-unit format; its session.json
 //                                 says under "fixture" where it sat and who sat beside it
 //
@@ -53,10 +53,9 @@ std::vector<bench::UnitSession> FixtureUnitSessions(const FixtureRecord& record,
 
 // Writes <dir>/fixture.json (creating dir), replacing it whole (a temporary file renamed), with
 // each unit's outcome from `results` (parallel to record.units; empty: none yet).
-std::expected<void, std::string> WriteFixtureRecord(const std::filesystem::path& dir,
-                                                    const FixtureRecord& record,
-                                                    const std::vector<bench::SessionResult>& results,
-                                                    const std::string& software_version);
+std::expected<void, std::string> WriteFixtureRecord(
+    const std::filesystem::path& dir, const FixtureRecord& record,
+    const std::vector<bench::SessionResult>& results, const std::string& software_version);
 
 bool IsFixtureFolder(const std::filesystem::path& dir);
 // Reads <dir>/fixture.json; errors name the file and the field.

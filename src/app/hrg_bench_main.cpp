@@ -277,7 +277,8 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
       return bench::kExitUsage;
     }
     if (resume && !app::NeedsResume(sessions[i].dir)) continue;
-    sessions[i].simulation = (*station)->simulation(static_cast<std::size_t>(at - all.units.begin()));
+    sessions[i].simulation =
+        (*station)->simulation(static_cast<std::size_t>(at - all.units.begin()));
     hardware.units.push_back(*at);
     driven.push_back(sessions[i]);
     driven_index.push_back(i);
@@ -321,7 +322,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
         kept && kept->document.contains("outcome") && kept->document.at("outcome").is_object()) {
       const nlohmann::json& outcome = kept->document.at("outcome");
       results[i].outcome = outcome.value("kind", "") == "PASS" ? bench::OutcomeKind::kPass
-                                                                : bench::OutcomeKind::kFail;
+                                                               : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
       results[i].reason = "kept from before: " + outcome.value("reason", std::string());
     }

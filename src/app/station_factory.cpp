@@ -121,8 +121,8 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.time_scale = sim.time_scale;
   o.units.clear();
   for (const bench::FixturePosition* position : bench::FittedPositions(config))
-    o.units.push_back({MapSimulatedUnit(bench::PositionSimulated(config, *position)),
-                       position->inverted});
+    o.units.push_back(
+        {MapSimulatedUnit(bench::PositionSimulated(config, *position)), position->inverted});
   o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
@@ -152,7 +152,8 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   const bench::SimulatedFaults& f = sim.faults;
   o.table.faults.never_stable = f.table_never_stable;
   if (f.table_fault_after_s) o.table.faults.fault_after_s = *f.table_fault_after_s;
-  if (f.table_unresponsive_after_s) o.table.faults.unresponsive_after_s = *f.table_unresponsive_after_s;
+  if (f.table_unresponsive_after_s)
+    o.table.faults.unresponsive_after_s = *f.table_unresponsive_after_s;
   return o;
 }
 

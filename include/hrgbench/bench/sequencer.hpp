@@ -130,8 +130,8 @@ struct SessionResult {
 
 // One unit of a session: what it is and where its record goes.
 struct UnitSession {
-  std::string serial;          // required
-  std::filesystem::path dir;   // new and empty (run), or the unit's session to continue (resume)
+  std::string serial;         // required
+  std::filesystem::path dir;  // new and empty (run), or the unit's session to continue (resume)
   std::optional<nlohmann::json> simulation;  // its truth on a simulated station
   // Recorded as "fixture" in its session.json (position, the fixture folder, the other units);
   // std::nullopt for a session of one unit.

@@ -83,8 +83,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
       HRG_TRY(iface, RequiredString(reader, "can_interface"));
       // IFNAMSIZ is 16 including the terminating zero.
       if (iface->size() > 15) {
-        return std::unexpected(reader.Error(*reader.table().get("can_interface"),
-                                            "can_interface",
+        return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
                                             "out of range: a Linux interface name has <= 15 "
                                             "characters"));
       }
@@ -305,10 +304,10 @@ std::optional<ConfigError> ReadSimulatedUnit(TableReader& reader, SimulatedStati
   if (!carrier && reader.table().get("xi") != nullptr) {
     // Each |ξi| < 1/4 keeps I + C(ξ) invertible (estimator/model.hpp).
     HRG_UNIT_TRY(xi, RequiredVector<4>(reader, "xi",
-                                  {-0.25, 0.25, false,
-                                   "in (-0.25, 0.25) so that I + C(xi) is "
-                                   "invertible",
-                                   false}));
+                                       {-0.25, 0.25, false,
+                                        "in (-0.25, 0.25) so that I + C(xi) is "
+                                        "invertible",
+                                        false}));
     sim.xi = *xi;
   } else if (!carrier) {
     reader.Find("xi");
@@ -318,24 +317,25 @@ std::optional<ConfigError> ReadSimulatedUnit(TableReader& reader, SimulatedStati
     sim.sigma = *sigma;
   }
   HRG_UNIT_TRY(seed, OptionalInteger(reader, "seed", 0, std::numeric_limits<std::int64_t>::max(),
-                                default_seed));
+                                     default_seed));
   sim.seed = static_cast<std::uint64_t>(*seed);
   // The electronics report it in a 24-bit mHz field: the simulated ones refuse more.
   if (!carrier) {
-    HRG_UNIT_TRY(f,
-            OptionalNumber(reader, "resonant_frequency_hz",
-                           {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
-                           sim.resonant_frequency_hz));
+    HRG_UNIT_TRY(
+        f, OptionalNumber(reader, "resonant_frequency_hz",
+                          {0.0, hw::kMaxReportedResonantFrequencyHz, false, "in (0, 16777.215]"},
+                          sim.resonant_frequency_hz));
     sim.resonant_frequency_hz = *f;
   }
   HRG_UNIT_TRY(t, OptionalNumber(reader, "temperature_c", {-60.0, 150.0, true, "in [-60, 150]"},
-                            sim.temperature_c));
+                                 sim.temperature_c));
   sim.temperature_c = *t;
-  HRG_UNIT_TRY(drift, OptionalNumber(reader, "temperature_drift_c_per_s",
-                                {-1.0, 1.0, true, "in [-1, 1]"}, sim.temperature_drift_c_per_s));
+  HRG_UNIT_TRY(drift,
+               OptionalNumber(reader, "temperature_drift_c_per_s", {-1.0, 1.0, true, "in [-1, 1]"},
+                              sim.temperature_drift_c_per_s));
   sim.temperature_drift_c_per_s = *drift;
   HRG_UNIT_TRY(excite, OptionalNumber(reader, "excite_time_s", {0.0, 600.0, true, "in [0, 600]"},
-                                 sim.excite_time_s));
+                                      sim.excite_time_s));
   sim.excite_time_s = *excite;
   return std::nullopt;
 }
@@ -444,9 +444,9 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
                                           "characters"));
     }
     position.can_interface = *iface;
-    for (std::string_view key : {"delta", "xi", "sigma", "seed", "resonant_frequency_hz",
-                                 "temperature_c", "temperature_drift_c_per_s", "excite_time_s",
-                                 "faults"})
+    for (std::string_view key :
+         {"delta", "xi", "sigma", "seed", "resonant_frequency_hz", "temperature_c",
+          "temperature_drift_c_per_s", "excite_time_s", "faults"})
       HRG_CHECK(Forbid(reader, key, "applies only to kind = \"simulated\""));
   } else {
     HRG_CHECK(Forbid(reader, "can_interface",
@@ -506,8 +506,8 @@ std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader
   if (node == nullptr) {
     FixturePosition only;
     only.name = "1";
-    only.can_interface = station.kind == StationKind::kReal ? station.gyro.can_interface
-                                                            : "vcan-sim";
+    only.can_interface =
+        station.kind == StationKind::kReal ? station.gyro.can_interface : "vcan-sim";
     fixture.push_back(std::move(only));
     return fixture;
   }
@@ -528,25 +528,25 @@ std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader
     HRG_TRY(position, ReadPosition(reader, station, i));
     for (const FixturePosition& earlier : fixture) {
       if (earlier.name == position->name) {
-        return std::unexpected(reader.Error(*table.get("position"), "position",
-                                            "conflict: position '" + position->name +
-                                                "' is declared twice"));
+        return std::unexpected(
+            reader.Error(*table.get("position"), "position",
+                         "conflict: position '" + position->name + "' is declared twice"));
       }
       if (earlier.fitted && position->fitted && station.kind == StationKind::kReal &&
           earlier.can_interface == position->can_interface) {
-        return std::unexpected(reader.Error(
-            *table.get("can_interface"), "can_interface",
-            "conflict: positions '" + earlier.name + "' and '" + position->name + "' are both on " +
-                position->can_interface +
-                "; gyro protocol v1 has no node id, so each unit needs its own bus"));
+        return std::unexpected(
+            reader.Error(*table.get("can_interface"), "can_interface",
+                         "conflict: positions '" + earlier.name + "' and '" + position->name +
+                             "' are both on " + position->can_interface +
+                             "; gyro protocol v1 has no node id, so each unit needs its own bus"));
       }
     }
     fixture.push_back(std::move(*position));
   }
   if (std::none_of(fixture.begin(), fixture.end(),
                    [](const FixturePosition& position) { return position.fitted; })) {
-    return std::unexpected(
-        root.Error(*node, "fixture", "out of range: no position is fitted (fitted = false on all)"));
+    return std::unexpected(root.Error(
+        *node, "fixture", "out of range: no position is fitted (fitted = false on all)"));
   }
   return fixture;
 }
@@ -666,9 +666,11 @@ SimulatedStationConfig PositionSimulated(const StationConfig& station,
   if (own.sigma) unit.sigma = *own.sigma;
   if (own.resonant_frequency_hz) unit.resonant_frequency_hz = *own.resonant_frequency_hz;
   if (own.temperature_c) unit.temperature_c = *own.temperature_c;
-  if (own.temperature_drift_c_per_s) unit.temperature_drift_c_per_s = *own.temperature_drift_c_per_s;
+  if (own.temperature_drift_c_per_s)
+    unit.temperature_drift_c_per_s = *own.temperature_drift_c_per_s;
   if (own.excite_time_s) unit.excite_time_s = *own.excite_time_s;
-  if (own.gyro_stall_after_samples) unit.faults.gyro_stall_after_samples = own.gyro_stall_after_samples;
+  if (own.gyro_stall_after_samples)
+    unit.faults.gyro_stall_after_samples = own.gyro_stall_after_samples;
   if (own.gyro_stall_from_run) unit.faults.gyro_stall_from_run = *own.gyro_stall_from_run;
   if (own.gyro_bus_off_after_samples)
     unit.faults.gyro_bus_off_after_samples = own.gyro_bus_off_after_samples;

@@ -54,7 +54,7 @@ struct SessionContext {
   std::atomic<bool> stop_capture{false};  // set on the first interrupt; read by capture threads
   int run_index = 0;                    // 1-based, this invocation
   int run_count = 0;
-  double remaining_free_run_s = 0.0;    // of the runs not yet captured
+  double remaining_free_run_s = 0.0;  // of the runs not yet captured
 
   bool Interrupted() const;
   // Who stopped the session, for the record: "aborted by operator" (SIGINT: Ctrl-C, the panel's

@@ -98,8 +98,9 @@ std::expected<hw::GyroStatus, NotReady> WaitUntilReady(SessionContext& ctx, Unit
     if (lane.ended) return std::unexpected(NotReady{StepOutcome::Error(lane.result.reason)});
     if (ready) return *ready;
     if (ready.error().code == hw::GyroErrorCode::kTimeout && left == 0)
-      return std::unexpected(NotReady{StepOutcome::Error(
-          "gyro not ready within " + Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s")});
+      return std::unexpected(NotReady{
+          StepOutcome::Error("gyro not ready within " +
+                             Format("%g", ctx.configs->sequence.timeouts.excite_s) + " s")});
     if (ready.error().code != hw::GyroErrorCode::kTimeout)
       return std::unexpected(NotReady{StepOutcome::Error("gyro: " + ready.error().ToString())});
   }
@@ -201,12 +202,14 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
     end.reason = outcome.reason;
   } else {
     // The paper estimates only when temperature is stationary (change < 1 %).
-    const double temperature_change = RelativeChange(end.temperature_start_c, end.temperature_end_c);
+    const double temperature_change =
+        RelativeChange(end.temperature_start_c, end.temperature_end_c);
     const double frequency_change = RelativeChange(end.frequency_start_hz, end.frequency_end_hz);
     std::string drift;
     if (temperature_change > seq.drift.max_temperature_change_rel)
       drift = "temperature changed by " + Format("%.3g %%", 100 * temperature_change);
-    if (seq.drift.max_frequency_change_rel && frequency_change > *seq.drift.max_frequency_change_rel)
+    if (seq.drift.max_frequency_change_rel &&
+        frequency_change > *seq.drift.max_frequency_change_rel)
       drift += (drift.empty() ? "" : ", ") +
                ("resonant frequency changed by " + Format("%.3g %%", 100 * frequency_change));
     if (!drift.empty()) {
@@ -228,16 +231,16 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
     ctx.options->on_run_end(run_id, end, unit.samples);
   if (outcome.ok()) {
     lane.remaining.erase(run_id);
-    ctx.Log(lane,
-            "run " + std::to_string(run_id) + " " +
-                (end.status == kRunComplete ? "complete" : end.status) + ": " +
-                std::to_string(unit.samples) + " samples, Ω = " +
-                Format("%.12g", end.omega_rad_s) + " ± " +
-                Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " + end.omega_source +
-                (end.omega_source == "rate" &&
-                         ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
-                     ? " readings (" + omega.NoAngleReason() + ")"
-                     : ""));
+    ctx.Log(lane, "run " + std::to_string(run_id) + " " +
+                      (end.status == kRunComplete ? "complete" : end.status) + ": " +
+                      std::to_string(unit.samples) +
+                      " samples, Ω = " + Format("%.12g", end.omega_rad_s) + " ± " +
+                      Format("%.2g", end.omega_std_error_rad_s) + " rad/s from the " +
+                      end.omega_source +
+                      (end.omega_source == "rate" &&
+                               ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
+                           ? " readings (" + omega.NoAngleReason() + ")"
+                           : ""));
   }
   if (table.ok()) unit.outcome = outcome;
 }
@@ -337,8 +340,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     capture_run.max_silence_ns = ctx.configs->station.gyro.sample_timeout_ms * 1'000'000;
     capture_run.external_stop = &ctx.stop_capture;
     capture_run.realtime = {rt.priority, rt.cpu, rt.lock_memory};
-    if (auto started = unit.capture->Start(*unit.lane->hw->gyro, *unit.ring, capture_run);
-        !started)
+    if (auto started = unit.capture->Start(*unit.lane->hw->gyro, *unit.ring, capture_run); !started)
       unit.outcome = StepOutcome::Error("capture: " + started.error().message);
   }
 

@@ -433,9 +433,8 @@ std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs, const Ben
     auto recorder = SessionRecorder::OpenForResume(unit.dir);
     if (!recorder) {
       // The others stay as they were (they read as interrupted, and resume again).
-      std::vector<SessionResult> results =
-          RefuseAll(hw, units, "record of " + unit.dir.string() + ": " +
-                                   recorder.error().ToString());
+      std::vector<SessionResult> results = RefuseAll(
+          hw, units, "record of " + unit.dir.string() + ": " + recorder.error().ToString());
       return results;
     }
     recorders.push_back(std::move(*recorder));

@@ -53,8 +53,8 @@ StepOutcome WaitForWarmup(SessionContext& ctx) {
       if (unit.warm || unit.lane->ended) continue;
       auto status = unit.lane->hw->gyro->RequestStatus();
       if (!status) {
-        ctx.EndUnit(*unit.lane,
-                    StepOutcome::Error("gyro: status during warm-up: " + status.error().ToString()));
+        ctx.EndUnit(*unit.lane, StepOutcome::Error("gyro: status during warm-up: " +
+                                                   status.error().ToString()));
         continue;
       }
       auto& history = unit.readings;
@@ -63,12 +63,13 @@ StepOutcome WaitForWarmup(SessionContext& ctx) {
         history.pop_front();
       if (t >= warmup.min_s && !history.empty() &&
           history.back().first - history.front().first >= warmup.window_s - period_s - 1e-9) {
-        const auto [lo, hi] = std::minmax_element(
-            history.begin(), history.end(),
-            [](const auto& a, const auto& b) { return a.second < b.second; });
+        const auto [lo, hi] =
+            std::minmax_element(history.begin(), history.end(),
+                                [](const auto& a, const auto& b) { return a.second < b.second; });
         if (hi->second - lo->second <= warmup.max_drift_c) {
           char line[128];
-          std::snprintf(line, sizeof line, "warm: %.2f °C, drift %.3f °C over %.0f s (after %.0f s)",
+          std::snprintf(line, sizeof line,
+                        "warm: %.2f °C, drift %.3f °C over %.0f s (after %.0f s)",
                         status->temperature_c, hi->second - lo->second, warmup.window_s, t);
           ctx.Log(*unit.lane, line);
           unit.warm = true;

@@ -472,11 +472,11 @@ TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
   const fs::path work = FreshDir("fixture-kill9");
   const fs::path fixture = work / "fixture";
   const fs::path station = PacedStation(work, "station-sim-fixture.toml");
-  const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
-                           (kConfigs / "sequence-paper.toml").string(), "--serial", "FX-1",
-                           "--serial", "FX-2", "--serial", "FX-3", "--serial", "FX-4", "-o",
-                           fixture.string()},
-                          work / "run.log");
+  const pid_t pid =
+      Spawn({"run", "--station", station.string(), "--sequence",
+             (kConfigs / "sequence-paper.toml").string(), "--serial", "FX-1", "--serial", "FX-2",
+             "--serial", "FX-3", "--serial", "FX-4", "-o", fixture.string()},
+            work / "run.log");
   ASSERT_GT(pid, 0);
   const bool reached = WaitForCompleteRuns(fixture / "D-FX-4", 2, std::chrono::seconds(90));
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
@@ -537,19 +537,19 @@ TEST(BenchProgram, FixtureResumeContinuesOnlyTheUnitsWithoutAVerdict) {
   fs::create_directories(work);
   std::string toml = ReadText(kConfigs / "station-sim-fixture.toml");
   const std::string b = "position = \"B\"\n";
-  toml.replace(toml.find(b), b.size(), b + "[fixture.faults]\ngyro_never_ready = true\n[[fixture]]\n" +
-                                           "position = \"B2\"\nfitted = false\n");
+  toml.replace(toml.find(b), b.size(),
+               b + "[fixture.faults]\ngyro_never_ready = true\n[[fixture]]\n" +
+                   "position = \"B2\"\nfitted = false\n");
   std::ofstream(work / "station.toml") << toml;
   // The paper's sequence with a short warm-up window (the units are at rest at 25 °C).
   std::string sequence = ReadText(kConfigs / "sequence-paper.toml");
   const std::string window = "window_s = 60.0";
   sequence.replace(sequence.find(window), window.size(), "window_s = 1.0");
   std::ofstream(work / "sequence.toml") << sequence;
-  const JsonOutput first =
-      RunBenchJson("run --station " + (work / "station.toml").string() + " --sequence " +
-                   (work / "sequence.toml").string() +
-                   " --serial A=U1 --serial C=U3 --serial B=U2 --serial D=U4 --json -o " +
-                   fixture.string());
+  const JsonOutput first = RunBenchJson(
+      "run --station " + (work / "station.toml").string() + " --sequence " +
+      (work / "sequence.toml").string() +
+      " --serial A=U1 --serial C=U3 --serial B=U2 --serial D=U4 --json -o " + fixture.string());
   ASSERT_FALSE(first.doc.is_discarded()) << first.text;
   EXPECT_EQ(first.exit_code, 2) << first.doc.dump(1);
   const std::vector<std::string> expected{"PASS", "ERROR", "PASS", "PASS"};
@@ -575,14 +575,14 @@ TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
                           " --sequence " + (kConfigs / "sequence-paper.toml").string();
   const Output three = RunBench(run + " --serial S1 --serial S2 --serial S3 -o /tmp/never");
   EXPECT_EQ(three.exit_code, 4);
-  EXPECT_NE(three.out.find("3 serial(s) for 4 fitted position(s) (A, B, C, D)"),
-            std::string::npos)
+  EXPECT_NE(three.out.find("3 serial(s) for 4 fitted position(s) (A, B, C, D)"), std::string::npos)
       << three.out;
   const Output unknown =
       RunBench(run + " --serial A=S1 --serial B=S2 --serial C=S3 --serial E=S4 -o /tmp/never");
   EXPECT_EQ(unknown.exit_code, 4);
   EXPECT_NE(unknown.out.find("no fitted position 'E'"), std::string::npos) << unknown.out;
-  const Output twice = RunBench(run + " --serial S1 --serial S1 --serial S3 --serial S4 -o /tmp/never");
+  const Output twice =
+      RunBench(run + " --serial S1 --serial S1 --serial S3 --serial S4 -o /tmp/never");
   EXPECT_EQ(twice.exit_code, 4);
   EXPECT_NE(twice.out.find("the same unit in two positions"), std::string::npos) << twice.out;
   EXPECT_FALSE(fs::exists("/tmp/never"));

@@ -206,8 +206,9 @@ TEST(BenchFixture, TableFaultStopsEveryUnit) {
 
 TEST(BenchFixture, OperatorInterruptStopsEveryUnit) {
   const FixtureRun run = RunFixtureOnSimulatedStation(
-      "sequence-paper.toml", "", Shorten,
-      [](const bench::Progress& p) { return p.run == 2 && p.phase == "capture" && p.samples > 80; });
+      "sequence-paper.toml", "", Shorten, [](const bench::Progress& p) {
+        return p.run == 2 && p.phase == "capture" && p.samples > 80;
+      });
   ExpectEveryUnitStopped(run, bench::OutcomeKind::kAborted, "aborted by operator during run 2");
 }
 

@@ -207,8 +207,7 @@ TEST(StationFixture, FixtureIsAnArrayOfTables) {
 
 TEST(StationFixture, AtMostSixteenPositions) {
   std::string text = kSimulated;
-  for (int i = 0; i < 17; ++i)
-    text += "[[fixture]]\nposition = \"P" + std::to_string(i) + "\"\n";
+  for (int i = 0; i < 17; ++i) text += "[[fixture]]\nposition = \"P" + std::to_string(i) + "\"\n";
   auto station = Parse(text);
   ASSERT_FALSE(station.has_value());
   EXPECT_NE(station.error().message.find("a fixture has at most 16"), std::string::npos)
