@@ -69,6 +69,17 @@ std::expected<SiteConfig, ConfigError> ReadSite(TableReader& reader) {
   return site;
 }
 
+// can_interface: a Linux interface name (IFNAMSIZ is 16 including the terminating zero).
+std::expected<std::string, ConfigError> ReadInterfaceName(TableReader& reader) {
+  HRG_TRY(iface, RequiredString(reader, "can_interface"));
+  if (iface->size() > 15) {
+    return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
+                                        "out of range: a Linux interface name has <= 15 "
+                                        "characters"));
+  }
+  return *iface;
+}
+
 // `fixture_declared`: the station has [[fixture]], whose positions name the interfaces.
 std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, StationKind kind,
                                                     bool fixture_declared) {
@@ -80,13 +91,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
       HRG_CHECK(Forbid(reader, "can_interface",
                        "conflict: with [[fixture]], each position names its own can_interface"));
     } else {
-      HRG_TRY(iface, RequiredString(reader, "can_interface"));
-      // IFNAMSIZ is 16 including the terminating zero.
-      if (iface->size() > 15) {
-        return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
-                                            "out of range: a Linux interface name has <= 15 "
-                                            "characters"));
-      }
+      HRG_TRY(iface, ReadInterfaceName(reader));
       gyro.can_interface = *iface;
     }
     HRG_TRY(bitrate, OptionalInteger(reader, "bitrate", 10'000, 1'000'000, gyro.bitrate));
@@ -437,12 +442,7 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
   HRG_TRY(inverted, OptionalBool(reader, "inverted", false));
   position.inverted = *inverted;
   if (station.kind == StationKind::kReal) {
-    HRG_TRY(iface, RequiredString(reader, "can_interface"));
-    if (iface->size() > 15) {
-      return std::unexpected(reader.Error(*reader.table().get("can_interface"), "can_interface",
-                                          "out of range: a Linux interface name has <= 15 "
-                                          "characters"));
-    }
+    HRG_TRY(iface, ReadInterfaceName(reader));
     position.can_interface = *iface;
     for (std::string_view key :
          {"delta", "xi", "sigma", "seed", "resonant_frequency_hz", "temperature_c",

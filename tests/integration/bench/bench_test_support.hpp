@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -29,6 +30,23 @@ inline std::filesystem::path FreshDir(const std::string& stem) {
          ("hrgbench-" + stem + "-" + std::to_string(rd()) + std::to_string(rd()));
 }
 
+// Loads the shipped configs, lets `edit` change them, and opens the station into `station`;
+// std::nullopt (and a test failure) when either fails.
+inline std::optional<bench::BenchConfigs> OpenShippedStation(
+    const std::string& station_file, const std::string& sequence, const std::string& limits,
+    const std::function<void(bench::BenchConfigs&)>& edit, std::unique_ptr<app::Station>& station) {
+  auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
+                                         limits.empty() ? "" : ConfigPath(limits));
+  EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
+  if (!configs) return std::nullopt;
+  if (edit) edit(*configs);
+  auto opened = app::OpenStation(configs->station);
+  EXPECT_TRUE(opened) << (opened ? "" : opened.error());
+  if (!opened) return std::nullopt;
+  station = std::move(*opened);
+  return std::move(*configs);
+}
+
 struct BenchRun {
   bench::SessionResult result;
   std::filesystem::path dir;
@@ -47,15 +65,8 @@ inline BenchRun RunOnSimulatedStation(
     const std::function<std::unique_ptr<hw::RateTable>(hw::RateTable&)>& wrap_table = {},
     const std::string& station_file = "station-sim.toml") {
   BenchRun run;
-  auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
-                                         limits.empty() ? "" : ConfigPath(limits));
-  EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
+  auto configs = OpenShippedStation(station_file, sequence, limits, edit, run.station);
   if (!configs) return run;
-  if (edit) edit(*configs);
-  auto station = app::OpenStation(configs->station);
-  EXPECT_TRUE(station) << (station ? "" : station.error());
-  if (!station) return run;
-  run.station = std::move(*station);
   std::atomic<int> interrupts{0};
   bench::RunnerOptions options;
   options.unit_serial = "TEST-001";
@@ -89,15 +100,8 @@ inline FixtureRun RunFixtureOnSimulatedStation(
     const std::function<bool(const bench::Progress&)>& interrupt_when = {},
     const std::string& station_file = "station-sim-fixture.toml") {
   FixtureRun run;
-  auto configs = bench::LoadBenchConfigs(ConfigPath(station_file), ConfigPath(sequence),
-                                         limits.empty() ? "" : ConfigPath(limits));
-  EXPECT_TRUE(configs) << (configs ? "" : configs.error().ToString());
+  auto configs = OpenShippedStation(station_file, sequence, limits, edit, run.station);
   if (!configs) return run;
-  if (edit) edit(*configs);
-  auto station = app::OpenStation(configs->station);
-  EXPECT_TRUE(station) << (station ? "" : station.error());
-  if (!station) return run;
-  run.station = std::move(*station);
   const std::filesystem::path fixture = FreshDir("fixture");
   std::vector<bench::UnitSession> units;
   const bench::BenchHardware& hardware = run.station->hardware();
