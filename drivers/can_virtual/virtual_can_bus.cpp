@@ -89,7 +89,8 @@ bool VirtualCanBus::DrawUnderMutex(double probability) noexcept {
   return u < probability;
 }
 
-void VirtualCanBus::Transmit(const VirtualCanEndpoint* sender, const hw::CanFrame& frame) noexcept {
+std::int64_t VirtualCanBus::Transmit(const VirtualCanEndpoint* sender,
+                                     const hw::CanFrame& frame) noexcept {
   const std::lock_guard lock(mutex_);
   const std::int64_t now_ns = clock_->NowNs();
   std::int64_t end_of_frame_ns = now_ns;
@@ -112,7 +113,7 @@ void VirtualCanBus::Transmit(const VirtualCanEndpoint* sender, const hw::CanFram
   }
   if (drop) {
     ++statistics_.injected_drops;
-    return;
+    return end_of_frame_ns;
   }
 
   hw::CanFrame on_wire = frame;
@@ -138,6 +139,7 @@ void VirtualCanBus::Transmit(const VirtualCanEndpoint* sender, const hw::CanFram
     if (endpoint == sender && !endpoint->options_.receive_own_frames) continue;
     endpoint->Deliver(on_wire, end_of_frame_ns);
   }
+  return end_of_frame_ns;
 }
 
 }  // namespace hrgbench::drivers::can_virtual

@@ -94,8 +94,9 @@ class VirtualCanBus {
   friend class VirtualCanEndpoint;
   explicit VirtualCanBus(const VirtualCanBusOptions& options);
 
-  // Called by an endpoint's Send (without the endpoint's lock held).
-  void Transmit(const VirtualCanEndpoint* sender, const hw::CanFrame& frame) noexcept;
+  // Called by an endpoint's Send (without the endpoint's lock held). Returns the frame's end of
+  // frame on the bus's clock.
+  std::int64_t Transmit(const VirtualCanEndpoint* sender, const hw::CanFrame& frame) noexcept;
   void Detach(const VirtualCanEndpoint* endpoint) noexcept;
   bool DrawUnderMutex(double probability) noexcept;
 

@@ -12,7 +12,10 @@ using hw::CanStatus;
 
 VirtualCanEndpoint::VirtualCanEndpoint(VirtualCanBus* bus, const VirtualCanEndpointOptions& options,
                                        std::size_t queue_capacity)
-    : bus_(bus), options_(options), queue_(queue_capacity) {}
+    : bus_(bus),
+      options_(options),
+      queue_(queue_capacity),
+      transmit_ends_ns_(options.transmit_queue_frames) {}
 
 VirtualCanEndpoint::~VirtualCanEndpoint() { bus_->Detach(this); }
 
@@ -30,12 +33,28 @@ CanStatus VirtualCanEndpoint::Send(const hw::CanFrame& frame,
       ++statistics_.send_errors;
       return CanStatus::kBusOff;
     }
+    if (!transmit_ends_ns_.empty()) {
+      const std::int64_t now_ns = bus_->clock().NowNs();
+      while (transmit_count_ > 0 && transmit_ends_ns_[transmit_head_] <= now_ns) {
+        transmit_head_ = (transmit_head_ + 1) % transmit_ends_ns_.size();
+        --transmit_count_;
+      }
+      if (transmit_count_ == transmit_ends_ns_.size()) {
+        ++statistics_.buffer_full;
+        return CanStatus::kBufferFull;
+      }
+    }
   }
   // The endpoint lock is released first: the bus takes its own lock, then receivers' locks (and
   // ours, with receive_own_frames).
-  bus_->Transmit(this, frame);
+  const std::int64_t end_of_frame_ns = bus_->Transmit(this, frame);
   const std::lock_guard lock(mutex_);
   ++statistics_.frames_sent;
+  if (!transmit_ends_ns_.empty()) {
+    transmit_ends_ns_[(transmit_head_ + transmit_count_) % transmit_ends_ns_.size()] =
+        end_of_frame_ns;
+    ++transmit_count_;
+  }
   return CanStatus::kOk;
 }
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <mutex>
 #include <span>
+#include <vector>
 
 #include "can_virtual/frame_ring.hpp"
 #include "hrgbench/hw/can_bus.hpp"
@@ -29,6 +30,11 @@ struct VirtualCanEndpointOptions {
   bool receive_own_frames = false;
   // Receive queue size; 0 = the bus's queue_capacity.
   std::size_t queue_capacity = 0;
+  // Transmit queue (a controller's mailboxes and its driver's queue), frames; 0 = unlimited. On a
+  // timed bus a frame waits in it until its end of frame has passed; when it holds this many, Send
+  // returns kBufferFull and the frame is not sent: a node whose bus is overloaded loses frames
+  // at its source, as on a real bus, instead of falling ever further behind.
+  std::size_t transmit_queue_frames = 0;
 };
 
 class VirtualCanEndpoint final : public hw::CanBus {
@@ -73,6 +79,11 @@ class VirtualCanEndpoint final : public hw::CanBus {
   std::uint32_t drops_since_last_frame_ = 0;
   hw::CanBusState state_ = hw::CanBusState::kErrorActive;
   hw::CanBusStatistics statistics_;
+  // End-of-frame times of the frames in the transmit queue, oldest first (a ring of
+  // transmit_queue_frames, allocated at construction; in bus order, so increasing).
+  std::vector<std::int64_t> transmit_ends_ns_;
+  std::size_t transmit_head_ = 0;
+  std::size_t transmit_count_ = 0;
 };
 
 }  // namespace hrgbench::drivers::can_virtual

@@ -73,6 +73,10 @@ bool GyroCanDeviceConfig::IsValid(std::string* why) const {
     return false;
   };
   if (clock == nullptr) return fail("clock must be set (the transport's time base)");
+  if (node > kMaxNodeId) {
+    return fail(hw::ErrorText("node must be in 0..", static_cast<int>(kMaxNodeId), ", got ",
+                              static_cast<int>(node)));
+  }
   if (ack_timeout_ns <= 0)
     return fail(hw::ErrorText("ack_timeout_ns must be > 0, got ", ack_timeout_ns));
   if (command_attempts < 1 || command_attempts > 10) {
@@ -91,9 +95,12 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
     hw::CanBus& bus, const GyroCanDeviceConfig& config) {
   std::string why;
   if (!config.IsValid(&why)) return Fail(GyroErrorCode::kInvalidArgument, why);
-  // 0x050/0x051 (Ack, Status) and 0x100..0x103 (samples and the reference phase).
-  const std::array<hw::CanFilter, 2> filters = {hw::CanFilter{can_id::kAck, 0x7FE, false},
-                                                hw::CanFilter{can_id::kSampleA, 0x7FC, false}};
+  // The node's Ack and Status (0x08n, 0x09n), samples and reference phase (0x10n … 0x13n).
+  static_assert(can_id::kStatus == (can_id::kAck | 0x010) &&
+                can_id::kReferencePhase == (can_id::kSampleA | 0x030));
+  const std::array<hw::CanFilter, 2> filters = {
+      hw::CanFilter{NodeMessageId(can_id::kAck, config.node), 0x7EF, false},
+      hw::CanFilter{NodeMessageId(can_id::kSampleA, config.node), 0x7CF, false}};
   if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
     return Fail(GyroErrorCode::kTransport,
                 hw::ErrorText("setting CAN filters failed: ", hw::ToString(status)));
@@ -128,14 +135,25 @@ void GyroCanDevice::SyncDecoderCounters() noexcept {
 }
 
 void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept {
+  // Another node's traffic on a shared bus (a transport that does not filter): not this unit's.
+  if (!frame.error && !frame.extended && IsElectronicsId(frame.id) &&
+      NodeOf(frame.id) != config_.node) {
+    return;
+  }
   counters_.frames_received.fetch_add(1, std::memory_order_relaxed);
   if (info.dropped_frames != 0) {
     counters_.kernel_drops.fetch_add(info.dropped_frames, std::memory_order_relaxed);
   }
+  const NodeId node = config_.node;
+  const std::uint32_t message = MessageOf(frame.id);
   DecodeStatus status = DecodeStatus::kWrongId;
-  if (frame.id == can_id::kSampleA || frame.id == can_id::kSampleB) {
+  if (frame.extended || NodeOf(frame.id) != node) {
+    counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  if (message == can_id::kSampleA || message == can_id::kSampleB) {
     SampleHalf half;
-    status = DecodeSampleHalf(frame, &half);
+    status = DecodeSampleHalf(frame, node, &half);
     if (status == DecodeStatus::kOk) {
       if (!streaming_ || format_ != FrameFormat::kClassic) {
         counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
@@ -145,9 +163,9 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
       SyncDecoderCounters();
       return;
     }
-  } else if (frame.id == can_id::kSampleFd) {
+  } else if (message == can_id::kSampleFd) {
     SampleFdBlock block;
-    status = DecodeSampleFd(frame, &block);
+    status = DecodeSampleFd(frame, node, &block);
     if (status == DecodeStatus::kOk) {
       if (!streaming_ || format_ != FrameFormat::kFd) {
         counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
@@ -157,9 +175,9 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
       SyncDecoderCounters();
       return;
     }
-  } else if (frame.id == can_id::kReferencePhase) {
+  } else if (message == can_id::kReferencePhase) {
     ReferencePhaseReport report;
-    status = DecodeReferencePhase(frame, &report);
+    status = DecodeReferencePhase(frame, node, &report);
     if (status == DecodeStatus::kOk) {
       if (!streaming_) {
         counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
@@ -168,9 +186,9 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
       decoder_.OnReferencePhase(report, info.timestamp_ns);
       return;
     }
-  } else if (frame.id == can_id::kAck) {
+  } else if (message == can_id::kAck) {
     Ack ack;
-    status = DecodeAck(frame, &ack);
+    status = DecodeAck(frame, node, &ack);
     if (status == DecodeStatus::kOk) {
       if (awaiting_ack_ && !ack_received_ && ack.command == awaited_command_ &&
           ack.token == awaited_token_) {
@@ -183,16 +201,16 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
       }
       return;
     }
-  } else if (frame.id == can_id::kStatus) {
-    StatusMessage message;
-    status = DecodeStatusMessage(frame, &message);
+  } else if (message == can_id::kStatus) {
+    StatusMessage reported;
+    status = DecodeStatusMessage(frame, node, &reported);
     if (status == DecodeStatus::kOk) {
       {
         const std::lock_guard lock(status_mutex_);
-        last_status_ = ToGyroStatus(message, info.timestamp_ns);
+        last_status_ = ToGyroStatus(reported, info.timestamp_ns);
       }
       ++status_frames_;
-      if (message.mode == GyroMode::kFaulted && State() != GyroMode::kStopped) {
+      if (reported.mode == GyroMode::kFaulted && State() != GyroMode::kStopped) {
         streaming_ = false;
         SetState(GyroMode::kFaulted);
       }
@@ -310,7 +328,7 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   auto ack = Transact(Command::kConfigure, [&](std::uint8_t token) {
     ConfigureCommand c = command;
     c.token = token;
-    return EncodeConfigure(c);
+    return EncodeConfigure(config_.node, c);
   });
   if (!ack) return std::unexpected(ack.error());
   if (ack->arg != config.sample_rate_hz || ack->mode != GyroMode::kConfigured) {
@@ -344,7 +362,7 @@ std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target
   auto ack = Transact(Command::kExcite, [&](std::uint8_t token) {
     ExciteCommand c = command;
     c.token = token;
-    return EncodeExcite(c);
+    return EncodeExcite(config_.node, c);
   });
   if (!ack) return std::unexpected(ack.error());
   if (ack->mode != GyroMode::kExciting && ack->mode != GyroMode::kReady) {
@@ -360,8 +378,8 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::RequestStatus() {
     return Fail(GyroErrorCode::kBusOff, "status request: the bus is off");
   }
   const std::uint64_t seen = status_frames_;
-  auto ack = Transact(Command::kStatusRequest, [](std::uint8_t token) {
-    return EncodeSimpleCommand({Command::kStatusRequest, token});
+  auto ack = Transact(Command::kStatusRequest, [this](std::uint8_t token) {
+    return EncodeSimpleCommand(config_.node, {Command::kStatusRequest, token});
   });
   if (!ack) return std::unexpected(ack.error());
   const CanStatus waited = PumpUntil(clock_.NowNs() + config_.ack_timeout_ns,
@@ -425,8 +443,8 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
   // Samples may follow the Ack immediately (or precede a repeated Ack): be ready for them first.
   decoder_.Start(format_, sample_rate_hz_);
   streaming_ = true;
-  auto ack = Transact(Command::kRelease, [](std::uint8_t token) {
-    return EncodeSimpleCommand({Command::kRelease, token});
+  auto ack = Transact(Command::kRelease, [this](std::uint8_t token) {
+    return EncodeSimpleCommand(config_.node, {Command::kRelease, token});
   });
   if (!ack) {
     streaming_ = false;
@@ -444,8 +462,8 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
 }
 
 std::expected<void, GyroError> GyroCanDevice::Stop() {
-  auto ack = Transact(Command::kStop, [](std::uint8_t token) {
-    return EncodeSimpleCommand({Command::kStop, token});
+  auto ack = Transact(Command::kStop, [this](std::uint8_t token) {
+    return EncodeSimpleCommand(config_.node, {Command::kStop, token});
   });
   streaming_ = false;
   if (!ack) {

@@ -1,5 +1,6 @@
 #pragma once
-// GyroCanDevice: hw::GyroElectronics over any hw::CanBus, speaking protocol v1 (README.md).
+// GyroCanDevice: hw::GyroElectronics over any hw::CanBus, speaking protocol v2 (README.md) to the
+// electronics with one node id; other nodes on the same bus are not its business (filtered out).
 //
 // State machine (State(), hw::GyroMode), changed only by acknowledged commands, status frames and
 // bus state:
@@ -40,6 +41,8 @@ struct GyroCanDeviceConfig {
   // The transport's time base (the Clock a VirtualCanBus was given, SteadyClock for SocketCAN
   // with hardware stamps off): deadlines are measured on it. Not owned; must outlive the device.
   hw::Clock* clock = nullptr;
+  // The electronics' node id on the bus (0 … kMaxNodeId): several units may share one bus.
+  NodeId node = 0;
   // The electronics answer within 5 ms (README); 50 ms absorbs a loaded bus and host scheduling.
   std::int64_t ack_timeout_ns = 50'000'000;
   // 3 attempts: a single lost frame costs one retry, two in a row are already a sick bus.
@@ -57,7 +60,7 @@ struct GyroCanDeviceConfig {
 
 class GyroCanDevice final : public hw::GyroElectronics {
  public:
-  // Sets the bus filters to the electronics' ids and allocates all receive storage.
+  // Sets the bus filters to its node's electronics ids and allocates all receive storage.
   // Failure: kInvalidArgument (config), kTransport (filters refused).
   static std::expected<std::unique_ptr<GyroCanDevice>, hw::GyroError> Create(
       hw::CanBus& bus, const GyroCanDeviceConfig& config);

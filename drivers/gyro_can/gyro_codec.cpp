@@ -91,8 +91,8 @@ std::int32_t QuantiseY(double y) noexcept {
   return static_cast<std::int32_t>(raw);
 }
 
-CanFrame EncodeConfigure(const ConfigureCommand& command) noexcept {
-  CanFrame frame = Begin(can_id::kConfigure, length::kConfigure);
+CanFrame EncodeConfigure(NodeId node, const ConfigureCommand& command) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kConfigure, node), length::kConfigure);
   frame.data[0] = command.token;
   PutUnsigned(frame, 1, 2, command.sample_rate_hz);
   frame.data[3] = static_cast<std::uint8_t>(command.format);
@@ -100,8 +100,8 @@ CanFrame EncodeConfigure(const ConfigureCommand& command) noexcept {
   return Seal(frame);
 }
 
-CanFrame EncodeExcite(const ExciteCommand& command) noexcept {
-  CanFrame frame = Begin(can_id::kExcite, length::kExcite);
+CanFrame EncodeExcite(NodeId node, const ExciteCommand& command) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kExcite, node), length::kExcite);
   frame.data[0] = command.token;
   PutUnsigned(frame, 1, 2, command.a_raw);
   PutSigned(frame, 3, 2, command.b_raw);
@@ -109,14 +109,15 @@ CanFrame EncodeExcite(const ExciteCommand& command) noexcept {
   return Seal(frame);
 }
 
-CanFrame EncodeSimpleCommand(const SimpleCommand& command) noexcept {
-  CanFrame frame = Begin(static_cast<std::uint32_t>(command.command), length::kSimpleCommand);
+CanFrame EncodeSimpleCommand(NodeId node, const SimpleCommand& command) noexcept {
+  CanFrame frame =
+      Begin(NodeMessageId(CommandMessage(command.command), node), length::kSimpleCommand);
   frame.data[0] = command.token;
   return Seal(frame);
 }
 
-CanFrame EncodeAck(const Ack& ack) noexcept {
-  CanFrame frame = Begin(can_id::kAck, length::kAck);
+CanFrame EncodeAck(NodeId node, const Ack& ack) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kAck, node), length::kAck);
   frame.data[0] = static_cast<std::uint8_t>(ack.command);
   frame.data[1] = ack.token;
   frame.data[2] = static_cast<std::uint8_t>(ack.result);
@@ -125,8 +126,8 @@ CanFrame EncodeAck(const Ack& ack) noexcept {
   return Seal(frame);
 }
 
-CanFrame EncodeStatus(const StatusMessage& status) noexcept {
-  CanFrame frame = Begin(can_id::kStatus, length::kStatus);
+CanFrame EncodeStatus(NodeId node, const StatusMessage& status) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kStatus, node), length::kStatus);
   frame.data[0] = static_cast<std::uint8_t>(static_cast<std::uint8_t>(status.mode) & 0x0Fu) |
                   static_cast<std::uint8_t>(status.pll_lock ? 0x10u : 0u) |
                   static_cast<std::uint8_t>(status.ready ? 0x20u : 0u);
@@ -136,16 +137,17 @@ CanFrame EncodeStatus(const StatusMessage& status) noexcept {
   return Seal(frame);
 }
 
-CanFrame EncodeSampleHalf(const SampleHalf& half) noexcept {
-  CanFrame frame = Begin(half.half == 0 ? can_id::kSampleA : can_id::kSampleB, length::kSample);
+CanFrame EncodeSampleHalf(NodeId node, const SampleHalf& half) noexcept {
+  CanFrame frame = Begin(NodeMessageId(half.half == 0 ? can_id::kSampleA : can_id::kSampleB, node),
+                         length::kSample);
   frame.data[0] = half.seq;
   PutSigned(frame, 1, 3, half.y_raw[0]);
   PutSigned(frame, 4, 3, half.y_raw[1]);
   return Seal(frame);
 }
 
-CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept {
-  CanFrame frame = Begin(can_id::kSampleFd, length::kSampleFd);
+CanFrame EncodeSampleFd(NodeId node, const SampleFdBlock& block) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kSampleFd, node), length::kSampleFd);
   frame.fd = true;
   frame.bit_rate_switch = true;
   PutUnsigned(frame, 0, 2, block.seq);
@@ -160,8 +162,9 @@ CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept {
   return Seal(frame);
 }
 
-DecodeStatus DecodeConfigure(const CanFrame& frame, ConfigureCommand* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kConfigure, length::kConfigure, false);
+DecodeStatus DecodeConfigure(const CanFrame& frame, NodeId node, ConfigureCommand* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kConfigure, node), length::kConfigure, false);
   if (status != DecodeStatus::kOk) return status;
   if (frame.data[3] > static_cast<std::uint8_t>(FrameFormat::kFd) || frame.data[5] != 0 ||
       frame.data[6] != 0) {
@@ -174,8 +177,9 @@ DecodeStatus DecodeConfigure(const CanFrame& frame, ConfigureCommand* out) noexc
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeExcite(const CanFrame& frame, ExciteCommand* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kExcite, length::kExcite, false);
+DecodeStatus DecodeExcite(const CanFrame& frame, NodeId node, ExciteCommand* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kExcite, node), length::kExcite, false);
   if (status != DecodeStatus::kOk) return status;
   out->token = frame.data[0];
   out->a_raw = static_cast<std::uint16_t>(GetUnsigned(frame, 1, 2));
@@ -184,20 +188,26 @@ DecodeStatus DecodeExcite(const CanFrame& frame, ExciteCommand* out) noexcept {
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeSimpleCommand(const CanFrame& frame, SimpleCommand* out) noexcept {
-  if (frame.extended || (frame.id != can_id::kRelease && frame.id != can_id::kStop &&
-                         frame.id != can_id::kStatusRequest)) {
+DecodeStatus DecodeSimpleCommand(const CanFrame& frame, NodeId node, SimpleCommand* out) noexcept {
+  const std::uint32_t message = MessageOf(frame.id);
+  Command command = Command::kStatusRequest;
+  if (message == can_id::kRelease) {
+    command = Command::kRelease;
+  } else if (message == can_id::kStop) {
+    command = Command::kStop;
+  } else if (message != can_id::kStatusRequest) {
     return DecodeStatus::kWrongId;
   }
-  const DecodeStatus status = Check(frame, frame.id, length::kSimpleCommand, false);
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(message, node), length::kSimpleCommand, false);
   if (status != DecodeStatus::kOk) return status;
-  out->command = static_cast<Command>(frame.id);
+  out->command = command;
   out->token = frame.data[0];
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeAck(const CanFrame& frame, Ack* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kAck, length::kAck, false);
+DecodeStatus DecodeAck(const CanFrame& frame, NodeId node, Ack* out) noexcept {
+  const DecodeStatus status = Check(frame, NodeMessageId(can_id::kAck, node), length::kAck, false);
   if (status != DecodeStatus::kOk) return status;
   if (!IsCommand(frame.data[0]) || frame.data[2] > static_cast<std::uint8_t>(AckResult::kFaulted) ||
       !IsMode(frame.data[3])) {
@@ -211,8 +221,9 @@ DecodeStatus DecodeAck(const CanFrame& frame, Ack* out) noexcept {
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeStatusMessage(const CanFrame& frame, StatusMessage* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kStatus, length::kStatus, false);
+DecodeStatus DecodeStatusMessage(const CanFrame& frame, NodeId node, StatusMessage* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kStatus, node), length::kStatus, false);
   if (status != DecodeStatus::kOk) return status;
   const std::uint8_t mode = frame.data[0] & 0x0Fu;
   if (!IsMode(mode) || (frame.data[0] & 0xC0u) != 0) return DecodeStatus::kBadValue;
@@ -234,15 +245,17 @@ std::uint32_t QuantiseReferencePhase(double chi_rad) noexcept {
   return raw >= 4294967296.0 ? 0u : static_cast<std::uint32_t>(raw);  // 2π rounds to 0
 }
 
-CanFrame EncodeReferencePhase(const ReferencePhaseReport& report) noexcept {
-  CanFrame frame = Begin(can_id::kReferencePhase, length::kReferencePhase);
+CanFrame EncodeReferencePhase(NodeId node, const ReferencePhaseReport& report) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kReferencePhase, node), length::kReferencePhase);
   PutUnsigned(frame, 0, 2, report.seq);
   PutUnsigned(frame, 2, 4, report.phase_raw);
   return Seal(frame);
 }
 
-DecodeStatus DecodeReferencePhase(const CanFrame& frame, ReferencePhaseReport* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kReferencePhase, length::kReferencePhase, false);
+DecodeStatus DecodeReferencePhase(const CanFrame& frame, NodeId node,
+                                  ReferencePhaseReport* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kReferencePhase, node), length::kReferencePhase, false);
   if (status != DecodeStatus::kOk) return status;
   if (frame.data[6] != 0) return DecodeStatus::kBadValue;  // reserved
   out->seq = static_cast<std::uint16_t>(GetUnsigned(frame, 0, 2));
@@ -250,21 +263,21 @@ DecodeStatus DecodeReferencePhase(const CanFrame& frame, ReferencePhaseReport* o
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeSampleHalf(const CanFrame& frame, SampleHalf* out) noexcept {
-  if (frame.extended || (frame.id != can_id::kSampleA && frame.id != can_id::kSampleB)) {
-    return DecodeStatus::kWrongId;
-  }
-  const DecodeStatus status = Check(frame, frame.id, length::kSample, false);
+DecodeStatus DecodeSampleHalf(const CanFrame& frame, NodeId node, SampleHalf* out) noexcept {
+  const std::uint32_t message = MessageOf(frame.id);
+  if (message != can_id::kSampleA && message != can_id::kSampleB) return DecodeStatus::kWrongId;
+  const DecodeStatus status = Check(frame, NodeMessageId(message, node), length::kSample, false);
   if (status != DecodeStatus::kOk) return status;
-  out->half = frame.id == can_id::kSampleA ? 0 : 1;
+  out->half = message == can_id::kSampleA ? 0 : 1;
   out->seq = frame.data[0];
   out->y_raw[0] = GetSigned(frame, 1, 3);
   out->y_raw[1] = GetSigned(frame, 4, 3);
   return DecodeStatus::kOk;
 }
 
-DecodeStatus DecodeSampleFd(const CanFrame& frame, SampleFdBlock* out) noexcept {
-  const DecodeStatus status = Check(frame, can_id::kSampleFd, length::kSampleFd, true);
+DecodeStatus DecodeSampleFd(const CanFrame& frame, NodeId node, SampleFdBlock* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kSampleFd, node), length::kSampleFd, true);
   if (status != DecodeStatus::kOk) return status;
   const std::uint8_t count = frame.data[2];
   if (count == 0 || count > kSamplesPerFdFrame) return DecodeStatus::kBadValue;

@@ -1,10 +1,11 @@
 #pragma once
-// GyroCodec: the pure codec of the HRG CAN protocol v1 (gyro_protocol.hpp, README.md,
-// hrg_gyro_v1.dbc). No sockets, no clocks, no allocation; every function is noexcept and
-// real-time safe. Encoders take values already validated by the caller and saturate anything out
-// of the field's range (the command encoders' callers range-check first, so saturation never
-// changes a command silently); decoders check identifier, frame kind, length, CRC and enumerated
-// values, and report the first problem as a DecodeStatus.
+// GyroCodec: the pure codec of the HRG CAN protocol v2 (gyro_protocol.hpp, README.md,
+// hrg_gyro_v2.dbc). Every frame is one node's: encoders take the node id, decoders accept only
+// that node's identifier (another node's frame is kWrongId). No sockets, no clocks, no allocation;
+// every function is noexcept and real-time safe. Encoders take values already validated by the
+// caller and saturate anything out of the field's range (the command encoders' callers range-check
+// first, so saturation never changes a command silently); decoders check identifier, frame kind,
+// length, CRC and enumerated values, and report the first problem as a DecodeStatus.
 
 #include <array>
 #include <cstdint>
@@ -83,7 +84,7 @@ struct StatusMessage {
   std::int16_t temperature_centi_c = 0;  // 0.01 °C
 };
 
-// One half of a sample on classic CAN: half 0 (id 0x100) carries y1, y2; half 1 (0x101) y3, y4.
+// One half of a sample on classic CAN: half 0 (SampleA) carries y1, y2; half 1 (SampleB) y3, y4.
 struct SampleHalf {
   std::uint8_t half = 0;
   std::uint8_t seq = 0;                 // sample number modulo 256
@@ -97,7 +98,7 @@ struct SampleFdBlock {
   std::array<std::array<std::int32_t, 4>, kSamplesPerFdFrame> y_raw{};
 };
 
-// The reference phase at one sample (0x103): χ mod 2π = phase_raw·kReferencePhaseLsbRad.
+// The reference phase at one sample (ReferencePhase): χ mod 2π = phase_raw·kReferencePhaseLsbRad.
 struct ReferencePhaseReport {
   std::uint16_t seq = 0;        // number of the sample it belongs to, modulo 65536
   std::uint32_t phase_raw = 0;  // χ mod 2π in units of 2π/2^32 rad
@@ -116,31 +117,39 @@ std::uint8_t Crc8(std::uint32_t id, const std::uint8_t* data, std::size_t n) noe
 std::int32_t QuantiseY(double y) noexcept;
 constexpr double DequantiseY(std::int32_t raw) noexcept { return raw * kSampleLsb; }
 
-hw::CanFrame EncodeConfigure(const ConfigureCommand& command) noexcept;
-hw::CanFrame EncodeExcite(const ExciteCommand& command) noexcept;
-hw::CanFrame EncodeSimpleCommand(const SimpleCommand& command) noexcept;
-hw::CanFrame EncodeAck(const Ack& ack) noexcept;
-hw::CanFrame EncodeStatus(const StatusMessage& status) noexcept;
-hw::CanFrame EncodeSampleHalf(const SampleHalf& half) noexcept;
-hw::CanFrame EncodeSampleFd(const SampleFdBlock& block) noexcept;  // FD with BRS
-hw::CanFrame EncodeReferencePhase(const ReferencePhaseReport& report) noexcept;  // classic
+hw::CanFrame EncodeConfigure(NodeId node, const ConfigureCommand& command) noexcept;
+hw::CanFrame EncodeExcite(NodeId node, const ExciteCommand& command) noexcept;
+hw::CanFrame EncodeSimpleCommand(NodeId node, const SimpleCommand& command) noexcept;
+hw::CanFrame EncodeAck(NodeId node, const Ack& ack) noexcept;
+hw::CanFrame EncodeStatus(NodeId node, const StatusMessage& status) noexcept;
+hw::CanFrame EncodeSampleHalf(NodeId node, const SampleHalf& half) noexcept;
+hw::CanFrame EncodeSampleFd(NodeId node, const SampleFdBlock& block) noexcept;  // FD with BRS
+hw::CanFrame EncodeReferencePhase(NodeId node,
+                                  const ReferencePhaseReport& report) noexcept;  // classic
 
-DecodeStatus DecodeConfigure(const hw::CanFrame& frame, ConfigureCommand* out) noexcept;
-DecodeStatus DecodeExcite(const hw::CanFrame& frame, ExciteCommand* out) noexcept;
-DecodeStatus DecodeSimpleCommand(const hw::CanFrame& frame, SimpleCommand* out) noexcept;
-DecodeStatus DecodeAck(const hw::CanFrame& frame, Ack* out) noexcept;
-DecodeStatus DecodeStatusMessage(const hw::CanFrame& frame, StatusMessage* out) noexcept;
-DecodeStatus DecodeSampleHalf(const hw::CanFrame& frame, SampleHalf* out) noexcept;
-DecodeStatus DecodeSampleFd(const hw::CanFrame& frame, SampleFdBlock* out) noexcept;
-DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, ReferencePhaseReport* out) noexcept;
+DecodeStatus DecodeConfigure(const hw::CanFrame& frame, NodeId node,
+                             ConfigureCommand* out) noexcept;
+DecodeStatus DecodeExcite(const hw::CanFrame& frame, NodeId node, ExciteCommand* out) noexcept;
+DecodeStatus DecodeSimpleCommand(const hw::CanFrame& frame, NodeId node,
+                                 SimpleCommand* out) noexcept;
+DecodeStatus DecodeAck(const hw::CanFrame& frame, NodeId node, Ack* out) noexcept;
+DecodeStatus DecodeStatusMessage(const hw::CanFrame& frame, NodeId node,
+                                 StatusMessage* out) noexcept;
+DecodeStatus DecodeSampleHalf(const hw::CanFrame& frame, NodeId node, SampleHalf* out) noexcept;
+DecodeStatus DecodeSampleFd(const hw::CanFrame& frame, NodeId node, SampleFdBlock* out) noexcept;
+DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, NodeId node,
+                                  ReferencePhaseReport* out) noexcept;
 
-// True for the identifiers this protocol defines in the given direction.
+// True for the identifiers this protocol defines in the given direction, of any node.
 constexpr bool IsCommandId(std::uint32_t id) noexcept {
-  return id >= can_id::kConfigure && id <= can_id::kStatusRequest;
+  const std::uint32_t message = MessageOf(id);
+  return message == can_id::kStop ||
+         (message >= can_id::kConfigure && message <= can_id::kStatusRequest);
 }
 constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
-  return id == can_id::kAck || id == can_id::kStatus || id == can_id::kSampleA ||
-         id == can_id::kSampleB || id == can_id::kSampleFd || id == can_id::kReferencePhase;
+  const std::uint32_t message = MessageOf(id);
+  return message == can_id::kAck || message == can_id::kStatus ||
+         (message >= can_id::kSampleA && message <= can_id::kReferencePhase);
 }
 
 }  // namespace hrgbench::drivers::gyro_can

@@ -1,7 +1,7 @@
 #pragma once
-// The HRG electronics' CAN protocol, version 1: identifiers, lengths, enumerations and scalings.
+// The HRG electronics' CAN protocol, version 2: identifiers, lengths, enumerations and scalings.
 // The human-readable specification is README.md in this folder and the machine-readable one is
-// hrg_gyro_v1.dbc; tests/unit/gyro_can/dbc_consistency_test.cpp parses the DBC and checks it
+// hrg_gyro_v2.dbc; tests/unit/gyro_can/dbc_consistency_test.cpp parses the DBC and checks it
 // against these constants, so the three cannot drift apart.
 //
 // Conventions: standard 11-bit identifiers; every multi-byte field little-endian (Intel, DBC @1);
@@ -17,24 +17,41 @@
 
 namespace hrgbench::drivers::gyro_can {
 
-inline constexpr std::uint8_t kProtocolVersion = 1;
+// Version 2 put the node id into every identifier (several units on one bus); version 1 had
+// fixed identifiers and one unit per bus. A session records the version its log was spoken in.
+inline constexpr std::uint8_t kProtocolVersion = 2;
 
-// Identifiers. Lower id wins arbitration: commands, then their answers, then the sample stream.
+// The electronics' node id on its bus: 0 … kMaxNodeId, set in the unit (hrg-gyro-sim --node).
+// The low 4 bits of every identifier: id = message | node (CANopen's layout, function code in the
+// high bits), so node ids never change which message wins arbitration.
+using NodeId = std::uint8_t;
+inline constexpr NodeId kMaxNodeId = 15;
+inline constexpr std::uint32_t kNodeIdMask = 0x00F;
+
+// Messages: node 0's identifier, the high 7 bits of every node's. Lower id wins arbitration:
+// Stop before everything, then the other commands, their answers, and the sample stream last.
 namespace can_id {
+inline constexpr std::uint32_t kStop = 0x020;           // host → electronics
 inline constexpr std::uint32_t kConfigure = 0x040;      // host → electronics
-inline constexpr std::uint32_t kExcite = 0x041;         // host → electronics
-inline constexpr std::uint32_t kRelease = 0x042;        // host → electronics
-inline constexpr std::uint32_t kStop = 0x043;           // host → electronics
-inline constexpr std::uint32_t kStatusRequest = 0x044;  // host → electronics
-inline constexpr std::uint32_t kAck = 0x050;            // electronics → host, one per command
-inline constexpr std::uint32_t kStatus = 0x051;    // electronics → host, periodic + requested
+inline constexpr std::uint32_t kExcite = 0x050;         // host → electronics
+inline constexpr std::uint32_t kRelease = 0x060;        // host → electronics
+inline constexpr std::uint32_t kStatusRequest = 0x070;  // host → electronics
+inline constexpr std::uint32_t kAck = 0x080;            // electronics → host, one per command
+inline constexpr std::uint32_t kStatus = 0x090;    // electronics → host, periodic + requested
 inline constexpr std::uint32_t kSampleA = 0x100;   // electronics → host: seq, y1, y2
-inline constexpr std::uint32_t kSampleB = 0x101;   // electronics → host: seq, y3, y4
-inline constexpr std::uint32_t kSampleFd = 0x102;  // electronics → host (CAN FD): 5 samples
+inline constexpr std::uint32_t kSampleB = 0x110;   // electronics → host: seq, y3, y4
+inline constexpr std::uint32_t kSampleFd = 0x120;  // electronics → host (CAN FD): 5 samples
 // electronics → host: the demodulation reference's phase at every kReferencePhaseInterval-th
 // sample (optional: electronics that do not report it never send it; README "Reference phase")
-inline constexpr std::uint32_t kReferencePhase = 0x103;
+inline constexpr std::uint32_t kReferencePhase = 0x130;
 }  // namespace can_id
+
+// Node `node`'s identifier of `message` (a can_id constant), and the reverse.
+constexpr std::uint32_t NodeMessageId(std::uint32_t message, NodeId node) noexcept {
+  return message | (node & kNodeIdMask);
+}
+constexpr std::uint32_t MessageOf(std::uint32_t id) noexcept { return id & ~kNodeIdMask; }
+constexpr NodeId NodeOf(std::uint32_t id) noexcept { return static_cast<NodeId>(id & kNodeIdMask); }
 
 // Payload lengths (DLC). Every frame has exactly this length; any other is a bad frame.
 namespace length {
@@ -48,7 +65,8 @@ inline constexpr std::uint8_t kSampleFd = 64;
 inline constexpr std::uint8_t kReferencePhase = 8;
 }  // namespace length
 
-// The command a frame carries, by its identifier's low byte (also echoed in the Ack).
+// The command a frame carries (its message: CommandMessage), echoed in the Ack's byte 0. The codes
+// are version 1's identifiers, kept so that an Ack reads the same in both versions.
 enum class Command : std::uint8_t {
   kConfigure = 0x40,
   kExcite = 0x41,
@@ -56,6 +74,22 @@ enum class Command : std::uint8_t {
   kStop = 0x43,
   kStatusRequest = 0x44,
 };
+
+constexpr std::uint32_t CommandMessage(Command command) noexcept {
+  switch (command) {
+    case Command::kConfigure:
+      return can_id::kConfigure;
+    case Command::kExcite:
+      return can_id::kExcite;
+    case Command::kRelease:
+      return can_id::kRelease;
+    case Command::kStop:
+      return can_id::kStop;
+    case Command::kStatusRequest:
+      return can_id::kStatusRequest;
+  }
+  return can_id::kStatusRequest;
+}
 
 enum class AckResult : std::uint8_t {
   kOk = 0,
@@ -65,8 +99,8 @@ enum class AckResult : std::uint8_t {
 };
 
 enum class FrameFormat : std::uint8_t {
-  kClassic = 0,  // two 8-byte frames per sample (0x100, 0x101)
-  kFd = 1,       // one 64-byte CAN FD frame per 5 samples (0x102)
+  kClassic = 0,  // two 8-byte frames per sample (SampleA, SampleB)
+  kFd = 1,       // one 64-byte CAN FD frame per 5 samples (SampleFd)
 };
 
 // y on the wire: signed 24-bit, LSB = 2^-22 amplitude units, full scale ±2.0 (saturating).

@@ -17,14 +17,17 @@ using can_virtual::PlaybackFrame;
 // driver's waits what they were live.
 constexpr std::int64_t kReadTimeoutNs = 10'000'000;
 
-bool IsHostFrame(const hw::CanFrame& frame) {
-  return !frame.extended && !frame.fd && IsCommandId(frame.id);
+// The host's commands to `node`; other nodes' commands on a shared bus are not this unit's.
+can_virtual::SentByHost HostFramesTo(NodeId node) {
+  return [node](const hw::CanFrame& frame) {
+    return !frame.extended && !frame.fd && IsCommandId(frame.id) && NodeOf(frame.id) == node;
+  };
 }
 
 class Replayer {
  public:
   Replayer(can_virtual::PlaybackSource source, const GyroReplayOptions& options)
-      : bus_(std::move(source), IsHostFrame), options_(options) {}
+      : bus_(std::move(source), HostFramesTo(options.node)), options_(options) {}
 
   GyroReplay Run() {
     while (const PlaybackFrame* next = bus_.NextSentFrame()) {
@@ -61,11 +64,12 @@ class Replayer {
   bool StartDriver(const PlaybackFrame& command) {
     GyroCanDeviceConfig config;
     config.clock = &bus_;
+    config.node = options_.node;
     config.ack_timeout_ns = options_.ack_timeout_ns;
     config.command_attempts = options_.command_attempts;
     ConfigureCommand configure;
-    if (command.frame.id == can_id::kConfigure &&
-        DecodeConfigure(command.frame, &configure) == DecodeStatus::kOk) {
+    if (MessageOf(command.frame.id) == can_id::kConfigure &&
+        DecodeConfigure(command.frame, options_.node, &configure) == DecodeStatus::kOk) {
       config.status_rate_hz = configure.status_rate_hz;
       config.prefer_fd = configure.format == FrameFormat::kFd;
     }
@@ -99,17 +103,19 @@ class Replayer {
     }
     ++next_token_;
 
-    switch (frame.id) {
+    switch (MessageOf(frame.id)) {
       case can_id::kConfigure: {
         ConfigureCommand c;
-        if (DecodeConfigure(frame, &c) != DecodeStatus::kOk) return Undecodable(command);
+        if (DecodeConfigure(frame, options_.node, &c) != DecodeStatus::kOk)
+          return Undecodable(command);
         if (auto done = device_->Configure({.sample_rate_hz = c.sample_rate_hz}); !done)
           Note(command, done.error());
         return true;
       }
       case can_id::kExcite: {
         ExciteCommand c;
-        if (DecodeExcite(frame, &c) != DecodeStatus::kOk) return Undecodable(command);
+        if (DecodeExcite(frame, options_.node, &c) != DecodeStatus::kOk)
+          return Undecodable(command);
         const hw::WaveState wave{c.a_raw * kExciteLsb, c.b_raw * kExciteLsb,
                                  c.theta_raw * kExciteLsb};
         if (auto done = device_->Excite(wave); !done) Note(command, done.error());
@@ -142,7 +148,8 @@ class Replayer {
   }
 
   bool Undecodable(const PlaybackFrame& command) {
-    result_.divergence = At(command) + "not a valid command of protocol v1";
+    result_.divergence =
+        At(command) + "not a valid command of protocol v" + std::to_string(kProtocolVersion);
     return false;
   }
 

@@ -3,7 +3,7 @@
 // (GyroCanDevice over can_virtual::CanLogPlayback), so the driver rebuilds every run's samples
 // from the recorded bytes exactly as it built them live.
 //
-// The recording drives the driver: each command the host sent (0x040–0x044, in order) is turned
+// The recording drives the driver: each command the host sent to the node (in order) is turned
 // back into the driver call that sends it — Configure, Excite, a status request (WaitReady with no
 // time left while the wave is exciting, as a polling host; RequestStatus otherwise), Release,
 // Stop — and the playback checks that the driver sends that very frame (retries included: a
@@ -61,6 +61,9 @@ struct GyroReplayOptions {
   // command_attempts): a retry happens again only if the replayed driver waits as long.
   std::int64_t ack_timeout_ns = GyroCanDeviceConfig{}.ack_timeout_ns;
   int command_attempts = GyroCanDeviceConfig{}.command_attempts;
+  // The unit's node id: its commands and answers are replayed, other nodes' frames on a shared
+  // bus are passed by (the driver filters them as it did live).
+  NodeId node = 0;
 };
 
 GyroReplay ReplayGyroTraffic(can_virtual::PlaybackSource source,

@@ -4,7 +4,7 @@
 // accounts for every frame that is missing. Pure logic: no bus, no clock (receive stamps are
 // passed in), so it is unit-testable on its own.
 //
-// Reference phase (README "Reference phase", frame 0x103): electronics that report their
+// Reference phase (README "Reference phase", frame ReferencePhase): electronics that report their
 // reference's phase χ send it for every kReferencePhaseInterval-th sample, before that sample's
 // frames. Once a report arrived in a run, each sample gets χ linearly interpolated between the two
 // reports around it (the shorter way round 2π) and its channels are turned back by it, (y1 + i·y2)

@@ -33,8 +33,8 @@ struct CarrierElectronicsOptions {
   int filter_order = 4;             // Butterworth, even, 2…8
   double filter_cutoff_hz = 200.0;  // −3 dB; passes the slow signal (≤ a few Hz), rejects 2·f0
   bool quantise = true;             // the wire's LSB (off: the y before the protocol)
-  // The electronics report their reference's phase (frame 0x103 every 5th sample); false: older
-  // electronics that do not (the host cannot undo a tracking reference then).
+  // The electronics report their reference's phase (frame ReferencePhase, every 5th sample); false:
+  // older electronics that do not (the host cannot undo a tracking reference then).
   bool report_reference_phase = true;
 
   bool IsValid(std::string* why) const;

@@ -37,7 +37,7 @@ class FreeRunSource {
   // The resonant frequency the electronics report in Status at housing temperature T, Hz.
   virtual double ReportedFrequencyHz(double temperature_c) const noexcept = 0;
   // The demodulation reference's phase χ the electronics report with the last sample (frame
-  // 0x103, drivers/gyro_can/README.md "Reference phase"), rad; NaN: not reported (the slow
+  // ReferencePhase, drivers/gyro_can/README.md "Reference phase"), rad; NaN: not reported (the slow
   // model's ideal reference, or electronics without the report).
   virtual double ReportedReferencePhaseRad() const noexcept {
     return std::numeric_limits<double>::quiet_NaN();

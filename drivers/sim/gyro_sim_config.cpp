@@ -91,7 +91,9 @@ std::expected<void, ConfigError> ReadElectronics(TableReader& reader, GyroSimOpt
                                 &o->resonant_frequency_hz));
   HRG_TRY(temperature, ReadNumber(reader, "temperature_c", kTemperature, &o->temperature_c));
   HRG_TRY(fd, ReadBool(reader, "supports_fd", &o->supports_fd));
-  HRG_CHECK(reader.Unknown("excite_time_s, resonant_frequency_hz, temperature_c, supports_fd"));
+  HRG_TRY(node, ReadInteger(reader, "node", 0, gyro_can::kMaxNodeId, &o->node));
+  HRG_CHECK(
+      reader.Unknown("excite_time_s, resonant_frequency_hz, temperature_c, supports_fd, node"));
   return {};
 }
 

@@ -1,6 +1,7 @@
 #include "sim/gyro_sim_node.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -33,6 +34,14 @@ GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimO
       omega_(std::move(omega)),
       short_bus_(std::move(short_bus)),
       source_(MakeSource(options)) {
+  // The electronics' acceptance filter: their node's commands (Stop 0x02n; the others 0x04n …
+  // 0x07n). HandleFrame checks the node too, for a transport that cannot filter.
+  static_assert(gyro_can::can_id::kStatusRequest == (gyro_can::can_id::kConfigure | 0x030));
+  const std::array<hw::CanFilter, 2> commands = {
+      hw::CanFilter{gyro_can::NodeMessageId(gyro_can::can_id::kStop, options_.node), 0x7FF, false},
+      hw::CanFilter{gyro_can::NodeMessageId(gyro_can::can_id::kConfigure, options_.node), 0x7CF,
+                    false}};
+  (void)bus_.SetFilters(commands);
   const std::int64_t now = clock_.NowNs();
   power_on_ns_ = now;
   next_poll_ns_ = now;
@@ -92,31 +101,39 @@ void GyroSimNode::Run(const std::atomic<bool>& stop) noexcept {
 }
 
 void GyroSimNode::Send(const hw::CanFrame& frame) noexcept {
-  if (bus_.Send(frame, 0) == hw::CanStatus::kOk) {
+  const hw::CanStatus status = bus_.Send(frame, 0);
+  if (status == hw::CanStatus::kOk) {
     ++statistics_.frames_sent;
-  } else {
-    ++statistics_.send_failures;
+    return;
   }
+  ++statistics_.send_failures;
+  // The transmit queue is full (the bus is overloaded): the frame is lost at the source, and the
+  // status says so until Stop (fault bit 4; the host also sees the gap in the sample numbers).
+  if (status == hw::CanStatus::kBufferFull) fault_bits_ |= hw::gyro_fault::kSampleOverrun;
 }
 
 void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept {
-  if (!gyro_can::IsCommandId(frame.id) || frame.extended) return;  // not addressed to us
+  if (frame.extended || !gyro_can::IsCommandId(frame.id) ||
+      gyro_can::NodeOf(frame.id) != options_.node) {
+    return;  // not addressed to us
+  }
+  const std::uint32_t message = gyro_can::MessageOf(frame.id);
   Command command = Command::kStatusRequest;
   std::uint8_t token = 0;
   gyro_can::DecodeStatus status = gyro_can::DecodeStatus::kWrongId;
-  if (frame.id == gyro_can::can_id::kConfigure) {
+  if (message == gyro_can::can_id::kConfigure) {
     gyro_can::ConfigureCommand c;
-    status = gyro_can::DecodeConfigure(frame, &c);
+    status = gyro_can::DecodeConfigure(frame, options_.node, &c);
     command = Command::kConfigure;
     token = c.token;
-  } else if (frame.id == gyro_can::can_id::kExcite) {
+  } else if (message == gyro_can::can_id::kExcite) {
     gyro_can::ExciteCommand c;
-    status = gyro_can::DecodeExcite(frame, &c);
+    status = gyro_can::DecodeExcite(frame, options_.node, &c);
     command = Command::kExcite;
     token = c.token;
   } else {
     gyro_can::SimpleCommand c;
-    status = gyro_can::DecodeSimpleCommand(frame, &c);
+    status = gyro_can::DecodeSimpleCommand(frame, options_.node, &c);
     command = c.command;
     token = c.token;
   }
@@ -136,7 +153,7 @@ void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) no
     if (command == Command::kRelease && ack.result == AckResult::kOk) {
       ack.arg = static_cast<std::uint32_t>((now_ns - release_ns_) / 1000);
     }
-    Send(gyro_can::EncodeAck(ack));
+    Send(gyro_can::EncodeAck(options_.node, ack));
     if (command == Command::kStatusRequest) SendStatus();
     return;
   }
@@ -150,7 +167,7 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
   switch (command) {
     case Command::kConfigure: {
       gyro_can::ConfigureCommand c;
-      gyro_can::DecodeConfigure(frame, &c);
+      gyro_can::DecodeConfigure(frame, options_.node, &c);
       const bool fd_ok = options_.supports_fd && bus_.SupportsFd();
       const std::uint16_t max_rate = c.format == FrameFormat::kFd
                                          ? gyro_can::kMaxFdSampleRateHz
@@ -175,7 +192,7 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
     }
     case Command::kExcite: {
       gyro_can::ExciteCommand c;
-      gyro_can::DecodeExcite(frame, &c);
+      gyro_can::DecodeExcite(frame, options_.node, &c);
       if (faulted) {
         ack.result = AckResult::kFaulted;
       } else if (mode_ != GyroMode::kConfigured && mode_ != GyroMode::kReady) {
@@ -219,7 +236,7 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
   last_command_ = command;
   last_token_ = token;
   have_last_ = true;
-  Send(gyro_can::EncodeAck(ack));
+  Send(gyro_can::EncodeAck(options_.node, ack));
   if (command == Command::kStatusRequest) SendStatus();
   Advance(now_ns);
 }
@@ -262,19 +279,20 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
     const double chi_rad = source_->ReportedReferencePhaseRad();
     if (!std::isnan(chi_rad)) {
       Send(gyro_can::EncodeReferencePhase(
+          options_.node,
           {static_cast<std::uint16_t>(k & 0xFFFFu), gyro_can::QuantiseReferencePhase(chi_rad)}));
     }
   }
   if (format_ == FrameFormat::kClassic) {
     const auto seq = static_cast<std::uint8_t>(k & 0xFFu);
-    SendSampleFrame(gyro_can::EncodeSampleHalf({0, seq, {raw[0], raw[1]}}));
-    SendSampleFrame(gyro_can::EncodeSampleHalf({1, seq, {raw[2], raw[3]}}));
+    SendSampleFrame(gyro_can::EncodeSampleHalf(options_.node, {0, seq, {raw[0], raw[1]}}));
+    SendSampleFrame(gyro_can::EncodeSampleHalf(options_.node, {1, seq, {raw[2], raw[3]}}));
     return;
   }
   if (fd_block_.count == 0) fd_block_.seq = static_cast<std::uint16_t>(k & 0xFFFFu);
   fd_block_.y_raw[fd_block_.count] = {raw[0], raw[1], raw[2], raw[3]};
   if (++fd_block_.count == gyro_can::kSamplesPerFdFrame) {
-    SendSampleFrame(gyro_can::EncodeSampleFd(fd_block_));
+    SendSampleFrame(gyro_can::EncodeSampleFd(options_.node, fd_block_));
     fd_block_ = {};
   }
 }
@@ -314,7 +332,7 @@ void GyroSimNode::SendStatus() noexcept {
   status.frequency_mhz = static_cast<std::uint32_t>(std::clamp(
       std::lround(source_->ReportedFrequencyHz(temperature_c) * 1e3), 0l, (1l << 24) - 1));
   status.temperature_centi_c = static_cast<std::int16_t>(std::lround(temperature_c * 100));
-  Send(gyro_can::EncodeStatus(status));
+  Send(gyro_can::EncodeStatus(options_.node, status));
 }
 
 }  // namespace hrgbench::drivers::sim

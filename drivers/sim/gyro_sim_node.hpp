@@ -1,5 +1,6 @@
 #pragma once
-// GyroSimNode: simulated HRG electronics, a CAN node on any hw::CanBus speaking protocol v1
+// GyroSimNode: simulated HRG electronics, a CAN node on any hw::CanBus speaking protocol v2
+// as node options.node (its acceptance filter: that node's commands)
 // (drivers/gyro_can/README.md): it answers every command with its Ack (re-acknowledging a
 // repeated token without re-executing), sends Status at the configured rate, excites to the
 // commanded wave state, and in free run streams the y samples of its physics (free_run_source.hpp):

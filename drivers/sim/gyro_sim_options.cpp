@@ -12,6 +12,10 @@ bool GyroSimOptions::IsValid(std::string* why) const {
     if (why != nullptr) *why = message;
     return false;
   };
+  if (node > gyro_can::kMaxNodeId) {
+    return fail("node must be in 0.." + std::to_string(gyro_can::kMaxNodeId) + ", got " +
+                std::to_string(node));
+  }
   if (!delta.allFinite()) return fail("delta must be finite");
   if (!xi.allFinite() || xi.cwiseAbs().maxCoeff() >= kMaxAbsXi) {
     return fail("xi must be finite with |xi_i| < 0.25 (the distortion is a small perturbation)");

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 
+#include "gyro_can/gyro_protocol.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "sim/carrier_options.hpp"
 
@@ -53,6 +54,7 @@ struct GyroSimOptions {
   CarrierOptions carrier;
 
   // The electronics.
+  gyro_can::NodeId node = 0;              // its node id on the bus (0 … gyro_can::kMaxNodeId)
   double excite_time_s = 0.2;             // from Excite to "ready" (control loops settling)
   double resonant_frequency_hz = 5000.0;  // reported by the PLL
   double temperature_c = 25.0;            // reported housing temperature at power-on

@@ -1,4 +1,4 @@
-// hrg-gyro-sim: the simulated HRG electronics as a CAN node (protocol v1,
+// hrg-gyro-sim: the simulated HRG electronics as a CAN node (protocol v2,
 // drivers/gyro_can/README.md) on a SocketCAN interface, so the real GyroCanDevice can be tested
 // against it as a separate process (in the QEMU kernel harness on vcan0, or on a bench's second CAN
 // adapter). Runs until SIGINT/SIGTERM.
@@ -34,11 +34,16 @@ void OnSignal(int) { g_stop.store(true); }
 int main(int argc, char** argv) {
   using namespace hrgbench;
   try {
-    CLI::App app{"Simulated HRG electronics on a CAN interface (hrg_gyro_v1 protocol)"};
+    CLI::App app{"Simulated HRG electronics on a CAN interface (hrg_gyro_v2 protocol)"};
     std::string interface_name, config_path, table;
     std::optional<double> omega_override;
     app.add_option("--can", interface_name, "SocketCAN interface, e.g. vcan0")->required();
     app.add_option("--config", config_path, "TOML config (drivers/sim/gyro_sim.example.toml)");
+    std::optional<int> node_id;
+    app.add_option("--node", node_id,
+                   "Node id on the bus, 0..15 (overrides [electronics] node; several units on "
+                   "one bus need distinct ones)")
+        ->check(CLI::Range(0, static_cast<int>(drivers::gyro_can::kMaxNodeId)));
     app.add_option("--omega-rad-s", omega_override, "Constant Omega, rad/s (overrides [omega])");
     app.add_option("--table", table, "Read Omega from a Modbus rate table at HOST:PORT");
     CLI11_PARSE(app, argc, argv);
@@ -62,6 +67,7 @@ int main(int argc, char** argv) {
       config.omega.modbus_port = address->port;
       config.omega.source = drivers::sim::OmegaConfig::Source::kModbus;
     }
+    if (node_id) config.options.node = static_cast<drivers::gyro_can::NodeId>(*node_id);
     if (omega_override) {
       config.omega.source = drivers::sim::OmegaConfig::Source::kConstant;
       config.omega.omega_rad_s = *omega_override;
@@ -87,8 +93,8 @@ int main(int argc, char** argv) {
     drivers::sim::GyroSimNode node(**bus, clock, config.options, omega);
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
-    std::cout << "hrg-gyro-sim: on " << interface_name << (bus.value()->SupportsFd() ? " (FD)" : "")
-              << ", omega from "
+    std::cout << "hrg-gyro-sim: node " << static_cast<int>(config.options.node) << " on "
+              << interface_name << (bus.value()->SupportsFd() ? " (FD)" : "") << ", omega from "
               << (modbus ? "modbus " + config.omega.modbus_host + ":" +
                                std::to_string(config.omega.modbus_port)
                          : "constant " + std::to_string(config.omega.omega_rad_s) + " rad/s")

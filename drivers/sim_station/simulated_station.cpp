@@ -1,5 +1,8 @@
 #include "sim_station/simulated_station.hpp"
 
+#include <algorithm>
+#include <array>
+
 #include "hrgbench/estimator/frequency_drift_decay.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/estimator/split_coriolis_mixing.hpp"
@@ -47,20 +50,35 @@ std::expected<void, std::string> SimulatedStation::Build() {
 
 std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnitOptions& options,
                                                              Unit& unit) {
-  can_virtual::VirtualCanBusOptions bus_options;
-  bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
-  bus_options.fd = options_.can_fd;
-  bus_options.data_bit_rate_bps = options_.can_fd ? options_.can_data_bit_rate_bps : 0;
-  // Real time: nullptr = the bus's own steady clock with condition-variable wake-ups (the same
-  // time base as steady_clock_). Virtual time: the station's clock, for stamps and bit timing.
-  bus_options.clock = virtual_clock_.get();
-  auto bus = can_virtual::VirtualCanBus::Create(bus_options);
-  if (!bus) return std::unexpected("simulated station: " + bus.error());
-  unit.bus = std::move(*bus);
+  const auto shared = std::find(bus_names_.begin(), bus_names_.end(), options.bus);
+  if (!options.bus.empty() && shared != bus_names_.end()) {
+    unit.bus = buses_[static_cast<std::size_t>(shared - bus_names_.begin())].get();
+  } else {
+    can_virtual::VirtualCanBusOptions bus_options;
+    bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
+    bus_options.fd = options_.can_fd;
+    bus_options.data_bit_rate_bps = options_.can_fd ? options_.can_data_bit_rate_bps : 0;
+    // Real time: nullptr = the bus's own steady clock with condition-variable wake-ups (the same
+    // time base as steady_clock_). Virtual time: the station's clock, for stamps and bit timing.
+    bus_options.clock = virtual_clock_.get();
+    auto bus = can_virtual::VirtualCanBus::Create(bus_options);
+    if (!bus) return std::unexpected("simulated station: " + bus.error());
+    buses_.push_back(std::move(*bus));
+    bus_names_.push_back(options.bus);
+    unit.bus = buses_.back().get();
+  }
   unit.host_endpoint = unit.bus->CreateEndpoint({.queue_capacity = options_.host_queue_frames});
-  unit.node_endpoint = unit.bus->CreateEndpoint();
+  unit.node_endpoint =
+      unit.bus->CreateEndpoint({.receive_own_frames = false,
+                                .queue_capacity = 0,
+                                .transmit_queue_frames = options_.node_transmit_queue_frames});
   unit.monitor_endpoint =
       unit.bus->CreateEndpoint({.queue_capacity = options_.monitor_queue_frames});
+  // The tap records this unit's node only: on a shared bus each unit's log is its own traffic.
+  const std::array<hw::CanFilter, 1> own_node = {
+      hw::CanFilter{options.gyro.node, gyro_can::kNodeIdMask, false}};
+  if (unit.monitor_endpoint->SetFilters(own_node) != hw::CanStatus::kOk)
+    return std::unexpected("simulated station: the tap's filter was refused");
   if (virtual_clock_) {
     unit.host_clocked =
         std::make_unique<ClockedCanEndpoint>(*unit.bus, *unit.host_endpoint, *virtual_clock_);
@@ -76,7 +94,7 @@ std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnit
   InProcessRateTable* table = table_.get();
   const double earth_rate_rad_s = options_.earth_rate_rad_s;
   const double axis_sign = options.inverted ? -1.0 : 1.0;
-  can_virtual::VirtualCanBus* shorted_bus = unit.bus.get();
+  can_virtual::VirtualCanBus* shorted_bus = unit.bus;
   unit.node = std::make_unique<sim::GyroSimNode>(
       *unit.node_endpoint, *clock_, options.gyro,
       [table, earth_rate_rad_s, axis_sign] {
@@ -86,6 +104,7 @@ std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnit
 
   gyro_can::GyroCanDeviceConfig link = options_.gyro_link;
   link.clock = clock_;
+  link.node = options.gyro.node;
   auto device = gyro_can::GyroCanDevice::Create(*unit.host_bus, link);
   if (!device)
     return std::unexpected("simulated station: gyro driver: " + device.error().ToString());

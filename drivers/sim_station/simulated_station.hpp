@@ -3,11 +3,14 @@
 // from the real protocol peers where they exist:
 //
 //   RateTable  = InProcessRateTable on a TablePhysics (the table simulator's physics)
-//   Gyro i     = GyroCanDevice (the real gyro driver) --VirtualCanBus i--> GyroSimNode (the
-//                simulated electronics, protocol v1), whose Ω is the table physics' true rate
-//                plus the Earth-rate component: one per unit on the table, each on its own bus
-//   Monitor i  = a third node on unit i's bus that receives every frame, both directions: the
-//                raw-frame tap the bench records (candump log)
+//   Gyro i     = GyroCanDevice (the real gyro driver) --VirtualCanBus--> GyroSimNode (the
+//                simulated electronics, protocol v2, node units[i].gyro.node), whose Ω is the
+//                table physics' true rate plus the Earth-rate component: one per unit on the
+//                table, each on its own bus or several on a shared one (units[i].bus), where
+//                they contend for it at its bit timing and an overloaded bus loses frames at
+//                their transmit queues
+//   Monitor i  = a node on unit i's bus that receives every frame of unit i's node id, both
+//                directions: the raw-frame tap the bench records (candump log)
 //   Clock      = one clock for all of them (see SimulatedStationOptions for the three modes)
 //
 // Faster than real time (VirtualTimeClock, see virtual_time_clock.hpp): the bench's threads block
@@ -62,8 +65,9 @@ class SimulatedStation {
   hw::RateTable& table() noexcept { return *table_; }
   hw::GyroElectronics& gyro(std::size_t i = 0) noexcept { return *units_[i].device; }
   hw::Clock& clock() noexcept { return *clock_; }
-  // The raw-frame tap: every frame on unit i's bus, from both nodes, in bus order, stamped on the
-  // station's clock. One reader thread. Frames not read pile up to monitor_queue_frames.
+  // The raw-frame tap: every frame of unit i's node id on its bus, host's and electronics', in bus
+  // order, stamped on the station's clock. One reader thread. Frames not read pile up to
+  // monitor_queue_frames.
   hw::CanBus& monitor(std::size_t i = 0) noexcept { return *units_[i].monitor_bus; }
 
   SimulatedTruth truth(std::size_t i = 0) const;
@@ -73,6 +77,7 @@ class SimulatedStation {
   // The concrete parts, for tests and the app's diagnostics.
   InProcessRateTable& in_process_table() noexcept { return *table_; }
   gyro_can::GyroCanDevice& gyro_device(std::size_t i = 0) noexcept { return *units_[i].device; }
+  // Unit i's bus (shared with the units that name the same bus).
   can_virtual::VirtualCanBus& bus(std::size_t i = 0) noexcept { return *units_[i].bus; }
   VirtualTimeClock* virtual_clock() noexcept { return virtual_clock_.get(); }  // null: real time
   // The simulated electronics' counters. In real time they are read racily (diagnostics only).
@@ -87,7 +92,7 @@ class SimulatedStation {
   // One unit: its bus, the three nodes on it, the driver. Declaration order is construction
   // order.
   struct Unit {
-    std::unique_ptr<can_virtual::VirtualCanBus> bus;
+    can_virtual::VirtualCanBus* bus = nullptr;  // in buses_, perhaps shared with other units
     std::unique_ptr<can_virtual::VirtualCanEndpoint> host_endpoint;
     std::unique_ptr<can_virtual::VirtualCanEndpoint> node_endpoint;
     std::unique_ptr<can_virtual::VirtualCanEndpoint> monitor_endpoint;
@@ -112,6 +117,8 @@ class SimulatedStation {
   hw::Clock* clock_ = nullptr;
   std::unique_ptr<sim::TablePhysics> physics_;
   std::unique_ptr<InProcessRateTable> table_;
+  std::vector<std::unique_ptr<can_virtual::VirtualCanBus>> buses_;
+  std::vector<std::string> bus_names_;  // buses_[k]'s SimulatedUnitOptions::bus ("" unshared)
   std::vector<Unit> units_;
   std::atomic<bool> stop_node_{false};
 };

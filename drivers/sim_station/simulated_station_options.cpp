@@ -25,6 +25,14 @@ bool SimulatedStationOptions::IsValid(std::string* why) const {
   for (std::size_t i = 0; i < units.size(); ++i) {
     if (!units[i].gyro.IsValid(&part))
       return fail("units[" + std::to_string(i) + "].gyro: " + part);
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!units[i].bus.empty() && units[j].bus == units[i].bus &&
+          units[j].gyro.node == units[i].gyro.node) {
+        return fail("units[" + std::to_string(j) + "] and units[" + std::to_string(i) +
+                    "] are both node " + std::to_string(units[i].gyro.node) + " on bus '" +
+                    units[i].bus + "': units on one bus need distinct node ids");
+      }
+    }
   }
   if (!table_physics.IsValid(&part)) return fail("table_physics: " + part);
   if (!table.IsValid(&part)) return fail("table: " + part);

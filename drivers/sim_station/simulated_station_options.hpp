@@ -34,6 +34,9 @@ struct SimulatedUnitOptions {
   // Mounted with its sensitive axis against the table's axis: it senses −(table rate + the
   // Earth-rate component on the table's axis).
   bool inverted = false;
+  // The in-process bus it is on: units with the same name share one bus (their electronics need
+  // distinct gyro.node ids and contend for it at its bit timing); empty: a bus of its own.
+  std::string bus;
 };
 
 struct SimulatedStationOptions {
@@ -48,7 +51,8 @@ struct SimulatedStationOptions {
   // it (batching; see VirtualTimeClockOptions::output_lookahead_ns). 0: strictly conservative.
   std::int64_t output_lookahead_ns = 20'000'000;
 
-  // Each unit on the table (one per fitted fixture position, each on its own bus). Default: one
+  // Each unit on the table (one per fitted fixture position, on its own bus or sharing one: its
+  // `bus`). Default: one
   // unit, the paper's experiment, noise-free; set its gyro.sigma for realism.
   std::vector<SimulatedUnitOptions> units{SimulatedUnitOptions{}};
   // Ω sensed by the gyro = the table's true rate + this Earth-rate component on the sensitive
@@ -69,6 +73,10 @@ struct SimulatedStationOptions {
   bool can_fd = false;                             // FD bus; gyro_link.prefer_fd
   std::int64_t can_data_bit_rate_bps = 5'000'000;  // FD data phase
   std::size_t host_queue_frames = 4096;  // the gyro driver's receive queue (2 s at 1 kHz)
+  // Each simulated electronics' transmit queue, frames: a CAN controller's mailboxes and its
+  // firmware's queue. On an overloaded bus the queue fills and frames are lost at the source
+  // (sample overrun, fault bit 4), as on a real bus. 0: unlimited (the node falls behind instead).
+  std::size_t node_transmit_queue_frames = 32;
   // The raw-frame tap's queue: 64 Ki frames is 32 s of a 1 kHz classic stream, so a recorder
   // that writes in bursts does not lose frames. Oldest dropped when full (counted).
   std::size_t monitor_queue_frames = 65536;

@@ -536,7 +536,8 @@ int main(int argc, char** argv) {
                 << '\n';
       const bench::PlannedBusLoad bus = bench::BusiestRunLoad(*configs);
       std::cout << "gyro bus: " << bus.bus << ", at most " << bench::Percent(bus.load.bus_share)
-                << " busy (" << bus.sample_rate_hz << " samples/s, "
+                << " busy (" << bus.sample_rate_hz << " samples/s"
+                << (bus.units > 1 ? " per unit" : "") << ", "
                 << static_cast<long long>(bus.load.frames_per_s)
                 << " frames/s, worst-case stuffing; planned maximum "
                 << bench::Percent(hw::kMaxPlannedBusShare) << ")\n";

@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <system_error>
 #include <utility>
 
@@ -37,6 +38,12 @@ struct BegunCapture {
 std::string StringAt(const json& object, const char* key) {
   if (!object.is_object() || !object.contains(key) || !object.at(key).is_string()) return "";
   return object.at(key).get<std::string>();
+}
+
+std::optional<std::int64_t> IntegerAt(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object.at(key).is_number_integer())
+    return std::nullopt;
+  return object.at(key).get<std::int64_t>();
 }
 
 std::size_t PlannedSamples(const json& run) {
@@ -359,16 +366,34 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
       return std::unexpected(started.error());
   }
   std::string log_name = "can/session.log";
+  drivers::gyro_can::GyroReplayOptions driver;
+  const std::string where = (dir / "session.json").string() + ": field 'can_log.";
   if (document.contains("can_log")) {
-    log_name = StringAt(document.at("can_log"), "file");
+    const json& can_log = document.at("can_log");
+    log_name = StringAt(can_log, "file");
     if (!InsideSession(log_name)) {
-      return std::unexpected((dir / "session.json").string() + ": field 'can_log.file': '" +
-                             log_name + "' is not a file inside the session");
+      return std::unexpected(where + "file': '" + log_name + "' is not a file inside the session");
     }
+    // The protocol the log speaks: only version 2's identifiers are this driver's. A log without
+    // it was recorded before version 2 (version 1's fixed identifiers).
+    const auto protocol = IntegerAt(can_log, "protocol");
+    if (protocol != drivers::gyro_can::kProtocolVersion) {
+      return std::unexpected(
+          where + "protocol': " + (protocol ? std::to_string(*protocol) : "absent (version 1)") +
+          ": the log speaks gyro CAN protocol " +
+          (protocol ? "v" + std::to_string(*protocol) : "v1") + " and this hrg-bench replays v" +
+          std::to_string(drivers::gyro_can::kProtocolVersion) + " only");
+    }
+    const auto node = IntegerAt(can_log, "node");
+    if (!node || *node < 0 || *node > drivers::gyro_can::kMaxNodeId) {
+      return std::unexpected(where + "node': " + (node ? std::to_string(*node) : "absent") +
+                             ": a node id 0.." + std::to_string(drivers::gyro_can::kMaxNodeId) +
+                             " is needed");
+    }
+    driver.node = static_cast<drivers::gyro_can::NodeId>(*node);
   }
   replay.log_file = dir / log_name;
 
-  drivers::gyro_can::GyroReplayOptions driver;
   auto configs = bench::LoadSavedConfigs(dir);
   if (configs) {
     driver.ack_timeout_ns = configs->station.gyro.ack_timeout_ms * 1'000'000;

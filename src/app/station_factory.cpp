@@ -1,5 +1,7 @@
 #include "app/station_factory.hpp"
 
+#include <array>
+
 #include "gyro_can/gyro_can_device.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "sim_station/simulated_station.hpp"
@@ -7,6 +9,9 @@
 
 namespace hrgbench::app {
 namespace {
+
+static_assert(bench::kMaxCanNode == drivers::gyro_can::kMaxNodeId,
+              "the station loader accepts the node ids the protocol has");
 
 std::string Where(const bench::StationConfig& config) { return config.file.string() + ": "; }
 
@@ -22,6 +27,8 @@ class SimulatedStationAdapter final : public Station {
       unit.gyro = &station_->gyro(i);
       unit.monitor = &station_->monitor(i);
       unit.can_interface = fitted[i]->can_interface;
+      unit.can_node = fitted[i]->can_node;
+      unit.can_protocol = drivers::gyro_can::kProtocolVersion;
       unit.position = fitted[i]->name;
       unit.axis_sign = fitted[i]->inverted ? -1 : 1;
       hardware_.units.push_back(unit);
@@ -120,9 +127,13 @@ drivers::sim_station::SimulatedStationOptions MapSimulated(const bench::StationC
   o.faster_than_real_time = sim.faster_than_real_time;
   o.time_scale = sim.time_scale;
   o.units.clear();
-  for (const bench::FixturePosition* position : bench::FittedPositions(config))
-    o.units.push_back(
-        {MapSimulatedUnit(bench::PositionSimulated(config, *position)), position->inverted});
+  for (const bench::FixturePosition* position : bench::FittedPositions(config)) {
+    drivers::sim::GyroSimOptions gyro =
+        MapSimulatedUnit(bench::PositionSimulated(config, *position));
+    gyro.node = static_cast<drivers::gyro_can::NodeId>(position->can_node);
+    // Positions naming one interface share its in-process bus.
+    o.units.push_back({gyro, position->inverted, position->can_interface});
+  }
   o.earth_rate_rad_s = bench::EarthRateOnAxisRadS(config.site);
   o.table_physics.settle_time_constant_s = sim.table_settle_time_constant_s;
   o.table_physics.noise_rad_s = sim.table_noise_rad_s;
@@ -189,6 +200,12 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
     auto monitor = drivers::socketcan::SocketCanBus::Open(position->can_interface, can);
     if (!monitor) return std::unexpected(Where(config) + unit + "CAN tap: " + monitor.error());
     unit_link.monitor = std::move(*monitor);
+    // The tap records this unit's node: on a shared bus each unit's log is its own traffic.
+    const std::array<hw::CanFilter, 1> own_node = {hw::CanFilter{
+        static_cast<std::uint32_t>(position->can_node), drivers::gyro_can::kNodeIdMask, false}};
+    if (unit_link.monitor->SetFilters(own_node) != hw::CanStatus::kOk)
+      return std::unexpected(Where(config) + unit + "CAN tap: its filter was refused");
+    link.node = static_cast<drivers::gyro_can::NodeId>(position->can_node);
     auto gyro = drivers::gyro_can::GyroCanDevice::Create(*unit_link.bus, link);
     if (!gyro) return std::unexpected(Where(config) + unit + "gyro: " + gyro.error().ToString());
     unit_link.gyro = std::move(*gyro);
@@ -232,6 +249,8 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
     unit.monitor = station->units[i].monitor.get();
     unit.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
     unit.can_interface = fitted[i]->can_interface;
+    unit.can_node = fitted[i]->can_node;
+    unit.can_protocol = drivers::gyro_can::kProtocolVersion;
     unit.position = fitted[i]->name;
     unit.axis_sign = fitted[i]->inverted ? -1 : 1;
     station->hardware_.units.push_back(unit);

@@ -37,15 +37,20 @@ std::expected<BenchConfigs, config_file::ConfigError> LoadBenchConfigs(
     const std::filesystem::path& limits_path);
 
 // The cross-file checks alone, on configs already loaded (for configs parsed from memory).
-// Among them: the gyro's bus must carry every run's sample rate within hw::kMaxPlannedBusShare
-// (hw/gyro_link_load.hpp, worst-case stuffing, the reference phase planned as sent).
+// Among them: each bus must carry every run's sample rate for all its units within
+// hw::kMaxPlannedBusShare (hw/gyro_link_load.hpp, worst-case stuffing, the reference phase
+// planned as sent).
 std::expected<void, config_file::ConfigError> CheckBenchConfigs(const BenchConfigs& configs);
 
-// The busiest run's load on the gyro's bus, for `hrg-bench check` to print.
+// The busiest run's load on the busiest bus (the one carrying the most units: all of theirs), for
+// `hrg-bench check` to print.
 struct PlannedBusLoad {
   hw::GyroLinkLoad load;
-  std::uint32_t sample_rate_hz = 0;
-  std::string bus;  // "can0 at 1000 kbit/s", "the simulated bus at 1000 kbit/s, FD data ..."
+  std::uint32_t sample_rate_hz = 0;  // per unit
+  std::size_t units = 1;             // units on that bus
+  // "can0 at 1000 kbit/s", "the simulated bus at 1000 kbit/s, FD data ...",
+  // "can1 (2 units: A, B) at 1000 kbit/s"
+  std::string bus;
 };
 PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs);
 std::string Percent(double share);  // "27.0 %"

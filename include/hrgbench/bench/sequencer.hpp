@@ -56,6 +56,10 @@ struct UnitHardware {
   // bench clock at the time the frame is taken off the monitor.
   bool monitor_stamps_on_bench_clock = true;
   std::string can_interface = "can0";  // name written in the candump log
+  // The unit's node id on its bus and the version of the gyro CAN protocol the log speaks
+  // (0: not said), recorded with the log (can_log.node, can_log.protocol) for its replay.
+  int can_node = 0;
+  int can_protocol = 0;
   std::string position;                // the fixture position it sits in ("A", "1")
   // +1: its sensitive axis along the table's axis; −1: against it (mounted upside down). Its Ω,
   // Earth rate and record are in its own frame: −1 × the table's.

@@ -67,6 +67,10 @@ struct SessionHeader {
   std::optional<nlohmann::json> electronics;
   // Interface name written into every candump log line ("can0", "vcan0", "sim0").
   std::string can_interface = "can0";
+  // The unit's node id on that bus and the gyro CAN protocol's version (0: not said), recorded as
+  // can_log.node and can_log.protocol.
+  int can_node = 0;
+  int can_protocol = 0;
   // A unit of a fixture session: its position and the units beside it, recorded as "fixture".
   std::optional<nlohmann::json> fixture;
 };

@@ -47,6 +47,8 @@ std::string_view ToString(OmegaSourceSetting setting) noexcept;
 // electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
 struct GyroLinkConfig {
   std::string can_interface;         // real: SocketCAN interface name ("can0", "vcan0")
+  // The electronics' node id on the bus (0..15; gyro protocol v2): a station without [[fixture]].
+  int can_node = 0;
   // Nominal bit rate, bit/s: real, set by `ip link` (checked); simulated, the in-process bus's
   // (1 Mbit/s). The plan's bus load is judged at it (hrg-bench check).
   std::int64_t bitrate = 1'000'000;
@@ -166,13 +168,18 @@ struct RealtimeConfig {
 };
 
 // [[fixture]]: one position of the table's fixture and the unit in it. A station without
-// [[fixture]] has one position, "1", on [gyro] can_interface. Each unit has its own bus (its own
-// interface); [gyro]'s other keys apply to every position.
+// [[fixture]] has one position, "1", on [gyro] can_interface and can_node. Each unit has a bus of
+// its own or shares one with other units (distinct node ids); [gyro]'s other keys apply to every
+// position.
 struct FixturePosition {
   std::string name;  // position = "A": 1..8 letters, digits, '-' or '_'; unique on the fixture
-  // real: the unit's SocketCAN interface; simulated: the name its candump log gives the
-  // in-process bus ("vcan-sim" for the one position of a station without [[fixture]]).
+  // real: the unit's SocketCAN interface; simulated: the in-process bus's name, also the one its
+  // candump log gives it ("vsim-<position>" by default: a bus of its own; "vcan-sim" for the one
+  // position of a station without [[fixture]]). Positions naming the same interface share its bus.
   std::string can_interface;
+  // The unit's node id on its bus (0..15, gyro protocol v2): distinct among the fitted positions
+  // on one interface.
+  int can_node = 0;
   bool fitted = true;  // false: nothing in this position today (it takes no part)
   // The unit is mounted with its sensitive axis against the table's axis (upside down): it senses
   // −Ω and the Earth rate on −axis; its record is in its own frame.
@@ -200,6 +207,8 @@ struct FixturePosition {
 
 // A fixture carries at most this many positions.
 inline constexpr std::size_t kMaxFixturePositions = 16;
+// The highest node id a unit may have on its bus (the gyro CAN protocol's 4 bits).
+inline constexpr int kMaxCanNode = 15;
 
 struct StationConfig {
   std::filesystem::path file;  // where it was loaded from

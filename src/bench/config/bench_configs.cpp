@@ -29,14 +29,47 @@ hw::GyroLinkPlan LinkPlan(const StationConfig& station, std::uint32_t sample_rat
   return plan;
 }
 
+// The bus that carries the most units (the first declared among equals) and its units: every
+// unit runs the same sequence at the same time, so that bus is the one the plan must fit.
+struct SharedBus {
+  std::string interface;
+  std::vector<std::string> positions;
+};
+SharedBus BusiestBus(const StationConfig& station) {
+  SharedBus busiest;
+  for (const FixturePosition* position : FittedPositions(station)) {
+    SharedBus bus{position->can_interface, {}};
+    for (const FixturePosition* other : FittedPositions(station))
+      if (other->can_interface == position->can_interface) bus.positions.push_back(other->name);
+    if (bus.positions.size() > busiest.positions.size()) busiest = std::move(bus);
+  }
+  return busiest;
+}
+
+// `units` units' links on one bus.
+hw::GyroLinkLoad BusLoad(const StationConfig& station, std::uint32_t sample_rate_hz,
+                         std::size_t units) {
+  hw::GyroLinkLoad load = hw::WorstCaseLinkLoad(LinkPlan(station, sample_rate_hz));
+  load.frames_per_s *= static_cast<double>(units);
+  load.bus_share *= static_cast<double>(units);
+  return load;
+}
+
 std::string BusName(const StationConfig& station) {
   const std::string rates =
       std::to_string(station.gyro.bitrate / 1000) + " kbit/s" +
       (station.gyro.fd ? ", FD data " + std::to_string(station.gyro.data_bitrate / 1000) + " kbit/s"
                        : "");
   const std::vector<const FixturePosition*> fitted = FittedPositions(station);
+  const SharedBus busiest = BusiestBus(station);
+  if (busiest.positions.size() > 1) {
+    std::string names;
+    for (const std::string& name : busiest.positions) names += (names.empty() ? "" : ", ") + name;
+    return busiest.interface + " (" + std::to_string(busiest.positions.size()) +
+           " units: " + names + ") at " + rates;
+  }
   if (fitted.size() > 1) {
-    // One unit per bus (protocol v1 has no node id): each bus carries the same load.
+    // One unit per bus: each bus carries the same load.
     std::string names;
     for (const FixturePosition* position : fitted)
       names += (names.empty() ? "" : ", ") + position->can_interface;
@@ -46,13 +79,14 @@ std::string BusName(const StationConfig& station) {
          " at " + rates;
 }
 
-// The highest sample rate whose link load is within the planned maximum (the load grows with it).
-std::uint32_t MaxPlannableRate(const StationConfig& station) {
+// The highest sample rate whose load on the busiest bus is within the planned maximum (the load
+// grows with it).
+std::uint32_t MaxPlannableRate(const StationConfig& station, std::size_t units) {
   std::uint32_t lo = 0;
   std::uint32_t hi = hw::MaxSampleRateHz(station.gyro.fd);
   while (lo < hi) {
     const std::uint32_t mid = lo + (hi - lo + 1) / 2;
-    if (hw::WorstCaseLinkLoad(LinkPlan(station, mid)).bus_share <= hw::kMaxPlannedBusShare)
+    if (BusLoad(station, mid, units).bus_share <= hw::kMaxPlannedBusShare)
       lo = mid;
     else
       hi = mid - 1;
@@ -84,19 +118,25 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
                    : "classic CAN carries at most " + std::to_string(max_rate_hz) +
                          " samples/s; more needs gyro.fd = true")});
     }
-    // The bus must carry the plan with room to spare (hw/gyro_link_load.hpp).
-    const hw::GyroLinkLoad load = hw::WorstCaseLinkLoad(LinkPlan(station, run.sample_rate_hz));
+    // Every bus must carry its units' plan with room to spare (hw/gyro_link_load.hpp): the
+    // busiest one is judged.
+    const std::size_t units = BusiestBus(station).positions.size();
+    const hw::GyroLinkLoad load = BusLoad(station, run.sample_rate_hz, units);
     if (load.bus_share > hw::kMaxPlannedBusShare) {
-      return std::unexpected(ConfigError{
-          sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
-          std::to_string(run.sample_rate_hz),
-          "the gyro's bus (" + BusName(station) + ") would be " + Percent(load.bus_share) +
-              " busy (" + std::to_string(static_cast<long long>(load.frames_per_s)) +
-              " frames/s, worst-case stuffing), above the planned maximum of " +
-              Percent(hw::kMaxPlannedBusShare) + ": at most " +
-              std::to_string(MaxPlannableRate(station)) + " samples/s fit" +
-              (station.gyro.fd ? "; a faster data phase (gyro.data_bitrate) would carry more"
-                               : "; CAN FD (gyro.fd = true) or a faster bus would carry more")});
+      const std::uint32_t fits = MaxPlannableRate(station, units);
+      std::string more = station.gyro.fd ? "a faster data phase (gyro.data_bitrate)"
+                                         : "CAN FD (gyro.fd = true) or a faster bus";
+      if (units > 1) more += ", or fewer units on that bus (another can_interface for some)";
+      return std::unexpected(
+          ConfigError{sequence.file, run.sample_rate_line, run_key + ".sample_rate_hz",
+                      std::to_string(run.sample_rate_hz),
+                      std::string(units > 1 ? "the bus " : "the gyro's bus (") + BusName(station) +
+                          (units > 1 ? "" : ")") + " would be " + Percent(load.bus_share) +
+                          " busy (" + std::to_string(static_cast<long long>(load.frames_per_s)) +
+                          " frames/s, worst-case stuffing), above the planned maximum of " +
+                          Percent(hw::kMaxPlannedBusShare) + ": at most " + std::to_string(fits) +
+                          " samples/s" + (units > 1 ? " per unit" : "") + " fit; " + more +
+                          " would carry more"});
     }
     // The fit assumes one noise shape per session (output_filter.hpp): one rate, and a filter
     // whose memory at that rate is within the estimator's bound.
@@ -174,9 +214,9 @@ std::string Percent(double share) {
 PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs) {
   PlannedBusLoad busiest;
   busiest.bus = BusName(configs.station);
+  busiest.units = BusiestBus(configs.station).positions.size();
   for (const SequenceRun& run : configs.sequence.runs) {
-    const hw::GyroLinkLoad load =
-        hw::WorstCaseLinkLoad(LinkPlan(configs.station, run.sample_rate_hz));
+    const hw::GyroLinkLoad load = BusLoad(configs.station, run.sample_rate_hz, busiest.units);
     if (load.bus_share > busiest.load.bus_share) {
       busiest.load = load;
       busiest.sample_rate_hz = run.sample_rate_hz;

@@ -94,6 +94,13 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
       HRG_TRY(iface, ReadInterfaceName(reader));
       gyro.can_interface = *iface;
     }
+    if (fixture_declared) {
+      HRG_CHECK(Forbid(reader, "can_node",
+                       "conflict: with [[fixture]], each position names its own can_node"));
+    } else {
+      HRG_TRY(node, OptionalInteger(reader, "can_node", 0, kMaxCanNode, gyro.can_node));
+      gyro.can_node = static_cast<int>(*node);
+    }
     HRG_TRY(bitrate, OptionalInteger(reader, "bitrate", 10'000, 1'000'000, gyro.bitrate));
     gyro.bitrate = *bitrate;
     if (gyro.fd) {
@@ -108,7 +115,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
       HRG_CHECK(Forbid(reader, "data_bitrate", "applies only with fd = true"));
     }
   } else {
-    for (std::string_view key : {"can_interface", "bitrate", "data_bitrate"})
+    for (std::string_view key : {"can_interface", "can_node", "bitrate", "data_bitrate"})
       HRG_CHECK(Forbid(reader, key, kRealOnly));
     gyro.data_bitrate = kSimulatedFdDataBitRateBps;
   }
@@ -135,7 +142,8 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
       HRG_CHECK(Forbid(reader, key, "applies only with output_filter = \"butterworth\""));
   }
   HRG_CHECK(
-      reader.Unknown("can_interface, bitrate, fd, data_bitrate, ack_timeout_ms, command_attempts, "
+      reader.Unknown("can_interface, can_node, bitrate, fd, data_bitrate, ack_timeout_ms, "
+                     "command_attempts, "
                      "status_poll_ms, sample_timeout_ms, output_filter, output_filter_order, "
                      "output_filter_cutoff_hz"));
   return gyro;
@@ -441,6 +449,8 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
   position.fitted = *fitted;
   HRG_TRY(inverted, OptionalBool(reader, "inverted", false));
   position.inverted = *inverted;
+  HRG_TRY(node, OptionalInteger(reader, "can_node", 0, kMaxCanNode, 0));
+  position.can_node = static_cast<int>(*node);
   if (station.kind == StationKind::kReal) {
     HRG_TRY(iface, ReadInterfaceName(reader));
     position.can_interface = *iface;
@@ -449,10 +459,12 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
           "temperature_drift_c_per_s", "excite_time_s", "faults"})
       HRG_CHECK(Forbid(reader, key, "applies only to kind = \"simulated\""));
   } else {
-    HRG_CHECK(Forbid(reader, "can_interface",
-                     "applies only to kind = \"real\" (each simulated position has its own "
-                     "in-process bus)"));
+    // The in-process bus's name: positions naming the same one share it.
     position.can_interface = "vsim-" + position.name;
+    if (reader.table().contains("can_interface")) {
+      HRG_TRY(iface, ReadInterfaceName(reader));
+      position.can_interface = *iface;
+    }
     if (station.simulated.physics == SimulatedPhysics::kCarrier) {
       for (std::string_view key : {"delta", "xi", "sigma", "resonant_frequency_hz"})
         HRG_CHECK(Forbid(reader, key,
@@ -490,14 +502,16 @@ std::expected<FixturePosition, ConfigError> ReadPosition(TableReader& reader,
       if (fault_keys.contains("gyro_never_ready")) own.gyro_never_ready = faults->gyro_never_ready;
     }
   }
-  HRG_CHECK(reader.Unknown(
-      "position, fitted, inverted, can_interface, delta, xi, sigma, seed, resonant_frequency_hz, "
-      "temperature_c, temperature_drift_c_per_s, excite_time_s, [fixture.faults]"));
+  HRG_CHECK(
+      reader.Unknown("position, fitted, inverted, can_interface, can_node, delta, xi, sigma, seed, "
+                     "resonant_frequency_hz, "
+                     "temperature_c, temperature_drift_c_per_s, excite_time_s, [fixture.faults]"));
   return position;
 }
 
-// [[fixture]] (absent: one position on [gyro]'s interface). Names unique; no two fitted positions
-// on one bus (several units on one bus need node ids in the protocol, which v1 does not have).
+// [[fixture]] (absent: one position on [gyro]'s interface and node). Names unique; fitted
+// positions on one bus have distinct node ids (the bus load of each bus is judged by the plan
+// check, hrg-bench check).
 std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader& root,
                                                                      const StationConfig& station,
                                                                      const Source& source) {
@@ -508,6 +522,7 @@ std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader
     only.name = "1";
     only.can_interface =
         station.kind == StationKind::kReal ? station.gyro.can_interface : "vcan-sim";
+    only.can_node = station.gyro.can_node;
     fixture.push_back(std::move(only));
     return fixture;
   }
@@ -532,13 +547,17 @@ std::expected<std::vector<FixturePosition>, ConfigError> ReadFixture(TableReader
             reader.Error(*table.get("position"), "position",
                          "conflict: position '" + position->name + "' is declared twice"));
       }
-      if (earlier.fitted && position->fitted && station.kind == StationKind::kReal &&
-          earlier.can_interface == position->can_interface) {
-        return std::unexpected(
-            reader.Error(*table.get("can_interface"), "can_interface",
-                         "conflict: positions '" + earlier.name + "' and '" + position->name +
-                             "' are both on " + position->can_interface +
-                             "; gyro protocol v1 has no node id, so each unit needs its own bus"));
+      if (earlier.fitted && position->fitted && earlier.can_interface == position->can_interface &&
+          earlier.can_node == position->can_node) {
+        const toml::node* at = table.get("can_node");
+        if (at == nullptr) at = table.get("can_interface");
+        if (at == nullptr) at = table.get("position");
+        return std::unexpected(reader.Error(
+            *at, "can_node",
+            "conflict: positions '" + earlier.name + "' and '" + position->name +
+                "' are both node " + std::to_string(position->can_node) + " on " +
+                position->can_interface +
+                "; units on one bus need distinct can_node ids (set in each unit's electronics)"));
       }
     }
     fixture.push_back(std::move(*position));

@@ -92,7 +92,9 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
                      ? json(nullptr)
                      : json(header.config_sha256.limits_sha256)}};
   doc["started"] = internal::TimeStampNow();
-  doc["can_log"] = {{"file", "can/session.log"}, {"interface", header.can_interface}};
+  doc["can_log"] = {
+      {"file", "can/session.log"}, {"interface", header.can_interface}, {"node", header.can_node}};
+  if (header.can_protocol > 0) doc["can_log"]["protocol"] = header.can_protocol;
   if (header.simulation) doc["simulation"] = *header.simulation;
   if (header.electronics) doc["electronics"] = *header.electronics;
   if (header.fixture) doc["fixture"] = *header.fixture;

@@ -372,6 +372,8 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
     header.electronics =
         nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
     header.can_interface = hw.units[i].can_interface;
+    header.can_node = hw.units[i].can_node;
+    header.can_protocol = hw.units[i].can_protocol;
     header.fixture = units[i].fixture;
     // The plan in the unit's own frame: an inverted unit is commanded −Ω.
     const double sign = hw.units[i].axis_sign;

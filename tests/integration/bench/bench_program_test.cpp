@@ -305,7 +305,7 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   std::size_t changed = 0;
   std::size_t seen = 0;
   for (std::size_t i = 0; i < original.size() && changed == 0; ++i) {
-    if (original[i].find(" 042#") != std::string::npos) released = i;
+    if (original[i].find(" 060#") != std::string::npos) released = i;
     if (released == 0 || original[i].find(" 100#") == std::string::npos || ++seen != 100) continue;
     changed = i;
   }
@@ -336,7 +336,7 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   std::size_t releases = 0;
   std::size_t mangled = 0;
   for (std::size_t i = 0; i < lines.size() && mangled == 0; ++i) {
-    if (lines[i].find(" 042#") != std::string::npos && ++releases == 3) mangled = i + 50;
+    if (lines[i].find(" 060#") != std::string::npos && ++releases == 3) mangled = i + 50;
   }
   ASSERT_LT(mangled, lines.size());
   lines[mangled] = lines[mangled].substr(0, 20) + "#garbage";
@@ -366,7 +366,7 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   std::size_t fifth = 0;
   releases = 0;
   for (std::size_t i = 0; i < lines.size() && fifth == 0; ++i) {
-    if (lines[i].find(" 042#") != std::string::npos && ++releases == 5) fifth = i;
+    if (lines[i].find(" 060#") != std::string::npos && ++releases == 5) fifth = i;
   }
   ASSERT_NE(fifth, 0u);
   lines.resize(fifth + 600);  // about 300 of run 5's 1000 samples

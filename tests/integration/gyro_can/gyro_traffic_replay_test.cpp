@@ -176,10 +176,10 @@ TEST(GyroTrafficReplay, ADriverThatSendsOtherwiseIsNamedAtTheLine) {
   for (PlaybackFrame& f : log) {
     if (f.frame.id != drivers::gyro_can::can_id::kConfigure || ++configures != 2) continue;
     drivers::gyro_can::ConfigureCommand c;
-    ASSERT_EQ(drivers::gyro_can::DecodeConfigure(f.frame, &c),
+    ASSERT_EQ(drivers::gyro_can::DecodeConfigure(f.frame, 0, &c),
               drivers::gyro_can::DecodeStatus::kOk);
     c.status_rate_hz = 3;
-    f.frame = drivers::gyro_can::EncodeConfigure(c);
+    f.frame = drivers::gyro_can::EncodeConfigure(0, c);
     changed_line = f.line;
     recorded_text = hw::CanFrameToString(f.frame);
   }

@@ -166,10 +166,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadFixture{"shared bus", true,
                    "[[fixture]]\nposition = \"1\"\ncan_interface = \"can0\"\n[[fixture]]\n"
                    "position = \"2\"\ncan_interface = \"can0\"\n",
-                   18, "fixture[1].can_interface", "each unit needs its own bus"},
-        BadFixture{"simulated interface", false,
-                   "[[fixture]]\nposition = \"A\"\ncan_interface = \"can0\"\n", 17,
-                   "fixture[0].can_interface", "applies only to kind = \"real\""},
+                   18, "fixture[1].can_node",
+                   "positions '1' and '2' are both node 0 on can0; units on one bus need "
+                   "distinct can_node ids"},
+        BadFixture{"same node on a simulated bus", false,
+                   "[[fixture]]\nposition = \"A\"\ncan_interface = \"vsim-1\"\ncan_node = 3\n"
+                   "[[fixture]]\nposition = \"B\"\ncan_interface = \"vsim-1\"\ncan_node = 3\n",
+                   22, "fixture[1].can_node", "both node 3 on vsim-1"},
+        BadFixture{"node out of range", false, "[[fixture]]\nposition = \"A\"\ncan_node = 16\n", 17,
+                   "fixture[0].can_node", "out of range"},
         BadFixture{"table fault", false,
                    "[[fixture]]\nposition = \"A\"\n[fixture.faults]\ntable_never_stable = true\n",
                    18, "fixture[0].faults.table_never_stable", "[simulated.faults]"},
@@ -183,6 +188,53 @@ INSTANTIATE_TEST_SUITE_P(
         if (c == ' ') c = '_';
       return name;
     });
+
+TEST(StationFixture, UnitsShareABusWithDistinctNodeIds) {
+  auto real = Parse(kReal +
+                    "[[fixture]]\nposition = \"A\"\ncan_interface = \"can0\"\ncan_node = 1\n"
+                    "[[fixture]]\nposition = \"B\"\ncan_interface = \"can0\"\ncan_node = 2\n"
+                    "[[fixture]]\nposition = \"C\"\ncan_interface = \"can1\"\ncan_node = 1\n"
+                    // Not fitted: its node may repeat a fitted one's.
+                    "[[fixture]]\nposition = \"D\"\ncan_interface = \"can0\"\ncan_node = 1\n"
+                    "fitted = false\n");
+  ASSERT_TRUE(real.has_value()) << real.error().ToString();
+  const auto fitted = FittedPositions(*real);
+  ASSERT_EQ(fitted.size(), 3u);
+  EXPECT_EQ(fitted[0]->can_interface, "can0");
+  EXPECT_EQ(fitted[0]->can_node, 1);
+  EXPECT_EQ(fitted[1]->can_interface, "can0");
+  EXPECT_EQ(fitted[1]->can_node, 2);
+  EXPECT_EQ(fitted[2]->can_node, 1);
+
+  // Simulated: the in-process bus's name; by default each position has its own.
+  auto simulated = Parse(kSimulated +
+                         "[[fixture]]\nposition = \"A\"\ncan_interface = \"vsim-AB\"\n"
+                         "[[fixture]]\nposition = \"B\"\ncan_interface = \"vsim-AB\"\n"
+                         "can_node = 5\n[[fixture]]\nposition = \"C\"\n");
+  ASSERT_TRUE(simulated.has_value()) << simulated.error().ToString();
+  EXPECT_EQ(simulated->fixture[0].can_interface, "vsim-AB");
+  EXPECT_EQ(simulated->fixture[0].can_node, 0);
+  EXPECT_EQ(simulated->fixture[1].can_interface, "vsim-AB");
+  EXPECT_EQ(simulated->fixture[1].can_node, 5);
+  EXPECT_EQ(simulated->fixture[2].can_interface, "vsim-C");
+}
+
+TEST(StationFixture, AStationOfOneUnitNamesItsNodeInTheGyroTable) {
+  std::string real = kReal;
+  real.replace(real.find("[gyro]\n"), 7, "[gyro]\ncan_interface = \"can3\"\ncan_node = 9\n");
+  auto station = Parse(real);
+  ASSERT_TRUE(station.has_value()) << station.error().ToString();
+  EXPECT_EQ(FittedPositions(*station)[0]->can_node, 9);
+  auto with_fixture = Parse(kReal + "[[fixture]]\nposition = \"1\"\ncan_interface = \"can0\"\n");
+  ASSERT_TRUE(with_fixture.has_value());
+  std::string both = kReal;
+  both.replace(both.find("[gyro]\n"), 7, "[gyro]\ncan_node = 9\n");
+  auto refused = Parse(both + "[[fixture]]\nposition = \"1\"\ncan_interface = \"can0\"\n");
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_EQ(refused.error().key, "gyro.can_node");
+  EXPECT_NE(refused.error().message.find("each position names its own can_node"), std::string::npos)
+      << refused.error().ToString();
+}
 
 TEST(StationFixture, WithPositionsTheGyroTableNamesNoInterface) {
   std::string real = kReal;

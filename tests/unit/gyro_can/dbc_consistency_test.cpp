@@ -1,8 +1,8 @@
-// hrg_gyro_v1.dbc is the vendor document; gyro_protocol.hpp / GyroCodec are the implementation.
+// hrg_gyro_v2.dbc is the vendor document; gyro_protocol.hpp / GyroCodec are the implementation.
 // A tiny DBC reader (just the BO_, SG_, BA_ and VAL_ lines this file uses) checks that the two
-// agree: ids, lengths, frame kinds, the version attribute, enumerations, and that every signal,
-// decoded generically from codec-encoded frames with the DBC's start bit, length, byte order,
-// signedness and factor, gives back the value the codec was given.
+// agree: ids (node 0's, and the node-id mask), lengths, frame kinds, the version attribute,
+// enumerations, and that every signal, decoded generically from codec-encoded frames with the DBC's
+// start bit, length, byte order, signedness and factor, gives back the value the codec was given.
 
 #include <gtest/gtest.h>
 
@@ -97,7 +97,7 @@ Dbc ReadDbc(const std::string& path) {
 }
 
 const Dbc& TheDbc() {
-  static const Dbc dbc = ReadDbc(HRGBENCH_SOURCE_DIR "/drivers/gyro_can/hrg_gyro_v1.dbc");
+  static const Dbc dbc = ReadDbc(HRGBENCH_SOURCE_DIR "/drivers/gyro_can/hrg_gyro_v2.dbc");
   return dbc;
 }
 
@@ -117,8 +117,12 @@ double Physical(const DbcSignal& signal, const hw::CanFrame& frame) {
   return value * signal.factor + signal.offset;
 }
 
+// The frames below are node 7's: the DBC's message is the one at the identifier without its node.
+constexpr NodeId kNode = 7;
+
 double Signal(std::uint32_t id, const char* name, const hw::CanFrame& frame) {
-  const auto it = TheDbc().messages.find(id);
+  EXPECT_EQ(frame.id, id | kNode) << name;
+  const auto it = TheDbc().messages.find(MessageOf(frame.id));
   if (it == TheDbc().messages.end()) {
     ADD_FAILURE() << "no message " << id;
     return std::nan("");
@@ -172,6 +176,7 @@ TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
 
 TEST(DbcConsistencyTest, VersionAndEnumerations) {
   EXPECT_EQ(TheDbc().attributes.at("ProtocolVersion"), std::to_string(kProtocolVersion));
+  EXPECT_EQ(TheDbc().attributes.at("NodeIdMask"), std::to_string(kNodeIdMask));
   for (std::uint32_t id : {can_id::kAck, can_id::kStatus}) {
     const auto& modes = TheDbc().value_tables.at({id, "Mode"});
     ASSERT_EQ(modes.size(), 7u);
@@ -194,6 +199,7 @@ TEST(DbcConsistencyTest, VersionAndEnumerations) {
 
 TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   const hw::CanFrame configure = EncodeConfigure(
+      kNode,
       {.token = 9, .sample_rate_hz = 1234, .format = FrameFormat::kFd, .status_rate_hz = 20});
   EXPECT_EQ(Signal(can_id::kConfigure, "Token", configure), 9);
   EXPECT_EQ(Signal(can_id::kConfigure, "SampleRate", configure), 1234);
@@ -201,13 +207,13 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kConfigure, "StatusRate", configure), 20);
 
   const hw::CanFrame excite =
-      EncodeExcite({.token = 3, .a_raw = 12345, .b_raw = -4000, .theta_raw = -31416});
+      EncodeExcite(kNode, {.token = 3, .a_raw = 12345, .b_raw = -4000, .theta_raw = -31416});
   EXPECT_DOUBLE_EQ(Signal(can_id::kExcite, "Amplitude", excite), 1.2345);
   EXPECT_DOUBLE_EQ(Signal(can_id::kExcite, "Quadrature", excite), -0.4);
   EXPECT_DOUBLE_EQ(Signal(can_id::kExcite, "WaveAngle", excite), -3.1416);
 
-  const hw::CanFrame ack =
-      EncodeAck({Command::kRelease, 77, AckResult::kBadArgument, hw::GyroMode::kReady, 123456});
+  const hw::CanFrame ack = EncodeAck(
+      kNode, {Command::kRelease, 77, AckResult::kBadArgument, hw::GyroMode::kReady, 123456});
   EXPECT_EQ(Signal(can_id::kAck, "Command", ack), 0x42);
   EXPECT_EQ(Signal(can_id::kAck, "Token", ack), 77);
   EXPECT_EQ(Signal(can_id::kAck, "Result", ack), 2);
@@ -216,12 +222,12 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kAck, "Crc", ack), ack.data[7]);
 
   const hw::CanFrame status =
-      EncodeStatus({.mode = hw::GyroMode::kFreeRun,
-                    .pll_lock = true,
-                    .ready = false,
-                    .fault_bits = hw::gyro_fault::kSampleOverrun | hw::gyro_fault::kInternal,
-                    .frequency_mhz = 5123456,
-                    .temperature_centi_c = -1234});
+      EncodeStatus(kNode, {.mode = hw::GyroMode::kFreeRun,
+                           .pll_lock = true,
+                           .ready = false,
+                           .fault_bits = hw::gyro_fault::kSampleOverrun | hw::gyro_fault::kInternal,
+                           .frequency_mhz = 5123456,
+                           .temperature_centi_c = -1234});
   EXPECT_EQ(Signal(can_id::kStatus, "Mode", status), 4);
   EXPECT_EQ(Signal(can_id::kStatus, "PllLock", status), 1);
   EXPECT_EQ(Signal(can_id::kStatus, "Ready", status), 0);
@@ -232,13 +238,13 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_DOUBLE_EQ(Signal(can_id::kStatus, "Temperature", status), -12.34);
 
   const hw::CanFrame sample_b =
-      EncodeSampleHalf({.half = 1, .seq = 250, .y_raw = {QuantiseY(0.7), QuantiseY(-1.3)}});
+      EncodeSampleHalf(kNode, {.half = 1, .seq = 250, .y_raw = {QuantiseY(0.7), QuantiseY(-1.3)}});
   EXPECT_EQ(Signal(can_id::kSampleB, "Seq", sample_b), 250);
   EXPECT_EQ(Signal(can_id::kSampleB, "Y3", sample_b), DequantiseY(QuantiseY(0.7)));
   EXPECT_EQ(Signal(can_id::kSampleB, "Y4", sample_b), DequantiseY(QuantiseY(-1.3)));
 
   const hw::CanFrame reference =
-      EncodeReferencePhase({.seq = 54321, .phase_raw = QuantiseReferencePhase(-2.5)});
+      EncodeReferencePhase(kNode, {.seq = 54321, .phase_raw = QuantiseReferencePhase(-2.5)});
   EXPECT_EQ(Signal(can_id::kReferencePhase, "Seq", reference), 54321);
   EXPECT_DOUBLE_EQ(Signal(can_id::kReferencePhase, "Phase", reference),
                    DequantiseReferencePhase(QuantiseReferencePhase(-2.5)));
@@ -252,7 +258,7 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
       block.y_raw[s][c] = QuantiseY(0.1 * static_cast<double>(s) - 0.37 * static_cast<double>(c));
     }
   }
-  const hw::CanFrame fd = EncodeSampleFd(block);
+  const hw::CanFrame fd = EncodeSampleFd(kNode, block);
   EXPECT_EQ(Signal(can_id::kSampleFd, "Seq", fd), 40000);
   EXPECT_EQ(Signal(can_id::kSampleFd, "Count", fd), 5);
   for (std::size_t s = 0; s < 5; ++s) {

@@ -47,34 +47,37 @@ bool SameFrame(const hw::CanFrame& a, const hw::CanFrame& b) {
 // A valid frame of a random message, for bit flips that get past the id and length checks.
 hw::CanFrame ValidFrame(Draw& draw) {
   const auto byte = [&draw] { return static_cast<std::uint8_t>(draw.Bits()); };
+  const auto node = static_cast<NodeId>(draw.Below(kMaxNodeId + 1u));
   switch (draw.Below(7)) {
     case 0:
-      return EncodeConfigure({byte(), static_cast<std::uint16_t>(draw.Below(20'000)),
+      return EncodeConfigure(node,
+                             {byte(), static_cast<std::uint16_t>(draw.Below(20'000)),
                               draw.OneIn(2) ? FrameFormat::kFd : FrameFormat::kClassic, byte()});
     case 1:
-      return EncodeExcite({byte(), static_cast<std::uint16_t>(draw.Bits()),
-                           static_cast<std::int16_t>(draw.Bits()),
-                           static_cast<std::int16_t>(draw.Bits())});
+      return EncodeExcite(
+          node, {byte(), static_cast<std::uint16_t>(draw.Bits()),
+                 static_cast<std::int16_t>(draw.Bits()), static_cast<std::int16_t>(draw.Bits())});
     case 2:
-      return EncodeSimpleCommand({Command::kRelease, byte()});
+      return EncodeSimpleCommand(node, {Command::kRelease, byte()});
     case 3:
-      return EncodeAck({Command::kExcite, byte(), AckResult::kOk, hw::GyroMode::kIdle,
-                        static_cast<std::uint32_t>(draw.Bits())});
+      return EncodeAck(node, {Command::kExcite, byte(), AckResult::kOk, hw::GyroMode::kIdle,
+                              static_cast<std::uint32_t>(draw.Bits())});
     case 4: {
       StatusMessage status;
       status.fault_bits = byte();
       status.frequency_mhz = static_cast<std::uint32_t>(draw.Below(1u << 24));
       status.temperature_centi_c = static_cast<std::int16_t>(draw.Bits());
-      return EncodeStatus(status);
+      return EncodeStatus(node, status);
     }
     case 5:
       return EncodeSampleHalf(
+          node,
           {static_cast<std::uint8_t>(draw.Below(2)), byte(), {QuantiseY(1.0), QuantiseY(-0.5)}});
     default: {
       SampleFdBlock block;
       block.seq = static_cast<std::uint16_t>(draw.Bits());
       block.count = static_cast<std::uint8_t>(1 + draw.Below(kSamplesPerFdFrame));
-      return EncodeSampleFd(block);
+      return EncodeSampleFd(node, block);
     }
   }
 }
@@ -109,7 +112,7 @@ hw::CanFrame RandomFrame(Draw& draw) {
   frame.extended = draw.OneIn(8);
   frame.id = static_cast<std::uint32_t>(draw.Bits()) &
              (frame.extended ? hw::CanFrame::kExtendedIdMask
-                             : (draw.OneIn(2) ? 0x10Fu : hw::CanFrame::kStandardIdMask));
+                             : (draw.OneIn(2) ? 0x13Fu : hw::CanFrame::kStandardIdMask));
   frame.fd = draw.OneIn(3);
   frame.bit_rate_switch = draw.OneIn(2);
   frame.remote = draw.OneIn(16);
@@ -138,18 +141,21 @@ TEST(GyroCanFuzz, DecodersAndTheSampleStreamSurviveAnyFrame) {
                                : stamp_ns + static_cast<std::int64_t>(draw.Below(2'000'000));
     const hw::CanFrame frame = RandomFrame(draw);
 
-    // Each decoder: kOk (then re-encode and decode again to the same frame) or a named reason.
+    // Each decoder, as the frame's node: kOk (then re-encode and decode again to the same frame)
+    // or a named reason.
+    const NodeId node = NodeOf(frame.id);
     const auto check = [&](auto decode, auto encode, auto message) {
-      const DecodeStatus status = decode(frame, &message);
+      const DecodeStatus status = decode(frame, node, &message);
       ASSERT_FALSE(ToString(status).empty()) << log;
       ASSERT_NE(ToString(status), "?") << log;
       if (status != DecodeStatus::kOk) return;
       ++decoded;
-      const hw::CanFrame again = encode(message);
+      const hw::CanFrame again = encode(node, message);
       decltype(message) twice{};
-      ASSERT_EQ(decode(again, &twice), DecodeStatus::kOk)
+      ASSERT_EQ(decode(again, node, &twice), DecodeStatus::kOk)
           << log << " " << hw::CanFrameToString(frame);
-      ASSERT_TRUE(SameFrame(again, encode(twice))) << log << " " << hw::CanFrameToString(frame);
+      ASSERT_TRUE(SameFrame(again, encode(node, twice)))
+          << log << " " << hw::CanFrameToString(frame);
     };
     check(DecodeConfigure, EncodeConfigure, ConfigureCommand{});
     check(DecodeExcite, EncodeExcite, ExciteCommand{});
@@ -161,13 +167,14 @@ TEST(GyroCanFuzz, DecodersAndTheSampleStreamSurviveAnyFrame) {
     check(DecodeReferencePhase, EncodeReferencePhase, ReferencePhaseReport{});
     if (HasFatalFailure()) return;
 
-    if (SampleHalf half; DecodeSampleHalf(frame, &half) == DecodeStatus::kOk) {
+    if (SampleHalf half; DecodeSampleHalf(frame, node, &half) == DecodeStatus::kOk) {
       stream.OnSampleHalf(half, stamp_ns);
     }
-    if (SampleFdBlock block; DecodeSampleFd(frame, &block) == DecodeStatus::kOk) {
+    if (SampleFdBlock block; DecodeSampleFd(frame, node, &block) == DecodeStatus::kOk) {
       stream.OnSampleFd(block, stamp_ns);
     }
-    if (ReferencePhaseReport report; DecodeReferencePhase(frame, &report) == DecodeStatus::kOk) {
+    if (ReferencePhaseReport report;
+        DecodeReferencePhase(frame, node, &report) == DecodeStatus::kOk) {
       stream.OnReferencePhase(report, stamp_ns);
     }
     ASSERT_LE(stream.Buffered(), 256u) << log;

@@ -1,13 +1,17 @@
-// Golden frames of the HRG CAN protocol v1 in can-utils notation. The expected texts were written
-// from the README's message table with an independent CRC-8 implementation (Python, checked
-// against the catalogue value CRC-8/SAE-J1850("123456789") = 0x4B), not produced by this codec.
+// Golden frames of the HRG CAN protocol v2 in can-utils notation. The expected texts were written
+// from the README's message table by golden_frames.py (beside this file: an independent CRC-8 in
+// Python, checked against the catalogue value CRC-8/SAE-J1850("123456789") = 0x4B), not produced
+// by this codec. Node 0's Configure and SampleA kept version 1's identifiers, and their frames are
+// version 1's golden frames unchanged.
 
 #include "gyro_can/gyro_codec.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
 #include <numbers>
+#include <set>
 #include <string>
 
 #include "hrgbench/hw/can_frame_text.hpp"
@@ -33,13 +37,14 @@ TEST(GyroCodecTest, ConfigureGolden) {
   command.sample_rate_hz = 1000;
   command.format = FrameFormat::kClassic;
   command.status_rate_hz = 10;
-  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(command)), "040#07E803000A0000E9");
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(0, command)), "040#07E803000A0000E9");
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(5, command)), "045#07E803000A000005");
   ConfigureCommand fd{
       .token = 0x21, .sample_rate_hz = 5000, .format = FrameFormat::kFd, .status_rate_hz = 0};
-  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(fd)), "040#2188130100000051");
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(0, fd)), "040#2188130100000051");
 
   ConfigureCommand decoded;
-  ASSERT_EQ(DecodeConfigure(Frame("040#2188130100000051"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeConfigure(Frame("040#2188130100000051"), 0, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.token, 0x21);
   EXPECT_EQ(decoded.sample_rate_hz, 5000);
   EXPECT_EQ(decoded.format, FrameFormat::kFd);
@@ -49,9 +54,10 @@ TEST(GyroCodecTest, ConfigureGolden) {
 TEST(GyroCodecTest, ExciteGolden) {
   // a = 1, b = -0.4, θ = π/7 (the paper's run 2 design) in 1e-4 units.
   ExciteCommand command{.token = 0x08, .a_raw = 10000, .b_raw = -4000, .theta_raw = 4488};
-  EXPECT_EQ(hw::CanFrameToString(EncodeExcite(command)), "041#08102760F0881178");
+  EXPECT_EQ(hw::CanFrameToString(EncodeExcite(0, command)), "050#08102760F0881103");
+  EXPECT_EQ(hw::CanFrameToString(EncodeExcite(3, command)), "053#08102760F08811AC");
   ExciteCommand decoded;
-  ASSERT_EQ(DecodeExcite(Frame("041#08102760F0881178"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeExcite(Frame("053#08102760F08811AC"), 3, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.a_raw, 10000);
   EXPECT_EQ(decoded.b_raw, -4000);
   EXPECT_EQ(decoded.theta_raw, 4488);
@@ -59,23 +65,27 @@ TEST(GyroCodecTest, ExciteGolden) {
 }
 
 TEST(GyroCodecTest, SimpleCommandsGolden) {
-  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kRelease, 0x09})), "042#0967");
-  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kStop, 0x0A})), "043#0ACF");
-  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand({Command::kStatusRequest, 0x0B})), "044#0B58");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand(0, {Command::kRelease, 0x09})), "060#0954");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand(0, {Command::kStop, 0x0A})), "020#0A13");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand(15, {Command::kStop, 0x0A})), "02F#0A95");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSimpleCommand(0, {Command::kStatusRequest, 0x0B})),
+            "070#0B76");
   SimpleCommand decoded;
-  ASSERT_EQ(DecodeSimpleCommand(Frame("043#0ACF"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeSimpleCommand(Frame("02F#0A95"), 15, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.command, Command::kStop);
   EXPECT_EQ(decoded.token, 0x0A);
-  EXPECT_EQ(DecodeSimpleCommand(Frame("041#0ACF"), &decoded), DecodeStatus::kWrongId);
+  EXPECT_EQ(DecodeSimpleCommand(Frame("050#0A13"), 0, &decoded), DecodeStatus::kWrongId);
+  // Node 15's Stop is not node 0's.
+  EXPECT_EQ(DecodeSimpleCommand(Frame("02F#0A95"), 0, &decoded), DecodeStatus::kWrongId);
 }
 
 TEST(GyroCodecTest, AckGolden) {
   const Ack release{Command::kRelease, 0x09, AckResult::kOk, hw::GyroMode::kFreeRun, 0};
-  EXPECT_EQ(hw::CanFrameToString(EncodeAck(release)), "050#420900040000007C");
+  EXPECT_EQ(hw::CanFrameToString(EncodeAck(5, release)), "085#4209000400000006");
   const Ack configure{Command::kConfigure, 0x07, AckResult::kOk, hw::GyroMode::kConfigured, 1000};
-  EXPECT_EQ(hw::CanFrameToString(EncodeAck(configure)), "050#40070001E80300DE");
+  EXPECT_EQ(hw::CanFrameToString(EncodeAck(0, configure)), "080#40070001E8030048");
   Ack decoded;
-  ASSERT_EQ(DecodeAck(Frame("050#41080100000000F9"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeAck(Frame("080#410801000000006F"), 0, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.command, Command::kExcite);
   EXPECT_EQ(decoded.token, 0x08);
   EXPECT_EQ(decoded.result, AckResult::kBadState);
@@ -89,9 +99,9 @@ TEST(GyroCodecTest, StatusGolden) {
                              .fault_bits = 0,
                              .frequency_mhz = 5123456,
                              .temperature_centi_c = 2537};
-  EXPECT_EQ(hw::CanFrameToString(EncodeStatus(status)), "051#3300802D4EE909B4");
+  EXPECT_EQ(hw::CanFrameToString(EncodeStatus(0, status)), "090#3300802D4EE90959");
   StatusMessage decoded;
-  ASSERT_EQ(DecodeStatusMessage(Frame("051#060558474C1EFB08"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeStatusMessage(Frame("097#060558474C1EFBC3"), 7, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.mode, hw::GyroMode::kFaulted);
   EXPECT_FALSE(decoded.pll_lock);
   EXPECT_EQ(decoded.fault_bits, hw::gyro_fault::kPllUnlock | hw::gyro_fault::kExciteTimeout);
@@ -102,14 +112,15 @@ TEST(GyroCodecTest, StatusGolden) {
 TEST(GyroCodecTest, SampleHalvesGolden) {
   SampleHalf a{.half = 0, .seq = 0x2A, .y_raw = {QuantiseY(1.0), QuantiseY(-0.5)}};
   SampleHalf b{.half = 1, .seq = 0x2A, .y_raw = {QuantiseY(0.25), QuantiseY(-kSampleLsb)}};
-  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(a)), "100#2A0000400000E002");
-  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(b)), "101#2A000010FFFFFFEF");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(0, a)), "100#2A0000400000E002");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(0, b)), "110#2A000010FFFFFF94");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(2, a)), "102#2A0000400000E0C8");
   // Saturation at ±full scale.
   SampleHalf sat{.half = 0, .seq = 0xFF, .y_raw = {QuantiseY(5.0), QuantiseY(-5.0)}};
-  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(sat)), "100#FFFFFF7F00008085");
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleHalf(0, sat)), "100#FFFFFF7F00008085");
 
   SampleHalf decoded;
-  ASSERT_EQ(DecodeSampleHalf(Frame("101#2A000010FFFFFFEF"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeSampleHalf(Frame("110#2A000010FFFFFF94"), 0, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.half, 1);
   EXPECT_EQ(decoded.seq, 0x2A);
   EXPECT_EQ(DequantiseY(decoded.y_raw[0]), 0.25);
@@ -123,22 +134,22 @@ TEST(GyroCodecTest, ReferencePhaseGolden) {
   EXPECT_EQ(QuantiseReferencePhase(-0.5), 0xEBA0CF92u);
   EXPECT_EQ(QuantiseReferencePhase(2 * std::numbers::pi), 0u);
   EXPECT_EQ(QuantiseReferencePhase(1.0 + 4 * std::numbers::pi), 0x28BE60DCu);
-  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase({0x1234, QuantiseReferencePhase(1.0)})),
-            "103#3412DC60BE28002B");
-  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase({0xFFFF, QuantiseReferencePhase(-0.5)})),
-            "103#FFFF92CFA0EB0088");
+  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase(0, {0x1234, QuantiseReferencePhase(1.0)})),
+            "130#3412DC60BE2800A6");
+  EXPECT_EQ(hw::CanFrameToString(EncodeReferencePhase(15, {0xFFFF, QuantiseReferencePhase(-0.5)})),
+            "13F#FFFF92CFA0EB002C");
   ReferencePhaseReport decoded;
-  ASSERT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE28002B"), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeReferencePhase(Frame("130#3412DC60BE2800A6"), 0, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.seq, 0x1234);
   EXPECT_NEAR(DequantiseReferencePhase(decoded.phase_raw), 1.0, kReferencePhaseLsbRad);
   // The reserved byte must be 0 (CRC recomputed so that only the value is wrong).
-  hw::CanFrame reserved = Frame("103#3412DC60BE28002B");
+  hw::CanFrame reserved = Frame("130#3412DC60BE2800A6");
   reserved.data[6] = 1;
   reserved.data[7] = Crc8(reserved.id, reserved.data.data(), 7);
-  EXPECT_EQ(DecodeReferencePhase(reserved, &decoded), DecodeStatus::kBadValue);
-  EXPECT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE28002C"), &decoded),
+  EXPECT_EQ(DecodeReferencePhase(reserved, 0, &decoded), DecodeStatus::kBadValue);
+  EXPECT_EQ(DecodeReferencePhase(Frame("130#3412DC60BE2800A7"), 0, &decoded),
             DecodeStatus::kBadChecksum);
-  EXPECT_EQ(DecodeReferencePhase(Frame("103#3412DC60BE2800"), &decoded),
+  EXPECT_EQ(DecodeReferencePhase(Frame("130#3412DC60BE2800"), 0, &decoded),
             DecodeStatus::kWrongLength);
 }
 
@@ -155,15 +166,15 @@ SampleFdBlock Pattern(std::uint16_t seq, std::uint8_t count) {
 
 TEST(GyroCodecTest, SampleFdGolden) {
   const char* full =
-      "102##1341205E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF282300F0D8FFF82A0020D1FFC83200"
-      "50C9FF983A0080C1FF684200B0B9FF384A00E0B1FFA6";
+      "120##1341205E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF282300F0D8FFF82A0020D1FFC83200"
+      "50C9FF983A0080C1FF684200B0B9FF384A00E0B1FF68";
   const char* partial =
-      "102##1FFFF02E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF00000000000000000000000000000000"
-      "0000000000000000000000000000000000000000E0";
-  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(Pattern(0x1234, 5))), full);
-  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(Pattern(0xFFFF, 2))), partial);
+      "129##1FFFF02E8030030F8FFB80B0060F0FF88130090E8FF581B00C0E0FF00000000000000000000000000000000"
+      "0000000000000000000000000000000000000000DD";
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(0, Pattern(0x1234, 5))), full);
+  EXPECT_EQ(hw::CanFrameToString(EncodeSampleFd(9, Pattern(0xFFFF, 2))), partial);
   SampleFdBlock decoded;
-  ASSERT_EQ(DecodeSampleFd(Frame(partial), &decoded), DecodeStatus::kOk);
+  ASSERT_EQ(DecodeSampleFd(Frame(partial), 9, &decoded), DecodeStatus::kOk);
   EXPECT_EQ(decoded.seq, 0xFFFF);
   EXPECT_EQ(decoded.count, 2);
   EXPECT_EQ(decoded.y_raw, Pattern(0xFFFF, 2).y_raw);
@@ -177,24 +188,25 @@ TEST(GyroCodecTest, RoundTripsEveryMessage) {
                                .format = FrameFormat::kFd,
                                .status_rate_hz = 3};
     ConfigureCommand c2;
-    ASSERT_EQ(DecodeConfigure(EncodeConfigure(configure), &c2), DecodeStatus::kOk);
+    ASSERT_EQ(DecodeConfigure(EncodeConfigure(t % 16u, configure), t % 16u, &c2),
+              DecodeStatus::kOk);
     EXPECT_EQ(c2.sample_rate_hz, configure.sample_rate_hz);
     const ExciteCommand excite{.token = t, .a_raw = 65535, .b_raw = -32768, .theta_raw = 32767};
     ExciteCommand e2;
-    ASSERT_EQ(DecodeExcite(EncodeExcite(excite), &e2), DecodeStatus::kOk);
+    ASSERT_EQ(DecodeExcite(EncodeExcite(t % 16u, excite), t % 16u, &e2), DecodeStatus::kOk);
     EXPECT_EQ(e2.a_raw, 65535);
     EXPECT_EQ(e2.b_raw, -32768);
     EXPECT_EQ(e2.theta_raw, 32767);
     const Ack ack{Command::kStop, t, AckResult::kFaulted, hw::GyroMode::kStopped, 0xABCDEF};
     Ack a2;
-    ASSERT_EQ(DecodeAck(EncodeAck(ack), &a2), DecodeStatus::kOk);
+    ASSERT_EQ(DecodeAck(EncodeAck(t % 16u, ack), t % 16u, &a2), DecodeStatus::kOk);
     EXPECT_EQ(a2.arg, 0xABCDEFu);
     EXPECT_EQ(a2.result, AckResult::kFaulted);
   }
   for (double y = -2.5; y <= 2.5; y += 0.0137) {
     const SampleHalf half{.half = 1, .seq = 200, .y_raw = {QuantiseY(y), QuantiseY(-y)}};
     SampleHalf h2;
-    ASSERT_EQ(DecodeSampleHalf(EncodeSampleHalf(half), &h2), DecodeStatus::kOk);
+    ASSERT_EQ(DecodeSampleHalf(EncodeSampleHalf(11, half), 11, &h2), DecodeStatus::kOk);
     if (std::abs(y) < 2.0 - kSampleLsb) {
       EXPECT_LE(std::abs(DequantiseY(h2.y_raw[0]) - y), kSampleLsb / 2);
       EXPECT_LE(std::abs(DequantiseY(h2.y_raw[1]) + y), kSampleLsb / 2);
@@ -204,30 +216,68 @@ TEST(GyroCodecTest, RoundTripsEveryMessage) {
 
 TEST(GyroCodecTest, RejectsEveryKindOfBadFrame) {
   SampleHalf half;
-  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E003"), &half), DecodeStatus::kBadChecksum);
-  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E0"), &half), DecodeStatus::kWrongLength);
-  EXPECT_EQ(DecodeSampleHalf(Frame("100#R"), &half), DecodeStatus::kWrongKind);
-  EXPECT_EQ(DecodeSampleHalf(Frame("00000100#2A0000400000E002"), &half), DecodeStatus::kWrongId);
-  EXPECT_EQ(DecodeSampleHalf(Frame("100##02A0000400000E002"), &half), DecodeStatus::kWrongKind);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E003"), 0, &half), DecodeStatus::kBadChecksum);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#2A0000400000E0"), 0, &half), DecodeStatus::kWrongLength);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100#R"), 0, &half), DecodeStatus::kWrongKind);
+  EXPECT_EQ(DecodeSampleHalf(Frame("00000100#2A0000400000E002"), 0, &half), DecodeStatus::kWrongId);
+  EXPECT_EQ(DecodeSampleHalf(Frame("100##02A0000400000E002"), 0, &half), DecodeStatus::kWrongKind);
   // Every single-bit flip of a sample frame is caught (CRC-8 has Hamming distance ≥ 2).
   const hw::CanFrame good = Frame("100#2A0000400000E002");
   for (int bit = 0; bit < 64; ++bit) {
     hw::CanFrame bad = good;
     bad.data[static_cast<std::size_t>(bit / 8)] ^= static_cast<std::uint8_t>(1u << (bit % 8));
-    EXPECT_EQ(DecodeSampleHalf(bad, &half), DecodeStatus::kBadChecksum) << "bit " << bit;
+    EXPECT_EQ(DecodeSampleHalf(bad, 0, &half), DecodeStatus::kBadChecksum) << "bit " << bit;
   }
   // Undefined enumerated values with a valid CRC: a result of 7.
   Ack ack_in{Command::kStop, 1, AckResult::kOk, hw::GyroMode::kStopped, 0};
-  hw::CanFrame bad_ack = EncodeAck(ack_in);
+  hw::CanFrame bad_ack = EncodeAck(0, ack_in);
   bad_ack.data[2] = 7;
   bad_ack.data[7] = Crc8(bad_ack.id, bad_ack.data.data(), 7);
   Ack ack;
-  EXPECT_EQ(DecodeAck(bad_ack, &ack), DecodeStatus::kBadValue);
+  EXPECT_EQ(DecodeAck(bad_ack, 0, &ack), DecodeStatus::kBadValue);
   SampleFdBlock block = Pattern(1, 5);
-  hw::CanFrame bad_count = EncodeSampleFd(block);
+  hw::CanFrame bad_count = EncodeSampleFd(0, block);
   bad_count.data[2] = 6;
   bad_count.data[63] = Crc8(bad_count.id, bad_count.data.data(), 63);
-  EXPECT_EQ(DecodeSampleFd(bad_count, &block), DecodeStatus::kBadValue);
+  EXPECT_EQ(DecodeSampleFd(bad_count, 0, &block), DecodeStatus::kBadValue);
+}
+
+TEST(GyroCodecTest, NodeIdsNeverChangeWhichMessageWinsArbitration) {
+  // Every node's Stop beats every node's other commands, every command beats every answer, every
+  // answer beats every sample frame (README "Identifiers").
+  const auto highest = [](std::uint32_t message) { return NodeMessageId(message, kMaxNodeId); };
+  const auto lowest = [](std::uint32_t message) { return NodeMessageId(message, 0); };
+  EXPECT_LT(highest(can_id::kStop), lowest(can_id::kConfigure));
+  EXPECT_LT(highest(can_id::kStatusRequest), lowest(can_id::kAck));
+  EXPECT_LT(highest(can_id::kStatus), lowest(can_id::kSampleA));
+  EXPECT_LE(highest(can_id::kReferencePhase), 0x7FFu);
+  // Distinct identifiers for every (message, node): 11 messages × 16 nodes.
+  const std::uint32_t messages[] = {can_id::kStop,     can_id::kConfigure,     can_id::kExcite,
+                                    can_id::kRelease,  can_id::kStatusRequest, can_id::kAck,
+                                    can_id::kStatus,   can_id::kSampleA,       can_id::kSampleB,
+                                    can_id::kSampleFd, can_id::kReferencePhase};
+  std::set<std::uint32_t> ids;
+  for (const std::uint32_t message : messages) {
+    for (int node = 0; node <= kMaxNodeId; ++node) {
+      const std::uint32_t id = NodeMessageId(message, static_cast<NodeId>(node));
+      ids.insert(id);
+      EXPECT_EQ(NodeOf(id), node);
+      EXPECT_EQ(MessageOf(id), message);
+      EXPECT_NE(IsCommandId(id), IsElectronicsId(id)) << std::hex << id;
+    }
+  }
+  EXPECT_EQ(ids.size(), std::size(messages) * 16u);
+}
+
+TEST(GyroCodecTest, AFrameOfAnotherNodeIsNotThisNodes) {
+  const hw::CanFrame sample = EncodeSampleHalf(3, {.half = 0, .seq = 1, .y_raw = {1, 2}});
+  SampleHalf half;
+  EXPECT_EQ(DecodeSampleHalf(sample, 3, &half), DecodeStatus::kOk);
+  EXPECT_EQ(DecodeSampleHalf(sample, 4, &half), DecodeStatus::kWrongId);
+  const hw::CanFrame status = EncodeStatus(12, {});
+  StatusMessage message;
+  EXPECT_EQ(DecodeStatusMessage(status, 12, &message), DecodeStatus::kOk);
+  EXPECT_EQ(DecodeStatusMessage(status, 2, &message), DecodeStatus::kWrongId);
 }
 
 }  // namespace
