@@ -8,6 +8,8 @@
 // reported standard deviations per parameter (as session_end_to_end_test.cpp: the estimator's std
 // is checked against Monte Carlo in tests/unit/estimator/statistics_test.cpp).
 #include <array>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
@@ -19,17 +21,33 @@ namespace {
 
 struct Truth {
   const char* position;
+  const char* bus;
+  int node;
   std::array<double, 6> delta;
   std::array<double, 4> xi;
 };
 
-// station-sim-fixture.toml, position by position (A: [simulated]'s own).
+// station-sim-fixture.toml, position by position (A: [simulated]'s own). C and D share a bus.
 constexpr std::array<Truth, 4> kTruths{{
-    {"A", {-0.001, 0.3, 0.0, 0.0, 0.0, 0.0}, {0.01, 0.0, 0.0, 0.0}},
-    {"B", {-0.0008, 0.29, 3e-5, -2e-5, 2e-4, -1e-4}, {-0.005, 0.003, 0.002, -0.004}},
-    {"C", {-0.0012, 0.31, -4e-5, 1e-5, -3e-4, 2e-4}, {0.008, -0.002, -0.003, 0.001}},
-    {"D", {-0.0015, 0.305, 2e-5, 4e-5, 1e-4, 3e-4}, {0.0, 0.006, -0.001, 0.005}},
+    {"A", "vsim-A", 0, {-0.001, 0.3, 0.0, 0.0, 0.0, 0.0}, {0.01, 0.0, 0.0, 0.0}},
+    {"B", "vsim-B", 0, {-0.0008, 0.29, 3e-5, -2e-5, 2e-4, -1e-4}, {-0.005, 0.003, 0.002, -0.004}},
+    {"C", "vsim-CD", 1, {-0.0012, 0.31, -4e-5, 1e-5, -3e-4, 2e-4}, {0.008, -0.002, -0.003, 0.001}},
+    {"D", "vsim-CD", 2, {-0.0015, 0.305, 2e-5, 4e-5, 1e-4, 3e-4}, {0.0, 0.006, -0.001, 0.005}},
 }};
+
+// The node ids of the frames in a unit's candump log (an identifier's last hex digit, gyro CAN
+// protocol v2: message | node), with how many frames each.
+std::map<int, int> NodesInLog(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "can" / "session.log");
+  std::map<int, int> nodes;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t hash = line.find('#');
+    if (hash == std::string::npos || hash == 0) continue;
+    nodes[std::stoi(line.substr(hash - 1, 1), nullptr, 16)]++;
+  }
+  return nodes;
+}
 
 // The paper's sequence, shortened (2 s runs, a 1 s warm-up window) so each fault test is quick.
 void Shorten(bench::BenchConfigs& c) {
@@ -82,7 +100,14 @@ TEST(BenchFixture, FourUnitsEachFindTheirOwnTruth) {
     // Each unit's record: its own serial and bus, its position and the units beside it.
     const nlohmann::json doc = Document(result.dir);
     EXPECT_EQ(doc.at("unit").at("serial"), std::string("FX-") + kTruths[u].position);
-    EXPECT_EQ(doc.at("can_log").at("interface"), std::string("vsim-") + kTruths[u].position);
+    EXPECT_EQ(doc.at("can_log").at("interface"), kTruths[u].bus);
+    EXPECT_EQ(doc.at("can_log").at("node"), kTruths[u].node);
+    EXPECT_EQ(doc.at("can_log").at("protocol"), 2);
+    // Its log is its own node's traffic, also for C and D on one bus.
+    const std::map<int, int> nodes = NodesInLog(result.dir);
+    ASSERT_EQ(nodes.size(), 1u);
+    EXPECT_EQ(nodes.begin()->first, kTruths[u].node);
+    EXPECT_GT(nodes.begin()->second, 1'200'000);  // 6 runs × 100 s × 2 frames at 1 kHz
     EXPECT_EQ(doc.at("simulation").at("seed"), 12345u + 1000u * u);
     // Every run of every unit at the same table rate: one table, sequenced once.
     for (std::size_t r = 0; r < 6; ++r)
@@ -136,6 +161,30 @@ TEST(BenchFixture, UnitNeverReadyEndsOnlyItsSession) {
   EXPECT_EQ(RunStatuses(run.results[3].dir), std::vector<std::string>(5, "planned"));
   for (std::size_t u : {0u, 1u, 2u})
     EXPECT_EQ(run.results[u].outcome, bench::OutcomeKind::kPass) << run.results[u].reason;
+  for (const auto& dir : run.dirs) std::filesystem::remove_all(dir.parent_path());
+}
+
+// C's electronics short the bus it shares with D in run 1 (a bus fault on a shared bus): both
+// units lose the bus and end as ERROR, each record saying bus-off; A and B, on buses of their own,
+// go through every run.
+TEST(BenchFixture, ABusFaultOnASharedBusStopsEveryUnitOnIt) {
+  const FixtureRun run = RunFixtureOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
+    Shorten(c);
+    c.station.fixture[2].simulated.gyro_bus_off_after_samples = 100;
+  });
+  ASSERT_EQ(run.results.size(), 4u);
+  for (std::size_t u : {2u, 3u}) {
+    SCOPED_TRACE(kTruths[u].position);
+    EXPECT_EQ(run.results[u].outcome, bench::OutcomeKind::kError);
+    EXPECT_NE(run.results[u].reason.find("bus-off"), std::string::npos) << run.results[u].reason;
+    EXPECT_EQ(run.results[u].complete_runs, 0);
+    EXPECT_EQ(Document(run.results[u].dir).at("outcome").at("reason"), run.results[u].reason);
+  }
+  for (std::size_t u : {0u, 1u}) {
+    SCOPED_TRACE(kTruths[u].position);
+    EXPECT_EQ(run.results[u].outcome, bench::OutcomeKind::kPass) << run.results[u].reason;
+    EXPECT_EQ(run.results[u].complete_runs, 5);
+  }
   for (const auto& dir : run.dirs) std::filesystem::remove_all(dir.parent_path());
 }
 

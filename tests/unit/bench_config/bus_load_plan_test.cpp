@@ -64,6 +64,56 @@ TEST(BusLoadPlan, ASlowBusIsRefusedWithWhatWouldFit) {
   EXPECT_NEAR(BusiestRunLoad(fd).load.bus_share, 200 * 471.5e-6 + 210 * 540e-6, 1e-9);
 }
 
+// A real station whose positions share can1 (nodes 1, 2, ...) and, optionally, one unit on can2.
+std::string SharedBusStation(int units_on_can1) {
+  std::string text = RealStation("");
+  const std::string gyro_interface = "can_interface = \"can1\"\n";
+  text.replace(text.find(gyro_interface), gyro_interface.size(), "");
+  const char* names[] = {"A", "B", "C", "D"};
+  for (int i = 0; i < units_on_can1; ++i)
+    text += std::string("[[fixture]]\nposition = \"") + names[i] +
+            "\"\ncan_interface = \"can1\"\ncan_node = " + std::to_string(i + 1) + "\n";
+  return text + "[[fixture]]\nposition = \"E\"\ncan_interface = \"can2\"\n";
+}
+
+TEST(BusLoadPlan, TwoUnitsOnOneBusAtOneKilohertzFit) {
+  // Both units stream at once: 2 × 2210 frames/s × 135 µs = 59.67 % of can1.
+  const BenchConfigs configs = Production(SharedBusStation(2));
+  ASSERT_TRUE(CheckBenchConfigs(configs).has_value())
+      << CheckBenchConfigs(configs).error().ToString();
+  const PlannedBusLoad bus = BusiestRunLoad(configs);
+  EXPECT_EQ(bus.units, 2u);
+  EXPECT_NEAR(bus.load.bus_share, 2 * 2210 * 135e-6, 1e-12);
+  EXPECT_NEAR(bus.load.frames_per_s, 2 * 2210, 1e-9);
+  EXPECT_EQ(bus.bus, "can1 (2 units: A, B) at 1000 kbit/s");
+}
+
+TEST(BusLoadPlan, UnitsThatOverloadTheirSharedBusAreRefused) {
+  // Three units at 1 kHz: 3 × 29.835 % = 89.5 %. Per unit 70 % / 3 = 23.33 % = 1728.4 frames of
+  // 135 µs per second, 10 of them status: 1718.4 / 2.2 frames per sample = 781 samples/s.
+  const BenchConfigs three = Production(SharedBusStation(3));
+  auto refused = CheckBenchConfigs(three);
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_EQ(refused.error().key, "runs[0].sample_rate_hz");
+  const std::string& message = refused.error().message;
+  EXPECT_NE(message.find("the bus can1 (3 units: A, B, C) at 1000 kbit/s would be 89.5 % busy"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("at most 781 samples/s per unit fit"), std::string::npos) << message;
+  EXPECT_NE(message.find("fewer units on that bus"), std::string::npos) << message;
+
+  // Two units at 2 kHz (the classic maximum, 54 % each alone): 2 × 4410 × 135 µs = 119.1 %.
+  // Per unit 35 % = 2592.6 frames/s: (2592.6 − 10) / 2.2 = 1173 samples/s.
+  BenchConfigs two = Production(SharedBusStation(2));
+  for (SequenceRun& run : two.sequence.runs) run.sample_rate_hz = 2000;
+  refused = CheckBenchConfigs(two);
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_NE(refused.error().message.find("119.1 % busy"), std::string::npos)
+      << refused.error().message;
+  EXPECT_NE(refused.error().message.find("at most 1173 samples/s per unit fit"), std::string::npos)
+      << refused.error().message;
+}
+
 TEST(BusLoadPlan, TheSimulatedStationIsJudgedAtItsBussRates) {
   const BenchConfigs configs = Production(
       "[station]\nname = \"sim\"\nkind = \"simulated\"\n[site]\nlatitude_deg = 45.0\n"

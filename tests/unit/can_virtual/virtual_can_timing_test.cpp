@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "can_virtual/virtual_can_bus.hpp"
 
 namespace hrgbench::drivers::can_virtual {
@@ -60,6 +62,33 @@ TEST(VirtualCanTiming, BackToBackFramesQueueOnTheBusAndReceiveWaitsInClockTime) 
     EXPECT_EQ(info.timestamp_ns, i * 111'000);
     EXPECT_EQ(t.clock.NowNs(), i * 111'000);  // Receive slept exactly until the end of frame
   }
+}
+
+// A node sharing a busy bus: its transmit queue of 3 fills while another node's 10 frames hold
+// the bus, the 4th Send is refused (the frame lost at the source, counted), and a frame leaving
+// the queue (its end of frame passing) makes room again.
+TEST(VirtualCanTiming, AFullTransmitQueueRefusesTheFrame) {
+  TimedBus t(/*auto_advance=*/false);
+  auto c = t.bus->CreateEndpoint(
+      {.receive_own_frames = false, .queue_capacity = 0, .transmit_queue_frames = 3});
+  for (std::uint8_t i = 0; i < 10; ++i) ASSERT_EQ(t.a->Send(EightBytes(i), 0), CanStatus::kOk);
+  for (std::uint8_t i = 0; i < 3; ++i) ASSERT_EQ(c->Send(EightBytes(100 + i), 0), CanStatus::kOk);
+  EXPECT_EQ(c->Send(EightBytes(103), 0), CanStatus::kBufferFull);
+  EXPECT_EQ(c->Statistics().buffer_full, 1u);
+  EXPECT_EQ(c->Statistics().frames_sent, 3u);
+  EXPECT_EQ(t.bus->BusIdleAtNs(), 13 * 111'000);  // the refused frame never took the bus
+  t.clock.Set(11 * 111'000 - 1);                  // c's first frame still on the wire
+  EXPECT_EQ(c->Send(EightBytes(104), 0), CanStatus::kBufferFull);
+  t.clock.Set(11 * 111'000);  // its end of frame: out of the queue
+  EXPECT_EQ(c->Send(EightBytes(105), 0), CanStatus::kOk);
+  // b heard a's 10, then c's 100, 101, 102, 105 and nothing of what c could not send.
+  t.clock.Set(1'000'000'000);
+  std::vector<int> heard;
+  CanFrame frame;
+  while (t.b->Receive(&frame, 0, nullptr) == CanStatus::kOk) heard.push_back(frame.data[0]);
+  ASSERT_EQ(heard.size(), 14u);
+  EXPECT_EQ(std::vector<int>(heard.begin() + 10, heard.end()),
+            (std::vector<int>{100, 101, 102, 105}));
 }
 
 TEST(VirtualCanTiming, AnIdleBusStartsTheNextFrameAtItsSend) {
