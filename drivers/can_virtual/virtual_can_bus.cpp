@@ -98,9 +98,12 @@ std::int64_t VirtualCanBus::Transmit(const VirtualCanEndpoint* sender,
     // The frame starts when the bus is idle and occupies it for its bit time; a lost or corrupted
     // frame still used the bus.
     const std::int64_t start_ns = std::max(now_ns, bus_idle_at_ns_);
-    end_of_frame_ns = start_ns + hw::FrameDurationNs(frame, options_.nominal_bit_rate_bps,
-                                                     options_.data_bit_rate_bps);
+    end_of_frame_ns =
+        start_ns + hw::FrameDurationNs(options_.stuff_bits ? hw::StuffedFrameBits(frame)
+                                                           : hw::CountFrameBits(frame),
+                                       options_.nominal_bit_rate_bps, options_.data_bit_rate_bps);
     bus_idle_at_ns_ = end_of_frame_ns;
+    statistics_.busy_ns += end_of_frame_ns - start_ns;
   }
   ++statistics_.frames_on_bus;
 

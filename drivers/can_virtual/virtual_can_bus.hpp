@@ -7,7 +7,8 @@
 // Send calls; arbitration by identifier priority between simultaneous senders is not modelled).
 //
 // Timing: with nominal_bit_rate_bps > 0 a frame occupies the bus for its bit time (see
-// hrgbench/hw/can_frame_bits.hpp; 111 µs for an 8-byte classic frame at 1 Mbit/s), frames queue
+// hrgbench/hw/can_frame_bits.hpp; 111 µs for an 8-byte classic frame at 1 Mbit/s, plus its stuff
+// bits with stuff_bits), frames queue
 // behind each other on the bus, and a receiver sees a frame only once its end of frame has passed
 // on the bus's Clock; the frame's timestamp is that end-of-frame time. With 0 (default) delivery is
 // immediate and stamped with the clock at Send.
@@ -39,6 +40,9 @@ namespace hrgbench::drivers::can_virtual {
 struct VirtualCanBusOptions {
   // Arbitration-phase bit rate; 0 = untimed (instant delivery). 1'000'000 models a 1 Mbit/s bus.
   std::int64_t nominal_bit_rate_bps = 0;
+  // Time each classic frame with the stuff bits its own bit stream needs (hw::StuffedFrameBits;
+  // FD frames at their worst case), as a real bus does; false: no stuff bits (the best case).
+  bool stuff_bits = false;
   // CAN FD data-phase bit rate for frames with BRS; 0 = same as nominal.
   std::int64_t data_bit_rate_bps = 0;
   // Whether endpoints accept CAN FD frames (SupportsFd()). A classic bus refuses FD frames.
@@ -64,6 +68,8 @@ struct VirtualCanBusStatistics {
   std::uint64_t frames_on_bus = 0;         // frames transmitted by any endpoint
   std::uint64_t injected_drops = 0;        // frames lost by drop injection
   std::uint64_t injected_corruptions = 0;  // frames with a flipped data bit
+  std::int64_t busy_ns = 0;  // time frames occupied the bus (timed bus only): busy_ns / elapsed
+                             // is its load
 };
 
 class VirtualCanBus {

@@ -56,6 +56,7 @@ std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnit
   } else {
     can_virtual::VirtualCanBusOptions bus_options;
     bus_options.nominal_bit_rate_bps = options_.can_bit_rate_bps;
+    bus_options.stuff_bits = true;  // as full as a real bus: what several units on one cost
     bus_options.fd = options_.can_fd;
     bus_options.data_bit_rate_bps = options_.can_fd ? options_.can_data_bit_rate_bps : 0;
     // Real time: nullptr = the bus's own steady clock with condition-variable wake-ups (the same

@@ -12,6 +12,9 @@
 //     inserts at most one bit per four after the first over SOF … CRC (classic) or SOF … data (FD,
 //     each phase at its own rate); CAN FD adds a fixed stuff bit before the stuff count and one
 //     per four bits of the CRC. A classic 8-byte standard frame is 111 + ⌊97/4⌋ = 135 bits.
+//   - StuffedFrameBits: the bits the frame really takes: a classic frame with the stuff bits its
+//     own bit stream needs (identifier, DLC, data and CRC-15 as sent; a bus of several units
+//     timed by it runs as full as a real one); a CAN FD frame at its worst case.
 
 #include <cstdint>
 
@@ -79,6 +82,74 @@ constexpr CanFrameBits WorstCaseFrameBits(const CanFrame& frame) noexcept {
   } else {
     bits.nominal_bits += arbitration_stuff + data_stuff;
   }
+  return bits;
+}
+
+namespace can_frame_bits_detail {
+// The bits of a classic frame from SOF to the end of the CRC sequence (the stuffed region), most
+// significant first, as ISO 11898-1 sends them; returns how many (at most 1+32+4+64+15 = 116).
+constexpr int ClassicStuffedRegion(const CanFrame& frame, bool (&bits)[128]) {
+  int n = 0;
+  const auto put = [&bits, &n](std::uint32_t value, int width) {
+    for (int i = width - 1; i >= 0; --i) bits[n++] = ((value >> i) & 1u) != 0;
+  };
+  put(0, 1);  // SOF
+  if (frame.extended) {
+    put(frame.id >> 18, 11);
+    put(1, 1);  // SRR
+    put(1, 1);  // IDE
+    put(frame.id & 0x3FFFFu, 18);
+    put(frame.remote ? 1 : 0, 1);
+    put(0, 2);  // r1, r0
+  } else {
+    put(frame.id, 11);
+    put(frame.remote ? 1 : 0, 1);
+    put(0, 2);  // IDE, r0
+  }
+  put(frame.length, 4);
+  if (!frame.remote) {
+    for (int b = 0; b < frame.length; ++b) put(frame.data[static_cast<std::size_t>(b)], 8);
+  }
+  // CRC-15 (polynomial 0x4599) over everything before it.
+  std::uint32_t crc = 0;
+  for (int i = 0; i < n; ++i) {
+    const bool next = bits[i] != (((crc >> 14) & 1u) != 0);
+    crc = (crc << 1) & 0x7FFFu;
+    if (next) crc ^= 0x4599u;
+  }
+  put(crc, 15);
+  return n;
+}
+}  // namespace can_frame_bits_detail
+
+// The stuff bits a classic frame's own bit stream needs: after five equal bits the sender inserts
+// one of the opposite value, which counts toward the next run.
+constexpr std::int64_t ClassicStuffBits(const CanFrame& frame) noexcept {
+  bool bits[128] = {};
+  const int n = can_frame_bits_detail::ClassicStuffedRegion(frame, bits);
+  std::int64_t stuffed = 0;
+  int run = 0;
+  bool last = false;
+  for (int i = 0; i < n; ++i) {
+    if (run > 0 && bits[i] == last) {
+      ++run;
+    } else {
+      last = bits[i];
+      run = 1;
+    }
+    if (run == 5) {
+      ++stuffed;
+      last = !last;
+      run = 1;
+    }
+  }
+  return stuffed;
+}
+
+constexpr CanFrameBits StuffedFrameBits(const CanFrame& frame) noexcept {
+  if (frame.fd) return WorstCaseFrameBits(frame);
+  CanFrameBits bits = CountFrameBits(frame);
+  bits.nominal_bits += ClassicStuffBits(frame);
   return bits;
 }
 

@@ -305,6 +305,84 @@ TEST(SimStationTest, PacedModeRunsAtItsTimeScale) {
   std::printf("[ info ] paced x20: %.2f s simulated in %.3f s wall\n", sim_s, wall_s);
 }
 
+// Units at 1 kHz on one classic 1 Mbit/s bus (nodes 0, 1, ...), released together, read in turn.
+// Each unit sends 2010 frames/s (two per sample, status at 10 Hz; the slow physics reports no
+// reference phase) of 111 bits plus their stuff bits: ~23 % of the bus each. Four units fit (~92 %,
+// nothing lost); five (~115 %) do not: the bus falls behind, the electronics' 32-frame transmit
+// queues fill and frames are lost at their source, which each driver sees as gaps in the sample
+// numbers and the electronics report as sample overrun (fault bit 4).
+struct SharedBusRun {
+  std::vector<hw::GyroCounters> counters;
+  std::vector<std::uint8_t> fault_bits;
+  double bus_load = 0.0;  // busy time / elapsed, from release to the end
+};
+
+SharedBusRun UnitsOnOneBus(std::size_t units, double seconds) {
+  SimulatedStationOptions options = Options(1e-4);
+  options.units.resize(units, options.units[0]);
+  for (std::size_t i = 0; i < units; ++i) {
+    options.units[i].bus = "shared";
+    options.units[i].gyro.node = static_cast<drivers::gyro_can::NodeId>(i);
+    options.units[i].gyro.seed = 7 + i;
+  }
+  SharedBusRun run;
+  auto station = MakeStation(options);
+  if (station == nullptr) return run;
+  for (std::size_t i = 0; i < units; ++i) {
+    EXPECT_TRUE(station->gyro(i).Configure({1000}).has_value());
+    EXPECT_TRUE(station->gyro(i).Excite(kWave).has_value());
+  }
+  for (std::size_t i = 0; i < units; ++i)
+    EXPECT_TRUE(station->gyro(i).WaitReady(2'000'000'000).has_value());
+  for (std::size_t i = 0; i < units; ++i) EXPECT_TRUE(station->gyro(i).Release().has_value());
+  const std::int64_t start_ns = station->clock().NowNs();
+  const std::int64_t busy_at_start = station->bus(0).Statistics().busy_ns;
+  const std::int64_t end_ns = start_ns + static_cast<std::int64_t>(seconds * 1e9);
+  hw::GyroSample chunk[64];
+  while (station->clock().NowNs() < end_ns) {
+    for (std::size_t i = 0; i < units; ++i) (void)station->gyro(i).ReadSamples(chunk, 1'000'000);
+  }
+  run.bus_load = static_cast<double>(station->bus(0).Statistics().busy_ns - busy_at_start) /
+                 static_cast<double>(station->clock().NowNs() - start_ns);
+  for (std::size_t i = 0; i < units; ++i) {
+    EXPECT_EQ(&station->bus(i), &station->bus(0));  // one bus
+    run.counters.push_back(station->gyro(i).Counters());
+    // The last periodic status heard (a request could itself be lost at a full queue).
+    run.fault_bits.push_back(station->gyro(i).LastStatus().fault_bits);
+  }
+  return run;
+}
+
+TEST(SimStationTest, UnitsThatOverloadTheirSharedBusLoseSamplesAtTheSource) {
+  const SharedBusRun four = UnitsOnOneBus(4, 5.0);
+  ASSERT_EQ(four.counters.size(), 4u);
+  // 4 × 2010 frames/s × (111 … 135) µs: between 89 % and 109 %; the real stuff bits make ~92 %.
+  EXPECT_GT(four.bus_load, 4 * 2010 * 111e-6);
+  EXPECT_LT(four.bus_load, 1.0);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_GT(four.counters[i].samples_decoded, 4900u);
+    EXPECT_EQ(four.counters[i].sequence_gaps, 0u);
+    EXPECT_EQ(four.counters[i].unexpected_frames, 0u);
+    EXPECT_EQ(four.fault_bits[i] & hw::gyro_fault::kSampleOverrun, 0);
+  }
+  const SharedBusRun five = UnitsOnOneBus(5, 5.0);
+  ASSERT_EQ(five.counters.size(), 5u);
+  EXPECT_GT(five.bus_load, 0.99);  // saturated
+  for (std::size_t i = 0; i < 5; ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_GT(five.counters[i].sequence_gaps, 0u);
+    EXPECT_GT(five.counters[i].samples_lost, 0u);
+    EXPECT_NE(five.fault_bits[i] & hw::gyro_fault::kSampleOverrun, 0);
+  }
+  std::printf(
+      "[ info ] one 1 Mbit/s bus at 1 kHz: 4 units %.1f %% busy, 0 lost; 5 units %.1f %%, "
+      "unit 1 lost %llu of %llu samples\n",
+      100 * four.bus_load, 100 * five.bus_load,
+      static_cast<unsigned long long>(five.counters[0].samples_lost),
+      static_cast<unsigned long long>(five.counters[0].samples_lost +
+                                      five.counters[0].samples_decoded));
+}
+
 TEST(SimStationTest, InvalidOptionsNameTheField) {
   SimulatedStationOptions options;
   options.faster_than_real_time = false;

@@ -70,5 +70,34 @@ TEST(CanFrameBits, WorstCaseStuffingOfAnFdFrame) {
   EXPECT_EQ(FrameDurationNs(worst, 1'000'000, 5'000'000), 33'000 + 135'800);
 }
 
+// The stuff bits of real frames' own bit streams. Expected counts from classic_stuff_bits.py beside
+// this file (an independent Python bit-level encoder of ISO 11898-1's classic frame: fields, CRC-15
+// 0x4599, the stuffing rule), not from this header.
+TEST(CanFrameBits, StuffBitsOfAClassicFrameAreThoseItsBitStreamNeeds) {
+  const auto frame = [](std::uint32_t id, std::initializer_list<std::uint8_t> data,
+                        bool extended = false) {
+    CanFrame f;
+    f.id = id;
+    f.extended = extended;
+    f.length = static_cast<std::uint8_t>(data.size());
+    std::size_t i = 0;
+    for (std::uint8_t b : data) f.data[i++] = b;
+    return f;
+  };
+  EXPECT_EQ(ClassicStuffBits(frame(0x000, {0, 0, 0, 0, 0, 0, 0, 0})), 16);
+  EXPECT_EQ(ClassicStuffBits(frame(0x7FF, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF})), 15);
+  // A SampleA frame of the gyro protocol (golden frame 100#2A0000400000E002).
+  EXPECT_EQ(ClassicStuffBits(frame(0x100, {0x2A, 0, 0, 0x40, 0, 0, 0xE0, 0x02})), 12);
+  EXPECT_EQ(ClassicStuffBits(frame(0x1ABCDEF0, {0xDE, 0xAD, 0xBE, 0xEF}, true)), 4);
+  EXPECT_EQ(ClassicStuffBits(frame(0x123, {})), 1);
+  // Never more than the worst case; StuffedFrameBits adds exactly them to the unstuffed count.
+  const CanFrame zeros = frame(0x000, {0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_LE(StuffedFrameBits(zeros).nominal_bits, WorstCaseFrameBits(zeros).nominal_bits);
+  EXPECT_EQ(StuffedFrameBits(zeros).nominal_bits, 111 + 16);
+  // CAN FD: planned at its worst case.
+  const CanFrame fd = Frame(64, false, true, true);
+  EXPECT_EQ(StuffedFrameBits(fd).data_bits, WorstCaseFrameBits(fd).data_bits);
+}
+
 }  // namespace
 }  // namespace hrgbench::hw
