@@ -147,7 +147,7 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
   const NodeId node = config_.node;
   const std::uint32_t message = MessageOf(frame.id);
   DecodeStatus status = DecodeStatus::kWrongId;
-  if (frame.extended || NodeOf(frame.id) != node) {
+  if (frame.error || frame.extended || NodeOf(frame.id) != node) {
     counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
     return;
   }

@@ -541,6 +541,16 @@ int main(int argc, char** argv) {
                 << static_cast<long long>(bus.load.frames_per_s)
                 << " frames/s, worst-case stuffing; planned maximum "
                 << bench::Percent(hw::kMaxPlannedBusShare) << ")\n";
+      const std::vector<bench::PlannedBusLoad> buses = bench::EachBusLoad(*configs);
+      if (buses.size() > 1) {
+        for (const bench::PlannedBusLoad& each : buses) {
+          std::string positions;
+          for (const std::string& name : each.positions)
+            positions += (positions.empty() ? "" : ", ") + name;
+          std::cout << "  " << each.bus << ": " << positions << ", at most "
+                    << bench::Percent(each.load.bus_share) << " busy\n";
+        }
+      }
       return 0;
     }
     if (*run) {

@@ -16,6 +16,7 @@
 #include <expected>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "hrgbench/bench/limits_config.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
@@ -49,10 +50,14 @@ struct PlannedBusLoad {
   std::uint32_t sample_rate_hz = 0;  // per unit
   std::size_t units = 1;             // units on that bus
   // "can0 at 1000 kbit/s", "the simulated bus at 1000 kbit/s, FD data ...",
-  // "can1 (2 units: A, B) at 1000 kbit/s"
+  // "can1 (2 units: A, B) at 1000 kbit/s"; EachBusLoad: the interface's name alone ("can1")
   std::string bus;
+  std::vector<std::string> positions;  // EachBusLoad: the fitted positions on it, in order
 };
 PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs);
+// Every bus of the station's fitted positions (in the order of its first position), each with
+// its busiest run's load.
+std::vector<PlannedBusLoad> EachBusLoad(const BenchConfigs& configs);
 std::string Percent(double share);  // "27.0 %"
 
 }  // namespace hrgbench::bench

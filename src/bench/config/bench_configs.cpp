@@ -1,5 +1,6 @@
 #include "hrgbench/bench/bench_configs.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -29,20 +30,31 @@ hw::GyroLinkPlan LinkPlan(const StationConfig& station, std::uint32_t sample_rat
   return plan;
 }
 
-// The bus that carries the most units (the first declared among equals) and its units: every
-// unit runs the same sequence at the same time, so that bus is the one the plan must fit.
+// A bus and the fitted positions on it.
 struct SharedBus {
   std::string interface;
   std::vector<std::string> positions;
 };
+
+// The station's buses, in the order of their first fitted position.
+std::vector<SharedBus> BusesOf(const StationConfig& station) {
+  std::vector<SharedBus> buses;
+  for (const FixturePosition* position : FittedPositions(station)) {
+    auto it = std::find_if(buses.begin(), buses.end(), [position](const SharedBus& bus) {
+      return bus.interface == position->can_interface;
+    });
+    if (it == buses.end()) it = buses.insert(buses.end(), {position->can_interface, {}});
+    it->positions.push_back(position->name);
+  }
+  return buses;
+}
+
+// The bus that carries the most units (the first among equals): every unit runs the same sequence
+// at the same time, so that bus is the one the plan must fit.
 SharedBus BusiestBus(const StationConfig& station) {
   SharedBus busiest;
-  for (const FixturePosition* position : FittedPositions(station)) {
-    SharedBus bus{position->can_interface, {}};
-    for (const FixturePosition* other : FittedPositions(station))
-      if (other->can_interface == position->can_interface) bus.positions.push_back(other->name);
+  for (SharedBus& bus : BusesOf(station))
     if (bus.positions.size() > busiest.positions.size()) busiest = std::move(bus);
-  }
   return busiest;
 }
 
@@ -223,6 +235,25 @@ PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs) {
     }
   }
   return busiest;
+}
+
+std::vector<PlannedBusLoad> EachBusLoad(const BenchConfigs& configs) {
+  std::vector<PlannedBusLoad> loads;
+  for (SharedBus& bus : BusesOf(configs.station)) {
+    PlannedBusLoad each;
+    each.bus = bus.interface;
+    each.units = bus.positions.size();
+    each.positions = std::move(bus.positions);
+    for (const SequenceRun& run : configs.sequence.runs) {
+      const hw::GyroLinkLoad load = BusLoad(configs.station, run.sample_rate_hz, each.units);
+      if (load.bus_share > each.load.bus_share) {
+        each.load = load;
+        each.sample_rate_hz = run.sample_rate_hz;
+      }
+    }
+    loads.push_back(std::move(each));
+  }
+  return loads;
 }
 
 std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs) {

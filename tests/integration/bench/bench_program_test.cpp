@@ -592,6 +592,9 @@ TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
   EXPECT_NE(check.out.find("vsim-CD (2 units: C, D) at 1000 kbit/s, at most 59.7 % busy"),
             std::string::npos)
       << check.out;
+  EXPECT_NE(check.out.find("  vsim-A: A, at most 29.8 % busy\n"), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find("  vsim-CD: C, D, at most 59.7 % busy\n"), std::string::npos)
+      << check.out;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/sequence_config.hpp"
@@ -86,6 +87,15 @@ TEST(BusLoadPlan, TwoUnitsOnOneBusAtOneKilohertzFit) {
   EXPECT_NEAR(bus.load.bus_share, 2 * 2210 * 135e-6, 1e-12);
   EXPECT_NEAR(bus.load.frames_per_s, 2 * 2210, 1e-9);
   EXPECT_EQ(bus.bus, "can1 (2 units: A, B) at 1000 kbit/s");
+  // Each bus on its own: can1 with A and B, can2 with E alone at one unit's 29.8 %.
+  const std::vector<PlannedBusLoad> each = EachBusLoad(configs);
+  ASSERT_EQ(each.size(), 2u);
+  EXPECT_EQ(each[0].bus, "can1");
+  EXPECT_EQ(each[0].positions, (std::vector<std::string>{"A", "B"}));
+  EXPECT_NEAR(each[0].load.bus_share, 2 * 2210 * 135e-6, 1e-12);
+  EXPECT_EQ(each[1].bus, "can2");
+  EXPECT_EQ(each[1].positions, (std::vector<std::string>{"E"}));
+  EXPECT_NEAR(each[1].load.bus_share, 2210 * 135e-6, 1e-12);
 }
 
 TEST(BusLoadPlan, UnitsThatOverloadTheirSharedBusAreRefused) {
