@@ -102,7 +102,7 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
     if (!seen.insert(serial).second)
       return std::unexpected("--serial " + serial + ": the same unit in two positions");
     record.units.push_back({fitted[i]->name, serial, fitted[i]->name + "-" + serial,
-                            fitted[i]->can_interface, fitted[i]->inverted});
+                            fitted[i]->can_interface, fitted[i]->inverted, fitted[i]->can_node});
   }
   return record;
 }
@@ -148,7 +148,8 @@ std::expected<void, std::string> WriteFixtureRecord(
     const FixtureUnit& unit = record.units[i];
     nlohmann::json entry{{"position", unit.position}, {"serial", unit.serial},
                          {"folder", unit.folder},     {"can_interface", unit.can_interface},
-                         {"inverted", unit.inverted}, {"outcome", nullptr}};
+                         {"can_node", unit.can_node}, {"inverted", unit.inverted},
+                         {"outcome", nullptr}};
     if (i < results.size()) {
       entry["outcome"] = {{"kind", std::string(bench::ToString(results[i].outcome))},
                           {"exit_code", results[i].exit_code},
@@ -206,7 +207,12 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
       return std::unexpected(where + ".folder: '" + *folder + "' is not <position>-<serial>");
     const bool inverted = units[i].contains("inverted") && units[i].at("inverted").is_boolean() &&
                           units[i].at("inverted").get<bool>();
-    record.units.push_back({*position, *serial, *folder, *iface, inverted});
+    // Recorded since gyro CAN protocol v2 (several units on one bus); 0 before.
+    const int can_node =
+        units[i].contains("can_node") && units[i].at("can_node").is_number_integer()
+            ? units[i].at("can_node").get<int>()
+            : 0;
+    record.units.push_back({*position, *serial, *folder, *iface, inverted, can_node});
   }
   return record;
 }

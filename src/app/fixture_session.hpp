@@ -34,6 +34,7 @@ struct FixtureUnit {
   std::string folder;  // relative to the fixture's folder: "<position>-<serial>"
   std::string can_interface;
   bool inverted = false;  // mounted against the table's axis (recorded in its session.json)
+  int can_node = 0;       // its node id on can_interface (units may share one bus)
 };
 
 struct FixtureRecord {

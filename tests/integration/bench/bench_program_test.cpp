@@ -392,6 +392,21 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
       << fifth_capture.dump();
   std::ofstream(record, std::ios::trunc) << record_text;
 
+  // The record says its log speaks gyro CAN protocol v2 as node 0. A log recorded before v2 (no
+  // can_log.protocol: v1's fixed identifiers) is refused by name, not misread.
+  nlohmann::json v1 = nlohmann::json::parse(record_text);
+  EXPECT_EQ(v1.at("can_log").at("protocol"), 2);
+  EXPECT_EQ(v1.at("can_log").at("node"), 0);
+  v1.at("can_log").erase("protocol");
+  std::ofstream(record, std::ios::trunc) << v1.dump(2);
+  const Output old_log = RunBench("replay " + session_dir.string());
+  EXPECT_NE(old_log.exit_code, 0) << old_log.out;
+  EXPECT_NE(old_log.out.find("field 'can_log.protocol': absent (version 1): the log speaks gyro "
+                             "CAN protocol v1 and this hrg-bench replays v2 only"),
+            std::string::npos)
+      << old_log.out;
+  std::ofstream(record, std::ios::trunc) << record_text;
+
   // Not a session: a usage error naming the file.
   const Output absent = RunBench("replay " + (work / "absent").string());
   EXPECT_EQ(absent.exit_code, 4) << absent.out;
@@ -492,6 +507,11 @@ TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
   EXPECT_EQ(before.at("units").at(2).at("serial"), "FX-3");
   EXPECT_EQ(before.at("units").at(2).at("folder"), "C-FX-3");
   EXPECT_TRUE(before.at("units").at(2).at("outcome").is_null());
+  // C and D share one bus as nodes 1 and 2 (station-sim-fixture.toml).
+  EXPECT_EQ(before.at("units").at(2).at("can_interface"), "vsim-CD");
+  EXPECT_EQ(before.at("units").at(2).at("can_node"), 1);
+  EXPECT_EQ(before.at("units").at(3).at("can_interface"), "vsim-CD");
+  EXPECT_EQ(before.at("units").at(3).at("can_node"), 2);
 
   const JsonOutput resumed = RunBenchJson("resume " + fixture.string() + " --json");
   ASSERT_FALSE(resumed.doc.is_discarded()) << resumed.text;
