@@ -217,18 +217,18 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
   return record;
 }
 
-bool NeedsResume(const std::filesystem::path& unit_dir) {
+std::optional<KeptVerdict> ClosedVerdict(const std::filesystem::path& unit_dir) {
   session::ReadOptions options;
   options.load_samples = false;
   auto recorded = session::ReadSession(unit_dir, options);
-  if (!recorded) return true;  // never written, or damaged: ResumeSessions says which
+  if (!recorded) return std::nullopt;
   const nlohmann::json& doc = recorded->document;
-  if (!doc.contains("state") || doc.at("state") != "closed") return true;
-  if (!doc.contains("outcome") || !doc.at("outcome").is_object() ||
-      !doc.at("outcome").contains("kind"))
-    return true;
-  const nlohmann::json& kind = doc.at("outcome").at("kind");
-  return kind != "PASS" && kind != "FAIL";
+  if (!doc.contains("state") || doc.at("state") != "closed") return std::nullopt;
+  if (!doc.contains("outcome") || !doc.at("outcome").is_object()) return std::nullopt;
+  const nlohmann::json& outcome = doc.at("outcome");
+  const std::string kind = outcome.value("kind", std::string());
+  if (kind != "PASS" && kind != "FAIL") return std::nullopt;
+  return KeptVerdict{kind == "PASS", outcome.value("reason", std::string())};
 }
 
 }  // namespace hrgbench::app

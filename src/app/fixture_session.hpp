@@ -16,6 +16,7 @@
 #include <expected>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,8 +63,13 @@ bool IsFixtureFolder(const std::filesystem::path& dir);
 // Reads <dir>/fixture.json; errors name the file and the field.
 std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesystem::path& dir);
 
-// Whether the unit's session is to be continued by a resume: it did not close with a verdict
-// (PASS or FAIL): it is running (interrupted), or closed as ERROR or ABORTED.
-bool NeedsResume(const std::filesystem::path& unit_dir);
+// The verdict a unit's session closed with (PASS or FAIL, its reason), which a resume keeps; none
+// when the session is to be continued: it is running (interrupted), closed as ERROR or ABORTED, or
+// cannot be read (ResumeSessions says why).
+struct KeptVerdict {
+  bool pass = false;
+  std::string reason;
+};
+std::optional<KeptVerdict> ClosedVerdict(const std::filesystem::path& unit_dir);
 
 }  // namespace hrgbench::app

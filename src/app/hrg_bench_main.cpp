@@ -267,6 +267,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   bench::BenchHardware hardware{all.table, all.clock, {}};
   std::vector<bench::UnitSession> driven;
   std::vector<std::size_t> driven_index;
+  std::vector<std::optional<app::KeptVerdict>> kept(record.units.size());
   for (std::size_t i = 0; i < record.units.size(); ++i) {
     const auto at = std::find_if(all.units.begin(), all.units.end(), [&](const auto& unit) {
       return unit.position == record.units[i].position;
@@ -276,7 +277,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
                     dir.string(), record.units[i].position, configs.station.name);
       return bench::kExitUsage;
     }
-    if (resume && !app::NeedsResume(sessions[i].dir)) continue;
+    if (resume && (kept[i] = app::ClosedVerdict(sessions[i].dir))) continue;
     sessions[i].simulation =
         (*station)->simulation(static_cast<std::size_t>(at - all.units.begin()));
     hardware.units.push_back(*at);
@@ -316,15 +317,10 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
       app::UploadClosedSession(configs.station.results_url, results[i].dir);
       continue;
     }
-    session::ReadOptions read;
-    read.load_samples = false;
-    if (auto kept = session::ReadSession(sessions[i].dir, read);
-        kept && kept->document.contains("outcome") && kept->document.at("outcome").is_object()) {
-      const nlohmann::json& outcome = kept->document.at("outcome");
-      results[i].outcome = outcome.value("kind", "") == "PASS" ? bench::OutcomeKind::kPass
-                                                               : bench::OutcomeKind::kFail;
+    if (kept[i]) {
+      results[i].outcome = kept[i]->pass ? bench::OutcomeKind::kPass : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
-      results[i].reason = "kept from before: " + outcome.value("reason", std::string());
+      results[i].reason = "kept from before: " + kept[i]->reason;
     }
   }
   if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);

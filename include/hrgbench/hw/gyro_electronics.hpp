@@ -3,7 +3,7 @@
 // resonator's standing wave to a commanded state (a, b, θ), hold it there, release it to free run
 // on command (t = 0 of a run), stream the four demodulated pick-off channels y1..y4 at the
 // configured rate, and report their status. Concrete electronics: GyroCanDevice
-// (drivers/gyro_can, the CAN protocol hrg_gyro_v1.dbc) over any CanBus; the simulated electronics
+// (drivers/gyro_can, the CAN protocol hrg_gyro_v2.dbc) over any CanBus; the simulated electronics
 // (drivers/sim) speak the same protocol.
 //
 // Sequence of a run:  Configure → Excite → WaitReady → Release → ReadSamples … → Stop.
@@ -30,7 +30,7 @@
 namespace hrgbench::hw {
 
 // Mode of the electronics as reported in their status, mirrored by the host driver's state
-// machine (GyroElectronics::State()). The numbers are the wire values (hrg_gyro_v1.dbc, Mode).
+// machine (GyroElectronics::State()). The numbers are the wire values (hrg_gyro_v2.dbc, Mode).
 enum class GyroMode : std::uint8_t {
   kIdle = 0,        // powered, no sample rate configured, wave not driven
   kConfigured = 1,  // sample rate set; wave not driven
@@ -61,7 +61,7 @@ constexpr std::string_view ToString(GyroMode mode) noexcept {
   return "?";
 }
 
-// Fault bits of GyroStatus::fault_bits (wire values, hrg_gyro_v1.dbc Fault* signals).
+// Fault bits of GyroStatus::fault_bits (wire values, hrg_gyro_v2.dbc Fault* signals).
 namespace gyro_fault {
 inline constexpr std::uint8_t kPllUnlock = 1u << 0;        // drive PLL lost the resonance
 inline constexpr std::uint8_t kOverTemperature = 1u << 1;  // resonator housing above its limit
@@ -95,7 +95,7 @@ struct GyroConfig {
   std::uint32_t sample_rate_hz = 1000;  // 1 … the transport's limit (below)
 };
 
-// What the gyro link can carry, whatever electronics sit behind it (the CAN protocol v1;
+// What the gyro link can carry, whatever electronics sit behind it (the CAN protocol v2;
 // drivers/gyro_can/gyro_protocol.hpp static_asserts that it agrees): a plan is judged against
 // these before any hardware is touched (`hrg-bench check`), not refused at run time.
 inline constexpr std::uint32_t kMaxSampleRateClassicCanHz = 2000;  // two 8-byte frames a sample

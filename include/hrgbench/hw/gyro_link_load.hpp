@@ -1,7 +1,7 @@
 #pragma once
 // The share of its CAN bus one gyro's link takes, for planning (`hrg-bench check`): the frames the
 // electronics' protocol sends per second at a sample rate, each at its worst-case stuffed length
-// (can_frame_bits.hpp). The frame shapes are protocol v1's (drivers/gyro_can/README.md "Bus load";
+// (can_frame_bits.hpp). The frame shapes are protocol v2's (drivers/gyro_can/README.md "Bus load";
 // drivers/gyro_can/gyro_protocol.hpp static_asserts they agree):
 //   classic: two 8-byte frames per sample;  CAN FD: one 64-byte frame (BRS) per five samples;
 //   the reference phase (optional, planned as sent): one 8-byte frame per five samples;

@@ -393,16 +393,12 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
     // A unit whose record cannot be made runs nothing; nor, then, does the table: a session
     // starts with every record in place or not at all.
     if (!problem.empty()) {
+      const std::string reason = "record of " + units[i].serial + ": " + problem;
       for (SessionRecorder& made : recorders) {
-        SessionOutcome outcome{OutcomeKind::kError,
-                               "record of " + units[i].serial + ": " + problem,
-                               {},
-                               std::nullopt,
-                               std::nullopt};
-        (void)made.Close(outcome);
+        (void)made.Close(
+            SessionOutcome{OutcomeKind::kError, reason, {}, std::nullopt, std::nullopt});
       }
-      std::vector<SessionResult> results =
-          RefuseAll(hw, units, "record of " + units[i].serial + ": " + problem);
+      std::vector<SessionResult> results = RefuseAll(hw, units, reason);
       results[i].reason = problem;
       return results;
     }
