@@ -156,6 +156,11 @@ TEST(GyroCanDeviceTest, TwoNodesOnOneBusEachHostHearsItsOwn) {
   EXPECT_LE(worst, drivers::gyro_can::kSampleLsb / 2 + 1e-12);
   EXPECT_LE(worst_other, drivers::gyro_can::kSampleLsb / 2 + 1e-12);
   EXPECT_GT(t0, 0);
+  // The socket filter already kept the other node's frames out: every frame the transport
+  // delivered was this driver's.
+  EXPECT_EQ(rig.host_endpoint->Statistics().frames_received,
+            rig.device->Counters().frames_received);
+  EXPECT_EQ(other_host->Statistics().frames_received, (*other_device)->Counters().frames_received);
   for (const hw::GyroCounters& c : {rig.device->Counters(), (*other_device)->Counters()}) {
     EXPECT_EQ(c.unexpected_frames, 0u);
     EXPECT_EQ(c.bad_frames, 0u);
