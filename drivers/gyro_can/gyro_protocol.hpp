@@ -12,6 +12,7 @@
 
 #include <cstdint>
 
+#include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/hw/gyro_link_load.hpp"
 
@@ -52,6 +53,10 @@ constexpr std::uint32_t NodeMessageId(std::uint32_t message, NodeId node) noexce
 }
 constexpr std::uint32_t MessageOf(std::uint32_t id) noexcept { return id & ~kNodeIdMask; }
 constexpr NodeId NodeOf(std::uint32_t id) noexcept { return static_cast<NodeId>(id & kNodeIdMask); }
+// Every frame of one node, both directions: what a unit's raw-frame tap records on a shared bus.
+constexpr hw::CanFilter NodeTrafficFilter(NodeId node) noexcept {
+  return hw::CanFilter{node & kNodeIdMask, kNodeIdMask, false};
+}
 
 // Payload lengths (DLC). Every frame has exactly this length; any other is a bad frame.
 namespace length {

@@ -76,8 +76,7 @@ std::expected<void, std::string> SimulatedStation::BuildUnit(const SimulatedUnit
   unit.monitor_endpoint =
       unit.bus->CreateEndpoint({.queue_capacity = options_.monitor_queue_frames});
   // The tap records this unit's node only: on a shared bus each unit's log is its own traffic.
-  const std::array<hw::CanFilter, 1> own_node = {
-      hw::CanFilter{options.gyro.node, gyro_can::kNodeIdMask, false}};
+  const std::array<hw::CanFilter, 1> own_node = {gyro_can::NodeTrafficFilter(options.gyro.node)};
   if (unit.monitor_endpoint->SetFilters(own_node) != hw::CanStatus::kOk)
     return std::unexpected("simulated station: the tap's filter was refused");
   if (virtual_clock_) {

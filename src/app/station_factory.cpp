@@ -201,8 +201,8 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
     if (!monitor) return std::unexpected(Where(config) + unit + "CAN tap: " + monitor.error());
     unit_link.monitor = std::move(*monitor);
     // The tap records this unit's node: on a shared bus each unit's log is its own traffic.
-    const std::array<hw::CanFilter, 1> own_node = {hw::CanFilter{
-        static_cast<std::uint32_t>(position->can_node), drivers::gyro_can::kNodeIdMask, false}};
+    const std::array<hw::CanFilter, 1> own_node = {drivers::gyro_can::NodeTrafficFilter(
+        static_cast<drivers::gyro_can::NodeId>(position->can_node))};
     if (unit_link.monitor->SetFilters(own_node) != hw::CanStatus::kOk)
       return std::unexpected(Where(config) + unit + "CAN tap: its filter was refused");
     link.node = static_cast<drivers::gyro_can::NodeId>(position->can_node);

@@ -67,6 +67,17 @@ hw::GyroLinkLoad BusLoad(const StationConfig& station, std::uint32_t sample_rate
   return load;
 }
 
+// The busiest run's load on a bus carrying `bus->units` units, into `bus`.
+void JudgeBusiestRun(const BenchConfigs& configs, PlannedBusLoad* bus) {
+  for (const SequenceRun& run : configs.sequence.runs) {
+    const hw::GyroLinkLoad load = BusLoad(configs.station, run.sample_rate_hz, bus->units);
+    if (load.bus_share > bus->load.bus_share) {
+      bus->load = load;
+      bus->sample_rate_hz = run.sample_rate_hz;
+    }
+  }
+}
+
 std::string BusName(const StationConfig& station) {
   const std::string rates =
       std::to_string(station.gyro.bitrate / 1000) + " kbit/s" +
@@ -109,6 +120,7 @@ std::uint32_t MaxPlannableRate(const StationConfig& station, std::size_t units) 
 std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
   const StationConfig& station = configs.station;
   const SequenceConfig& sequence = configs.sequence;
+  const std::size_t units = BusiestBus(station).positions.size();  // on the busiest bus
   for (std::size_t i = 0; i < sequence.runs.size(); ++i) {
     const SequenceRun& run = sequence.runs[i];
     const std::string run_key = "runs[" + std::to_string(i) + "]";
@@ -132,7 +144,6 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
     }
     // Every bus must carry its units' plan with room to spare (hw/gyro_link_load.hpp): the
     // busiest one is judged.
-    const std::size_t units = BusiestBus(station).positions.size();
     const hw::GyroLinkLoad load = BusLoad(station, run.sample_rate_hz, units);
     if (load.bus_share > hw::kMaxPlannedBusShare) {
       const std::uint32_t fits = MaxPlannableRate(station, units);
@@ -227,13 +238,7 @@ PlannedBusLoad BusiestRunLoad(const BenchConfigs& configs) {
   PlannedBusLoad busiest;
   busiest.bus = BusName(configs.station);
   busiest.units = BusiestBus(configs.station).positions.size();
-  for (const SequenceRun& run : configs.sequence.runs) {
-    const hw::GyroLinkLoad load = BusLoad(configs.station, run.sample_rate_hz, busiest.units);
-    if (load.bus_share > busiest.load.bus_share) {
-      busiest.load = load;
-      busiest.sample_rate_hz = run.sample_rate_hz;
-    }
-  }
+  JudgeBusiestRun(configs, &busiest);
   return busiest;
 }
 
@@ -244,13 +249,7 @@ std::vector<PlannedBusLoad> EachBusLoad(const BenchConfigs& configs) {
     each.bus = bus.interface;
     each.units = bus.positions.size();
     each.positions = std::move(bus.positions);
-    for (const SequenceRun& run : configs.sequence.runs) {
-      const hw::GyroLinkLoad load = BusLoad(configs.station, run.sample_rate_hz, each.units);
-      if (load.bus_share > each.load.bus_share) {
-        each.load = load;
-        each.sample_rate_hz = run.sample_rate_hz;
-      }
-    }
+    JudgeBusiestRun(configs, &each);
     loads.push_back(std::move(each));
   }
   return loads;
