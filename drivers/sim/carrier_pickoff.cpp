@@ -5,6 +5,8 @@
 
 namespace hrgbench::drivers::sim {
 
+using Complex = std::complex<double>;
+
 bool CarrierPickoffOptions::IsValid(std::string* why) const {
   const auto fail = [why](const char* message) {
     if (why != nullptr) *why = message;
@@ -32,13 +34,44 @@ bool CarrierPickoffOptions::IsValid(std::string* why) const {
 }
 
 CarrierPickoff::CarrierPickoff(const CarrierPickoffOptions& options, double design_frequency_hz)
-    : options_(options),
-      design_rad_s_(2.0 * std::numbers::pi * design_frequency_hz),
-      xi_(estimator::XiFromPickoff(options.errors)) {
-  const std::complex<double> common =
-      std::polar(options.common_gain, -design_rad_s_ * options.common_delay_s);
-  gain_ = common * estimator::ComplexDistortion(xi_);
+    : options_(options), design_rad_s_(2.0 * std::numbers::pi * design_frequency_hz) {
+  const estimator::PickoffParameters& e = options.errors;
+  // Row c: what electrode c reads of (q1, q2): cos β, sin β at β = 0 and 90° − ε.
+  Eigen::Matrix2cd electrodes;
+  electrodes << 1.0, 0.0, std::sin(e.electrode_angle_error_rad),
+      std::cos(e.electrode_angle_error_rad);
+  // Each electrode line's pick-up of the other, 90° late at the carrier: e^{−iπ/2}.
+  const auto coupling = [](double kappa) {
+    const Complex late = std::polar(kappa, -0.5 * std::numbers::pi);
+    Eigen::Matrix2cd k;
+    k << 1.0, late, late, 1.0;
+    return k;
+  };
+  Eigen::Matrix2cd chains = Eigen::Matrix2cd::Zero();
+  chains(0, 0) = std::polar(options.common_gain, -design_rad_s_ * options.common_delay_s);
+  chains(1, 1) = chains(0, 0) * std::polar(e.gain_ratio, -e.phase_mismatch_rad);
+  switch (options.cross_talk_stage) {
+    case estimator::CrossTalkStage::kBeforeGain:
+      gain_ = chains * coupling(e.cross_talk) * electrodes;
+      break;
+    case estimator::CrossTalkStage::kAfterGain:
+      gain_ = coupling(e.cross_talk) * chains * electrodes;
+      break;
+    case estimator::CrossTalkStage::kMidway:
+      gain_ = coupling(0.5 * e.cross_talk) * chains * coupling(0.5 * e.cross_talk) * electrodes;
+      break;
+  }
+  model_frame_ = estimator::DecomposePickoffGain(gain_);
+  const Complex c = std::cos(model_frame_.frame_angle), s = std::sin(model_frame_.frame_angle);
+  model_from_electrode_ << c, -s, s, c;
+  model_from_electrode_ *= model_frame_.common;
   Reset(1);
+}
+
+estimator::State CarrierPickoff::ModelState(const estimator::State& x) const noexcept {
+  const Eigen::Vector2cd u(Complex(x[0], x[1]), Complex(x[2], x[3]));
+  const Eigen::Vector2cd v = model_from_electrode_ * u;
+  return {v[0].real(), v[0].imag(), v[1].real(), v[1].imag()};
 }
 
 void CarrierPickoff::Configure(const CarrierResonator& resonator) noexcept {

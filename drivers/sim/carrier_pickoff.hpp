@@ -3,13 +3,18 @@
 // 0 and 90° in the frame of q), with the channel gains and delays, cross-talk and electrode angle
 // errors of estimator::PickoffParameters, and the converters' noise.
 //
-// The four errors are realised exactly as physical_parameters.hpp defines them: the complex gain
-// from q_j to channel c at the design frequency is H = c·(I + C(ξ)), ξ = XiFromPickoff(errors),
-// c = common_gain·e^{−iω_d·common_delay_s}. Each of the four paths is a gain |H_cj| and a true time
-// delay τ_cj = −arg(H_cj)/ω_d (principal value: a path whose phase leads is a small advance, which
-// the linear oscillator also gives exactly), applied as q_j(t − τ) = rows of exp(−F·τ)·X(t): so
-// the phase is exact at the design frequency and a delay at any other (f(T) ≠ f0, the modes
-// at f0 ± Δf/2), as in a real chain.
+// The four errors are realised as the physical pick-off they name (estimator/pickoff_frame.hpp's
+// nominal model, written out here from the electrodes, not through the estimator's maps): channel
+// 1's electrode at 0, channel 2's at 90° − ε in the frame of q (each reads q1·cosβ + q2·sinβ),
+// each electrode line picking up κ times the other's signal 90° late, channel 2's chain the gain
+// g and the extra delay Δφ/ω_d, and both the common gain and delay; the cross-talk enters before
+// the gains or, with cross_talk_stage = kAfterGain, after them. The resulting complex gain H from
+// q_j to channel c at the design frequency is the unit's; what the slow model sees of it is
+// estimator::DecomposePickoffGain(H) (ξ and the frame angle it cannot hold). Each of the four paths
+// is a gain |H_cj| and a true time delay τ_cj = −arg(H_cj)/ω_d (principal value: a path whose
+// phase leads is a small advance, which the linear oscillator also gives exactly), applied as
+// q_j(t − τ) = rows of exp(−F·τ)·X(t): so the phase is exact at the design frequency and a delay
+// at any other (f(T) ≠ f0, the modes at f0 ± Δf/2), as in a real chain.
 //
 // Noise per channel and converter sample (same unit as q): white, std white_noise_std, and AR(1)
 // coloured, std coloured_noise_std with correlation time coloured_noise_time_s
@@ -24,6 +29,7 @@
 #include <string>
 
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 #include "sim/carrier_resonator.hpp"
 
@@ -36,6 +42,9 @@ struct CarrierPickoffOptions {
   double white_noise_std = 0.0;         // per channel and converter sample, unit of q
   double coloured_noise_std = 0.0;      // AR(1) part, stationary std, unit of q
   double coloured_noise_time_s = 1e-3;  // its correlation time, > 0
+  // Where the cross-talk enters: at the electrode lines (before the gains) or between the
+  // amplified channels.
+  estimator::CrossTalkStage cross_talk_stage = estimator::CrossTalkStage::kBeforeGain;
 
   bool IsValid(std::string* why) const;
 };
@@ -72,15 +81,21 @@ class CarrierPickoff {
   // x: what the channels show for a wave held at x (before release).
   estimator::Observation HeldObservation(const estimator::State& x, double frequency_rad_s,
                                          double velocity_scale_rad_s) const noexcept;
-  // H = c·(I + C(ξ)) at the design frequency, and ξ itself.
+  // H at the design frequency (common gain and delay included), and what the slow model holds of
+  // it: ξ in its frame, and the frame angle it cannot hold (estimator/pickoff_frame.hpp).
   const Eigen::Matrix2cd& carrier_gain() const noexcept { return gain_; }
-  const estimator::Xi& xi() const noexcept { return xi_; }
+  const estimator::Xi& xi() const noexcept { return model_frame_.xi; }
+  std::complex<double> frame_angle() const noexcept { return model_frame_.frame_angle; }
+  // The slow model's state of a wave whose slow variables in the electrode frame are `x`:
+  // c·V(a)·u, so that the channels read (I + C(ξ))·ModelState(x).
+  estimator::State ModelState(const estimator::State& x) const noexcept;
 
  private:
   CarrierPickoffOptions options_;
   double design_rad_s_;
-  estimator::Xi xi_;
   Eigen::Matrix2cd gain_;
+  estimator::PickoffInModelFrame model_frame_;
+  Eigen::Matrix2cd model_from_electrode_ = Eigen::Matrix2cd::Identity();
   Eigen::Matrix<double, 2, 4> output_ = Eigen::Matrix<double, 2, 4>::Zero();
   std::optional<estimator::NormalGenerator> white_;
   std::optional<estimator::NormalGenerator> coloured_noise_;

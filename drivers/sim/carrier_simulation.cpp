@@ -4,8 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "hrgbench/estimator/frequency_drift_decay.hpp"
-#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 
 namespace hrgbench::drivers::sim {
 
@@ -82,17 +81,17 @@ estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
 }
 
 estimator::Delta CarrierSimulation::delta() const noexcept {
-  estimator::Delta delta = estimator::DeltaFromResonator(options_.resonator);
   // A temperature ramp moves the frequency, and the displacement's amplitude with it
   // (estimator/frequency_drift_decay.hpp): ω̇/ω = α·Ṫ/(1 + α·(T − T0)) at release.
   const double alpha = options_.frequency_temperature_coefficient_per_c;
-  delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
-      delta[0], alpha * release_.temperature_rate_c_per_s / FrequencyScale(0.0));
-  return delta;
+  return estimator::SlowModelSeenOnUnit(
+             options_.resonator, pickoff_.carrier_gain(),
+             alpha * release_.temperature_rate_c_per_s / FrequencyScale(0.0))
+      .delta;
 }
 
 estimator::Xi CarrierSimulation::xi() const noexcept {
-  return estimator::XiSeenBySlowModel(pickoff_.xi(), delta(), options_.resonator.frequency_hz);
+  return estimator::SlowModelSeenOnUnit(options_.resonator, pickoff_.carrier_gain()).xi;
 }
 
 double CarrierSimulation::group_delay_s() const noexcept { return electronics_->group_delay_s(); }

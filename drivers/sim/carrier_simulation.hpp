@@ -14,8 +14,9 @@
 // (estimator/frequency_drift_decay.hpp). Ω is held over each output period (the value passed to
 // Next for the period that follows sample k); the transition is recomputed only when it changed.
 //
-// Truth: y ≈ c·(I + C(ξ))·exp(A(Ω, δ)·t)·x0 with δ = DeltaFromResonator(resonator),
-// ξ = XiSeenBySlowModel(XiFromPickoff(pickoff errors), δ, f0) (the split's second-order mixing),
+// Truth: y ≈ c·(I + C(ξ))·exp(A(Ω, δ)·t)·x0 with (δ, ξ) = estimator::SlowModelSeenOnUnit(
+// resonator, the pick-off's H, ω̇/ω): δ the resonator's turned into the model's frame by the
+// pick-off's frame angle, ξ the pick-off's in that frame plus the split's second-order mixing,
 // to the averaging error O((|A|/ω0)²), plus what the real chain adds and the slow model has no
 // term for (drivers/sim/README.md).
 //
@@ -51,13 +52,18 @@ class CarrierSimulation {
   // held at `omega_rad_s` from it to the next.
   estimator::Observation Next(double omega_rad_s) noexcept;
 
-  // The δ the slow model should find for the current release: the resonator's, with δ1 moved by
-  // the release's temperature ramp (estimator/frequency_drift_decay.hpp).
+  // The δ the slow model should find for the current release: the resonator's in the model's
+  // frame (estimator/pickoff_frame.hpp), with δ1 moved by the release's temperature ramp
+  // (estimator/frequency_drift_decay.hpp).
   estimator::Delta delta() const noexcept;
   // The ξ the slow model should find: the pick-off's own plus the frequency split's second-order
   // term (estimator/split_coriolis_mixing.hpp; 9e-9 at Δf = 0.2 mHz, 4.6e-5 at 1 Hz).
   estimator::Xi xi() const noexcept;
   const estimator::Xi& pickoff_xi() const noexcept { return pickoff_.xi(); }  // the pick-off's
+  // A wave's slow variables in the electrode frame → the slow model's state (CarrierPickoff).
+  estimator::State ModelState(const estimator::State& x) const noexcept {
+    return pickoff_.ModelState(x);
+  }
   std::uint64_t samples() const noexcept { return k_; }  // output samples this run
   int decimation() const noexcept { return decimation_; }
   double converter_rate_hz() const noexcept { return decimation_ * release_.output_rate_hz; }

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <array>
 
-#include "hrgbench/estimator/frequency_drift_decay.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
-#include "hrgbench/estimator/split_coriolis_mixing.hpp"
+#include "sim/carrier_pickoff.hpp"
 
 namespace hrgbench::drivers::sim_station {
 
@@ -134,20 +134,17 @@ SimulatedTruth SimulatedStation::truth(std::size_t i) const {
       (options_.units[i].inverted ? -1.0 : 1.0) * options_.earth_rate_rad_s;
   if (gyro.physics == sim::GyroPhysics::kCarrier) {
     const sim::CarrierOptions& c = gyro.carrier;
-    // The ξ the slow model should find: the pick-off's and the split's second-order mixing; δ1
-    // with the housing's temperature drift (frequency_drift_decay.hpp, at the start temperature).
-    estimator::Delta delta = estimator::DeltaFromResonator(c.resonator);
-    delta[0] = estimator::DecayRateSeenUnderFrequencyDrift(
-        delta[0], c.frequency_temperature_coefficient_per_c * gyro.temperature_drift_c_per_s /
-                      (1.0 + c.frequency_temperature_coefficient_per_c *
-                                 (gyro.temperature_c - c.reference_temperature_c)));
-    return {true,
-            delta,
-            estimator::XiSeenBySlowModel(estimator::XiFromPickoff(c.pickoff.errors), delta,
-                                         c.resonator.frequency_hz),
-            0.0,
-            gyro.seed,
-            earth_rate_rad_s};
+    // What the slow model should find: δ in the model's frame with the housing's temperature
+    // drift's decay (at the start temperature), ξ the pick-off's in that frame with the split's
+    // second-order mixing (estimator/pickoff_frame.hpp). The pick-off's H is the simulator's own.
+    const double relative_rate =
+        c.frequency_temperature_coefficient_per_c * gyro.temperature_drift_c_per_s /
+        (1.0 + c.frequency_temperature_coefficient_per_c *
+                   (gyro.temperature_c - c.reference_temperature_c));
+    const sim::CarrierPickoff pickoff(c.pickoff, c.resonator.frequency_hz);
+    const estimator::SlowModelTruth seen =
+        estimator::SlowModelSeenOnUnit(c.resonator, pickoff.carrier_gain(), relative_rate);
+    return {true, seen.delta, seen.xi, 0.0, gyro.seed, earth_rate_rad_s};
   }
   return {false, gyro.delta, gyro.xi, gyro.sigma, gyro.seed, earth_rate_rad_s};
 }

@@ -78,8 +78,11 @@ int Run(const Arguments& args) {
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
     if (result.summary.IsUsable()) {
       const bench::RecordedFrequency f0 = bench::RecordedResonantFrequency(session->document);
+      const estimator::EngineeringQuantities engineering =
+          estimator::ComputeEngineeringQuantities(result.summary, f0.hz);
       std::cout << "in the field's units (f0: " << f0.source << "; angles on the shell):\n"
-                << estimator::ComputeEngineeringQuantities(result.summary, f0.hz).Report();
+                << engineering.Report() << "uncertainty budgets:\n"
+                << engineering.BudgetReport();
     }
     std::cout << "time: " << result.seconds << " s\n";
   }

@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
+#include "hrgbench/estimator/split_coriolis_mixing.hpp"
 
 namespace hrgbench::estimator {
 namespace {
@@ -114,10 +116,23 @@ bool DependsOn(EngineeringQuantity quantity, int index) noexcept {
   return index >= 0 && index < 10 && (DependencyBits(quantity) >> index & 1u) != 0;
 }
 
-std::array<double, kEngineeringQuantityCount> EngineeringValues(const Delta& delta, const Xi& xi,
-                                                                double frequency_hz) noexcept {
+std::array<double, kEngineeringQuantityCount> EngineeringValues(
+    const Delta& model_delta, const Xi& model_xi, const EngineeringModel& model) noexcept {
   std::array<double, kCount> out;
   out.fill(kNaN);
+  const double frequency_hz = model.frequency_hz;
+  // 1. The pick-off's own ξ: the split's Coriolis mixing needs f0 (without it, ξ as fitted).
+  const Xi pickoff_xi = std::isfinite(frequency_hz) && frequency_hz > 0.0
+                            ? PickoffXiFromSlowModel(model_xi, model_delta, frequency_hz)
+                            : model_xi;
+  // 2. The physical pick-off and its frame; the anisotropies in channel 1's electrode frame.
+  const PhysicalPickoff pickoff = PhysicalPickoffFromXi(pickoff_xi, model.cross_talk_stage);
+  Delta delta =
+      DeltaInElectrodeFrame(model_delta, pickoff.frame_angle + model.frame_angle_offset_rad);
+  // 3. The decay the frequency drift adds is not damping.
+  if (std::isfinite(model.relative_frequency_rate_per_s))
+    delta[kDamping] += 0.5 * model.relative_frequency_rate_per_s;
+
   const ResonatorParameters r = ResonatorFromDelta(delta, frequency_hz);
   out[Index(Q::kResonantFrequency)] = frequency_hz;
   out[Index(Q::kDecayTime)] = r.decay_time_s;
@@ -139,19 +154,81 @@ std::array<double, kEngineeringQuantityCount> EngineeringValues(const Delta& del
   out[Index(Q::kFrequencyAxis)] = 0.5 * r.frequency_axis_rad * kDegPerRad;
   out[Index(Q::kAngularGain)] = r.angular_gain;
 
-  const PickoffParameters pickoff = PickoffFromXi(xi);
-  out[Index(Q::kPickoffGainMismatch)] = 100.0 * (pickoff.gain_ratio - 1.0);
-  out[Index(Q::kPickoffPhaseMismatch)] = pickoff.phase_mismatch_rad * kDegPerRad;
-  out[Index(Q::kPickoffCrossTalk)] = 100.0 * pickoff.cross_talk;
-  out[Index(Q::kElectrodeAngle)] = 0.5 * pickoff.electrode_angle_error_rad * kDegPerRad;
+  out[Index(Q::kPickoffGainMismatch)] = 100.0 * (pickoff.pickoff.gain_ratio - 1.0);
+  out[Index(Q::kPickoffPhaseMismatch)] = pickoff.pickoff.phase_mismatch_rad * kDegPerRad;
+  out[Index(Q::kPickoffCrossTalk)] = 100.0 * pickoff.pickoff.cross_talk;
+  out[Index(Q::kElectrodeAngle)] = 0.5 * pickoff.pickoff.electrode_angle_error_rad * kDegPerRad;
   return out;
 }
+
+std::array<double, kEngineeringQuantityCount> EngineeringValues(const Delta& delta, const Xi& xi,
+                                                                double frequency_hz) noexcept {
+  EngineeringModel model;
+  model.frequency_hz = frequency_hz;
+  return EngineeringValues(delta, xi, model);
+}
+
+FrequencyDrift FittedFrequencyDrift(const FitDiagnostics& diagnostics,
+                                    double frequency_hz) noexcept {
+  FrequencyDrift out;
+  if (!(std::isfinite(frequency_hz) && frequency_hz > 0.0)) return out;
+  const double omega0 = 2.0 * kPi * frequency_hz;
+  double weight = 0.0, sum = 0.0, sum_squares = 0.0;
+  for (const RunFitDiagnostics& run : diagnostics.runs) {
+    const double rate = run.common_frequency_drift_rad_s2 / omega0;
+    if (!std::isfinite(rate) || run.samples == 0) continue;
+    const double w = static_cast<double>(run.samples);
+    weight += w;
+    sum += w * rate;
+    sum_squares += rate * rate;
+    ++out.runs;
+  }
+  if (out.runs == 0) return out;
+  out.relative_rate_per_s = sum / weight;
+  if (out.runs >= 2) {
+    // The plain sample std of the runs' rates (not weighted): how far the fit's own weighting
+    // could move the mean.
+    double mean = 0.0;
+    for (const RunFitDiagnostics& run : diagnostics.runs) {
+      const double rate = run.common_frequency_drift_rad_s2 / omega0;
+      if (std::isfinite(rate) && run.samples > 0) mean += rate;
+    }
+    mean /= out.runs;
+    out.spread_per_s =
+        std::sqrt(std::max(0.0, (sum_squares - out.runs * mean * mean) / (out.runs - 1)));
+  }
+  return out;
+}
+
+namespace {
+
+using Values = std::array<double, kCount>;
+
+// Half the difference of two maps' values, axes folded: the sensitivity a budget line needs.
+Values HalfDifference(const Values& up, const Values& down) {
+  Values out;
+  for (std::size_t k = 0; k < kCount; ++k) {
+    double d = up[k] - down[k];
+    if (IsAxis(k)) d = FoldAxisDifference(d);
+    out[k] = 0.5 * d;
+  }
+  return out;
+}
+
+void AddComponent(EngineeringValue* v, std::string source, double u, bool systematic,
+                  std::string note) {
+  v->budget.push_back({std::move(source), u, systematic, std::move(note)});
+}
+
+}  // namespace
 
 EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summary,
                                                    double frequency_hz,
                                                    const EngineeringOptions& options) {
   EngineeringQuantities out;
   out.frequency_hz = frequency_hz;
+  out.coverage_factor = options.coverage_factor;
+  out.cross_talk_stage = options.cross_talk_stage;
 
   // The 10 parameters, and where each estimated one sits in the covariance (−1: held).
   Eigen::Matrix<double, 10, 1> p;
@@ -166,13 +243,28 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
   const bool has_covariance = summary.covariance.rows() == next &&
                               summary.covariance.cols() == next && summary.covariance.allFinite();
 
-  const auto values_at = [&](const Eigen::Matrix<double, 10, 1>& q) {
-    return EngineeringValues(q.head<6>(), q.tail<4>(), frequency_hz);
+  const FrequencyDrift drift = FittedFrequencyDrift(summary.diagnostics, frequency_hz);
+  EngineeringModel model;
+  model.frequency_hz = frequency_hz;
+  model.cross_talk_stage = options.cross_talk_stage;
+  model.relative_frequency_rate_per_s =
+      std::isfinite(drift.relative_rate_per_s) ? drift.relative_rate_per_s : 0.0;
+  out.relative_frequency_rate_per_s = drift.relative_rate_per_s;
+
+  const auto values_at = [&](const Eigen::Matrix<double, 10, 1>& q, const EngineeringModel& m) {
+    return EngineeringValues(q.head<6>(), q.tail<4>(), m);
   };
-  const std::array<double, kCount> value = values_at(p);
+  const Values value = values_at(p, model);
+  {
+    const Xi pickoff_xi = std::isfinite(frequency_hz) && frequency_hz > 0.0
+                              ? PickoffXiFromSlowModel(summary.xi, summary.delta, frequency_hz)
+                              : summary.xi;
+    out.pickoff_frame_angle_rad =
+        PhysicalPickoffFromXi(pickoff_xi, options.cross_talk_stage).frame_angle;
+  }
 
   // Delta method: J·Σ·Jᵀ with J by central differences along each estimated parameter.
-  std::array<double, kCount> variance;
+  Values variance;
   variance.fill(has_covariance ? 0.0 : kNaN);
   if (has_covariance && next > 0) {
     Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(kCount, next);
@@ -183,18 +275,78 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
       Eigen::Matrix<double, 10, 1> plus = p, minus = p;
       plus[i] += step;
       minus[i] -= step;
-      const std::array<double, kCount> up = values_at(plus), down = values_at(minus);
-      for (std::size_t k = 0; k < kCount; ++k) {
-        double d = up[k] - down[k];
-        if (IsAxis(k)) d = FoldAxisDifference(d);
-        jacobian(static_cast<Eigen::Index>(k), column[i]) = d / (2.0 * step);
-      }
+      const Values half = HalfDifference(values_at(plus, model), values_at(minus, model));
+      for (std::size_t k = 0; k < kCount; ++k)
+        jacobian(static_cast<Eigen::Index>(k), column[i]) = half[k] / step;
     }
     const Eigen::MatrixXd propagated = jacobian * summary.covariance * jacobian.transpose();
     for (std::size_t k = 0; k < kCount; ++k)
       variance[k] = propagated(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
   }
 
+  // The systematic components: each a map with one input moved, against the nominal one.
+  // The cross-talk's stage: from the middle, the farther of the two ends is the half-width; a
+  // stage the station declared has none.
+  const bool stage_declared = options.cross_talk_stage != CrossTalkStage::kMidway;
+  Values stage_half_width;
+  stage_half_width.fill(0.0);
+  if (!stage_declared) {
+    for (const CrossTalkStage end : {CrossTalkStage::kBeforeGain, CrossTalkStage::kAfterGain}) {
+      EngineeringModel at_end = model;
+      at_end.cross_talk_stage = end;
+      const Values half = HalfDifference(values_at(p, at_end), value);
+      for (std::size_t k = 0; k < kCount; ++k)
+        stage_half_width[k] = std::max(stage_half_width[k], 2.0 * std::abs(half[k]));
+    }
+  }
+  const double bound = options.unmodelled_coupling_bound_rad;
+  Values coupling_u;
+  coupling_u.fill(0.0);
+  if (bound > 0.0) {
+    for (const std::complex<double> direction : {std::complex<double>(1.0, 0.0),
+                                                 std::complex<double>(0.0, 1.0)}) {
+      EngineeringModel up = model, down = model;
+      up.frame_angle_offset_rad = bound * direction;
+      down.frame_angle_offset_rad = -bound * direction;
+      const Values half = HalfDifference(values_at(p, up), values_at(p, down));
+      for (std::size_t k = 0; k < kCount; ++k) coupling_u[k] += half[k] * half[k] / 3.0;
+    }
+    for (double& u : coupling_u) u = std::sqrt(u);
+  }
+  Values drift_u;
+  drift_u.fill(kNaN);
+  if (std::isfinite(drift.spread_per_s)) {
+    EngineeringModel up = model, down = model;
+    up.relative_frequency_rate_per_s += drift.spread_per_s;
+    down.relative_frequency_rate_per_s -= drift.spread_per_s;
+    drift_u = HalfDifference(values_at(p, up), values_at(p, down));
+    for (double& u : drift_u) u = std::abs(u);
+  }
+  Values f0_u;
+  f0_u.fill(kNaN);
+  if (std::isfinite(options.frequency_std_hz) && std::isfinite(frequency_hz)) {
+    EngineeringModel up = model, down = model;
+    up.frequency_hz += options.frequency_std_hz;
+    down.frequency_hz -= options.frequency_std_hz;
+    f0_u = HalfDifference(values_at(p, up), values_at(p, down));
+    for (double& u : f0_u) u = std::abs(u);
+  }
+  // Which inputs each quantity's map actually reads (the rest cannot move it).
+  const auto uses_pickoff_frame = [](Q q) {
+    return q != Q::kResonantFrequency && q != Q::kDecayTime && q != Q::kQualityFactor &&
+           q != Q::kAngularGain;
+  };
+  const auto uses_drift = [](Q q) {
+    return q == Q::kDecayTime || q == Q::kQualityFactor || q == Q::kSlowModeDecayTime ||
+           q == Q::kFastModeDecayTime;
+  };
+
+  const std::string fit_note =
+      "covariance " + summary.diagnostics.covariance_kind + ", noise shape " +
+      summary.diagnostics.noise_shape +
+      (summary.diagnostics.omega_nuisance
+           ? "; the recorded Ω uncertainty is inside it (a prior of the fit)"
+           : "; Ω taken as exact (no Ω uncertainty recorded): its error is not in it");
   const bool usable = summary.IsUsable();
   for (std::size_t k = 0; k < kCount; ++k) {
     const Q q = static_cast<Q>(k);
@@ -218,10 +370,78 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
                    : "not finite (a mode that does not decay?)";
     }
     if (q == Q::kResonantFrequency) {
-      v.std = kNaN;  // reported by the electronics, not estimated
-    } else if (v.determined && variance[k] >= 0.0) {
-      v.std = std::sqrt(variance[k]);
+      // Reported by the electronics, not estimated.
+      if (std::isfinite(options.frequency_std_hz)) {
+        v.std = options.frequency_std_hz;
+        AddComponent(&v, "f0 as reported", v.std, true, "the electronics' stated uncertainty");
+      } else {
+        AddComponent(&v, "f0 as reported", kNaN, true,
+                     "not stated by the electronics: f0 taken as exact");
+      }
+      continue;
     }
+    if (!v.determined || !(variance[k] >= 0.0)) continue;
+
+    v.statistical_std = std::sqrt(variance[k]);
+    AddComponent(&v, "fit (statistical)", v.statistical_std, false, fit_note);
+    if (uses_pickoff_frame(q)) {
+      AddComponent(&v, "pick-off model: cross-talk stage", stage_half_width[k] / std::sqrt(3.0),
+                   true,
+                   stage_declared
+                       ? std::string("declared ") + ToString(options.cross_talk_stage)
+                       : "midway between the electrode lines and the amplified channels; either "
+                         "end moves it by up to " +
+                             Format(stage_half_width[k]) +
+                             " (rectangular half-width); free runs cannot tell them apart");
+      if (bound > 0.0) {
+        AddComponent(&v, "pick-off model: unmodelled antisymmetric coupling", coupling_u[k], true,
+                     "declared bound ±" + Format(bound) +
+                         " rad on both parts of the frame angle (rectangular)");
+      } else {
+        AddComponent(&v, "pick-off model: unmodelled antisymmetric coupling", kNaN, true,
+                     "no bound declared: only the nominal pick-off model's couplings are "
+                     "corrected");
+      }
+      if (!(std::isfinite(frequency_hz) && frequency_hz > 0.0) &&
+          (q == Q::kPickoffGainMismatch || q == Q::kElectrodeAngle)) {
+        AddComponent(&v, "split's Coriolis mixing", kNaN, true,
+                     "f0 unknown: the mixing −(δ5, δ6)/(2ω0) stays in the value");
+      }
+    }
+    if (uses_drift(q)) {
+      if (!std::isfinite(drift.relative_rate_per_s)) {
+        AddComponent(&v, "frequency drift correction", kNaN, true,
+                     std::isfinite(frequency_hz)
+                         ? "not corrected: the fit's common phase has no drift term"
+                         : "not corrected: f0 unknown");
+      } else if (std::isfinite(drift_u[k])) {
+        AddComponent(&v, "frequency drift correction", drift_u[k], true,
+                     "½·ω̇/ω0 = " + Format(0.5 * drift.relative_rate_per_s) +
+                         " 1/s added to δ1; spread of the " + std::to_string(drift.runs) +
+                         " runs' drifts");
+      } else {
+        AddComponent(&v, "frequency drift correction", kNaN, true,
+                     "½·ω̇/ω0 = " + Format(0.5 * drift.relative_rate_per_s) +
+                         " 1/s added to δ1; one run: its spread cannot be judged");
+      }
+    }
+    if (q == Q::kQualityFactor) {
+      AddComponent(&v, "f0 as reported", f0_u[k], true,
+                   std::isfinite(f0_u[k]) ? "the electronics' stated f0 uncertainty"
+                                          : "not stated by the electronics: f0 taken as exact");
+    }
+    double combined = 0.0;
+    for (const UncertaintyComponent& c : v.budget)
+      if (std::isfinite(c.standard_uncertainty)) combined += c.standard_uncertainty *
+                                                             c.standard_uncertainty;
+    v.std = std::sqrt(combined);
+    std::stable_sort(v.budget.begin(), v.budget.end(),
+                     [](const UncertaintyComponent& a, const UncertaintyComponent& b) {
+                       const bool fa = std::isfinite(a.standard_uncertainty);
+                       const bool fb = std::isfinite(b.standard_uncertainty);
+                       if (fa != fb) return fa;
+                       return fa && a.standard_uncertainty > b.standard_uncertainty;
+                     });
   }
 
   // Axes of splits that are not significantly different from zero are undetermined.
@@ -242,11 +462,24 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
               : "the split's significance cannot be judged (no covariance)";
       axis.value = kNaN;
       axis.std = kNaN;
+      axis.statistical_std = kNaN;
+      axis.budget.clear();
       axis.determined = false;
       axis.note = "undetermined: " + why;
       out[s.split].note = "not significantly different from zero";
     }
   }
+
+  out.limitations = {
+      "Free runs cannot tell the pick-off's antisymmetric coupling (a complex frame angle) from "
+      "the anisotropies' own angles: the axes and the damping split are corrected with the "
+      "nominal pick-off model's coupling (a = " +
+          Format(out.pickoff_frame_angle_rad.real()) + (out.pickoff_frame_angle_rad.imag() < 0 ? " − " : " + ") +
+          Format(std::abs(out.pickoff_frame_angle_rad.imag())) +
+          "i rad), and what that model does not fix is a systematic component.",
+      "The fit's δ1 includes the decay a frequency drift adds (½·ω̇/ω): τ, τ1, τ2 and Q are "
+      "corrected with the runs' fitted drifts.",
+  };
   return out;
 }
 
@@ -270,9 +503,37 @@ std::string EngineeringQuantities::Report() const {
     text += "  " + pad_to(std::string(info.label), 52, true) + pad_to(value, 14, false);
     if (!std.empty()) text += " ± " + std;
     if (!info.unit.empty()) text += " " + std::string(info.unit);
+    // The statistical part alone, when the rest of the budget is more than a tenth of it.
+    if (std::isfinite(v.statistical_std) && std::isfinite(v.std) &&
+        v.std > 1.1 * v.statistical_std && !v.budget.empty()) {
+      text += "  [fit " + FormatWithStd(v.value, v.statistical_std).second + "; largest: " +
+              v.budget.front().source + "]";
+    }
     if (!v.note.empty()) text += "  (" + v.note + ")";
     text += "\n";
   }
+  text += "  (± is the combined standard uncertainty u_c; expanded U = " + Format(coverage_factor) +
+          "·u_c)\n";
+  return text;
+}
+
+std::string EngineeringQuantities::BudgetReport() const {
+  std::string text;
+  for (std::size_t k = 0; k < kCount; ++k) {
+    const EngineeringQuantityInfo& info = kEngineeringQuantities[k];
+    const EngineeringValue& v = values[k];
+    if (v.budget.empty()) continue;
+    const std::string unit = info.unit.empty() ? "" : " " + std::string(info.unit);
+    text += std::string(info.name) + ": u_c = " + Format(v.std) + unit + ", U (k = " +
+            Format(coverage_factor) + ") = " + Format(coverage_factor * v.std) + unit + "\n";
+    for (const UncertaintyComponent& c : v.budget) {
+      text += "    " + c.source + (c.systematic ? " (B)" : " (A)") + ": " +
+              (std::isfinite(c.standard_uncertainty) ? Format(c.standard_uncertainty) + unit
+                                                      : std::string("not evaluated")) +
+              " — " + c.note + "\n";
+    }
+  }
+  for (const std::string& l : limitations) text += "note: " + l + "\n";
   return text;
 }
 

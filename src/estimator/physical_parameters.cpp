@@ -99,29 +99,6 @@ ResonatorParameters ResonatorFromDelta(const Delta& delta, double frequency_hz) 
   return r;
 }
 
-Xi XiFromPickoff(const PickoffParameters& pickoff) noexcept {
-  // (1 − p)/(1 + p) = ρ  ⇔  p = (1 − ρ)/(1 + ρ).
-  const Complex rho = std::polar(pickoff.gain_ratio, -pickoff.phase_mismatch_rad);
-  const Complex p = (1.0 - rho) / (1.0 + rho);
-  Xi xi;
-  xi[kGainMismatch] = p.real();
-  xi[kPhaseMismatch] = -p.imag();
-  xi[kCrossTalk] = pickoff.cross_talk;
-  xi[kPickoffAngle] = std::tan(0.5 * pickoff.electrode_angle_error_rad);
-  return xi;
-}
-
-PickoffParameters PickoffFromXi(const Xi& xi) noexcept {
-  const Complex p(xi[kGainMismatch], -xi[kPhaseMismatch]);
-  const Complex rho = (1.0 - p) / (1.0 + p);
-  PickoffParameters pickoff;
-  pickoff.gain_ratio = std::abs(rho);
-  pickoff.phase_mismatch_rad = -std::arg(rho);
-  pickoff.cross_talk = xi[kCrossTalk];
-  pickoff.electrode_angle_error_rad = 2.0 * std::atan(xi[kPickoffAngle]);
-  return pickoff;
-}
-
 Eigen::Matrix2cd ComplexDistortion(const Xi& xi) noexcept {
   const Complex p(xi[kGainMismatch], -xi[kPhaseMismatch]);
   const Complex q(xi[kPickoffAngle], -xi[kCrossTalk]);

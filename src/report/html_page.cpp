@@ -154,6 +154,43 @@ void Page::Estimate() {
           value(base + "iterations") + " iterations.</p>\n";
 }
 
+// One table of every quantity's uncertainty budget (GUM: components with their sources, the
+// combined standard uncertainty and the coverage factor), largest component first as recorded.
+void Page::EngineeringBudgets(const std::string& base) {
+  const std::size_t n = Size(doc_, base + "/quantities");
+  std::string rows;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string q = base + "/quantities/" + std::to_string(i);
+    const std::size_t components = Size(doc_, q + "/budget");
+    if (components == 0) continue;
+    const std::string unit = Has(q + "/unit") ? Text(q + "/unit") : std::string();
+    rows += "<tr class=\"budget-total\"><td rowspan=\"" + std::to_string(components + 1) +
+            "\">" + (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) +
+            "</td><td>combined u<sub>c</sub></td><td></td><td>" + Src(q + "/std") + " " + unit +
+            "</td><td></td></tr>\n";
+    for (std::size_t c = 0; c < components; ++c) {
+      const std::string b = q + "/budget/" + std::to_string(c);
+      const bool evaluated = NumberAt(doc_, b + "/standard_uncertainty") ==
+                             NumberAt(doc_, b + "/standard_uncertainty");  // not NaN/null
+      rows += "<tr><td>" + Text(b + "/source") + "</td><td>" + Text(b + "/type") + "</td><td>" +
+              (evaluated ? Src(b + "/standard_uncertainty") + " " + unit
+                         : std::string("<span class=\"na\">not evaluated</span>")) +
+              "</td><td>" + Text(b + "/note") + "</td></tr>\n";
+    }
+  }
+  if (rows.empty()) return;
+  out_ += "<h3>Uncertainty budgets</h3>\n<p>Each quantity's components (type A: from this "
+          "session's data; type B: from a model or a declaration), largest first. The verdict "
+          "judges u<sub>c</sub>; the expanded uncertainty is U = " +
+          Src(base + "/coverage_factor") +
+          "·u<sub>c</sub>.</p>\n<table class=\"budget\"><tr><th>quantity</th><th>component</th>"
+          "<th>type</th><th>standard uncertainty</th><th>how</th></tr>\n" +
+          rows + "</table>\n";
+  const std::size_t notes = Size(doc_, base + "/limitations");
+  for (std::size_t i = 0; i < notes; ++i)
+    out_ += "<p class=\"note\">" + Text(base + "/limitations/" + std::to_string(i)) + "</p>\n";
+}
+
 void Page::Engineering() {
   out_ += "<h2>The resonator in its own units</h2>\n";
   const std::string base = "/outcome/estimate/engineering";
@@ -181,6 +218,7 @@ void Page::Engineering() {
               (Has(q + "/note") ? Text(q + "/note") : std::string()) + "</td></tr>\n";
     }
     out_ += "</table>\n";
+    EngineeringBudgets(base);
   }
   // The report's own anisotropy only when the record has none (the table above is the record's,
   // and says which axes are determined).

@@ -102,6 +102,7 @@ class Page {
   void Warnings(int run);
   void Estimate();
   void Engineering();
+  void EngineeringBudgets(const std::string& base);
   void Verdict();
   void UnitHistory();
   void Figure(const std::string& name, int width, int height);

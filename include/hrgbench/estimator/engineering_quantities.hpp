@@ -18,26 +18,53 @@
 //                          difference of the decay rates of its principal axes), 1/s
 //   damping_axis_deg       θ_τ on the shell: the axis that decays FASTER, in (−45°, 45°]
 //   frequency_split_mhz    Δf = |δ5 + iδ6|/π, mHz (exact in the eigenvalues when the damping is
-//                          isotropic; to (Δ(1/τ)/(2πΔf))² otherwise)
+//                          isotropic; to (Δ(1/τ)/(2πΔf))² otherwise); like f0 it follows the
+//                          temperature: the runs' mean split, at their mean temperature
 //   frequency_axis_deg     θ_ω on the shell: the axis of the HIGHER frequency, in (−45°, 45°]
 //   angular_gain           k = δ2 (Bryan's factor): the wave on the shell precesses at −k·Ω
 //                          relative to the case, i.e. it turns by (1 − k)·Ω in inertial space
 //   gain_mismatch_percent  (g2/g1 − 1)·100: channel 2's gain relative to channel 1's
 //   phase_mismatch_deg     φ2 − φ1 at the carrier, degrees of carrier phase (channel 2 lags more)
-//   cross_talk_percent     κ·100: each channel's pick-up of the other electrode, 90° late
-//   electrode_angle_deg    ε/2 on the shell: the electrodes are 45° − ε/2 apart (45° ideal)
+//   cross_talk_percent     κ·100: each electrode line's pick-up of the other's signal, 90° late
+//   electrode_angle_deg    ε/2 on the shell: channel 2's electrode sits 45° − ε/2 from channel 1's
+//
+// ## Each quantity is the physical one
+// The fit's (δ, ξ) are the model's; three steps make them the unit's (EngineeringModel):
+//  1. The split's Coriolis mixing is taken out of ξ (split_coriolis_mixing.hpp, f0 given): the
+//     pick-off's own ξ.
+//  2. The physical pick-off (g, Δφ, κ, ε) whose H has that ξ under the nominal pick-off model,
+//     and its complex frame angle a (pickoff_frame.hpp); the anisotropies are turned by −2a into
+//     channel 1's electrode frame. So every axis is measured from channel 1's electrode, and the
+//     damping split is free of the frequency split the pick-off's antisymmetric coupling mixes
+//     into it.
+//  3. δ1 is corrected for each run's fitted frequency drift (the common phase's 2·q2, as ω̇/ω0):
+//     the displacement of a resonator whose frequency moves decays at an extra ½·ω̇/ω
+//     (frequency_drift_decay.hpp), which is not damping.
 //
 // ANGLES ON THE SHELL. The model's angles (the wave angle θ, θ_ω, θ_τ, ε) are electrical angles of
 // the n = 2 mode: channel 2's electrode sits at 90° in the model's frame and at 45° on the shell.
 // A wave turned by α on the shell turns by 2α in the model. Every *_deg angle here is on the shell,
-// half the model's, measured from channel 1's electrode towards channel 2's; an n = 2 axis is
+// half the electrical one, measured from channel 1's electrode towards channel 2's; an n = 2 axis is
 // defined modulo 90° on the shell, so axes are folded into (−45°, 45°].
 //
-// ## Uncertainties
-// std = √(J·Σ·Jᵀ), J by central differences of the exact maps at steps of 1e-3 std of each
-// estimated parameter (so the derivative is the one over the covariance's own scale), Σ the
-// summary's covariance (white or sandwich). Held parameters contribute nothing; a quantity that
-// depends on a held or missing parameter is not determined (its value is the held one's image).
+// ## The uncertainty budget (GUM, JCGM 100 §8)
+// Each determined quantity carries its components (UncertaintyComponent, in its own unit):
+//   fit (statistical)   √(J·Σ·Jᵀ), J by central differences of the whole map above at 1e-3 std of
+//                       each estimated parameter, Σ the summary's covariance (white or sandwich);
+//                       the recorded Ω uncertainty (a prior of the fit) and the declared noise
+//                       shape are inside it, and its note says so;
+//   pick-off model      what the physics of the pick-off does not fix: the cross-talk's stage
+//                       (midway, and the distance to either end as a rectangular half-width)
+//                       and an antisymmetric coupling beyond the model within a declared bound
+//                       (EngineeringOptions::unmodelled_coupling_bound_rad), both free runs cannot
+//                       see (pickoff_frame.hpp);
+//   frequency drift     the spread of the runs' drift corrections (the fit's δ1 is a weighted mean
+//                       of theirs, with weights it does not report);
+//   f0 as reported      the electronics' f0 uncertainty, when stated.
+// A component a session cannot evaluate is listed with a NaN size and a note saying why; the
+// combined standard uncertainty u_c (std) is the root sum of squares of the evaluated ones, and
+// std·coverage_factor is the expanded uncertainty (k = 2: about 95 % for a normal distribution).
+// The verdict judges std (u_c).
 //
 // ## Undetermined axes
 // An axis is meaningless when its split is noise: the split vector (δ5, δ6) (or (δ3, δ4)) is tested
@@ -48,11 +75,14 @@
 // Pure functions; allocate (not for a real-time loop); never throw except std::bad_alloc.
 
 #include <array>
+#include <complex>
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hrgbench/estimator/parameters.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::estimator {
@@ -104,23 +134,60 @@ const EngineeringQuantityInfo& Info(EngineeringQuantity quantity) noexcept;
 // it is determined only when every parameter it depends on was estimated.
 bool DependsOn(EngineeringQuantity quantity, int index) noexcept;
 
+// One line of a quantity's uncertainty budget.
+struct UncertaintyComponent {
+  std::string source;                  // "fit (statistical)", "pick-off model: cross-talk stage", ...
+  double standard_uncertainty = kNaN;  // in the quantity's unit; NaN: not evaluated (note says why)
+  bool systematic = false;             // type B: not reduced by more data of this session's kind
+  std::string note;                    // how it was evaluated, or why it could not be
+};
+
 struct EngineeringValue {
   double value = kNaN;
-  double std = kNaN;        // one standard error; NaN when not determined or no covariance
+  double std = kNaN;              // combined standard uncertainty u_c; NaN when not determined
+  double statistical_std = kNaN;  // the fit's statistical component alone
   bool determined = false;  // false: a parameter it needs was held or missing, or an axis of an
                             // insignificant split (value NaN then), or not finite
   std::string note;         // why not determined, or a caveat ("split not significant")
+  std::vector<UncertaintyComponent> budget;  // largest first; the unevaluated ones last
 };
 
 struct EngineeringOptions {
   // χ²(2) threshold below which a split is "not significantly different from zero" and its axis
   // is undetermined (default: the 3σ two-sided level, p = 0.0027).
   double axis_significance_chi2 = 11.829;
+  // Where the pick-off's cross-talk sits (pickoff_frame.hpp): kMidway when it is not known, and
+  // the budget carries the distance to either end; a stage the station declares carries none.
+  CrossTalkStage cross_talk_stage = CrossTalkStage::kMidway;
+  // A bound on the pick-off's antisymmetric coupling beyond the model, rad (electrical; each of
+  // Re a and Im a within ±bound, rectangular). 0: none declared (the budget says so).
+  double unmodelled_coupling_bound_rad = 0.0;
+  // f0's standard uncertainty as the electronics state it, Hz (NaN: not stated, taken exact).
+  double frequency_std_hz = kNaN;
+  double coverage_factor = 2.0;  // k of the expanded uncertainty U = k·u_c
+};
+
+// How the fitted (δ, ξ) become the unit's physical quantities (see "Each quantity is the
+// physical one"): the inputs of the map besides δ and ξ.
+struct EngineeringModel {
+  double frequency_hz = kNaN;  // f0 (NaN: unknown: Q undetermined, the Coriolis mixing stays in ξ)
+  // ω̇/ω0 the runs' common phases measured (1/s); δ1 is corrected by +½ of it.
+  double relative_frequency_rate_per_s = 0.0;
+  CrossTalkStage cross_talk_stage = CrossTalkStage::kMidway;
+  // Added to the pick-off's frame angle: an unmodelled antisymmetric coupling (budget only).
+  std::complex<double> frame_angle_offset_rad = 0.0;
 };
 
 struct EngineeringQuantities {
   double frequency_hz = kNaN;  // the f0 they were computed with (NaN: unknown, so Q is too)
   std::array<EngineeringValue, kEngineeringQuantityCount> values;
+  double coverage_factor = 2.0;
+  // What the map used: the drift correction (NaN: not corrected) and the nominal pick-off.
+  double relative_frequency_rate_per_s = kNaN;
+  CrossTalkStage cross_talk_stage = CrossTalkStage::kMidway;
+  std::complex<double> pickoff_frame_angle_rad = kNaN;  // a of the nominal pick-off, electrical
+  // What free runs cannot separate, and how each quantity got around it: for people.
+  std::vector<std::string> limitations;
 
   const EngineeringValue& operator[](EngineeringQuantity q) const noexcept {
     return values[static_cast<std::size_t>(q)];
@@ -128,8 +195,11 @@ struct EngineeringQuantities {
   EngineeringValue& operator[](EngineeringQuantity q) noexcept {
     return values[static_cast<std::size_t>(q)];
   }
-  // A table: one line per quantity, "label  value ± std unit", notes after.
+  // A table: one line per quantity, "label  value ± u_c unit", the fit's part and the largest
+  // component when the rest adds more than 10 %, notes after.
   std::string Report() const;
+  // Every quantity's budget, component by component, and the limitations.
+  std::string BudgetReport() const;
 };
 
 // From an estimate (δ, ξ, which were estimated, and the covariance) and f0 (Hz; NaN if unknown).
@@ -138,9 +208,22 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
                                                    double frequency_hz,
                                                    const EngineeringOptions& options = {});
 
-// The values alone (no std, no significance), from a full parameter set: the exact maps, for
-// tests and for the delta method. Angles on the shell in degrees, as above.
+// The values alone (no std, no significance), from a full parameter set in the model's frame:
+// the exact maps, for tests and for the budget. Angles on the shell in degrees, as above.
+std::array<double, kEngineeringQuantityCount> EngineeringValues(
+    const Delta& delta, const Xi& xi, const EngineeringModel& model) noexcept;
+// With only f0: no drift correction, the nominal pick-off.
 std::array<double, kEngineeringQuantityCount> EngineeringValues(const Delta& delta, const Xi& xi,
                                                                 double frequency_hz) noexcept;
+
+// ω̇/ω0 from the runs' fitted common phases (FitDiagnostics: 2·q2 per run), weighted by the
+// runs' samples, and the spread of the runs' values (sample std; NaN with fewer than two runs).
+// NaN when no run has a fitted drift or f0 is unknown.
+struct FrequencyDrift {
+  double relative_rate_per_s = kNaN;
+  double spread_per_s = kNaN;
+  int runs = 0;
+};
+FrequencyDrift FittedFrequencyDrift(const FitDiagnostics& diagnostics, double frequency_hz) noexcept;
 
 }  // namespace hrgbench::estimator

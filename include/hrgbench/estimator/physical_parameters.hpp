@@ -64,21 +64,14 @@
 //                | q     1 − p |
 //
 // and a common complex factor c (the chain's mean gain and delay) commutes with A, so it is
-// absorbed by each run's initial state: H = c·(I + C(ξ)) is what the model can represent. The four
-// physical numbers are DEFINED as the exact coordinates of that form (each is, to first order, the
-// named error however the chain orders them; products of two errors, e.g. a gain mismatch times a
-// cross-talk, make H non-symmetric, which C(ξ) cannot represent at all):
+// absorbed by each run's initial state. A physical pick-off (channel gains and delays, cross-talk,
+// a misplaced electrode) is a general complex H, two real numbers more than c·(I + C(ξ)) holds:
+// pickoff_frame.hpp defines the physical errors (the nominal pick-off model, channel 1's electrode
+// as the frame), derives what the model holds of them (ξ) and what it cannot (a complex frame angle
+// that turns the anisotropies), and maps both ways. To first order
 //
-//   gain_ratio g and phase_mismatch Δφ: channel 2's complex gain relative to channel 1,
-//       (1 − p)/(1 + p) = g·e^{−iΔφ}     (g = g2/g1; Δφ = φ2 − φ1, channel 2's extra phase lag)
-//       → to first order ξ1 = (1 − g)/2, ξ2 = −Δφ/2;
-//   electrode_angle_error ε: the electrodes' axes are 90° − ε apart in the frame of q (45° − ε/2
-//       on the shell), each misplaced by ε/2 towards the other: the in-phase coupling
-//       Re q = ξ4 = tan(ε/2) (a real in-phase cross-talk looks exactly the same);
-//   cross_talk κ: each channel also picks up κ times the other electrode's signal 90° late
-//       (e^{−iπ/2} = −i): −Im q = ξ3 = κ.
-//
-// So XiFromPickoff and PickoffFromXi are exact inverses (ρ = g·e^{−iΔφ} ≠ −1, |ε| < π).
+//   ξ1 = (1 − g)/2,  ξ2 = −Δφ/2,  ξ3 = κ,  ξ4 = ε/2   (g = g2/g1, Δφ = φ2 − φ1, ε channel 2's
+//   electrode error: it sits at 90° − ε in the frame of q, 45° − ε/2 on the shell).
 //
 // Threads: stateless. Real-time: allocation-free.
 
@@ -106,12 +99,13 @@ struct ResonatorParameters {
   bool IsValid(std::string* why) const;
 };
 
-// Errors of the pick-off path relative to channel 1 (definitions above; all zero = ideal).
+// Errors of the pick-off path relative to channel 1 (pickoff_frame.hpp defines each; all zero =
+// ideal).
 struct PickoffParameters {
   double gain_ratio = 1.0;                 // g2/g1 > 0
   double phase_mismatch_rad = 0.0;         // φ2 − φ1 at the carrier, rad (channel 2 lags more)
   double cross_talk = 0.0;                 // κ: quadrature (90°) coupling between the channels
-  double electrode_angle_error_rad = 0.0;  // ε: electrodes 90° − ε apart in the frame of q
+  double electrode_angle_error_rad = 0.0;  // ε: channel 2's electrode at 90° − ε (frame of q)
 
   bool IsValid(std::string* why) const;  // g > 0, |Δφ| < π, |ε| < π, finite
 };
@@ -121,9 +115,6 @@ Delta DeltaFromResonator(const ResonatorParameters& resonator) noexcept;
 // The resonator from δ, with f0 given (δ1 must be < 0 for a finite τ). Canonical form: Δ(1/τ) ≥ 0,
 // Δf ≥ 0, axes in (−π/2, π/2]; an axis whose anisotropy is zero is returned as 0.
 ResonatorParameters ResonatorFromDelta(const Delta& delta, double frequency_hz) noexcept;
-
-Xi XiFromPickoff(const PickoffParameters& pickoff) noexcept;
-PickoffParameters PickoffFromXi(const Xi& xi) noexcept;
 
 // I + C(ξ) as the complex 2×2 matrix acting on u (see above).
 Eigen::Matrix2cd ComplexDistortion(const Xi& xi) noexcept;

@@ -96,16 +96,35 @@ nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineeri
   for (std::size_t k = 0; k < estimator::kEngineeringQuantityCount; ++k) {
     const estimator::EngineeringQuantityInfo& info = estimator::kEngineeringQuantities[k];
     const estimator::EngineeringValue& v = engineering.values[k];
+    nlohmann::json budget = nlohmann::json::array();
+    for (const estimator::UncertaintyComponent& c : v.budget) {
+      budget.push_back({{"source", c.source},
+                        {"standard_uncertainty", NumberOrNull(c.standard_uncertainty)},
+                        {"type", c.systematic ? "B" : "A"},
+                        {"note", c.note}});
+    }
     quantities.push_back({{"name", std::string(info.name)},
                           {"label", std::string(info.label)},
                           {"unit", std::string(info.unit)},
                           {"value", NumberOrNull(v.value)},
                           {"std", NumberOrNull(v.std)},
+                          {"statistical_std", NumberOrNull(v.statistical_std)},
                           {"determined", v.determined},
-                          {"note", v.note}});
+                          {"note", v.note},
+                          {"budget", budget}});
   }
+  nlohmann::json limitations = nlohmann::json::array();
+  for (const std::string& l : engineering.limitations) limitations.push_back(l);
   return {{"frequency_hz", NumberOrNull(engineering.frequency_hz)},
           {"frequency_source", std::string(frequency_source)},
+          {"coverage_factor", engineering.coverage_factor},
+          {"relative_frequency_rate_per_s",
+           NumberOrNull(engineering.relative_frequency_rate_per_s)},
+          {"cross_talk_stage", estimator::ToString(engineering.cross_talk_stage)},
+          {"pickoff_frame_angle_rad",
+           {NumberOrNull(engineering.pickoff_frame_angle_rad.real()),
+            NumberOrNull(engineering.pickoff_frame_angle_rad.imag())}},
+          {"limitations", limitations},
           {"quantities", quantities}};
 }
 

@@ -19,6 +19,7 @@
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 
 namespace hrgbench::estimator {
 namespace {
@@ -58,18 +59,20 @@ TEST(EngineeringQuantitiesTest, ValuesAreThePhysicalParametersInTheFieldsUnits) 
   p.phase_mismatch_rad = 0.004;
   p.cross_talk = 0.003;
   p.electrode_angle_error_rad = 0.01;
-  const auto v = EngineeringValues(DeltaFromResonator(r), XiFromPickoff(p), kF0);
+  // What the slow model's fit sees of this unit: δ in its frame, ξ with the split's mixing.
+  const SlowModelTruth seen = SlowModelSeenOnUnit(r, PhysicalPickoffGain(p));
+  const auto v = EngineeringValues(seen.delta, seen.xi, kF0);
   EXPECT_DOUBLE_EQ(At(v, Q::kResonantFrequency), kF0);
   EXPECT_NEAR(At(v, Q::kDecayTime), 800.0, 1e-9);
   EXPECT_NEAR(At(v, Q::kQualityFactor), kPi * 5000.0 * 800.0, 1e-3);  // 1.2566e7
-  EXPECT_NEAR(At(v, Q::kDampingSplit), 4e-5, 1e-15);
+  EXPECT_NEAR(At(v, Q::kDampingSplit), 4e-5, 1e-12);
   EXPECT_NEAR(At(v, Q::kDampingAxis), 0.3 * 180.0 / kPi, 1e-9);
   EXPECT_NEAR(At(v, Q::kFrequencySplit), 20.0, 1e-9);
   EXPECT_NEAR(At(v, Q::kFrequencyAxis), -0.5 * 180.0 / kPi, 1e-9);
   EXPECT_DOUBLE_EQ(At(v, Q::kAngularGain), 0.29);
   EXPECT_NEAR(At(v, Q::kPickoffGainMismatch), 1.2, 1e-9);
   EXPECT_NEAR(At(v, Q::kPickoffPhaseMismatch), 0.004 * 180.0 / kPi, 1e-9);
-  EXPECT_NEAR(At(v, Q::kPickoffCrossTalk), 0.3, 1e-12);
+  EXPECT_NEAR(At(v, Q::kPickoffCrossTalk), 0.3, 1e-10);
   EXPECT_NEAR(At(v, Q::kElectrodeAngle), 0.005 * 180.0 / kPi, 1e-9);
 }
 
@@ -133,7 +136,9 @@ TEST(EngineeringQuantitiesTest, DeltaMethodStdMatchesMonteCarloScatter) {
       ASSERT_TRUE(e.values[k].determined)
           << kEngineeringQuantities[k].name << " seed " << seed << ": " << e.values[k].note;
       values[k].push_back(e.values[k].value);
-      stds[k].push_back(e.values[k].std);
+      // The fit's statistical part: what scatters over seeds (the budget's systematic parts are
+      // the same in every session).
+      stds[k].push_back(e.values[k].statistical_std);
     }
   }
   for (std::size_t k = 1; k < kEngineeringQuantityCount; ++k) {
@@ -189,7 +194,8 @@ TEST(EngineeringQuantitiesTest, HeldParametersAndUnknownFrequencyAreNotDetermine
   const EngineeringQuantities e = ComputeEngineeringQuantities(s, std::nan(""));
   EXPECT_FALSE(e[Q::kPickoffCrossTalk].determined);
   EXPECT_EQ(e[Q::kPickoffCrossTalk].note, "xi3 was held, not estimated");
-  EXPECT_DOUBLE_EQ(e[Q::kPickoffCrossTalk].value, 0.0);
+  // ξ3 held at 0 is a physical κ of second order in the other errors (pickoff_frame.hpp).
+  EXPECT_NEAR(e[Q::kPickoffCrossTalk].value, 0.0, 1e-3);
   EXPECT_TRUE(std::isnan(e[Q::kPickoffCrossTalk].std));
   EXPECT_TRUE(e[Q::kPickoffGainMismatch].determined);
   EXPECT_FALSE(e[Q::kQualityFactor].determined);
@@ -199,6 +205,60 @@ TEST(EngineeringQuantitiesTest, HeldParametersAndUnknownFrequencyAreNotDetermine
   EstimateSummary not_run;  // the estimator was not called
   const EngineeringQuantities none = ComputeEngineeringQuantities(not_run, kF0);
   for (const EngineeringValue& v : none.values) EXPECT_FALSE(v.determined);
+}
+
+// The budget (GUM): every determined quantity lists the fit's statistical part and, where the
+// map reads them, the pick-off model's and the drift correction's components; what a session
+// cannot evaluate is listed with a NaN size and a reason, never left out; u_c is the root sum of
+// squares of the evaluated ones; a declared bound on the unmodelled coupling adds its component.
+TEST(EngineeringQuantitiesTest, TheBudgetNamesEveryComponentAndCombinesTheEvaluatedOnes) {
+  const EstimateSummary s = EstimateMaximumLikelihood(Session(AnisotropicTruth(), 11));
+  ASSERT_TRUE(s.IsUsable());
+  const auto find = [](const EngineeringValue& v, std::string_view source) {
+    for (const UncertaintyComponent& c : v.budget)
+      if (c.source == source) return &c;
+    return static_cast<const UncertaintyComponent*>(nullptr);
+  };
+  const EngineeringQuantities e = ComputeEngineeringQuantities(s, kF0);
+  for (std::size_t k = 1; k < kEngineeringQuantityCount; ++k) {
+    const EngineeringValue& v = e.values[k];
+    SCOPED_TRACE(std::string(kEngineeringQuantities[k].name));
+    ASSERT_TRUE(v.determined);
+    ASSERT_NE(find(v, "fit (statistical)"), nullptr);
+    EXPECT_DOUBLE_EQ(find(v, "fit (statistical)")->standard_uncertainty, v.statistical_std);
+    double sum = 0.0;
+    for (const UncertaintyComponent& c : v.budget) {
+      if (std::isfinite(c.standard_uncertainty)) {
+        sum += c.standard_uncertainty * c.standard_uncertainty;
+      } else {
+        EXPECT_FALSE(c.note.empty()) << c.source;
+      }
+    }
+    EXPECT_NEAR(v.std, std::sqrt(sum), 1e-12 * v.std);
+    EXPECT_GE(v.std, v.statistical_std);
+  }
+  // The axes and the damping split read the pick-off's frame; τ does not, but reads the drift.
+  EXPECT_NE(find(e[Q::kDampingSplit], "pick-off model: cross-talk stage"), nullptr);
+  EXPECT_NE(find(e[Q::kFrequencyAxis], "pick-off model: cross-talk stage"), nullptr);
+  EXPECT_EQ(find(e[Q::kDecayTime], "pick-off model: cross-talk stage"), nullptr);
+  ASSERT_NE(find(e[Q::kDecayTime], "frequency drift correction"), nullptr);
+  // No bound declared: the component is named and not evaluated.
+  const UncertaintyComponent* undeclared =
+      find(e[Q::kDampingAxis], "pick-off model: unmodelled antisymmetric coupling");
+  ASSERT_NE(undeclared, nullptr);
+  EXPECT_TRUE(std::isnan(undeclared->standard_uncertainty));
+  EXPECT_NE(undeclared->note.find("no bound declared"), std::string::npos);
+  // Declared: a frame-angle bound b turns the axes by up to b/2 rad on the shell (rectangular).
+  EngineeringOptions options;
+  options.unmodelled_coupling_bound_rad = 1e-3;
+  const EngineeringQuantities bounded = ComputeEngineeringQuantities(s, kF0, options);
+  const UncertaintyComponent* declared =
+      find(bounded[Q::kFrequencyAxis], "pick-off model: unmodelled antisymmetric coupling");
+  ASSERT_NE(declared, nullptr);
+  // The real part turns the axis by b/2 on the shell; the imaginary part barely moves it.
+  EXPECT_NEAR(declared->standard_uncertainty, 0.5e-3 * 180.0 / kPi / std::sqrt(3.0), 1e-4);
+  EXPECT_GT(bounded[Q::kFrequencyAxis].std, e[Q::kFrequencyAxis].std);
+  EXPECT_FALSE(bounded.BudgetReport().empty());
 }
 
 }  // namespace

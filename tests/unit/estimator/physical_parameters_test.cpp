@@ -83,27 +83,7 @@ TEST(PhysicalParametersTest, AxesComeBackInTheirCanonicalRange) {
   EXPECT_EQ(ResonatorFromDelta(DeltaFromResonator(r), r.frequency_hz).frequency_axis_rad, 0.0);
 }
 
-TEST(PhysicalParametersTest, PickoffRoundTripsAreExact) {
-  const PickoffParameters p{1.013, -0.0042, 7e-4, 2.3e-3};
-  const PickoffParameters back = PickoffFromXi(XiFromPickoff(p));
-  EXPECT_NEAR(back.gain_ratio, p.gain_ratio, 1e-14);
-  EXPECT_NEAR(back.phase_mismatch_rad, p.phase_mismatch_rad, 1e-14);
-  EXPECT_EQ(back.cross_talk, p.cross_talk);
-  EXPECT_NEAR(back.electrode_angle_error_rad, p.electrode_angle_error_rad, 1e-15);
-
-  const Xi xi(0.01, -0.003, 0.002, 0.004);
-  const Xi xi_back = XiFromPickoff(PickoffFromXi(xi));
-  for (int i = 0; i < 4; ++i) EXPECT_NEAR(xi_back[i], xi[i], 1e-15) << i;
-}
-
-TEST(PhysicalParametersTest, PickoffToFirstOrderIsTheNamedError) {
-  // ξ1 ≈ (1 − g)/2, ξ2 ≈ −Δφ/2, ξ3 = κ, ξ4 ≈ ε/2 for small errors (errors of second order).
-  const Xi xi = XiFromPickoff({1.0 + 2e-4, 4e-4, 3e-4, 6e-4});
-  EXPECT_NEAR(xi[kGainMismatch], -1e-4, 1e-8);
-  EXPECT_NEAR(xi[kPhaseMismatch], -2e-4, 1e-8);
-  EXPECT_EQ(xi[kCrossTalk], 3e-4);
-  EXPECT_NEAR(xi[kPickoffAngle], 3e-4, 1e-10);
-}
+// The pick-off's physical errors and their maps: pickoff_frame_test.cpp.
 
 TEST(PhysicalParametersTest, ComplexDistortionIsTheModelsC) {
   const Xi xi(0.01, -0.003, 0.002, 0.004);
@@ -115,10 +95,6 @@ TEST(PhysicalParametersTest, ComplexDistortionIsTheModelsC) {
       h * Eigen::Vector2cd(std::complex<double>(x[0], x[1]), std::complex<double>(x[2], x[3]));
   EXPECT_NEAR(std::abs(w[0] - std::complex<double>(y[0], y[1])), 0.0, 1e-15);
   EXPECT_NEAR(std::abs(w[1] - std::complex<double>(y[2], y[3])), 0.0, 1e-15);
-  // The channel-2 / channel-1 gain is g·e^{−iΔφ} exactly.
-  const PickoffParameters p = PickoffFromXi(xi);
-  const std::complex<double> ratio = h(1, 1) / h(0, 0);
-  EXPECT_NEAR(std::abs(ratio - std::polar(p.gain_ratio, -p.phase_mismatch_rad)), 0.0, 1e-15);
 }
 
 // The meaning of each number on the model: the eigenvalues of A along the named axes.
