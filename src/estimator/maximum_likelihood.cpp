@@ -233,7 +233,6 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
       internal::InitialStatesCost cost;
     };
     std::vector<Candidate> candidates;
-    std::vector<internal::RunNuisance> phase_start;
     for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
       if (internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
@@ -242,12 +241,12 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
         Candidate c;
         c.p = internal::Pack(iee.delta, iee.xi);
         // The integral equation error does not see the common phase (its forms discard it): each
-        // run's ψ is started from the data, not at zero, which on long runs with a reference
-        // offset and a drift lands in a wrong basin. Once, at the first candidate: the other
-        // differs in ξ, which barely moves the orbit phase the start reads.
-        if (options.common_phase_start_from_data && phase_start.empty())
-          phase_start = internal::StartNuisance(runs, c.p, model, start_problem.Threads());
-        c.nuisance = phase_start;
+        // run's ψ is started from the data at this candidate's (δ, ξ), not at zero, which on long
+        // runs with a reference offset and a drift lands in a wrong basin. Per candidate: on a
+        // weak design the candidate with ξ in can be far off (|ξ| ~ 0.4), and its distortion would
+        // spoil the other's phase.
+        if (options.common_phase_start_from_data)
+          c.nuisance = internal::StartNuisance(runs, c.p, model, start_problem.Threads());
         if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost))
           candidates.push_back(std::move(c));
       }
