@@ -20,9 +20,11 @@
 // run's common phase started at zero, as the estimator did before docs/estimator-convergence.md.)
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,7 +48,32 @@ struct Cell {
   int good = 0, flagged = 0, not_converged = 0, wrong = 0;
   double worst = 0.0;
   double seconds = 0.0;
+  // Every usable fit's (δ, ξ) and reported std, for the scatter over seeds (--seeds ≥ 2).
+  std::vector<Eigen::Matrix<double, 10, 1>> estimates, stds;
 };
+
+// Per parameter: the scatter of the estimates over the seeds against the mean reported std, and
+// the mean error (against the release truth's interval) in reported std.
+void PrintScatter(const Cell& cell, const grid::GridTruth& truth, const char* where) {
+  const auto n = static_cast<int>(cell.estimates.size());
+  if (n < 2) return;
+  std::printf("%s, %d seeds: scatter / reported std (mean error / std):", where, n);
+  for (int j = 0; j < 10; ++j) {
+    double mean = 0.0, mean_std = 0.0;
+    for (int i = 0; i < n; ++i) {
+      mean += cell.estimates[i][j] / n;
+      mean_std += cell.stds[i][j] / n;
+    }
+    double scatter = 0.0;
+    for (int i = 0; i < n; ++i)
+      scatter += (cell.estimates[i][j] - mean) * (cell.estimates[i][j] - mean);
+    scatter = std::sqrt(scatter / (n - 1));
+    const double centre = 0.5 * (truth.low[j] + truth.high[j]);
+    std::printf(" %s %.2f (%+.2f)", grid::GridParameterName(j), scatter / mean_std,
+                (mean - centre) / mean_std);
+  }
+  std::printf("; resolution ± %.2f\n", 1.0 / std::sqrt(2.0 * (n - 1)));
+}
 
 }  // namespace
 
@@ -102,15 +129,24 @@ int main(int argc, char** argv) {
         for (std::size_t l = 0; l < lengths.size(); ++l) {
           const auto runs = grid::TruncateRuns(full, lengths[l], unit.output_rate_hz);
           const auto start = std::chrono::steady_clock::now();
+          const std::clock_t cpu_start = std::clock();
           est::MlOptions ml = grid::GridFitOptions(unit, threads);
           ml.common_phase_start_from_data = !zero_start;
           const est::EstimateSummary s = est::EstimateMaximumLikelihood(runs, ml);
           const double seconds =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
           const grid::GridOutcome out =
               grid::JudgeGridFit(s, grid::GridTruthFor(unit, drifts[d], lengths[l]));
           Cell& cell = table[o * drifts.size() + d][l];
           cell.seconds += seconds;
+          if (s.IsUsable()) {
+            Eigen::Matrix<double, 10, 1> e, sd;
+            e << s.delta, s.xi;
+            sd << s.delta_std, s.xi_std;
+            cell.estimates.push_back(e);
+            cell.stds.push_back(sd);
+          }
           if (out.Good(kMaxErrorInStd)) {
             ++cell.good;
             cell.worst = std::max(cell.worst, out.worst_error_in_std);
@@ -126,11 +162,11 @@ int main(int argc, char** argv) {
           if (verbose || !out.Good(kMaxErrorInStd)) {
             std::fprintf(stderr,
                          "offset %.3g drift %.3g length %.0f seed %d: %s, %s, worst %s %.2f std, "
-                         "τ %.1f s, %d iterations, %.2f s; drift per run",
+                         "τ %.1f s, %d iterations, %.3f s (CPU %.3f s); drift per run",
                          offsets[o], drifts[d], lengths[l], seed, est::ToString(s.termination),
                          out.acceptable ? "checks pass" : "FLAGGED",
                          grid::GridParameterName(out.worst_parameter), out.worst_error_in_std,
-                         out.tau_s, out.iterations, seconds);
+                         out.tau_s, out.iterations, seconds, cpu_seconds);
             for (double q : out.drift_rad_s2) std::fprintf(stderr, " %.3g", q);
             std::fprintf(stderr, "%s%s\n", out.first_problem.empty() ? "" : "; ",
                          out.first_problem.c_str());
@@ -163,6 +199,18 @@ int main(int argc, char** argv) {
       }
       std::printf("\n");
     }
+  }
+  if (seeds >= 2) {
+    std::printf("\n");
+    for (std::size_t o = 0; o < offsets.size(); ++o)
+      for (std::size_t d = 0; d < drifts.size(); ++d)
+        for (std::size_t l = 0; l < lengths.size(); ++l) {
+          char where[160];
+          std::snprintf(where, sizeof where, "offset %.3g, drift %.3g, %.0f s", offsets[o],
+                        drifts[d], lengths[l]);
+          PrintScatter(table[o * drifts.size() + d][l],
+                       grid::GridTruthFor(unit, drifts[d], lengths[l]), where);
+        }
   }
   std::printf(
       "\n%d fit(s) not ok, %d of them silently wrong (converged, unflagged, beyond %.0f std); "
