@@ -9,8 +9,9 @@
 // wrong sign, τ off by half: issue 23). 20 s runs are short enough for the zero start; 50–200 s
 // runs are not.
 //
-// How: on a decimated grid of the run (at most kPhaseStartPoints time stamps; the phase needs no
-// more, and the pass costs ~1 % of one pass over the data),
+// How: on a decimated grid of the run (at most kPhaseStartPoints time stamps: 0.1 s apart on a
+// 200 s run, which reads a residual common frequency of up to 15 rad/s without aliasing; 3 ms of
+// CPU for the production session, where one pass over the data takes 20 ms),
 //  1. the observed initial state w0 from the first samples, where ψ is still small (a least-squares
 //     fit of the model's free run with ψ = 0 over them);
 //  2. the model's prediction v(t) = G·exp(A·t)·G⁻¹·w0 at the starting (δ, ξ), without ψ;
@@ -34,7 +35,7 @@
 
 namespace hrgbench::estimator::internal {
 
-inline constexpr int kPhaseStartPoints = 8000;
+inline constexpr int kPhaseStartPoints = 2000;
 
 // q_1 … q_degree (rad/s^j) into `q` for the run at (p, Ω = run.omega_rad_s + omega_offset_rad_s).
 // False (q zero) when the data give no usable phase.
