@@ -14,7 +14,7 @@
 //
 // Usage: build/bin/convergence_grid_table [--unit production|fast] [--seeds 1]
 //            [--lengths 10,20,50,100,200] [--offsets 0,0.03,0.06,0.1] [--drifts 0,0.1,0.5,1]
-//            [--threads 0] [--verbose] [--zero-start]
+//            [--threads 0] [--verbose] [--zero-start] [--split-mhz 20]
 // (--unit fast: a 1 kHz carrier at 200 Hz output, the unit test's chain; production: 5 kHz, 1 kHz;
 // offsets in rad/s, drifts in mHz/s; --verbose prints every fit's outcome; --zero-start: each
 // run's common phase started at zero, as the estimator did before docs/estimator-convergence.md.)
@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
   int seeds = 1;
   int threads = 0;
   bool verbose = false;
+  double split_mhz = -1.0;  // --split-mhz: the unit's frequency split instead of its 20 mHz
   bool zero_start = false;  // --zero-start: the common phase started at zero (the estimator before)
   std::vector<double> lengths = {10, 20, 50, 100, 200};
   std::vector<double> offsets = {0, 0.03, 0.06, 0.1};
@@ -98,6 +99,7 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--lengths") == 0) lengths = ParseList(argv[i + 1]);
     if (std::strcmp(argv[i], "--offsets") == 0) offsets = ParseList(argv[i + 1]);
     if (std::strcmp(argv[i], "--drifts") == 0) drifts = ParseList(argv[i + 1]);
+    if (std::strcmp(argv[i], "--split-mhz") == 0) split_mhz = std::atof(argv[i + 1]);
   }
   if (unit_name == "fast") {
     unit = grid::FastGridUnit();
@@ -105,6 +107,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--unit must be production or fast\n");
     return 2;
   }
+  if (split_mhz >= 0.0) unit.frequency_split_hz = 1e-3 * split_mhz;
   if (lengths.empty() || seeds < 1) return 2;
   const double longest = *std::max_element(lengths.begin(), lengths.end());
   constexpr double kMaxErrorInStd = 5.0;
