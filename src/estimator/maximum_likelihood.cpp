@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common_phase.hpp"
+#include "common_phase_start.hpp"
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "output_error_problem.hpp"
@@ -50,7 +51,8 @@ bool Prepare(const std::vector<RunData>& runs, const MlOptions& options, Estimat
       CheckRatePlan(omegas, options.xi_estimated, options.identifiability);
   free->delta_fixed = options.delta_fixed;
   free->xi_fixed = options.xi_fixed;
-  for (int j = 0; j < 6; ++j) free->delta[j] = options.delta_estimated[j] && rules.delta_identifiable[j];
+  for (int j = 0; j < 6; ++j)
+    free->delta[j] = options.delta_estimated[j] && rules.delta_identifiable[j];
   free->xi = rules.IdentifiableXi(options.xi_estimated);
   const bool lost = free->delta != options.delta_estimated || free->xi != options.xi_estimated;
   if (lost && options.unidentifiable == UnidentifiablePolicy::kRefuse) {
@@ -153,7 +155,8 @@ EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
   FillParameters(internal::Pack(iee.delta, iee.xi), free, &s);
   s.iterations = 1;
   s.samples_used = internal::CountSamples(runs);
-  s.residual_rms = std::sqrt(iee.sse / static_cast<double>(4 * std::max<std::size_t>(1, iee.equations)));
+  s.residual_rms =
+      std::sqrt(iee.sse / static_cast<double>(4 * std::max<std::size_t>(1, iee.equations)));
   s.termination = Termination::kConverged;
   s.message = "integral equation error (starting point of ml); no std reported";
   return s;
@@ -187,18 +190,31 @@ double StepInStd(const Eigen::VectorXd& step, const Eigen::MatrixXd& h_reduced, 
 
 // Steps 1–3 of the header on `runs`. Fills termination, message, warnings and iterations of `s`;
 // false when no estimate could be made.
+// `start`, `start_nuisance_seed`: where a previous fit of the same runs (before outliers were
+// removed) ended; its common phases and Ω offsets seed this one (w0 is solved again).
 bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
-         const internal::NuisanceModel& model, const FullParameters* start, FreeSet* free,
+         const internal::NuisanceModel& model, const FullParameters* start,
+         const std::vector<internal::RunNuisance>* start_nuisance_seed, FreeSet* free,
          FitState* state, EstimateSummary* s) {
   // 1. Starting point.
   FullParameters& p = state->p;
   // The initial states solved for the chosen starting point, when the start was chosen by cost:
   // step 2 needs the same ones at the same point.
   std::vector<internal::RunNuisance> start_nuisance;
+  // The nuisance to start from when start_nuisance is not (w0 unsolved): the common phase of each
+  // run from the data (common_phase_start.hpp), or a previous fit's.
+  std::vector<internal::RunNuisance> seed_nuisance;
   if (start != nullptr) {
     p = *start;
+    if (start_nuisance_seed != nullptr) seed_nuisance = *start_nuisance_seed;
   } else if (options.use_initial_guess) {
     p = internal::Pack(options.initial_delta, options.initial_xi);
+    if (options.common_phase_start_from_data)
+      seed_nuisance = internal::StartNuisance(
+          runs, p, model,
+          internal::OutputErrorProblem(runs, {}, options.num_threads,
+                                       options.min_samples_for_threads, model)
+              .Threads());
   } else {
     // Two starting points from the integral equation error: with ξ through its first-order effect,
     // and with ξ held at its given value (physically |ξ| ≪ 1). On strong designs the first is
@@ -224,6 +240,13 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
                                           &iee_sums)) {
         Candidate c;
         c.p = internal::Pack(iee.delta, iee.xi);
+        // The integral equation error does not see the common phase (its forms discard it): each
+        // run's ψ is started from the data at this candidate's (δ, ξ), not at zero, which on long
+        // runs with a reference offset and a drift lands in a wrong basin. Per candidate: on a
+        // weak design the candidate with ξ in can be far off (|ξ| ~ 0.4), and its distortion would
+        // spoil the other's phase.
+        if (options.common_phase_start_from_data)
+          c.nuisance = internal::StartNuisance(runs, c.p, model, start_problem.Threads());
         if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost))
           candidates.push_back(std::move(c));
       }
@@ -273,7 +296,13 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
   std::vector<internal::RunNuisance>& x0 = state->nuisance;
   x0.clear();
   bool x0_current = !start_nuisance.empty() && p == chosen;
-  if (x0_current) x0 = std::move(start_nuisance);
+  if (x0_current) {
+    x0 = std::move(start_nuisance);
+  } else {
+    // Solved below for p; the common phase and ΔΩ they hold are kept.
+    x0 = start_nuisance.empty() ? std::move(seed_nuisance) : std::move(start_nuisance);
+    if (x0.size() != runs.size()) x0.clear();
+  }
 
   // 2. Numerical identifiability at the starting point; drop what the data cannot determine.
   internal::NormalEquations& ne = state->ne;
@@ -576,8 +605,11 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
     s.warnings = prepared_warnings;
     FreeSet free_pass = free;
     const FullParameters previous = state.p;
+    const std::vector<internal::RunNuisance> previous_nuisance = state.nuisance;
     residuals_current = false;
-    if (!Fit(*in_use, options, model, pass == 0 ? nullptr : &previous, &free_pass, &state, &s))
+    if (!Fit(*in_use, options, model, pass == 0 ? nullptr : &previous,
+             pass == 0 || !options.common_phase_start_from_data ? nullptr : &previous_nuisance,
+             &free_pass, &state, &s))
       return s;
     free = free_pass;
     if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) break;

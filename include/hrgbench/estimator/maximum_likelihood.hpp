@@ -51,8 +51,8 @@ struct MlOptions {
   // Which ξ components to estimate; the others are held at xi_fixed.
   XiMask xi_estimated = kAllXi;
   Xi xi_fixed = Xi::Zero();
-  // Which δ components to estimate; the others are held at delta_fixed. δ2 is held automatically when
-  // no run has Ω ≠ 0 (policy kFix), at delta_fixed[kScaleFactor].
+  // Which δ components to estimate; the others are held at delta_fixed. δ2 is held automatically
+  // when no run has Ω ≠ 0 (policy kFix), at delta_fixed[kScaleFactor].
   std::array<bool, 6> delta_estimated = {true, true, true, true, true, true};
   Delta delta_fixed = (Delta() << 0.0, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
 
@@ -62,8 +62,8 @@ struct MlOptions {
   // Levenberg–Marquardt. The start from the integral equation error is within a few per cent, so a
   // handful of iterations is typical; 50 is a safety bound.
   int max_iterations = 50;
-  // Stop when every scaled step component is below this (scaled by the parameter's std, so 1e-6 means
-  // "moved less than a millionth of its own uncertainty").
+  // Stop when every scaled step component is below this (scaled by the parameter's std, so 1e-6
+  // means "moved less than a millionth of its own uncertainty").
   double step_tolerance_in_std = 1e-6;
   // ... or when the relative cost decrease is below this.
   double cost_tolerance = 1e-15;
@@ -80,6 +80,11 @@ struct MlOptions {
   // demodulation reference is taken as exactly the resonator's phase, 1 adds a constant frequency
   // offset per run, 2 a frequency ramp.
   int phase_degree = 2;
+  // Start each run's common phase from the data (the orbit phase of data and model,
+  // src/estimator/common_phase_start.hpp) rather than at zero. A run whose reference is off by
+  // 0.06 rad/s has turned by 6 rad at 100 s: from zero, long runs with an offset and a drift land
+  // in a wrong basin (docs/estimator-convergence.md). false only to show that failure.
+  bool common_phase_start_from_data = true;
   // Each run's Ω as a nuisance parameter with a prior of RunData::omega_std_rad_s (runs without a
   // finite positive std keep their Ω exact).
   bool omega_uncertainty = true;
