@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common_phase.hpp"
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "output_error_problem.hpp"
@@ -50,7 +51,8 @@ bool Prepare(const std::vector<RunData>& runs, const MlOptions& options, Estimat
       CheckRatePlan(omegas, options.xi_estimated, options.identifiability);
   free->delta_fixed = options.delta_fixed;
   free->xi_fixed = options.xi_fixed;
-  for (int j = 0; j < 6; ++j) free->delta[j] = options.delta_estimated[j] && rules.delta_identifiable[j];
+  for (int j = 0; j < 6; ++j)
+    free->delta[j] = options.delta_estimated[j] && rules.delta_identifiable[j];
   free->xi = rules.IdentifiableXi(options.xi_estimated);
   const bool lost = free->delta != options.delta_estimated || free->xi != options.xi_estimated;
   if (lost && options.unidentifiable == UnidentifiablePolicy::kRefuse) {
@@ -153,7 +155,8 @@ EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
   FillParameters(internal::Pack(iee.delta, iee.xi), free, &s);
   s.iterations = 1;
   s.samples_used = internal::CountSamples(runs);
-  s.residual_rms = std::sqrt(iee.sse / static_cast<double>(4 * std::max<std::size_t>(1, iee.equations)));
+  s.residual_rms =
+      std::sqrt(iee.sse / static_cast<double>(4 * std::max<std::size_t>(1, iee.equations)));
   s.termination = Termination::kConverged;
   s.message = "integral equation error (starting point of ml); no std reported";
   return s;
@@ -821,6 +824,17 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
           static_cast<double>(diagnostics.sandwich_batch_samples),
           diagnostics.sandwich_to_white_std_max));
   }
+  // The wave precesses at −δ2·Ω relative to the case with δ2 = k > 0 for every resonator of this
+  // kind: a significantly negative δ2 fits data whose rates have the wrong sign (the unit's axis
+  // mounted the other way, the table's sign). Such data fit perfectly, so no residual check sees
+  // it. (Not the I/Q convention: conjugating the channels leaves δ2 as it is, iq_convention.hpp.)
+  if (s.delta_estimated[1] && std::isfinite(s.delta_std[1]) &&
+      s.delta[1] < -kNegativeAngularGainInStd * s.delta_std[1])
+    diagnostics.problems.push_back(Format(
+        "angular gain delta2 = %.6g is negative (%.3g std below 0): the wave turns with the case, "
+        "not against it as every such resonator does. Likely the recorded rates have the wrong "
+        "sign (the unit's sensitive axis, the table's sign convention)",
+        s.delta[1], -s.delta[1] / s.delta_std[1]));
   for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;
 }
