@@ -115,6 +115,10 @@ std::expected<void, ConfigError> ReadCarrierTable(TableReader& reader, CarrierOp
                                "), so that the 2*f0 image is rejected"));
   HRG_TRY(report, OptionalBool(reader, "report_reference_phase", e.report_reference_phase));
   e.report_reference_phase = *report;
+  HRG_TRY(iq, Choice(reader, "iq_convention", {"minus-sine", "plus-sine"},
+                     e.iq_convention == estimator::IqConvention::kPlusSine ? 1 : 0));
+  e.iq_convention =
+      *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
   HRG_CHECK(reader.Unknown(
       "frequency_hz, decay_time_s, damping_anisotropy_per_s, damping_axis_rad, "
       "frequency_split_hz, frequency_axis_rad, angular_gain, "
@@ -122,7 +126,7 @@ std::expected<void, ConfigError> ReadCarrierTable(TableReader& reader, CarrierOp
       "phase_mismatch_rad, cross_talk, electrode_angle_error_rad, common_gain, common_delay_s, "
       "white_noise_std, coloured_noise_std, coloured_noise_time_s, sample_rate_hz, reference, "
       "reference_offset_hz, pll_bandwidth_hz, filter_order, filter_cutoff_hz, "
-      "report_reference_phase"));
+      "report_reference_phase, iq_convention"));
   return {};
 }
 

@@ -67,9 +67,15 @@ bool CarrierElectronics::Push(const Eigen::Vector2d& s, estimator::Observation* 
     const std::complex<double> u1(filtered[0], filtered[1]), u2(filtered[2], filtered[3]);
     reference_.Correct(0.5 * std::arg(u1 * u1 + u2 * u2), output_period_s_);
   }
+  // The chain computes in the model's convention; plus-sine electronics output its conjugate.
+  Eigen::Array4d out = filtered;
+  if (options_.iq_convention == estimator::IqConvention::kPlusSine) {
+    out[1] = -out[1];
+    out[3] = -out[3];
+    reported_phase_rad_ = -reported_phase_rad_;
+  }
   for (int c = 0; c < 4; ++c) {
-    (*y)[c] =
-        options_.quantise ? gyro_can::DequantiseY(gyro_can::QuantiseY(filtered[c])) : filtered[c];
+    (*y)[c] = options_.quantise ? gyro_can::DequantiseY(gyro_can::QuantiseY(out[c])) : out[c];
   }
   return true;
 }

@@ -6,6 +6,13 @@
 // the release sample), the tracking PLL's correction once per output sample, and the protocol's
 // quantisation (gyro_can::QuantiseY, the sample frames' LSB).
 //
+// The I/Q sign convention (estimator/iq_convention.hpp) is the electronics' choice: "minus-sine"
+// (the model's, the default) or "plus-sine" (y_Q = +2·LPF[s·sin ψ]), which outputs the complex
+// conjugate of each channel, as such electronics do; its reported phase is then −χ, the angle that
+// turns ITS (I, Q) back (the host's UndoReferencePhase turns by +reported), so that the host needs
+// to know nothing about the convention to undo a tracking reference, and the record's declared
+// convention alone says how to read the samples.
+//
 // At release the demodulator has been running on the held wave: the filters hold the steady state
 // of the held wave's demodulated value, and the reference is locked to the wave (phase 0).
 //
@@ -22,6 +29,7 @@
 
 #include <string>
 
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "sim/butterworth_low_pass.hpp"
 #include "sim/reference_oscillator.hpp"
@@ -36,6 +44,8 @@ struct CarrierElectronicsOptions {
   // The electronics report their reference's phase (frame ReferencePhase, every 5th sample); false:
   // older electronics that do not (the host cannot undo a tracking reference then).
   bool report_reference_phase = true;
+  // The demodulation's sign convention (above).
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
 
   bool IsValid(std::string* why) const;
 };

@@ -12,6 +12,7 @@
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
+#include "hrgbench/bench/recorded_runs.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {
@@ -48,7 +49,14 @@ int Run(const Arguments& args) {
     std::cerr << session.error().ToString() << '\n';
     return app::kExitBadInput;
   }
-  const std::vector<estimator::RunData> runs = session::ToRunData(*session);
+  // In the model's I/Q convention, less the output filter's settling after release.
+  auto prepared = bench::PrepareRecordedRuns(*session);
+  if (!prepared) {
+    std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
+              << prepared.error() << '\n';
+    return app::kExitBadInput;
+  }
+  const std::vector<estimator::RunData>& runs = prepared->runs;
   if (runs.empty()) {
     std::cerr << args.dir << ": no complete run to estimate from\n";
     return app::kExitBadInput;
@@ -64,16 +72,19 @@ int Run(const Arguments& args) {
   spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
 
   bench::MethodResult result = bench::RunMethod(runs, request);
+  bench::NameIqConventionContradiction(session->document, &result.summary);
   std::vector<std::string> warnings = result.selection_warnings;
   warnings.insert(warnings.end(), session->warnings.begin(), session->warnings.end());
 
   if (args.json) {
-    std::cout
-        << bench::EstimateReportJson(args.method, result.summary, warnings, session->document).dump(1)
-        << '\n';
+    nlohmann::json report =
+        bench::EstimateReportJson(args.method, result.summary, warnings, session->document);
+    report["preparation"] = prepared->Json();
+    std::cout << report.dump(1) << '\n';
   } else {
     std::cout << "session: " << args.dir << " (" << runs.size() << " runs)\n";
     for (const std::string& w : warnings) std::cout << "warning: " << w << '\n';
+    for (const std::string& n : prepared->notes) std::cout << "note: " << n << '\n';
     std::cout << result.summary.Report();
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
     if (result.summary.IsUsable()) {
@@ -125,5 +136,6 @@ int main(int argc, char** argv) {
                  "white | sandwich")
       ->check(CLI::IsMember({"auto", "white", "sandwich"}));
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-estimate", quiet, [&] { return Run(args); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-estimate", quiet,
+                                    [&] { return Run(args); });
 }

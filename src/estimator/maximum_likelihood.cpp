@@ -7,6 +7,7 @@
 
 #include "common_phase.hpp"
 #include "common_phase_start.hpp"
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "output_error_problem.hpp"
@@ -853,6 +854,80 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
           static_cast<double>(diagnostics.sandwich_batch_samples),
           diagnostics.sandwich_to_white_std_max));
   }
+  // Ω taken as exact: what a 1e-6 rad/s error of each such run's Ω would do (summary.hpp). With
+  // run r's Ω as one more nuisance (ΔΩ last, NuisanceModel), the Gauss–Newton answer to a fixed
+  // shift ε of it, every other nuisance of the run re-fitted, is Δθ = −H_red⁻¹·b·ε with
+  // b = h_pΩ − H_px'·H_x'x'⁻¹·h_x'Ω (x' the run's other nuisance). The prior weight only enters
+  // the (Ω, Ω) entry, which this does not use: any positive weight gives the same b. One more
+  // pass over the data.
+  {
+    std::vector<std::size_t> exact;
+    for (std::size_t r = 0; r < used.size(); ++r)
+      if (!model.OmegaFree(r)) exact.push_back(r);
+    if (!exact.empty() && have_inverse) {
+      internal::NuisanceModel with_omega = model;
+      std::vector<internal::RunNuisance> nuisance = state.nuisance;
+      for (std::size_t r : exact) {
+        with_omega.omega_prior_weight[r] = 1.0;
+        nuisance[r].conservativeResize(nuisance[r].size() + 1);
+        nuisance[r][nuisance[r].size() - 1] = 0.0;
+      }
+      const internal::OutputErrorProblem omega_problem(
+          used, indices, options.num_threads, options.min_samples_for_threads, with_omega);
+      internal::NormalEquations ne_omega;
+      omega_problem.Linearize(p, nuisance, &ne_omega);
+      const int o = with_omega.OmegaIndex();
+      double largest_in_std = 0.0;
+      std::string run_list;
+      for (std::size_t r : exact) {
+        const Eigen::MatrixXd& h_xx = ne_omega.h_xx[r];
+        const Eigen::MatrixXd& h_px = ne_omega.h_px[r];
+        const Eigen::MatrixXd h_other = h_xx.topLeftCorner(o, o);
+        Eigen::MatrixXd h_other_inverse;
+        if (!internal::InvertScaledSpd(h_other, &h_other_inverse)) continue;
+        // Plain matrices, not nested block expressions (which GCC 12 flags as a potential null
+        // dereference inside Eigen).
+        const Eigen::VectorXd h_other_omega = h_xx.col(o).head(o);
+        const Eigen::VectorXd solved = h_other_inverse * h_other_omega;
+        const Eigen::MatrixXd h_p_other = h_px.leftCols(o);
+        const Eigen::VectorXd b = h_px.col(o) - h_p_other * solved;
+        const Eigen::VectorXd change = -kOmegaSensitivityStepRadS * (h_reduced_inverse * b);
+        OmegaSensitivity sensitivity;
+        sensitivity.run_id = used[r].id;
+        for (std::size_t c = 0; c < indices.size(); ++c) {
+          const int full = indices[c];
+          const auto ci = static_cast<Eigen::Index>(c);
+          if (full < internal::kXiOffset)
+            sensitivity.delta[full] = change[ci];
+          else
+            sensitivity.xi[full - internal::kXiOffset] = change[ci];
+          const double sd = full < internal::kXiOffset ? s.delta_std[full]
+                                                       : s.xi_std[full - internal::kXiOffset];
+          if (sd > 0.0) largest_in_std = std::max(largest_in_std, std::abs(change[ci]) / sd);
+        }
+        s.omega_sensitivity.push_back(sensitivity);
+        run_list += (run_list.empty() ? "" : ", ") + std::to_string(used[r].id);
+      }
+      if (!s.omega_sensitivity.empty())
+        s.warnings.push_back(
+            "Omega taken as exact in run" + std::string(exact.size() > 1 ? "s " : " ") + run_list +
+            " (no recorded standard error, or its use turned off): the std do not include the "
+            "rates' error; a 1e-06 rad/s error of one run's Omega moves the estimate by up to " +
+            Format("%.3g", largest_in_std) + " std (omega_sensitivity)");
+    }
+  }
+
+  // The wave precesses at −δ2·Ω relative to the case with δ2 = k > 0 for every resonator of this
+  // kind: a significantly negative δ2 fits data whose rates have the wrong sign (the unit's axis
+  // mounted the other way, the table's sign). Such data fit perfectly, so no residual check sees
+  // it. (Not the I/Q convention: conjugating the channels leaves δ2 as it is, iq_convention.hpp.)
+  if (s.delta_estimated[1] && std::isfinite(s.delta_std[1]) &&
+      s.delta[1] < -kNegativeAngularGainInStd * s.delta_std[1])
+    diagnostics.problems.push_back(Format(
+        "angular gain delta2 = %.6g is negative (%.3g std below 0): the wave turns with the case, "
+        "not against it as every such resonator does. Likely the recorded rates have the wrong "
+        "sign (the unit's sensitive axis, the table's sign convention)",
+        s.delta[1], -s.delta[1] / s.delta_std[1]));
   for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;
 }

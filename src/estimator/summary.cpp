@@ -73,6 +73,24 @@ std::string EstimateSummary::Report() const {
       out += buffer;
     }
   }
+  if (!omega_sensitivity.empty()) {
+    out += "  Omega taken as exact: change of the estimate per 1e-06 rad/s error of a run's Omega\n";
+    for (const OmegaSensitivity& o : omega_sensitivity) {
+      std::snprintf(buffer, sizeof buffer, "    run %d:", o.run_id);
+      out += buffer;
+      for (int j = 0; j < 6; ++j) {
+        if (!delta_estimated[j]) continue;
+        std::snprintf(buffer, sizeof buffer, " %s %+.3e", kDeltaNames[j].data(), o.delta[j]);
+        out += buffer;
+      }
+      for (int k = 0; k < 4; ++k) {
+        if (!xi_estimated[k]) continue;
+        std::snprintf(buffer, sizeof buffer, " %s %+.3e", kXiNames[k].data(), o.xi[k]);
+        out += buffer;
+      }
+      out += "\n";
+    }
+  }
   for (const std::string& w : warnings) out += "  warning: " + w + "\n";
   return out;
 }

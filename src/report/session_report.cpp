@@ -12,6 +12,7 @@
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/output_filter.hpp"
+#include "hrgbench/bench/recorded_runs.hpp"
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/session/session.hpp"
@@ -109,6 +110,9 @@ void Estimate(ReportInputs* in, std::set<std::string>* seen,
                "the record's noise shape is unusable (" + shape.error() +
                    "): the report's checks assume white noise");
   }
+  // Less the output filter's settling after release, as the bench fits (recorded_runs.hpp).
+  if (auto filter = bench::RecordedOutputFilter(in->document); filter)
+    bench::SkipReleaseSettling(bench::ReleaseSettlingS(*filter), &runs);
   bench::MethodResult estimated = bench::RunMethod(runs, request);
   std::vector<std::string> warnings = reader_warnings;
   warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
@@ -206,6 +210,8 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
         v.data.omega_std_rad_s = entry.omega_std_rad_s;
         v.data.t_s = std::move(samples->t_s);
         v.data.y = std::move(samples->y);
+        // Drawn and fitted in the model's I/Q convention, as the bench fits (recorded_runs.hpp).
+        estimator::ToModelConvention(session->iq_convention, v.data.y);
       }
     }
     in.runs.push_back(std::move(v));

@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -190,6 +191,34 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     return check.Fail("sample_rate_hz", "must be positive, got " + doc["sample_rate_hz"].dump());
   }
   session.sample_rate_hz = *rate;
+
+  // electronics.iq_convention: optional (sessions before it was recorded are the model's), but a
+  // value this reader does not know is an error: guessing would flip signs silently.
+  const auto electronics = doc.find("electronics");
+  const json* convention = nullptr;
+  if (electronics != doc.end() && electronics->is_object()) {
+    if (const auto it = electronics->find("iq_convention"); it != electronics->end())
+      convention = &*it;
+  }
+  if (convention == nullptr) {
+    session.notes.push_back(
+        "session.json has no electronics.iq_convention (recorded before the convention was "
+        "stated): read as the model's 'minus-sine' (y2 = -2*LPF[s*sin])");
+  } else {
+    const auto parsed = convention->is_string()
+                            ? estimator::ParseIqConvention(convention->get<std::string>())
+                            : std::nullopt;
+    if (!parsed) {
+      return check.Fail("electronics.iq_convention",
+                        "expected \"minus-sine\" or \"plus-sine\", got " + Describe(*convention));
+    }
+    session.iq_convention = *parsed;
+    if (*parsed == estimator::IqConvention::kPlusSine) {
+      session.notes.push_back(
+          "electronics.iq_convention = 'plus-sine': each channel's complex sample conjugated (y2 "
+          "and y4 negated) into the model's convention before estimating");
+    }
+  }
 
   const auto runs = check.Get(doc, "", "runs");
   if (!runs) return std::unexpected(runs.error());

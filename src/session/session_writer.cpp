@@ -82,6 +82,12 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     if (!doc.contains("unit") || !doc["unit"].is_object()) doc["unit"] = json::object();
     doc["unit"]["serial"] = session.serial;
     doc["sample_rate_hz"] = session.sample_rate_hz;
+    // Always stated: a record that does not say which way y2 and y4 point can be read wrong
+    // without any misfit showing (estimator/iq_convention.hpp).
+    if (!doc.contains("electronics") || !doc["electronics"].is_object())
+      doc["electronics"] = json::object();
+    doc["electronics"]["iq_convention"] =
+        std::string(estimator::IqConventionName(session.iq_convention));
     json runs = json::array();
     for (const RunEntry& run : session.runs) {
       json item = ExistingRunObject(session.document, run.id);

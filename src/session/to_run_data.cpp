@@ -19,6 +19,7 @@ std::vector<estimator::RunData> ToRunData(const Session& session) {
     }
     run.t_s = session.loaded_samples[i].t_s;
     run.y = session.loaded_samples[i].y;
+    estimator::ToModelConvention(session.iq_convention, run.y);
     out.push_back(std::move(run));
   }
   return out;

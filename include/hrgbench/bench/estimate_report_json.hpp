@@ -33,6 +33,16 @@
 //                                  frequency_source, quantities [{name, label, unit, value, std,
 //                                  determined, note}] in the estimator's order}
 //   truth                object   only when the session has "simulation": {delta, xi, sigma, seed}
+//   omega_sensitivity    object   only when some run's Ω was taken as exact (no recorded std):
+//                                 {omega_taken_as_exact: true, step_rad_s: 1e-6, runs [{run,
+//                                  delta [6], xi [4]}]}: the change of each estimated component
+//                                 per 1e-6 rad/s error of that run's Ω (null for held ones)
+//   preparation          object   added by hrg-estimate and the estimate of record (not by
+//                                 EstimateReportJson): what was done to the record's samples
+//                                 before the fit, bench/recorded_runs.hpp PreparedRuns::Json()
+//                                 {iq_convention, release_settling {output_filter, fraction,
+//                                  settle_s, runs [{run, samples_skipped, first_fitted_t_s}]},
+//                                  notes [string]}
 //
 // JSON has no NaN: every non-finite number is written as null.
 

@@ -40,6 +40,26 @@ nlohmann::json OutputFilterJson(const OutputFilter& filter);
 std::expected<estimator::NoiseShape, std::string> NoiseShapeOf(const OutputFilter& filter,
                                                                double sample_rate_hz);
 
+// The output filter a session's record declares ("electronics"."output_filter" of session.json):
+// kNone when the record has none (sessions before the declaration existed, hrg-sim sessions). An
+// error naming the field and value when it is malformed.
+std::expected<OutputFilter, std::string> RecordedOutputFilter(
+    const nlohmann::json& session_document);
+
+// How long after release the filter's output still carries the release: the time after which the
+// step response of the ANALOG Butterworth of that order and cutoff is, by a bound on the sum of
+// its modes' magnitudes, within `fraction` of its final value. Why a step: at release the
+// electronics' filters hold the held wave's demodulated value, and the free run's input differs
+// from it by a jump (the 2·f0 image and the wave's motion starting at once); the response to any
+// such jump of size ≤ 1 is bounded by the step's modes. With the default 1e-6 of the wave's
+// amplitude the transient is 1 % of a σ_y ≈ 1e-4 pick-off noise: 30 ms for the 4th-order 200 Hz
+// filter (its slowest mode decays at 2π·200·sin(π/8) = 481 /s). 0 for kNone.
+inline constexpr double kReleaseSettlingFraction = 1e-6;
+double ReleaseSettlingS(const OutputFilter& filter, double fraction = kReleaseSettlingFraction);
+
+// "4th-order Butterworth, 200 Hz" or "none".
+std::string OutputFilterName(const OutputFilter& filter);
+
 // The noise shape a session's record declares: "electronics"."output_filter" of session.json at
 // the session's sample rate; white when the record has none (sessions before the declaration
 // existed, hrg-sim sessions). An error naming the field and value when it is malformed.

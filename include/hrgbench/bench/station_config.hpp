@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "hrgbench/bench/output_filter.hpp"
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/bench/site.hpp"
 #include "hrgbench/config_file/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
@@ -63,6 +64,10 @@ struct GyroLinkConfig {
   // The electronics' output low-pass (output_filter, output_filter_order, output_filter_cutoff_hz):
   // the shape of the pick-off noise the fit's checks assume. Default: none (white noise).
   OutputFilter output_filter;
+  // The electronics' demodulation sign convention (iq_convention = "minus-sine" | "plus-sine",
+  // estimator/iq_convention.hpp): recorded as electronics.iq_convention; a "plus-sine" record is
+  // conjugated into the model's before every fit.
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
 };
 
 // [table]: the rate table. The software limits and the acceleration apply to both kinds; the

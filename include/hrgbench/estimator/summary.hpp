@@ -27,6 +27,21 @@ struct RunNuisanceEstimate {
   double omega_offset_rad_s = 0.0;
 };
 
+// A 1e-6 rad/s error of a run's Ω: the step the sensitivities below are given for (a good rate
+// table's calibration; the 1e-5 relative error at 0.3 rad/s is 3e-6).
+inline constexpr double kOmegaSensitivityStepRadS = 1e-6;
+
+// What an error of one run's Ω would do to the estimate, for a run whose Ω the fit took as exact
+// (no finite recorded standard error, or MlOptions::omega_uncertainty off): the change of each
+// estimated component were the recorded Ω off by kOmegaSensitivityStepRadS, i.e.
+// ∂θ/∂Ω_r·1e-6, linearised at the estimate with every other run's Ω held and every nuisance
+// re-fitted. NaN for components held fixed. Same units as delta and xi.
+struct OmegaSensitivity {
+  int run_id = 0;
+  Delta delta = Delta::Constant(kNaN);
+  Xi xi = Xi::Constant(kNaN);
+};
+
 enum class Termination {
   kNotRun,            // the estimator was not called
   kConverged,         // a convergence tolerance was met (or a direct method solved its system)
@@ -74,6 +89,11 @@ struct EstimateSummary {
   // Output-error methods: is the fit right? Model-free noise, residual ratio, whiteness, outliers,
   // per run, and the checks that failed (see fit_diagnostics.hpp). Empty for the other methods.
   FitDiagnostics diagnostics;
+
+  // Maximum likelihood: one entry per run whose Ω was taken as exact, in the order of the runs
+  // (empty when every Ω entered with its uncertainty, and for the other methods). The std above
+  // do not include Ω's error for these runs; a warning says so.
+  std::vector<OmegaSensitivity> omega_sensitivity;
 
   int iterations = 0;
   std::size_t samples_used = 0;

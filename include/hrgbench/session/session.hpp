@@ -15,10 +15,12 @@
 // Python's repr), which round-trips exactly just as %.17g does but keeps "0.01" as "0.01".
 //
 // session.json keys read: format, version, unit.serial, sample_rate_hz, runs[].{id, file,
-// omega_rad_s, status, end.omega_std_error_rad_s (optional)}. Every other key (station, config
-// hashes, temperature, "simulation" truth...) is kept verbatim in `document` and written back
-// unchanged. Runs whose status is not "complete" are skipped with a warning. Every error names the
-// file, the line (1-based, 0 when not applicable) and the field.
+// omega_rad_s, status, end.omega_std_error_rad_s (optional)}, electronics.iq_convention (optional:
+// "minus-sine" | "plus-sine", estimator/iq_convention.hpp; a session from before it was recorded is
+// read as the model's "minus-sine", with a note; any other value is an error). Every other key
+// (station, config hashes, temperature, "simulation" truth...) is kept verbatim in `document` and
+// written back unchanged. Runs whose status is not "complete" are skipped with a warning. Every
+// error names the file, the line (1-based, 0 when not applicable) and the field.
 //
 // Bounds (refused with an error naming the file, before anything large is allocated or any
 // recursive parse starts): see the constants below. The reader refuses what exceeds them and the
@@ -38,6 +40,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 
 namespace hrgbench::session {
@@ -100,12 +103,18 @@ struct Session {
   std::string serial;                 // unit.serial
   double sample_rate_hz = 0.0;
   std::vector<RunEntry> runs;         // every run listed, whatever its status
+  // electronics.iq_convention: the sign convention of the recorded quadrature channels (y2, y4).
+  // The writer always records it; ToRunData converts to the model's.
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
   nlohmann::json document;            // the whole session.json, unknown keys included
 
   // Samples of the runs that were loaded (status "complete"), parallel to `loaded_run_ids`.
   std::vector<int> loaded_run_ids;
   std::vector<RunSamples> loaded_samples;
   std::vector<std::string> warnings;  // e.g. "run 3 skipped: status 'aborted'"
+  // What the reader assumed, or did to the data, that is not a problem: "no
+  // electronics.iq_convention: read as minus-sine", "plus-sine: y2, y4 negated for the fit".
+  std::vector<std::string> notes;
 };
 
 struct ReadOptions {
@@ -133,7 +142,8 @@ std::expected<RunSamples, SessionError> ReadRunCsv(const std::filesystem::path& 
 
 // The loaded runs as the estimator sees them (id, Ω from session.json, t_s, y), in load order.
 // Ω is looked up by id in `runs`; a loaded id missing there (only possible in a hand-built Session)
-// gets Ω = 0.
+// gets Ω = 0. y is in the model's I/Q convention: a session recorded in "plus-sine" has each
+// channel conjugated (y2, y4 negated; estimator::ToModelConvention), as the reader's note says.
 std::vector<estimator::RunData> ToRunData(const Session& session);
 
 // Writes one run CSV atomically: header "t_s,y1,y2,y3,y4" followed by the extra columns in name
@@ -145,8 +155,8 @@ std::expected<void, SessionError> WriteRunCsv(const std::filesystem::path& path,
                                               const RunSamples& samples);
 
 // Writes session.json atomically from `session.document` after setting format, version,
-// unit.serial, sample_rate_hz and runs from the typed fields. Unknown keys are kept, also inside a
-// run entry (matched to `session.runs` by id). Keys come out in alphabetical order (nlohmann::json
+// unit.serial, sample_rate_hz, electronics.iq_convention and runs from the typed fields. Unknown
+// keys are kept, also inside a run entry (matched to `session.runs` by id). Keys come out in alphabetical order (nlohmann::json
 // is a sorted map), 2-space indent. Creates `dir`. Refuses what ReadSession would reject: a
 // document that is neither null nor an object, sample_rate_hz not finite and > 0, run id < 1 or
 // repeated, a non-finite omega_rad_s, a run file outside `dir`.

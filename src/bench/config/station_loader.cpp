@@ -141,11 +141,16 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
     for (std::string_view key : {"output_filter_order", "output_filter_cutoff_hz"})
       HRG_CHECK(Forbid(reader, key, "applies only with output_filter = \"butterworth\""));
   }
+  // Which way the electronics' quadrature channels point (estimator/iq_convention.hpp).
+  HRG_TRY(iq, Choice(reader, "iq_convention", {"minus-sine", "plus-sine"},
+                     gyro.iq_convention == estimator::IqConvention::kPlusSine ? 1 : 0));
+  gyro.iq_convention =
+      *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
   HRG_CHECK(
       reader.Unknown("can_interface, can_node, bitrate, fd, data_bitrate, ack_timeout_ms, "
                      "command_attempts, "
                      "status_poll_ms, sample_timeout_ms, output_filter, output_filter_order, "
-                     "output_filter_cutoff_hz"));
+                     "output_filter_cutoff_hz, iq_convention"));
   return gyro;
 }
 

@@ -156,6 +156,16 @@ nlohmann::json EstimateReportJson(std::string_view method,
       {"noise_sigma", NumberOrNull(summary.noise_sigma)},
       {"fit", FitDiagnosticsJson(summary)},
   };
+  // Ω taken as exact (estimator/summary.hpp OmegaSensitivity): what 1e-6 rad/s of each such
+  // run's Ω does to the estimate, under its own key.
+  if (!summary.omega_sensitivity.empty()) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const estimator::OmegaSensitivity& o : summary.omega_sensitivity)
+      runs.push_back({{"run", o.run_id}, {"delta", Numbers(o.delta)}, {"xi", Numbers(o.xi)}});
+    report["omega_sensitivity"] = {{"omega_taken_as_exact", true},
+                                   {"step_rad_s", estimator::kOmegaSensitivityStepRadS},
+                                   {"runs", runs}};
+  }
   const RecordedFrequency f0 = RecordedResonantFrequency(session_document);
   report["engineering"] =
       EngineeringJson(estimator::ComputeEngineeringQuantities(summary, f0.hz), f0.source);

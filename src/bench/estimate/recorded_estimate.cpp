@@ -4,6 +4,7 @@
 
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/output_filter.hpp"
+#include "hrgbench/bench/recorded_runs.hpp"
 
 namespace hrgbench::bench {
 
@@ -13,17 +14,21 @@ RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
   MethodRequest request;
   request.fit_quality = fit_quality;  // the estimator warns as the verdict judges
   auto noise_shape = RecordedNoiseShape(recorded.document, recorded.sample_rate_hz);
-  if (noise_shape) {
+  // The runs as every fit of a record takes them (recorded_runs.hpp).
+  auto prepared = PrepareRecordedRuns(recorded);
+  if (noise_shape && prepared) {
     request.noise_shape = std::move(*noise_shape);
-    out.method = RunMethod(session::ToRunData(recorded), request);
+    out.method = RunMethod(prepared->runs, request);
+    NameIqConventionContradiction(recorded.document, &out.method.summary);
   } else {
     out.method.summary.termination = estimator::Termination::kInvalidInput;
-    out.method.summary.message = noise_shape.error();
+    out.method.summary.message = noise_shape ? prepared.error() : noise_shape.error();
   }
   out.warnings = recorded.warnings;
   out.warnings.insert(out.warnings.end(), out.method.selection_warnings.begin(),
                       out.method.selection_warnings.end());
   out.report = EstimateReportJson("ml", out.method.summary, out.warnings, recorded.document);
+  if (prepared) out.report["preparation"] = prepared->Json();
   return out;
 }
 

@@ -96,7 +96,15 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
       {"file", "can/session.log"}, {"interface", header.can_interface}, {"node", header.can_node}};
   if (header.can_protocol > 0) doc["can_log"]["protocol"] = header.can_protocol;
   if (header.simulation) doc["simulation"] = *header.simulation;
-  if (header.electronics) doc["electronics"] = *header.electronics;
+  if (header.electronics) {
+    doc["electronics"] = *header.electronics;
+    // The writer records the typed convention (session.hpp): take the declared one over.
+    if (const auto it = header.electronics->find("iq_convention");
+        it != header.electronics->end() && it->is_string()) {
+      if (const auto parsed = estimator::ParseIqConvention(it->get<std::string>()))
+        s.iq_convention = *parsed;
+    }
+  }
   if (header.fixture) doc["fixture"] = *header.fixture;
   json runs = json::array();
   for (const PlannedRun& plan : header.runs) {

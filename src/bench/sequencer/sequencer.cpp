@@ -369,8 +369,10 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
                             configs.limits.sha256_hex};
     header.realtime_status = realtime_status;
     header.simulation = units[i].simulation;
-    header.electronics =
-        nlohmann::json{{"output_filter", OutputFilterJson(configs.station.gyro.output_filter)}};
+    header.electronics = nlohmann::json{
+        {"output_filter", OutputFilterJson(configs.station.gyro.output_filter)},
+        {"iq_convention",
+         std::string(estimator::IqConventionName(configs.station.gyro.iq_convention))}};
     header.can_interface = hw.units[i].can_interface;
     header.can_node = hw.units[i].can_node;
     header.can_protocol = hw.units[i].can_protocol;

@@ -81,6 +81,22 @@ TEST(StationOutputFilter, BadValuesNameTheKeyAndValue) {
   }
 }
 
+TEST(StationIqConvention, DefaultIsTheModelsAndPlusSineIsLoaded) {
+  // [gyro] iq_convention (estimator/iq_convention.hpp): absent = the model's "minus-sine".
+  auto absent = ParseStationConfig(Station(""), "s.toml");
+  ASSERT_TRUE(absent.has_value()) << absent.error().ToString();
+  EXPECT_EQ(absent->gyro.iq_convention, estimator::IqConvention::kMinusSine);
+  auto plus = ParseStationConfig(Station("iq_convention = \"plus-sine\"\n"), "s.toml");
+  ASSERT_TRUE(plus.has_value()) << plus.error().ToString();
+  EXPECT_EQ(plus->gyro.iq_convention, estimator::IqConvention::kPlusSine);
+  auto bad = ParseStationConfig(Station("iq_convention = \"plus-cosine\"\n"), "s.toml");
+  ASSERT_FALSE(bad.has_value());
+  EXPECT_EQ(bad.error().file, "s.toml");
+  EXPECT_EQ(bad.error().key, "gyro.iq_convention") << bad.error().ToString();
+  EXPECT_EQ(bad.error().value, "\"plus-cosine\"") << bad.error().ToString();
+  EXPECT_GT(bad.error().line, 0u);
+}
+
 BenchConfigs WithFilter(double cutoff_hz) {
   BenchConfigs configs;
   auto station =

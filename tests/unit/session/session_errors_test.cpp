@@ -228,5 +228,62 @@ TEST_F(SessionErrorsTest, TheRecordedStdOfOmegaIsReadAndChecked) {
   EXPECT_TRUE(std::isnan(ToRunData(*unmeasured)[1].omega_std_rad_s));
 }
 
+TEST_F(SessionErrorsTest, IqConventionMissingIsTheModelsWithANote) {
+  // A session recorded before the convention was stated: the model's, said in a note.
+  WriteText(json_file(), kValidJson);
+  const auto session = ReadSession(dir_.path());
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->iq_convention, estimator::IqConvention::kMinusSine);
+  ASSERT_EQ(session->notes.size(), 1u);
+  EXPECT_NE(session->notes[0].find("no electronics.iq_convention"), std::string::npos);
+  EXPECT_TRUE(session->warnings.empty());
+}
+
+TEST_F(SessionErrorsTest, IqConventionPlusSineIsConjugatedForTheFit) {
+  // y2 and y4 negated by ToRunData, the CSV's own samples kept as stored, and a note saying so.
+  WriteText(dir_ / "runs/run-001.csv", "t_s,y1,y2,y3,y4\n0,1,0.5,0.25,-0.125\n0.01,1,2,3,4\n");
+  std::string text = kValidJson;
+  text.replace(text.find("\"station\""), 9,
+               "\"electronics\": {\"iq_convention\": \"plus-sine\"},\n  \"station\"");
+  WriteText(json_file(), text);
+  const auto session = ReadSession(dir_.path());
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->iq_convention, estimator::IqConvention::kPlusSine);
+  ASSERT_EQ(session->notes.size(), 1u);
+  EXPECT_NE(session->notes[0].find("y2 and y4 negated"), std::string::npos);
+  EXPECT_EQ(session->loaded_samples[0].y(1, 0), 0.5);
+  const std::vector<estimator::RunData> runs = ToRunData(*session);
+  EXPECT_EQ(runs[0].y.col(0), Eigen::Vector4d(1.0, -0.5, 0.25, 0.125));
+  EXPECT_EQ(runs[0].y.col(1), Eigen::Vector4d(1.0, -2.0, 3.0, -4.0));
+}
+
+TEST_F(SessionErrorsTest, IqConventionUnknownNamesFileFieldAndValue) {
+  ExpectError(ReadWith("\"station\": {",
+                       "\"electronics\": {\"iq_convention\": \"plus-cosine\"}, \"station\": {"),
+              json_file(), 10, "electronics.iq_convention",
+              "expected \"minus-sine\" or \"plus-sine\", got string \"plus-cosine\"");
+  ExpectError(ReadWith("\"station\": {", "\"electronics\": {\"iq_convention\": 1}, \"station\": {"),
+              json_file(), 10, "electronics.iq_convention",
+              "expected \"minus-sine\" or \"plus-sine\", got number 1");
+}
+
+TEST_F(SessionErrorsTest, WriterAlwaysStatesTheIqConvention) {
+  // What the writer records reads back as it was, for both conventions.
+  for (const auto convention :
+       {estimator::IqConvention::kMinusSine, estimator::IqConvention::kPlusSine}) {
+    Session session;
+    session.serial = "SN-9";
+    session.sample_rate_hz = 1000.0;
+    session.iq_convention = convention;
+    session.runs.push_back({1, "runs/run-001.csv", 0.1, "complete"});
+    ASSERT_TRUE(WriteSessionJson(dir_.path(), session));
+    const auto read = ReadSession(dir_.path());
+    ASSERT_TRUE(read) << read.error().ToString();
+    EXPECT_EQ(read->iq_convention, convention);
+    EXPECT_EQ(read->document["electronics"]["iq_convention"],
+              std::string(estimator::IqConventionName(convention)));
+  }
+}
+
 }  // namespace
 }  // namespace hrgbench::session
