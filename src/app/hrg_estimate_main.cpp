@@ -8,6 +8,7 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
+#include "hrgbench/bench/engineering_of_record.hpp"
 #include "hrgbench/bench/estimate_method.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/output_filter.hpp"
@@ -88,12 +89,17 @@ int Run(const Arguments& args) {
     std::cout << result.summary.Report();
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
     if (result.summary.IsUsable()) {
-      const bench::RecordedFrequency f0 = bench::RecordedResonantFrequency(session->document);
-      const estimator::EngineeringQuantities engineering =
-          estimator::ComputeEngineeringQuantities(result.summary, f0.hz);
-      std::cout << "in the field's units (f0: " << f0.source << "; angles on the shell):\n"
-                << engineering.Report() << "uncertainty budgets:\n"
-                << engineering.BudgetReport();
+      const auto engineering =
+          bench::ComputeEngineeringOfRecord(result.summary, session->document);
+      if (!engineering) {
+        spdlog::error("{}: {}", args.dir, engineering.error());
+        return app::kExitNotUsable;
+      }
+      for (const std::string& n : engineering->notes) std::cout << "note: " << n << '\n';
+      std::cout << "in the field's units (f0: " << engineering->frequency_source
+                << "; angles on the shell):\n"
+                << engineering->quantities.Report() << "uncertainty budgets:\n"
+                << engineering->quantities.BudgetReport();
     }
     std::cout << "time: " << result.seconds << " s\n";
   }

@@ -331,6 +331,25 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
     f0_u = HalfDifference(values_at(p, up), values_at(p, down));
     for (double& u : f0_u) u = std::abs(u);
   }
+  // Ω taken as exact for some runs: what a 1e-6 rad/s error of one run's Ω would move each
+  // quantity by (the largest over those runs; the fit's linearised sensitivity).
+  Values omega_shift;
+  omega_shift.fill(0.0);
+  int omega_worst_run = 0;
+  for (const OmegaSensitivity& run : summary.omega_sensitivity) {
+    Eigen::Matrix<double, 10, 1> moved = p;
+    for (int i = 0; i < 6; ++i)
+      if (std::isfinite(run.delta[i])) moved[i] += run.delta[i];
+    for (int i = 0; i < 4; ++i)
+      if (std::isfinite(run.xi[i])) moved[6 + i] += run.xi[i];
+    const Values half = HalfDifference(values_at(moved, model), value);
+    for (std::size_t k = 0; k < kCount; ++k) {
+      if (2.0 * std::abs(half[k]) > omega_shift[k]) {
+        omega_shift[k] = 2.0 * std::abs(half[k]);
+        if (k == Index(Q::kAngularGain)) omega_worst_run = run.run_id;
+      }
+    }
+  }
   // Which inputs each quantity's map actually reads (the rest cannot move it).
   const auto uses_pickoff_frame = [](Q q) {
     return q != Q::kResonantFrequency && q != Q::kDecayTime && q != Q::kQualityFactor &&
@@ -373,7 +392,7 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
       // Reported by the electronics, not estimated.
       if (std::isfinite(options.frequency_std_hz)) {
         v.std = options.frequency_std_hz;
-        AddComponent(&v, "f0 as reported", v.std, true, "the electronics' stated uncertainty");
+        AddComponent(&v, "f0 as reported", v.std, true, options.frequency_std_source);
       } else {
         AddComponent(&v, "f0 as reported", kNaN, true,
                      "not stated by the electronics: f0 taken as exact");
@@ -384,6 +403,16 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
 
     v.statistical_std = std::sqrt(variance[k]);
     AddComponent(&v, "fit (statistical)", v.statistical_std, false, fit_note);
+    if (!summary.omega_sensitivity.empty()) {
+      AddComponent(&v, "Ω metrology", kNaN, true,
+                   "Ω taken as exact for " + std::to_string(summary.omega_sensitivity.size()) +
+                       " run(s) (no uncertainty recorded): not evaluated; a 1e-6 rad/s error of "
+                       "one run's Ω moves it by up to " +
+                       Format(omega_shift[k]) +
+                       (q == Q::kAngularGain && omega_worst_run != 0
+                            ? " (run " + std::to_string(omega_worst_run) + ")"
+                            : std::string()));
+    }
     if (uses_pickoff_frame(q)) {
       AddComponent(&v, "pick-off model: cross-talk stage", stage_half_width[k] / std::sqrt(3.0),
                    true,
@@ -427,8 +456,10 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
     }
     if (q == Q::kQualityFactor) {
       AddComponent(&v, "f0 as reported", f0_u[k], true,
-                   std::isfinite(f0_u[k]) ? "the electronics' stated f0 uncertainty"
-                                          : "not stated by the electronics: f0 taken as exact");
+                   std::isfinite(f0_u[k])
+                       ? "u(f0) = " + Format(options.frequency_std_hz) + " Hz: " +
+                             options.frequency_std_source
+                       : "not stated by the electronics: f0 taken as exact");
     }
     double combined = 0.0;
     for (const UncertaintyComponent& c : v.budget)

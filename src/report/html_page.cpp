@@ -201,7 +201,7 @@ void Page::Engineering() {
     out_ += "<p>Carrier frequency " + Src(base + "/frequency_hz") + " Hz (" +
             Text(base + "/frequency_source") +
             ").</p>\n<table class=\"engineering\"><tr><th>"
-            "quantity</th><th>value</th><th>± std</th><th>unit</th><th>note</th></tr>\n";
+            "quantity</th><th>value</th><th>± u<sub>c</sub></th><th>unit</th><th>note</th></tr>\n";
     const std::size_t n = Size(doc_, base + "/quantities");
     for (std::size_t i = 0; i < n; ++i) {
       const std::string q = base + "/quantities/" + std::to_string(i);

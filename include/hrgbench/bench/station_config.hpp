@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "hrgbench/bench/output_filter.hpp"
+#include "hrgbench/bench/pickoff_declaration.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/bench/site.hpp"
 #include "hrgbench/config_file/config_error.hpp"
@@ -68,6 +69,9 @@ struct GyroLinkConfig {
   // estimator/iq_convention.hpp): recorded as electronics.iq_convention; a "plus-sine" record is
   // conjugated into the model's before every fit.
   estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
+  // What free runs cannot measure of the pick-off (pickoff_cross_talk_stage,
+  // pickoff_coupling_bound_rad; pickoff_declaration.hpp): recorded as electronics.pickoff.
+  PickoffDeclaration pickoff;
 };
 
 // [table]: the rate table. The software limits and the acceleration apply to both kinds; the

@@ -162,8 +162,9 @@ struct EngineeringOptions {
   // A bound on the pick-off's antisymmetric coupling beyond the model, rad (electrical; each of
   // Re a and Im a within ±bound, rectangular). 0: none declared (the budget says so).
   double unmodelled_coupling_bound_rad = 0.0;
-  // f0's standard uncertainty as the electronics state it, Hz (NaN: not stated, taken exact).
+  // f0's standard uncertainty, Hz (NaN: not stated, taken exact), and where it came from.
   double frequency_std_hz = kNaN;
+  std::string frequency_std_source = "the electronics' statement";
   double coverage_factor = 2.0;  // k of the expanded uncertainty U = k·u_c
 };
 

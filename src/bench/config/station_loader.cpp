@@ -146,11 +146,22 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
                      gyro.iq_convention == estimator::IqConvention::kPlusSine ? 1 : 0));
   gyro.iq_convention =
       *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
+  // What free runs cannot measure of the pick-off (pickoff_declaration.hpp).
+  HRG_TRY(stage, Choice(reader, "pickoff_cross_talk_stage", {"midway", "before_gain", "after_gain"},
+                        0));
+  gyro.pickoff.cross_talk_stage = *stage == 1   ? estimator::CrossTalkStage::kBeforeGain
+                                  : *stage == 2 ? estimator::CrossTalkStage::kAfterGain
+                                                : estimator::CrossTalkStage::kMidway;
+  HRG_TRY(bound, OptionalNumber(reader, "pickoff_coupling_bound_rad",
+                                {0.0, kMaxCouplingBoundRad, true, "in [0, 0.1]"},
+                                gyro.pickoff.unmodelled_coupling_bound_rad));
+  gyro.pickoff.unmodelled_coupling_bound_rad = *bound;
   HRG_CHECK(
       reader.Unknown("can_interface, can_node, bitrate, fd, data_bitrate, ack_timeout_ms, "
                      "command_attempts, "
                      "status_poll_ms, sample_timeout_ms, output_filter, output_filter_order, "
-                     "output_filter_cutoff_hz, iq_convention"));
+                     "output_filter_cutoff_hz, iq_convention, pickoff_cross_talk_stage, "
+                     "pickoff_coupling_bound_rad"));
   return gyro;
 }
 

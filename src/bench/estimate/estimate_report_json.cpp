@@ -1,5 +1,7 @@
 #include "hrgbench/bench/estimate_report_json.hpp"
 
+#include "hrgbench/bench/engineering_of_record.hpp"
+
 #include <cmath>
 
 #include "hrgbench/bench/recorded_frequency.hpp"
@@ -166,9 +168,12 @@ nlohmann::json EstimateReportJson(std::string_view method,
                                    {"step_rad_s", estimator::kOmegaSensitivityStepRadS},
                                    {"runs", runs}};
   }
-  const RecordedFrequency f0 = RecordedResonantFrequency(session_document);
-  report["engineering"] =
-      EngineeringJson(estimator::ComputeEngineeringQuantities(summary, f0.hz), f0.source);
+  if (const auto engineering = ComputeEngineeringOfRecord(summary, session_document)) {
+    report["engineering"] = EngineeringJson(engineering->quantities, engineering->frequency_source);
+    for (const std::string& note : engineering->notes) report["engineering"]["notes"].push_back(note);
+  } else {
+    report["engineering"] = {{"error", engineering.error()}};
+  }
   if (nlohmann::json truth = Truth(session_document); !truth.is_null()) report["truth"] = truth;
   return report;
 }

@@ -9,6 +9,7 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
+#include "hrgbench/bench/engineering_of_record.hpp"
 #include "hrgbench/bench/realtime_setup.hpp"
 #include "hrgbench/bench/recorded_estimate.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
@@ -175,10 +176,13 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
       if (!estimated.summary.IsUsable()) {
         outcome.kind = OutcomeKind::kError;
         outcome.reason = "estimate not usable: " + estimated.summary.message;
+      } else if (const auto of_record =
+                     ComputeEngineeringOfRecord(estimated.summary, recorded->document);
+                 !of_record) {
+        outcome.kind = OutcomeKind::kError;
+        outcome.reason = "the record's electronics: " + of_record.error();
       } else {
-        const estimator::EngineeringQuantities engineering =
-            estimator::ComputeEngineeringQuantities(
-                estimated.summary, RecordedResonantFrequency(recorded->document).hz);
+        const estimator::EngineeringQuantities& engineering = of_record->quantities;
         Verdict verdict = EvaluateLimits(ctx.configs->limits, estimated.summary, engineering);
         outcome.verdict = VerdictJson(verdict);
         std::string not_judged;  // "xi2: not evaluated, held fixed ...; delta4: ..."
@@ -371,6 +375,7 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
     header.simulation = units[i].simulation;
     header.electronics = nlohmann::json{
         {"output_filter", OutputFilterJson(configs.station.gyro.output_filter)},
+        {"pickoff", PickoffDeclarationJson(configs.station.gyro.pickoff)},
         {"iq_convention",
          std::string(estimator::IqConventionName(configs.station.gyro.iq_convention))}};
     header.can_interface = hw.units[i].can_interface;

@@ -242,6 +242,13 @@ TEST(EngineeringQuantitiesTest, TheBudgetNamesEveryComponentAndCombinesTheEvalua
   EXPECT_NE(find(e[Q::kFrequencyAxis], "pick-off model: cross-talk stage"), nullptr);
   EXPECT_EQ(find(e[Q::kDecayTime], "pick-off model: cross-talk stage"), nullptr);
   ASSERT_NE(find(e[Q::kDecayTime], "frequency drift correction"), nullptr);
+  // The simulation records no Ω uncertainty: Ω taken as exact is named, with what 1e-6 rad/s of
+  // one run's Ω would do (k reads Ω directly: about 1e-6/|Ω| of k at the smallest |Ω| = 0.1).
+  ASSERT_FALSE(s.omega_sensitivity.empty());
+  const UncertaintyComponent* omega = find(e[Q::kAngularGain], "Ω metrology");
+  ASSERT_NE(omega, nullptr);
+  EXPECT_TRUE(std::isnan(omega->standard_uncertainty));
+  EXPECT_NE(omega->note.find("1e-6 rad/s"), std::string::npos) << omega->note;
   // No bound declared: the component is named and not evaluated.
   const UncertaintyComponent* undeclared =
       find(e[Q::kDampingAxis], "pick-off model: unmodelled antisymmetric coupling");
