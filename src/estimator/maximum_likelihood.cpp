@@ -872,8 +872,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
         nuisance[r].conservativeResize(nuisance[r].size() + 1);
         nuisance[r][nuisance[r].size() - 1] = 0.0;
       }
-      const internal::OutputErrorProblem omega_problem(
-          used, indices, options.num_threads, options.min_samples_for_threads, with_omega);
+      const internal::OutputErrorProblem omega_problem(used, indices, options.num_threads,
+                                                       options.min_samples_for_threads, with_omega);
       internal::NormalEquations ne_omega;
       omega_problem.Linearize(p, nuisance, &ne_omega);
       const int o = with_omega.OmegaIndex();
@@ -901,8 +901,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
             sensitivity.delta[full] = change[ci];
           else
             sensitivity.xi[full - internal::kXiOffset] = change[ci];
-          const double sd = full < internal::kXiOffset ? s.delta_std[full]
-                                                       : s.xi_std[full - internal::kXiOffset];
+          const double sd =
+              full < internal::kXiOffset ? s.delta_std[full] : s.xi_std[full - internal::kXiOffset];
           if (sd > 0.0) largest_in_std = std::max(largest_in_std, std::abs(change[ci]) / sd);
         }
         s.omega_sensitivity.push_back(sensitivity);

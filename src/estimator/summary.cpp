@@ -74,7 +74,8 @@ std::string EstimateSummary::Report() const {
     }
   }
   if (!omega_sensitivity.empty()) {
-    out += "  Omega taken as exact: change of the estimate per 1e-06 rad/s error of a run's Omega\n";
+    out +=
+        "  Omega taken as exact: change of the estimate per 1e-06 rad/s error of a run's Omega\n";
     for (const OmegaSensitivity& o : omega_sensitivity) {
       std::snprintf(buffer, sizeof buffer, "    run %d:", o.run_id);
       out += buffer;

@@ -52,7 +52,7 @@ std::expected<OutputFilter, std::string> RecordedOutputFilter(
 // electronics' filters hold the held wave's demodulated value, and the free run's input differs
 // from it by a jump (the 2·f0 image and the wave's motion starting at once); the response to any
 // such jump of size ≤ 1 is bounded by the step's modes. With the default 1e-6 of the wave's
-// amplitude the transient is 1 % of a σ_y ≈ 1e-4 pick-off noise: 30 ms for the 4th-order 200 Hz
+// amplitude the transient is 1 % of a σ_y ≈ 1e-4 pick-off noise: 29 ms for the 4th-order 200 Hz
 // filter (its slowest mode decays at 2π·200·sin(π/8) = 481 /s). 0 for kNone.
 inline constexpr double kReleaseSettlingFraction = 1e-6;
 double ReleaseSettlingS(const OutputFilter& filter, double fraction = kReleaseSettlingFraction);

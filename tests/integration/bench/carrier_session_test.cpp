@@ -155,6 +155,19 @@ TEST(CarrierSession, DeclaredOutputFilterPassesTheExampleLimits) {
   EXPECT_EQ(fit.at("difference_stride").get<int>(), 8);
   EXPECT_EQ(fit.at("whiteness_first_lag").get<int>(), 8);
   EXPECT_EQ(fit.at("covariance"), "sandwich");
+  // The filter's release transient is not fitted (bench/recorded_runs.hpp), so no run loses a
+  // sample as an "outlier" (4-7 of 50-70 sigma per run before), and the record says what was
+  // skipped; the convention the station declares is recorded.
+  EXPECT_EQ(session.at("electronics").at("iq_convention"), "minus-sine");
+  for (const nlohmann::json& r : fit.at("runs"))
+    EXPECT_EQ(r.at("outliers_removed"), 0) << r.dump();
+  const nlohmann::json& settling =
+      session.at("outcome").at("estimate").at("preparation").at("release_settling");
+  EXPECT_EQ(settling.at("output_filter"), "4th-order Butterworth, 200 Hz");
+  EXPECT_NEAR(settling.at("settle_s").get<double>(), 0.03, 0.005);
+  EXPECT_EQ(settling.at("runs").size(), fit.at("runs").size());
+  for (const nlohmann::json& r : settling.at("runs"))
+    EXPECT_GE(r.at("first_fitted_t_s").get<double>(), settling.at("settle_s").get<double>());
 }
 
 TEST(CarrierSession, UndeclaredOutputFilterIsNotAPass) {
