@@ -160,6 +160,18 @@ std::vector<FitCheck> JudgeFit(const estimator::FitQualityLimits& limits,
                              limits.omega_offset_max_in_std,
                              "the data contradict the recorded rate"));
   }
+  // What the estimate names about itself as a whole (no run's check sees it: the data fit
+  // perfectly): an angular gain of the wrong sign, an I/Q convention the commanded quadrature
+  // contradicts (bench::NameIqConventionContradiction). Each is a failed check of its own; the
+  // per-run problems ("run N: ...") are judged above against this limits file's thresholds.
+  for (const std::string& problem : estimate.diagnostics.problems) {
+    if (problem.rfind("run ", 0) == 0) continue;
+    FitCheck whole;
+    whole.name = "estimate";
+    whole.status = LimitStatus::kFail;
+    whole.message = "estimate: " + problem;
+    checks.push_back(whole);
+  }
   return checks;
 }
 

@@ -213,6 +213,23 @@ TEST(Verdict, AFitTableOutOfRangeNamesTheKey) {
   ASSERT_FALSE(unknown.has_value());
 }
 
+// A problem the estimate names about itself as a whole (every run's residuals clean: a wrong I/Q
+// convention or rate sign fits perfectly) fails the fit: never a PASS.
+TEST(Verdict, AProblemOfTheWholeEstimateIsNeverAPass) {
+  EstimateSummary s = PaperUnit();
+  ASSERT_EQ(EvaluateLimits(Limits(), s).overall, LimitStatus::kPass);
+  s.diagnostics.problems.push_back(
+      "the data's quadrature at release has the opposite sign of the commanded one in every run");
+  const Verdict verdict = EvaluateLimits(Limits(), s);
+  EXPECT_FALSE(verdict.fit_acceptable);
+  EXPECT_EQ(verdict.overall, LimitStatus::kNotEvaluated);
+  EXPECT_NE(verdict.FitProblems().find("estimate: the data's quadrature"), std::string::npos)
+      << verdict.FitProblems();
+  // A run's own problem is the per-run checks' to judge (against this file's thresholds).
+  s.diagnostics.problems = {"run 1: residuals not white (Ljung-Box z = 7, limit 6)"};
+  EXPECT_EQ(EvaluateLimits(Limits(), s).overall, LimitStatus::kPass);
+}
+
 // An estimate without diagnostics (a method that reports none) cannot PASS.
 TEST(Verdict, AnEstimateWithoutDiagnosticsIsNotJudged) {
   EstimateSummary s = PaperUnit();
