@@ -96,8 +96,8 @@ bool StartCommonPhase(const RunData& run, double omega_offset_rad_s, const FullP
   if (points < 3 || !(t_end > 0.0)) return false;
   const double nominal_step = (t.back() - t.front()) / static_cast<double>(points - 1);
 
-  // 4a. 2ψ̇ per block from the lag products; fit c_j = 2q_j through 2ψ̇(t) = Σ j·c_j·t^{j−1},
-  // in x = t/t_end.
+  // 4a. 2ψ̇ per block from the lag products, fitted in x = t/t_end: 2ψ = Σ c_j·x^j with
+  // c_j = 2q_j·t_end^j, so 2ψ̇ = Σ_j a_j·x^{j−1} with a_j = j·c_j/t_end.
   const int block_pairs = std::clamp(static_cast<int>(points / 256), 1, kMaxBlockPairs);
   std::vector<double> x, value, weight;
   Complex sum = 0.0;
@@ -129,10 +129,9 @@ bool StartCommonPhase(const RunData& run, double omega_offset_rad_s, const FullP
     }
   }
   Eigen::VectorXd a;
-  // 2ψ̇ = Σ_{j=1..D} j·c_j·t^{j−1} = Σ_j a_j·x^{j−1} with a_j = j·c_j·t_end^{j−1}.
   if (static_cast<int>(x.size()) < degree || !FitPowers(x, value, weight, 0, degree, &a))
     return false;
-  std::vector<double> c(static_cast<std::size_t>(degree));  // 2q_j·t_end^j, the fit in x
+  std::vector<double> c(static_cast<std::size_t>(degree));
   for (int j = 1; j <= degree; ++j) c[static_cast<std::size_t>(j - 1)] = a[j - 1] * t_end / j;
 
   // 4b. 2ψ itself: the phase left after turning back by the fit is small; fit it with a constant.
