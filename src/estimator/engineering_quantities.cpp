@@ -454,6 +454,23 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
                          " 1/s added to δ1; one run: its spread cannot be judged");
       }
     }
+    if (q == Q::kFrequencySplit && std::isfinite(drift.relative_rate_per_s)) {
+      // The split scales with f (a temperature moves both modes alike): over a run of T it sweeps
+      // Δf·|ω̇/ω0|·T around the fit's one δ5, δ6, the runs' mean (rectangular, half of it).
+      const double sweep =
+          v.value * std::abs(drift.relative_rate_per_s) * options.longest_run_s;
+      if (std::isfinite(sweep)) {
+        AddComponent(&v, "frequency drift: the split follows f", 0.5 * sweep / std::sqrt(3.0),
+                     true,
+                     "the split sweeps " + Format(sweep) + " mHz over the longest run (" +
+                         Format(options.longest_run_s) +
+                         " s) at the fitted drift: the value is the runs' mean, at their mean "
+                         "temperature");
+      } else {
+        AddComponent(&v, "frequency drift: the split follows f", kNaN, true,
+                     "the runs' length is unknown: the split's sweep over a run is not evaluated");
+      }
+    }
     if (q == Q::kQualityFactor) {
       AddComponent(&v, "f0 as reported", f0_u[k], true,
                    std::isfinite(f0_u[k])

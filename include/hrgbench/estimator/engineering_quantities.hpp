@@ -59,7 +59,8 @@
 //                       (EngineeringOptions::unmodelled_coupling_bound_rad), both free runs cannot
 //                       see (pickoff_frame.hpp);
 //   frequency drift     the spread of the runs' drift corrections (the fit's δ1 is a weighted mean
-//                       of theirs, with weights it does not report);
+//                       of theirs, with weights it does not report); for the frequency split, how
+//                       far it moves with f over the longest run (Δf·|ω̇/ω0|·T, rectangular);
 //   f0 as reported      the electronics' f0 uncertainty, when stated.
 // A component a session cannot evaluate is listed with a NaN size and a note saying why; the
 // combined standard uncertainty u_c (std) is the root sum of squares of the evaluated ones, and
@@ -166,6 +167,8 @@ struct EngineeringOptions {
   double frequency_std_hz = kNaN;
   std::string frequency_std_source = "the electronics' statement";
   double coverage_factor = 2.0;  // k of the expanded uncertainty U = k·u_c
+  // The longest run's free run, s (NaN: unknown): the splits follow f over it under a drift.
+  double longest_run_s = kNaN;
 };
 
 // How the fitted (δ, ξ) become the unit's physical quantities (see "Each quantity is the

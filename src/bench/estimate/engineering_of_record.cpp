@@ -1,5 +1,6 @@
 #include "hrgbench/bench/engineering_of_record.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -78,6 +79,17 @@ std::expected<EngineeringOfRecord, std::string> ComputeEngineeringOfRecord(
     options.frequency_std_source =
         "the spread of the runs' reported f0 (rectangular over " + std::to_string(f0.runs) +
         " runs); the electronics state no uncertainty of their own";
+  }
+  // The longest free run the record planned (the splits follow f over it under a drift).
+  if (document.is_object() && document.contains("runs") && document.at("runs").is_array()) {
+    double longest = 0.0;
+    for (const nlohmann::json& run : document.at("runs")) {
+      if (!run.is_object() || !run.contains("plan") || !run.at("plan").is_object()) continue;
+      const nlohmann::json& plan = run.at("plan");
+      if (plan.contains("free_run_s") && plan.at("free_run_s").is_number())
+        longest = std::max(longest, plan.at("free_run_s").get<double>());
+    }
+    if (longest > 0.0) options.longest_run_s = longest;
   }
   EngineeringOfRecord out;
   out.quantities = estimator::ComputeEngineeringQuantities(summary, f0.hz, options);

@@ -222,7 +222,10 @@ void ExpectAccurate(const Scenario& scenario, int seeds, std::uint64_t first_see
     if (scenario.fit_within_model) {
       EXPECT_TRUE(s.diagnostics.Acceptable()) << s.Report();
     }
-    const estimator::EngineeringQuantities e = estimator::ComputeEngineeringQuantities(s, kF0);
+    estimator::EngineeringOptions options;
+    options.longest_run_s = scenario.duration_s;
+    const estimator::EngineeringQuantities e =
+        estimator::ComputeEngineeringQuantities(s, kF0, options);
     for (std::size_t k = 1; k < kCount; ++k) {  // f0 is given, not estimated
       const estimator::EngineeringValue& v = e.values[k];
       ASSERT_TRUE(v.determined) << estimator::kEngineeringQuantities[k].name << ": " << v.note;
