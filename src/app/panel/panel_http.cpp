@@ -22,6 +22,9 @@ constexpr std::size_t kReadBufferBytes = 4096;
 // (closing a socket with unread input makes the kernel reset the connection).
 constexpr std::size_t kDrainBytes = 1 << 20;
 constexpr auto kDrainTime = std::chrono::milliseconds(1000);
+// ... and the drain stops when the client pauses this long: a browser closes as soon as it sees
+// the end of the answer, and a client that neither sends nor closes must not hold a worker.
+constexpr auto kDrainGap = std::chrono::milliseconds(200);
 constexpr auto kStopPoll = std::chrono::milliseconds(100);  // how soon a stop ends an idle wait
 
 int ToMs(time_t sec, time_t usec) { return static_cast<int>(sec * 1000 + usec / 1000); }
@@ -74,7 +77,8 @@ class BoundedStream final : public httplib::Stream {
   }
 
   ssize_t read(char* ptr, size_t size) override {
-    if (hit_ != BoundHit::kNone || size == 0) return -1;
+    if (hit_ != BoundHit::kNone) return -1;
+    if (size == 0) return 0;
     if (!Buffered()) {
       if (!Poll(sock_, POLLIN, read_timeout_ms_)) return -1;
       ssize_t n = 0;
@@ -201,7 +205,7 @@ void DrainBeforeClose(int sock) {
   const auto end = Clock::now() + kDrainTime;
   while (drained < kDrainBytes && Clock::now() < end) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now());
-    if (!Poll(sock, POLLIN, static_cast<int>(left.count()) + 1)) break;
+    if (!Poll(sock, POLLIN, static_cast<int>(std::min(left, kDrainGap).count()) + 1)) break;
     const ssize_t n = ::recv(sock, sink.data(), sink.size(), 0);
     if (n <= 0) break;
     drained += static_cast<std::size_t>(n);
