@@ -187,13 +187,13 @@ thread_local BoundedStream* current_stream = nullptr;
 // A head too large to be parsed at all (its request line alone passed the bound): cpp-httplib
 // then gives up without an answer, so the answer is written here.
 void WriteHeadRefusal(BoundedStream& stream, std::size_t head_bytes) {
-  const std::string body = R"({"error":"the request's line and headers are too large (at most )" +
-                           std::to_string(head_bytes / 1024) + R"( kB)"})";
+  const std::string body = "{\"error\":\"the request's line and headers are too large (at most " +
+                           std::to_string(head_bytes / 1024) + " kB)\"}";
   const std::string text =
       "HTTP/1.1 431 Request Header Fields Too Large\r\nContent-Type: application/json\r\n"
       "Connection: close\r\nContent-Length: " +
       std::to_string(body.size()) + "\r\n\r\n" + body;
-(void)stream.write(text.data(), text.size());
+  (void)stream.write(text.data(), text.size());
 }
 
 // Lets the client read the refusal: no more writes, then what it still sends is read and thrown
