@@ -159,7 +159,7 @@ class Panel {
     });
     server.Get("/api/events",
                [this](const httplib::Request& req, httplib::Response& res) { Events(req, res); });
-    server.Post("/api/start", [this](const httplib::Request& req, httplib::Response& res,
+    server.Post("/api/start", [this](const httplib::Request&, httplib::Response& res,
                                      const httplib::ContentReader& reader) {
       const auto body = ReadBody(res, reader);
       if (body) Start(*body, res);
@@ -424,7 +424,8 @@ class Panel {
     stream->in.open(path, std::ios::binary);
     const std::uintmax_t size = fs::file_size(path, ec);
     if (ec || !stream->in) return Error(res, 404, "no such session report");
-    if (size == 0) return res.set_content(std::string(), ContentType(file));  // a provider needs bytes
+    if (size == 0)
+      return res.set_content(std::string(), ContentType(file));  // a provider needs bytes
     // Streamed from the file: one buffer per response, whatever the file's size.
     res.set_content_provider(
         static_cast<std::size_t>(size), ContentType(file),
