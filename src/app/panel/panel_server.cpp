@@ -175,6 +175,7 @@ class Panel {
     server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       // A refused request's unread rest must not be taken for the next request.
       BoundedServer::CloseConnectionAfterResponse();
+      res.set_header("Connection", "close");
       const BoundHit hit = BoundedServer::CurrentRequestHit();
       if (hit == BoundHit::kHead)
         return Error(res, 431,

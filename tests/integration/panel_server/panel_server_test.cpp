@@ -265,6 +265,12 @@ TEST(PanelServer, RefusesOversizeHeadersWithoutReadingThem) {
     const Reply reply = Exchange(panel.port(), many);
     EXPECT_EQ(reply.status, 431) << reply.head << reply.body;
     EXPECT_NE(reply.body.find("too large"), std::string::npos) << reply.body;
+    EXPECT_NE(reply.head.find("Connection: close"), std::string::npos) << reply.head;
+    // A request line alone above the bound (cpp-httplib would give up without an answer).
+    const Reply long_line = Exchange(panel.port(), "GET /api/state?" + std::string(40000, 'x') +
+                                                       " HTTP/1.1\r\nHost: " + panel.host() +
+                                                       "\r\nConnection: close\r\n\r\n");
+    EXPECT_EQ(long_line.status, 431) << long_line.head << long_line.body;
     // 32 MB of headers: the panel stops reading long before the end and closes.
     const std::string line = "X-Bomb: " + std::string(8000, 'b') + "\r\n";
     std::string bomb = "GET /api/state HTTP/1.1\r\nHost: " + panel.host() + "\r\n";
