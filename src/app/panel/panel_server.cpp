@@ -2,22 +2,28 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include "app/panel/panel_assets.hpp"
 #include "app/panel/panel_catalog.hpp"
+#include "app/panel/panel_origin.hpp"
 #include "app/panel/session_process.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
 #include "hrgbench/report/session_report.hpp"
-// Last: it brings <resolv.h>, whose `_res` macro breaks Eigen's headers (bench_configs.hpp).
-#include <httplib.h>  // NOLINT(llvm-include-order)
+// Last: it brings <httplib.h> and so <resolv.h>, whose `_res` macro breaks Eigen's headers
+// (bench_configs.hpp).
+#include "app/panel/panel_http.hpp"  // NOLINT(llvm-include-order)
 
 namespace hrgbench::app {
 namespace {
@@ -25,6 +31,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxBodyBytes = 64 * 1024;  // a start request is < 200 bytes
+// A report is sent from its file in pieces of this size (a report of 300 runs is ~200 MB; eight
+// browsers reading it whole would hold it eight times).
+constexpr std::size_t kReportChunkBytes = 64 * 1024;
 constexpr std::size_t kRecentSessions = 20;
 constexpr auto kKeepAlive = std::chrono::seconds(5);  // also how long a stop waits for a stream
 
@@ -48,17 +57,17 @@ std::expected<Listen, std::string> ParseListen(const std::string& text) {
   return listen;
 }
 
-bool IsLoopback(const std::string& host) {
-  return host == "localhost" || host.rfind("127.", 0) == 0;
+bool IsLoopbackListen(const std::string& host) {
+  return host == "localhost" || IsLoopbackAddress(host);
 }
 
-// The Host header's host part ("localhost:8080" -> "localhost", "[::1]:80" -> "[::1]").
-std::string HostOnly(const std::string& host_header) {
-  if (!host_header.empty() && host_header.front() == '[') {
-    const std::size_t end = host_header.find(']');
-    return end == std::string::npos ? host_header : host_header.substr(0, end + 1);
-  }
-  return host_header.substr(0, host_header.find(':'));
+// True when `path` (canonical) is `root` (canonical) or inside it, compared element by element
+// (never as text: "/srv/sessions-old" is not inside "/srv/sessions").
+bool IsInside(const fs::path& path, const fs::path& root) {
+  auto p = path.begin();
+  for (auto r = root.begin(); r != root.end(); ++r, ++p)
+    if (p == path.end() || *p != *r) return false;
+  return true;
 }
 
 std::expected<std::string, std::string> ReadToken(const fs::path& file) {
@@ -115,15 +124,18 @@ std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::u
 
 class Panel {
  public:
-  Panel(const PanelOptions& options, PanelCatalog catalog, fs::path sessions, std::string token,
-        std::string chart_js)
+  Panel(const PanelOptions& options, Listen listen, PanelCatalog catalog, fs::path sessions,
+        std::string token, std::string chart_js)
       : options_(options),
+        listen_(std::move(listen)),
         catalog_(std::move(catalog)),
         sessions_(std::move(sessions)),
         token_(std::move(token)),
         chart_js_(std::move(chart_js)) {}
 
   void Route(httplib::Server& server) {
+    // Covers a body with a Content-Length only (cpp-httplib 0.11); a chunked one is bounded as it
+    // is read (ReadBody), and BoundedServer bounds the raw bytes of both.
     server.set_payload_max_length(kMaxBodyBytes);
     server.set_pre_routing_handler(
         [this](const httplib::Request& req, httplib::Response& res) { return Guard(req, res); });
@@ -147,15 +159,29 @@ class Panel {
     });
     server.Get("/api/events",
                [this](const httplib::Request& req, httplib::Response& res) { Events(req, res); });
-    server.Post("/api/start",
-                [this](const httplib::Request& req, httplib::Response& res) { Start(req, res); });
-    server.Post("/api/abort", [this](const httplib::Request&, httplib::Response& res) {
+    server.Post("/api/start", [this](const httplib::Request&, httplib::Response& res,
+                                     const httplib::ContentReader& reader) {
+      const auto body = ReadBody(res, reader);
+      if (body) Start(*body, res);
+    });
+    server.Post("/api/abort", [this](const httplib::Request&, httplib::Response& res,
+                                     const httplib::ContentReader& reader) {
+      if (!ReadBody(res, reader)) return;
       if (auto refused = process_.Abort()) return Error(res, 409, *refused);
       res.set_content(R"({"aborting":true})", "application/json");
     });
     server.Get(R"(/sessions/([^/]+)/report/([^/]+))",
                [this](const httplib::Request& req, httplib::Response& res) { Report(req, res); });
     server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+      // A refused request's unread rest must not be taken for the next request.
+      BoundedServer::CloseConnectionAfterResponse();
+      res.set_header("Connection", "close");
+      const BoundHit hit = BoundedServer::CurrentRequestHit();
+      if (hit == BoundHit::kHead)
+        return Error(res, 431,
+                     "the request's line and headers are too large (at most " +
+                         std::to_string(RequestBounds{}.head_bytes / 1024) + " kB)");
+      if (hit == BoundHit::kBody) return Error(res, 413, "the request is too large");
       if (res.body.empty()) {
         const char* what = res.status == 413   ? "the request is too large"
                            : res.status == 404 ? "not found"
@@ -177,18 +203,27 @@ class Panel {
         req.method == "GET" &&
         (req.path == "/" || req.path == "/panel.js" || req.path == "/panel.css" ||
          req.path == "/chart.js" || req.path == "/favicon.ico");
-    if (!token_.empty() && !page_file) {
+    const std::string host = req.get_header_value("Host");
+    bool with_token = false;
+    if (!token_.empty()) {
       std::string given = req.get_param_value("token");
       const std::string auth = req.get_header_value("Authorization");
       if (given.empty() && auth.rfind("Bearer ", 0) == 0) given = auth.substr(7);
-      if (!SameToken(given, token_)) {
+      with_token = SameToken(given, token_);
+      if (!with_token && !page_file) {
         Error(res, 401,
               "this panel needs its access token: open it with ?token=... (the token is in the "
               "panel's --token-file)");
         return HR::Handled;
       }
-    } else if (!IsLoopback(HostOnly(req.get_header_value("Host")))) {
-      Error(res, 403, "this panel answers requests addressed to localhost only");
+    } else if (!IsLoopbackAddress(req.remote_addr) ||
+               !IsPanelHost(host, listen_.host, listen_.port)) {
+      // Without a token: a connection from this machine (the socket says so, not a header),
+      // addressed to the panel by its exact name; a rebinding name is refused, prefix or not.
+      Error(res, 403,
+            "this panel answers requests addressed to localhost only (http://127.0.0.1:" +
+                std::to_string(listen_.port) +
+                "/ or http://localhost:" + std::to_string(listen_.port) + "/)");
       return HR::Handled;
     }
     if (req.method == "POST") {
@@ -197,10 +232,19 @@ class Panel {
         Error(res, 415, "a request to the panel must be application/json");
         return HR::Handled;
       }
+      // A change to the station needs the token or the panel's own Origin (a browser sends it
+      // with every POST and a page of another site cannot forge it); a different Origin is
+      // refused even with the token.
       const std::string origin = req.get_header_value("Origin");
-      if (!origin.empty() && origin != "http://" + req.get_header_value("Host")) {
+      if (!origin.empty() && !IsPanelOrigin(origin, host)) {
         Error(res, 403,
               "a request from another site is refused (Origin " + origin.substr(0, 80) + ")");
+        return HR::Handled;
+      }
+      if (origin.empty() && !with_token) {
+        Error(res, 403,
+              "a request that changes the station needs the panel's own Origin (as its page "
+              "sends) or its access token");
         return HR::Handled;
       }
     }
@@ -243,8 +287,34 @@ class Panel {
             {"recent_source", recent_source}};
   }
 
-  void Start(const httplib::Request& req, httplib::Response& res) {
-    const nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
+  // A POST's body, at most kMaxBodyBytes whatever its framing (a Content-Length or chunks);
+  // nullopt after answering 413 (too large) or 400 (cut short).
+  static std::optional<std::string> ReadBody(httplib::Response& res,
+                                             const httplib::ContentReader& reader) {
+    std::string body;
+    bool too_large = false;
+    const bool read = reader([&](const char* data, std::size_t size) {
+      if (body.size() + size > kMaxBodyBytes) {
+        too_large = true;
+        return false;
+      }
+      body.append(data, size);
+      return true;
+    });
+    if (too_large || res.status == 413 || BoundedServer::CurrentRequestHit() == BoundHit::kBody) {
+      Error(res, 413,
+            "the request is too large (at most " + std::to_string(kMaxBodyBytes / 1024) + " kB)");
+      return std::nullopt;
+    }
+    if (!read) {
+      Error(res, 400, "the request's body could not be read");
+      return std::nullopt;
+    }
+    return body;
+  }
+
+  void Start(const std::string& text, httplib::Response& res) {
+    const nlohmann::json body = nlohmann::json::parse(text, nullptr, false);
     if (body.is_discarded() || !body.is_object())
       return Error(res, 400, "the request is not a JSON object");
     for (const auto& [key, value] : body.items())
@@ -342,12 +412,42 @@ class Panel {
             "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
             std::string::npos)
       return Error(res, 404, "no such session report");
-    auto text = ReadBounded(sessions_ / name / "report" / file, 256u << 20);
-    if (!text) return Error(res, 404, "no such session report");
-    res.set_content(std::move(*text), ContentType(file));
+    // Resolved, links and all, and served only when both the report folder and the file lie
+    // inside the sessions folder (a link to /etc/passwd, or a report folder that is a link to
+    // elsewhere, is not found). What is opened is the resolved path, which has no links left.
+    std::error_code ec;
+    const fs::path report_dir = fs::canonical(sessions_ / name / "report", ec);
+    if (ec || !IsInside(report_dir, sessions_)) return Error(res, 404, "no such session report");
+    const fs::path path = fs::canonical(sessions_ / name / "report" / file, ec);
+    if (ec || !IsInside(path, report_dir) || !fs::is_regular_file(path, ec))
+      return Error(res, 404, "no such session report");
+    auto stream = std::make_shared<ReportStream>();
+    stream->in.open(path, std::ios::binary);
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec || !stream->in) return Error(res, 404, "no such session report");
+    if (size == 0)
+      return res.set_content(std::string(), ContentType(file));  // a provider needs bytes
+    // Streamed from the file: one buffer per response, whatever the file's size.
+    res.set_content_provider(
+        static_cast<std::size_t>(size), ContentType(file),
+        [stream](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+          stream->buffer.resize(kReportChunkBytes);
+          stream->in.seekg(static_cast<std::streamoff>(offset));
+          stream->in.read(stream->buffer.data(),
+                          static_cast<std::streamsize>(std::min(length, kReportChunkBytes)));
+          const auto got = static_cast<std::size_t>(stream->in.gcount());
+          // A file that shrank since it was opened: the response is cut (its length was sent).
+          return got > 0 && sink.write(stream->buffer.data(), got);
+        });
   }
 
+  struct ReportStream {
+    std::ifstream in;
+    std::vector<char> buffer;
+  };
+
   PanelOptions options_;
+  Listen listen_;
   PanelCatalog catalog_;
   fs::path sessions_;
   std::string token_;
@@ -370,7 +470,7 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
       return 4;
     }
     token = *read;
-  } else if (!IsLoopback(listen->host)) {
+  } else if (!IsLoopbackListen(listen->host)) {
     std::cerr << "--listen " << options.listen
               << ": another address than localhost needs an access token (--token-file FILE), "
                  "or listen on localhost behind a reverse proxy\n";
@@ -401,12 +501,16 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
     return 4;
   }
 
-  Panel panel(options, std::move(*catalog), sessions, token, std::move(chart_js));
-  httplib::Server server;
+  Panel panel(options, *listen, std::move(*catalog), sessions, token, std::move(chart_js));
+  BoundedServer server{RequestBounds{}};
   server.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
+  server.set_socket_options(ExclusiveListenSocket);  // one panel per port
   panel.Route(server);
   if (!server.bind_to_port(listen->host, listen->port)) {
-    std::cerr << "--listen " << options.listen << ": cannot listen there (in use?)\n";
+    std::cerr << "--listen " << options.listen << ": cannot listen on port " << listen->port
+              << " of " << listen->host
+              << ": the port is in use (another panel or program on this station?) or the "
+                 "address is not this machine's\n";
     return 2;
   }
   std::thread watcher([&] {

@@ -13,16 +13,23 @@
 //   POST /api/abort            {} -> {"aborting": true}
 //   GET  /sessions/NAME/report/FILE   a session's report (only its report folder)
 // Every refusal is a JSON {"error": "..."} with 4xx: 400 bad input, 401 no or wrong token, 403
-// wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON.
+// wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON,
+// 431 headers too large; a refused request's connection is closed.
 //
 // Security: listens on localhost by default; any other address needs an access token (a file of
 // at least 16 printable characters, --token-file), which every request but the page's own files
-// must then carry (?token= or "Authorization: Bearer"). Without a token the Host header must name
-// localhost (a web page elsewhere cannot reach the panel through DNS rebinding). POSTs must be
-// application/json and, when the browser sends an Origin, from the panel's own origin (no
-// cross-site form posts). A serial is checked (serial_check.hpp) before it becomes a folder name;
-// sequences and limits are chosen by id from the allowed list (panel_catalog.hpp); nothing the page
-// sends becomes a path otherwise.
+// must then carry (?token= or "Authorization: Bearer"). Without a token a request must come from
+// a loopback address (the socket's, not a header) and its Host must name the panel exactly
+// (127.0.0.1, [::1] or localhost with the panel's port; panel_origin.hpp), so a page elsewhere
+// cannot reach the panel through DNS rebinding. POSTs must be application/json and carry the
+// token or the panel's own Origin (no cross-site posts; a different Origin is refused even with
+// the token). What is read is bounded (panel_http.hpp): request line and headers 32 kB, a body
+// 64 kB whether it has a Content-Length or comes in chunks. A report is streamed from its file,
+// and served only when the file, links resolved, lies in that session's report folder inside the
+// sessions folder. One panel per port: the listening socket is not shared (no SO_REUSEPORT); a
+// second panel on the port fails with exit code 2. A serial is checked (serial_check.hpp) before
+// it becomes a folder name; sequences and limits are chosen by id from the allowed list
+// (panel_catalog.hpp); nothing the page sends becomes a path otherwise.
 //
 // Threads: RunPanel blocks the caller until `stop` becomes non-zero (the panel then aborts a
 // running session, waits for it, and returns); HTTP requests run on a pool of kHttpThreads.
@@ -44,7 +51,7 @@ struct PanelOptions {
 inline constexpr int kHttpThreads = 32;  // every open page holds one for its event stream
 
 // Exit code: 0 after a stop; 4 (usage) when the options are refused (message on stderr); 2 when the
-// port cannot be bound.
+// port cannot be bound (another panel or program holds it: the message names the port).
 int RunPanel(const PanelOptions& options, const std::atomic<int>& stop);
 
 }  // namespace hrgbench::app

@@ -191,8 +191,11 @@ def Request(url: str, method: str = "GET", body: bytes | None = None,
 
 
 def PostJson(base: str, path: str, payload: object, headers: dict[str, str] | None = None):
+    # With the panel's own Origin, as its page (any browser) sends with a POST; a tokenless POST
+    # without one is refused.
+    origin = base.rstrip("/")
     return Request(base + path, "POST", json.dumps(payload).encode(),
-                   {"Content-Type": "application/json", **(headers or {})})
+                   {"Content-Type": "application/json", "Origin": origin, **(headers or {})})
 
 
 class Browser:
@@ -470,10 +473,18 @@ def CaseHostile(args, tmp: Path, out: Path) -> None:
             ("other Origin", PostJson(panel.base, "api/start", {"serial": "SN1", "sequence": 0},
                                       {"Origin": "http://evil.example"}), 403, "another site"),
             ("not JSON", Request(panel.base + "api/start", "POST", b"serial=SN1",
-                                 {"Content-Type": "application/x-www-form-urlencoded"}),
+                                 {"Content-Type": "application/x-www-form-urlencoded",
+                                  "Origin": panel.base.rstrip("/")}),
              415, "application/json"),
             ("too large", Request(panel.base + "api/start", "POST", b"{" + b" " * 100000 + b"}",
-                                  {"Content-Type": "application/json"}), 413, "too large"),
+                                  {"Content-Type": "application/json",
+                                   "Origin": panel.base.rstrip("/")}), 413, "too large"),
+            ("rebinding Host", PostJson(panel.base, "api/start", {"serial": "SN1", "sequence": 0},
+                                        {"Host": f"127.attacker.example:{panel.port}",
+                                         "Origin": f"http://127.attacker.example:{panel.port}"}),
+             403, "localhost only"),
+            ("no Origin", Request(panel.base + "api/abort", "POST", b"{}",
+                                  {"Content-Type": "application/json"}), 403, "Origin"),
             ("unknown sequence", PostJson(panel.base, "api/start", {"serial": "SN1", "sequence": 7}),
              400, "allowed sequences"),
             ("a path for a sequence", PostJson(panel.base, "api/start",
