@@ -93,12 +93,18 @@ TEST(PickoffFrameTest, ToFirstOrderEachXiIsTheNamedErrorAndTheFrameSitsBetweenTh
   // an imaginary part (the coupling that mixes the splits); the stages differ by K·G − G·K =
   // −κ·e^{−iπ/2}·(ρ − 1)·J, i.e. by about κ·|ρ − 1| in a.
   const PickoffParameters p = EveryError();
-  const Complex before = PhysicalPickoffFromXi(XiFromPickoff(p)).frame_angle;
-  const Complex after = DecomposePickoffGain(PhysicalPickoffGain(p, CrossTalkStage::kAfterGain))
-                            .frame_angle;
+  const auto frame_angle = [&p](CrossTalkStage stage) {
+    return DecomposePickoffGain(PhysicalPickoffGain(p, stage)).frame_angle;
+  };
+  const Complex before = frame_angle(CrossTalkStage::kBeforeGain);
+  const Complex after = frame_angle(CrossTalkStage::kAfterGain);
+  const Complex midway = frame_angle(CrossTalkStage::kMidway);
   EXPECT_GT(std::abs(before.imag()), 1e-5);
   const Complex rho = std::polar(p.gain_ratio, -p.phase_mismatch_rad);
   EXPECT_NEAR(std::abs(after - before), p.cross_talk * std::abs(rho - 1.0), 1e-5);
+  // The nominal model sits halfway between the two ends.
+  EXPECT_NEAR(std::abs(midway - 0.5 * (before + after)), 0.0, 1e-7);
+  EXPECT_NEAR(std::abs(PhysicalPickoffFromXi(XiFromPickoff(p)).frame_angle - midway), 0.0, 1e-12);
 }
 
 // The data of a unit (electrode-frame anisotropies, physical pick-off) are the data of the model
