@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <array>
 
-#include "hrgbench/estimator/pickoff_frame.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/estimator/pickoff_frame.hpp"
 #include "sim/carrier_pickoff.hpp"
 
 namespace hrgbench::drivers::sim_station {
@@ -137,10 +137,10 @@ SimulatedTruth SimulatedStation::truth(std::size_t i) const {
     // What the slow model should find: δ in the model's frame with the housing's temperature
     // drift's decay (at the start temperature), ξ the pick-off's in that frame with the split's
     // second-order mixing (estimator/pickoff_frame.hpp). The pick-off's H is the simulator's own.
-    const double relative_rate =
-        c.frequency_temperature_coefficient_per_c * gyro.temperature_drift_c_per_s /
-        (1.0 + c.frequency_temperature_coefficient_per_c *
-                   (gyro.temperature_c - c.reference_temperature_c));
+    const double relative_rate = c.frequency_temperature_coefficient_per_c *
+                                 gyro.temperature_drift_c_per_s /
+                                 (1.0 + c.frequency_temperature_coefficient_per_c *
+                                            (gyro.temperature_c - c.reference_temperature_c));
     const sim::CarrierPickoff pickoff(c.pickoff, c.resonator.frequency_hz);
     const estimator::SlowModelTruth seen =
         estimator::SlowModelSeenOnUnit(c.resonator, pickoff.carrier_gain(), relative_rate);

@@ -89,8 +89,7 @@ int Run(const Arguments& args) {
     std::cout << result.summary.Report();
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
     if (result.summary.IsUsable()) {
-      const auto engineering =
-          bench::ComputeEngineeringOfRecord(result.summary, session->document);
+      const auto engineering = bench::ComputeEngineeringOfRecord(result.summary, session->document);
       if (!engineering) {
         spdlog::error("{}: {}", args.dir, engineering.error());
         return app::kExitNotUsable;

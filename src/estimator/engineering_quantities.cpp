@@ -1,13 +1,12 @@
 #include "hrgbench/estimator/engineering_quantities.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <numbers>
 #include <utility>
-
-#include <Eigen/Dense>
 
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/estimator/pickoff_frame.hpp"
@@ -303,8 +302,8 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
   Values coupling_u;
   coupling_u.fill(0.0);
   if (bound > 0.0) {
-    for (const std::complex<double> direction : {std::complex<double>(1.0, 0.0),
-                                                 std::complex<double>(0.0, 1.0)}) {
+    for (const std::complex<double> direction :
+         {std::complex<double>(1.0, 0.0), std::complex<double>(0.0, 1.0)}) {
       EngineeringModel up = model, down = model;
       up.frame_angle_offset_rad = bound * direction;
       down.frame_angle_offset_rad = -bound * direction;
@@ -414,14 +413,13 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
                             : std::string()));
     }
     if (uses_pickoff_frame(q)) {
-      AddComponent(&v, "pick-off model: cross-talk stage", stage_half_width[k] / std::sqrt(3.0),
-                   true,
-                   stage_declared
-                       ? std::string("declared ") + ToString(options.cross_talk_stage)
-                       : "midway between the electrode lines and the amplified channels; either "
-                         "end moves it by up to " +
-                             Format(stage_half_width[k]) +
-                             " (rectangular half-width); free runs cannot tell them apart");
+      AddComponent(
+          &v, "pick-off model: cross-talk stage", stage_half_width[k] / std::sqrt(3.0), true,
+          stage_declared ? std::string("declared ") + ToString(options.cross_talk_stage)
+                         : "midway between the electrode lines and the amplified channels; either "
+                           "end moves it by up to " +
+                               Format(stage_half_width[k]) +
+                               " (rectangular half-width); free runs cannot tell them apart");
       if (bound > 0.0) {
         AddComponent(&v, "pick-off model: unmodelled antisymmetric coupling", coupling_u[k], true,
                      "declared bound ±" + Format(bound) +
@@ -457,11 +455,9 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
     if (q == Q::kFrequencySplit && std::isfinite(drift.relative_rate_per_s)) {
       // The split scales with f (a temperature moves both modes alike): over a run of T it sweeps
       // Δf·|ω̇/ω0|·T around the fit's one δ5, δ6, the runs' mean (rectangular, half of it).
-      const double sweep =
-          v.value * std::abs(drift.relative_rate_per_s) * options.longest_run_s;
+      const double sweep = v.value * std::abs(drift.relative_rate_per_s) * options.longest_run_s;
       if (std::isfinite(sweep)) {
-        AddComponent(&v, "frequency drift: the split follows f", 0.5 * sweep / std::sqrt(3.0),
-                     true,
+        AddComponent(&v, "frequency drift: the split follows f", 0.5 * sweep / std::sqrt(3.0), true,
                      "the split sweeps " + Format(sweep) + " mHz over the longest run (" +
                          Format(options.longest_run_s) +
                          " s) at the fitted drift: the value is the runs' mean, at their mean "
@@ -473,15 +469,14 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
     }
     if (q == Q::kQualityFactor) {
       AddComponent(&v, "f0 as reported", f0_u[k], true,
-                   std::isfinite(f0_u[k])
-                       ? "u(f0) = " + Format(options.frequency_std_hz) + " Hz: " +
-                             options.frequency_std_source
-                       : "not stated by the electronics: f0 taken as exact");
+                   std::isfinite(f0_u[k]) ? "u(f0) = " + Format(options.frequency_std_hz) +
+                                                " Hz: " + options.frequency_std_source
+                                          : "not stated by the electronics: f0 taken as exact");
     }
     double combined = 0.0;
     for (const UncertaintyComponent& c : v.budget)
-      if (std::isfinite(c.standard_uncertainty)) combined += c.standard_uncertainty *
-                                                             c.standard_uncertainty;
+      if (std::isfinite(c.standard_uncertainty))
+        combined += c.standard_uncertainty * c.standard_uncertainty;
     v.std = std::sqrt(combined);
     std::stable_sort(v.budget.begin(), v.budget.end(),
                      [](const UncertaintyComponent& a, const UncertaintyComponent& b) {
@@ -522,7 +517,8 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
       "Free runs cannot tell the pick-off's antisymmetric coupling (a complex frame angle) from "
       "the anisotropies' own angles: the axes and the damping split are corrected with the "
       "nominal pick-off model's coupling (a = " +
-          Format(out.pickoff_frame_angle_rad.real()) + (out.pickoff_frame_angle_rad.imag() < 0 ? " − " : " + ") +
+          Format(out.pickoff_frame_angle_rad.real()) +
+          (out.pickoff_frame_angle_rad.imag() < 0 ? " − " : " + ") +
           Format(std::abs(out.pickoff_frame_angle_rad.imag())) +
           "i rad), and what that model does not fix is a systematic component.",
       "The fit's δ1 includes the decay a frequency drift adds (½·ω̇/ω): τ, τ1, τ2 and Q are "
@@ -554,8 +550,8 @@ std::string EngineeringQuantities::Report() const {
     // The statistical part alone, when the rest of the budget is more than a tenth of it.
     if (std::isfinite(v.statistical_std) && std::isfinite(v.std) &&
         v.std > 1.1 * v.statistical_std && !v.budget.empty()) {
-      text += "  [fit " + FormatWithStd(v.value, v.statistical_std).second + "; largest: " +
-              v.budget.front().source + "]";
+      text += "  [fit " + FormatWithStd(v.value, v.statistical_std).second +
+              "; largest: " + v.budget.front().source + "]";
     }
     if (!v.note.empty()) text += "  (" + v.note + ")";
     text += "\n";
@@ -572,12 +568,13 @@ std::string EngineeringQuantities::BudgetReport() const {
     const EngineeringValue& v = values[k];
     if (v.budget.empty()) continue;
     const std::string unit = info.unit.empty() ? "" : " " + std::string(info.unit);
-    text += std::string(info.name) + ": u_c = " + Format(v.std) + unit + ", U (k = " +
-            Format(coverage_factor) + ") = " + Format(coverage_factor * v.std) + unit + "\n";
+    text += std::string(info.name) + ": u_c = " + Format(v.std) + unit +
+            ", U (k = " + Format(coverage_factor) + ") = " + Format(coverage_factor * v.std) +
+            unit + "\n";
     for (const UncertaintyComponent& c : v.budget) {
       text += "    " + c.source + (c.systematic ? " (B)" : " (A)") + ": " +
               (std::isfinite(c.standard_uncertainty) ? Format(c.standard_uncertainty) + unit
-                                                      : std::string("not evaluated")) +
+                                                     : std::string("not evaluated")) +
               " — " + c.note + "\n";
     }
   }

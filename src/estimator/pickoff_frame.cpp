@@ -1,8 +1,7 @@
 #include "hrgbench/estimator/pickoff_frame.hpp"
 
-#include <cmath>
-
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "hrgbench/estimator/frequency_drift_decay.hpp"
 #include "hrgbench/estimator/split_coriolis_mixing.hpp"

@@ -164,8 +164,8 @@ void Page::EngineeringBudgets(const std::string& base) {
     const std::size_t components = Size(doc_, q + "/budget");
     if (components == 0) continue;
     const std::string unit = Has(q + "/unit") ? Text(q + "/unit") : std::string();
-    rows += "<tr class=\"budget-total\"><td rowspan=\"" + std::to_string(components + 1) +
-            "\">" + (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) +
+    rows += "<tr class=\"budget-total\"><td rowspan=\"" + std::to_string(components + 1) + "\">" +
+            (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) +
             "</td><td>combined u<sub>c</sub></td><td></td><td>" + Src(q + "/std") + " " + unit +
             "</td><td></td></tr>\n";
     for (std::size_t c = 0; c < components; ++c) {
@@ -179,13 +179,14 @@ void Page::EngineeringBudgets(const std::string& base) {
     }
   }
   if (rows.empty()) return;
-  out_ += "<h3>Uncertainty budgets</h3>\n<p>Each quantity's components (type A: from this "
-          "session's data; type B: from a model or a declaration), largest first. The verdict "
-          "judges u<sub>c</sub>; the expanded uncertainty is U = " +
-          Src(base + "/coverage_factor") +
-          "·u<sub>c</sub>.</p>\n<table class=\"budget\"><tr><th>quantity</th><th>component</th>"
-          "<th>type</th><th>standard uncertainty</th><th>how</th></tr>\n" +
-          rows + "</table>\n";
+  out_ +=
+      "<h3>Uncertainty budgets</h3>\n<p>Each quantity's components (type A: from this "
+      "session's data; type B: from a model or a declaration), largest first. The verdict "
+      "judges u<sub>c</sub>; the expanded uncertainty is U = " +
+      Src(base + "/coverage_factor") +
+      "·u<sub>c</sub>.</p>\n<table class=\"budget\"><tr><th>quantity</th><th>component</th>"
+      "<th>type</th><th>standard uncertainty</th><th>how</th></tr>\n" +
+      rows + "</table>\n";
   const std::size_t notes = Size(doc_, base + "/limitations");
   for (std::size_t i = 0; i < notes; ++i)
     out_ += "<p class=\"note\">" + Text(base + "/limitations/" + std::to_string(i)) + "</p>\n";

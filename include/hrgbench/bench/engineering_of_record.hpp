@@ -8,8 +8,8 @@
 //   runs[].start.resonant_frequency_hz   f0 (recorded_frequency.hpp); the spread of the runs'
 //                                        values is f0's "as reported" component (rectangular over
 //                                        the range: spread/√12), when two or more runs have it
-//   electronics.pickoff                  what the station declares of its pick-off
-//                                        ([gyro] pickoff_cross_talk_stage, pickoff_coupling_bound_rad):
+//   electronics.pickoff                  what the station declares of its pick-off ([gyro]
+//                                        pickoff_cross_talk_stage, pickoff_coupling_bound_rad):
 //                                        {"cross_talk_stage": "midway" | "before_gain" |
 //                                        "after_gain", "unmodelled_coupling_bound_rad": ≥ 0};
 //                                        absent (a record from before it was declared): midway, no
@@ -19,10 +19,9 @@
 // (guessing would change the quantities silently).
 
 #include <expected>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/bench/pickoff_declaration.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
@@ -41,8 +40,8 @@ std::expected<RecordedPickoff, std::string> RecordedPickoffDeclaration(
 
 struct EngineeringOfRecord {
   estimator::EngineeringQuantities quantities;
-  std::string frequency_source;        // where f0 came from (RecordedFrequency::source)
-  std::vector<std::string> notes;      // a missing declaration, and the like
+  std::string frequency_source;    // where f0 came from (RecordedFrequency::source)
+  std::vector<std::string> notes;  // a missing declaration, and the like
 };
 std::expected<EngineeringOfRecord, std::string> ComputeEngineeringOfRecord(
     const estimator::EstimateSummary& summary, const nlohmann::json& session_document);

@@ -44,8 +44,8 @@
 // ANGLES ON THE SHELL. The model's angles (the wave angle θ, θ_ω, θ_τ, ε) are electrical angles of
 // the n = 2 mode: channel 2's electrode sits at 90° in the model's frame and at 45° on the shell.
 // A wave turned by α on the shell turns by 2α in the model. Every *_deg angle here is on the shell,
-// half the electrical one, measured from channel 1's electrode towards channel 2's; an n = 2 axis is
-// defined modulo 90° on the shell, so axes are folded into (−45°, 45°].
+// half the electrical one, measured from channel 1's electrode towards channel 2's; an n = 2 axis
+// is defined modulo 90° on the shell, so axes are folded into (−45°, 45°].
 //
 // ## The uncertainty budget (GUM, JCGM 100 §8)
 // Each determined quantity carries its components (UncertaintyComponent, in its own unit):
@@ -137,7 +137,7 @@ bool DependsOn(EngineeringQuantity quantity, int index) noexcept;
 
 // One line of a quantity's uncertainty budget.
 struct UncertaintyComponent {
-  std::string source;                  // "fit (statistical)", "pick-off model: cross-talk stage", ...
+  std::string source;  // "fit (statistical)", "pick-off model: cross-talk stage", ...
   double standard_uncertainty = kNaN;  // in the quantity's unit; NaN: not evaluated (note says why)
   bool systematic = false;             // type B: not reduced by more data of this session's kind
   std::string note;                    // how it was evaluated, or why it could not be
@@ -228,6 +228,7 @@ struct FrequencyDrift {
   double spread_per_s = kNaN;
   int runs = 0;
 };
-FrequencyDrift FittedFrequencyDrift(const FitDiagnostics& diagnostics, double frequency_hz) noexcept;
+FrequencyDrift FittedFrequencyDrift(const FitDiagnostics& diagnostics,
+                                    double frequency_hz) noexcept;
 
 }  // namespace hrgbench::estimator

@@ -46,9 +46,8 @@
 //
 // Pure functions, Eigen and the standard library only, noexcept, allocation-free.
 
-#include <complex>
-
 #include <Eigen/Core>
+#include <complex>
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
@@ -69,9 +68,10 @@ Eigen::Matrix2cd PhysicalPickoffGain(const PickoffParameters& pickoff,
 
 // H = common·(I + C(xi))·V(frame_angle): what the model holds of a pick-off, and what it cannot.
 struct PickoffInModelFrame {
-  std::complex<double> common = 1.0;       // c, absorbed by each run's initial state
-  Xi xi = Xi::Zero();                      // the model's ξ
-  std::complex<double> frame_angle = 0.0;  // a, rad (electrical): the model's frame from channel 1's
+  std::complex<double> common = 1.0;  // c, absorbed by each run's initial state
+  Xi xi = Xi::Zero();                 // the model's ξ
+  std::complex<double> frame_angle =
+      0.0;  // a, rad (electrical): the model's frame from channel 1's
 };
 // Any H with H11 + H22 ≠ 0.
 PickoffInModelFrame DecomposePickoffGain(const Eigen::Matrix2cd& gain) noexcept;

@@ -147,8 +147,8 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
   gyro.iq_convention =
       *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
   // What free runs cannot measure of the pick-off (pickoff_declaration.hpp).
-  HRG_TRY(stage, Choice(reader, "pickoff_cross_talk_stage", {"midway", "before_gain", "after_gain"},
-                        0));
+  HRG_TRY(stage,
+          Choice(reader, "pickoff_cross_talk_stage", {"midway", "before_gain", "after_gain"}, 0));
   gyro.pickoff.cross_talk_stage = *stage == 1   ? estimator::CrossTalkStage::kBeforeGain
                                   : *stage == 2 ? estimator::CrossTalkStage::kAfterGain
                                                 : estimator::CrossTalkStage::kMidway;

@@ -43,8 +43,7 @@ std::expected<RecordedPickoff, std::string> RecordedPickoffDeclaration(
                            pickoff->dump());
   if (pickoff->contains("cross_talk_stage")) {
     const nlohmann::json& stage = pickoff->at("cross_talk_stage");
-    const auto parsed =
-        stage.is_string() ? ParseStage(stage.get<std::string>()) : std::nullopt;
+    const auto parsed = stage.is_string() ? ParseStage(stage.get<std::string>()) : std::nullopt;
     if (!parsed)
       return std::unexpected(
           "field 'electronics.pickoff.cross_talk_stage': expected \"midway\", \"before_gain\" or "
@@ -76,9 +75,9 @@ std::expected<EngineeringOfRecord, std::string> ComputeEngineeringOfRecord(
   // over the runs, which Q's f0 (their mean) is uncertain by: rectangular over the range.
   if (f0.runs >= 2 && std::isfinite(f0.spread_hz)) {
     options.frequency_std_hz = f0.spread_hz / std::sqrt(12.0);
-    options.frequency_std_source =
-        "the spread of the runs' reported f0 (rectangular over " + std::to_string(f0.runs) +
-        " runs); the electronics state no uncertainty of their own";
+    options.frequency_std_source = "the spread of the runs' reported f0 (rectangular over " +
+                                   std::to_string(f0.runs) +
+                                   " runs); the electronics state no uncertainty of their own";
   }
   // The longest free run the record planned (the splits follow f over it under a drift).
   if (document.is_object() && document.contains("runs") && document.at("runs").is_array()) {

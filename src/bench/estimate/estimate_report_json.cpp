@@ -1,9 +1,8 @@
 #include "hrgbench/bench/estimate_report_json.hpp"
 
-#include "hrgbench/bench/engineering_of_record.hpp"
-
 #include <cmath>
 
+#include "hrgbench/bench/engineering_of_record.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
 
 namespace hrgbench::bench {
@@ -117,17 +116,17 @@ nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineeri
   }
   nlohmann::json limitations = nlohmann::json::array();
   for (const std::string& l : engineering.limitations) limitations.push_back(l);
-  return {{"frequency_hz", NumberOrNull(engineering.frequency_hz)},
-          {"frequency_source", std::string(frequency_source)},
-          {"coverage_factor", engineering.coverage_factor},
-          {"relative_frequency_rate_per_s",
-           NumberOrNull(engineering.relative_frequency_rate_per_s)},
-          {"cross_talk_stage", estimator::ToString(engineering.cross_talk_stage)},
-          {"pickoff_frame_angle_rad",
-           {NumberOrNull(engineering.pickoff_frame_angle_rad.real()),
-            NumberOrNull(engineering.pickoff_frame_angle_rad.imag())}},
-          {"limitations", limitations},
-          {"quantities", quantities}};
+  return {
+      {"frequency_hz", NumberOrNull(engineering.frequency_hz)},
+      {"frequency_source", std::string(frequency_source)},
+      {"coverage_factor", engineering.coverage_factor},
+      {"relative_frequency_rate_per_s", NumberOrNull(engineering.relative_frequency_rate_per_s)},
+      {"cross_talk_stage", estimator::ToString(engineering.cross_talk_stage)},
+      {"pickoff_frame_angle_rad",
+       {NumberOrNull(engineering.pickoff_frame_angle_rad.real()),
+        NumberOrNull(engineering.pickoff_frame_angle_rad.imag())}},
+      {"limitations", limitations},
+      {"quantities", quantities}};
 }
 
 nlohmann::json EstimateReportJson(std::string_view method,
@@ -170,7 +169,8 @@ nlohmann::json EstimateReportJson(std::string_view method,
   }
   if (const auto engineering = ComputeEngineeringOfRecord(summary, session_document)) {
     report["engineering"] = EngineeringJson(engineering->quantities, engineering->frequency_source);
-    for (const std::string& note : engineering->notes) report["engineering"]["notes"].push_back(note);
+    for (const std::string& note : engineering->notes)
+      report["engineering"]["notes"].push_back(note);
   } else {
     report["engineering"] = {{"error", engineering.error()}};
   }

@@ -8,12 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
 
 #include "../../support/out_of_model.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
-
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "hrgbench/estimator/model.hpp"

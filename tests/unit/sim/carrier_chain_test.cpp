@@ -84,10 +84,9 @@ SimulatedRun Simulate(CarrierSimulation& sim, const CarrierRelease& release, dou
 // in a run, so it is a different x0 to the estimator).
 estimator::Observation Model(const CarrierSimulation& sim, const CarrierRelease& release,
                              double t) {
-  const estimator::State x =
-      estimator::PropagateExact(release.omega_rad_s, sim.delta(),
-                                sim.ModelState(estimator::OrbitToState(release.orbit)),
-                                t - sim.group_delay_s());
+  const estimator::State x = estimator::PropagateExact(
+      release.omega_rad_s, sim.delta(), sim.ModelState(estimator::OrbitToState(release.orbit)),
+      t - sim.group_delay_s());
   return (estimator::Matrix4::Identity() + estimator::DistortionMatrix(sim.xi())) * x;
 }
 

@@ -21,17 +21,16 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
-#include <complex>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
@@ -53,11 +52,11 @@ constexpr double kF0 = 4987.654321;
 constexpr double kRate = 20.0;  // output samples per second
 
 struct Pickoff {
-  double gain_ratio = 1.0;            // g2/g1
-  double phase_mismatch_rad = 0.0;    // φ2 − φ1: channel 2's extra phase lag at the carrier
-  double cross_talk = 0.0;            // κ
-  double electrode_error_rad = 0.0;   // ε: channel 2's electrode at 90° − ε (electrical)
-  bool cross_talk_after_gain = false; // the coupling between the amplified channels
+  double gain_ratio = 1.0;             // g2/g1
+  double phase_mismatch_rad = 0.0;     // φ2 − φ1: channel 2's extra phase lag at the carrier
+  double cross_talk = 0.0;             // κ
+  double electrode_error_rad = 0.0;    // ε: channel 2's electrode at 90° − ε (electrical)
+  bool cross_talk_after_gain = false;  // the coupling between the amplified channels
 };
 
 struct Scenario {
@@ -109,12 +108,10 @@ estimator::RunData Simulate(const Scenario& s, double omega_rad_s, const estimat
   // (ω − ω0)/(2ω0) (1e-5 at Ω = 1 rad/s), which sampling aliases into the band.
   Eigen::Matrix<Complex, 2, 4> forward;
   const auto rebuild_forward = [&] {
-    Eigen::ComplexEigenSolver<Eigen::Matrix4cd> modes(
-        oscillator.system_matrix().cast<Complex>());
+    Eigen::ComplexEigenSolver<Eigen::Matrix4cd> modes(oscillator.system_matrix().cast<Complex>());
     Eigen::Matrix4cd keep = Eigen::Matrix4cd::Zero();
     for (int i = 0; i < 4; ++i) keep(i, i) = modes.eigenvalues()[i].imag() > 0.0 ? 1.0 : 0.0;
-    const Eigen::Matrix4cd projector =
-        modes.eigenvectors() * keep * modes.eigenvectors().inverse();
+    const Eigen::Matrix4cd projector = modes.eigenvectors() * keep * modes.eigenvectors().inverse();
     forward = 2.0 * projector.topRows<2>();
   };
   rebuild_forward();
@@ -254,15 +251,16 @@ void ExpectAccurate(const Scenario& scenario, int seeds, std::uint64_t first_see
     const double uc = sum_uc[k] / seeds, stat = sum_stat[k] / seeds,
                  systematic = sum_systematic[k] / seeds;
     if (std::getenv("HRGBENCH_PRINT_TABLE") != nullptr) {
-      std::printf("%-24s mean error %+.3e  scatter %.3e  u_c %.3e  stat %.3e  syst %.3e  "
-                  "mean/u_c %+.2f  scatter/stat %.2f\n",
-                  std::string(estimator::kEngineeringQuantities[k].name).c_str(), mean, scatter,
-                  uc, stat, systematic, mean / uc, scatter / stat);
+      std::printf(
+          "%-24s mean error %+.3e  scatter %.3e  u_c %.3e  stat %.3e  syst %.3e  "
+          "mean/u_c %+.2f  scatter/stat %.2f\n",
+          std::string(estimator::kEngineeringQuantities[k].name).c_str(), mean, scatter, uc, stat,
+          systematic, mean / uc, scatter / stat);
     }
-    SCOPED_TRACE(std::string(estimator::kEngineeringQuantities[k].name) +
-                 ": mean error " + std::to_string(mean) + ", scatter " + std::to_string(scatter) +
-                 ", u_c " + std::to_string(uc) + ", statistical " + std::to_string(stat) +
-                 ", systematic " + std::to_string(systematic));
+    SCOPED_TRACE(std::string(estimator::kEngineeringQuantities[k].name) + ": mean error " +
+                 std::to_string(mean) + ", scatter " + std::to_string(scatter) + ", u_c " +
+                 std::to_string(uc) + ", statistical " + std::to_string(stat) + ", systematic " +
+                 std::to_string(systematic));
     if (systematic > 0.1 * uc) {
       // A systematic component is a rectangular half-width √3·u: the error lies within it, up
       // to one statistical std (the damping axis carries a second-order bias of half its
