@@ -298,16 +298,23 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
         stage_half_width[k] = std::max(stage_half_width[k], 2.0 * std::abs(half[k]));
     }
   }
+  // Half the change of every value when one input of the map moves down and up by one step
+  // (`move(model, ±1)` moves it): the sensitivity each of the budget lines below is sized by.
+  const auto swing = [&](const auto& move) {
+    EngineeringModel up = model, down = model;
+    move(up, 1.0);
+    move(down, -1.0);
+    return HalfDifference(values_at(p, up), values_at(p, down));
+  };
   const double bound = options.unmodelled_coupling_bound_rad;
   Values coupling_u;
   coupling_u.fill(0.0);
   if (bound > 0.0) {
     for (const std::complex<double> direction :
          {std::complex<double>(1.0, 0.0), std::complex<double>(0.0, 1.0)}) {
-      EngineeringModel up = model, down = model;
-      up.frame_angle_offset_rad = bound * direction;
-      down.frame_angle_offset_rad = -bound * direction;
-      const Values half = HalfDifference(values_at(p, up), values_at(p, down));
+      const Values half = swing([&](EngineeringModel& m, double sign) {
+        m.frame_angle_offset_rad = sign * bound * direction;
+      });
       for (std::size_t k = 0; k < kCount; ++k) coupling_u[k] += half[k] * half[k] / 3.0;
     }
     for (double& u : coupling_u) u = std::sqrt(u);
@@ -315,19 +322,17 @@ EngineeringQuantities ComputeEngineeringQuantities(const EstimateSummary& summar
   Values drift_u;
   drift_u.fill(kNaN);
   if (std::isfinite(drift.spread_per_s)) {
-    EngineeringModel up = model, down = model;
-    up.relative_frequency_rate_per_s += drift.spread_per_s;
-    down.relative_frequency_rate_per_s -= drift.spread_per_s;
-    drift_u = HalfDifference(values_at(p, up), values_at(p, down));
+    drift_u = swing([&](EngineeringModel& m, double sign) {
+      m.relative_frequency_rate_per_s += sign * drift.spread_per_s;
+    });
     for (double& u : drift_u) u = std::abs(u);
   }
   Values f0_u;
   f0_u.fill(kNaN);
   if (std::isfinite(options.frequency_std_hz) && std::isfinite(frequency_hz)) {
-    EngineeringModel up = model, down = model;
-    up.frequency_hz += options.frequency_std_hz;
-    down.frequency_hz -= options.frequency_std_hz;
-    f0_u = HalfDifference(values_at(p, up), values_at(p, down));
+    f0_u = swing([&](EngineeringModel& m, double sign) {
+      m.frequency_hz += sign * options.frequency_std_hz;
+    });
     for (double& u : f0_u) u = std::abs(u);
   }
   // Ω taken as exact for some runs: what a 1e-6 rad/s error of one run's Ω would move each
