@@ -1,6 +1,6 @@
 #pragma once
 // Options of the simulated HRG electronics (GyroSimNode): which physics makes the samples (the slow
-// model's δ, ξ, σ, see ../shared/MODEL.md and estimator/simulation.hpp; or the carrier-level
+// model's δ, ξ, σ, see docs/estimator/model.md and estimator/simulation.hpp; or the carrier-level
 // resonator and electronics, carrier_options.hpp), the electronics' behaviour, and explicit
 // failure modes (STYLE rule 6). Plain data with in-class defaults; the program reads it from TOML
 // (gyro_sim_config.hpp).
@@ -43,7 +43,7 @@ enum class GyroPhysics {
 
 struct GyroSimOptions {
   GyroPhysics physics = GyroPhysics::kSlow;
-  // physics = kSlow: the resonator. δ defaults to the paper's experiment (MODEL.md): δ1 = −0.001
+  // physics = kSlow: the resonator. δ defaults to the paper's experiment (model.md): δ1 = −0.001
   // 1/s, δ2 = 0.3.
   estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
   estimator::Xi xi = estimator::Xi::Zero();

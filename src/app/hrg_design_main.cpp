@@ -25,7 +25,8 @@ namespace {
 
 using namespace hrgbench;
 
-// σ used when neither --sigma nor the plan gives one: the noise level MODEL.md quotes.
+// σ used when neither --sigma nor the plan gives one: the noise level docs/estimator/model.md
+// quotes.
 constexpr double kFallbackSigma = 1e-4;
 
 struct Case {

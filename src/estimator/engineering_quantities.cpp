@@ -137,7 +137,7 @@ std::array<double, kEngineeringQuantityCount> EngineeringValues(
   out[Index(Q::kDecayTime)] = r.decay_time_s;
   out[Index(Q::kQualityFactor)] = kPi * frequency_hz * r.decay_time_s;
 
-  // Eigenvalues δ1 ± λ of A(0, δ) on u (MODEL.md's complex form): the modes' decay rates are
+  // Eigenvalues δ1 ± λ of A(0, δ) on u (model.md's complex form): the modes' decay rates are
   // −δ1 ∓ Re λ, whichever sign the square root takes.
   const Complex c(delta[kDampingAnisotropyCos], delta[kFrequencyAnisotropyCos]);
   const Complex s(delta[kDampingAnisotropySin], delta[kFrequencyAnisotropySin]);

@@ -1,7 +1,7 @@
 #pragma once
 // Closed-form free-run propagation and its parameter derivatives, in the complex form of the model.
 //
-// With u = (x1 + i·x2, x3 + i·x4) the system matrix acts complex-linearly (MODEL.md):
+// With u = (x1 + i·x2, x3 + i·x4) the system matrix acts complex-linearly (model.md):
 //   A = α·I + B,  α = δ1,  B = βx·σx + βy·σy + βz·σz,
 //   βx = δ4 + i·δ6,  βy = i·2Ωδ2,  βz = δ3 + i·δ5.
 // B is traceless, so B² = μ²·I with μ² = βx² + βy² + βz², and

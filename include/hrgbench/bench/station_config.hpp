@@ -148,7 +148,7 @@ struct SimulatedStationConfig {
   // false: paced on the wall clock at time_scale.
   bool faster_than_real_time = false;
   double time_scale = 1.0;  // simulated s per wall-clock s when paced; 1 = real time
-  // The truth the simulated gyro follows (MODEL.md).
+  // The truth the simulated gyro follows (docs/estimator/model.md, "Parameters").
   estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
   estimator::Xi xi = (estimator::Xi() << 0.01, 0.0, 0.0, 0.0).finished();
   double sigma = 1e-4;  // white noise std per channel of y (amplitude units); 0 = noise-free

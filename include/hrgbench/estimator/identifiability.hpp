@@ -1,11 +1,12 @@
 #pragma once
 // Which parameters a run plan can determine, decided before any fit.
 //
-// Structure (MODEL.md): δ2 enters only through 2Ωδ2, so it needs a run with Ω ≠ 0. To first order a
-// pick-off distortion looks like an Ω-proportional anisotropy, (δ3…δ6)_eff = (δ3 − 4Ωδ2ξ4, δ4 + 4Ωδ2ξ1,
-// δ5 + 4Ωδ2ξ3, δ6 − 4Ωδ2ξ2), so ξ needs at least two distinct Ω with δ2Ω ≠ 0 somewhere. On top of
-// these rules the numerical rank of the (scaled) Fisher information at a nominal point catches what
-// the rules miss: a near-null direction names the parameters it involves.
+// Structure (docs/estimator/model.md): δ2 enters only through 2Ωδ2, so it needs a run with Ω ≠ 0.
+// To first order a pick-off distortion looks like an Ω-proportional anisotropy, (δ3…δ6)_eff =
+// (δ3 − 4Ωδ2ξ4, δ4 + 4Ωδ2ξ1, δ5 + 4Ωδ2ξ3, δ6 − 4Ωδ2ξ2), so ξ needs at least two distinct Ω with
+// δ2Ω ≠ 0 somewhere. On top of these rules the numerical rank of the (scaled) Fisher information at
+// a nominal point catches what the rules miss: a near-null direction names the parameters it
+// involves.
 
 #include <string>
 #include <vector>

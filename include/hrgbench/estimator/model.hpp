@@ -1,5 +1,5 @@
 #pragma once
-// The HRG free-run model in matrix form, exactly as verified in ../shared/MODEL.md:
+// The HRG free-run model in matrix form, exactly as verified in docs/estimator/model.md:
 //   dx/dt = A(Ω, δ)·x,   y = (I + C(ξ))·x,   z = W(x)·x = (Ac, As, K, S),
 //   dz/dt = 2·M(Ω, δ)·z = 2·Mδ(Ω, z)·δ.
 // Ω is the angular rate about the sensitive axis in rad/s. All functions are pure, allocation-free
@@ -20,7 +20,7 @@ struct Orbit {
   double phi_rad = 0.0;
 };
 
-// System matrix A(Ω, δ) of the free run (the paper's third row corrected, see MODEL.md).
+// System matrix A(Ω, δ) of the free run (the paper's third row corrected, model.md "Matrices").
 Matrix4 SystemMatrix(double omega_rad_s, const Delta& delta) noexcept;
 
 // Pick-off distortion C(ξ); the observation is y = (I + C)·x.
@@ -39,12 +39,13 @@ Matrix4 FormsDynamics(double omega_rad_s, const Delta& delta) noexcept;
 Matrix46 FormsRegressor(double omega_rad_s, const Forms& z) noexcept;
 
 // The paper's first-order distortion of the forms: z ≈ N(ξ)·r = r + Nξ(r)·ξ with r = W(y)·y
-// (the printed "ξ5" read as ξ4 and the "−As" as −2As, see MODEL.md).
+// (the printed "ξ5" read as ξ4 and the "−As" as −2As: docs/estimator/model.md, "Distortion of
+// the pick-off path in z").
 Matrix4 FirstOrderFormsDistortion(const Xi& xi) noexcept;    // N(ξ)
 Matrix4 FirstOrderFormsSensitivity(const Forms& r) noexcept;  // Nξ(r)
 
 // The paper's special-case regressor Mδ(Ω, r, λ, φ) for ξ = (λ, φ, 0, 0), with the δ2 column
-// corrected (MODEL.md): dr/dt ≈ 2·Mδ(Ω, r, λ, φ)·δ to first order in ξ.
+// corrected (model.md "The paper's method"): dr/dt ≈ 2·Mδ(Ω, r, λ, φ)·δ to first order in ξ.
 Matrix46 FirstOrderFormsRegressor(double omega_rad_s, const Forms& r, double lambda,
                                   double phi) noexcept;
 
@@ -52,7 +53,7 @@ Matrix46 FirstOrderFormsRegressor(double omega_rad_s, const Forms& r, double lam
 // complex 2×2 matrix, so the inverse is closed-form; it exists whenever det ≠ 0 (|ξ| < 1/2 suffices).
 State UndistortExact(const Xi& xi, const Observation& y) noexcept;
 
-// x from orbit elements (MODEL.md):
+// x from orbit elements (model.md "State, observation, orbit elements"):
 //   x1 = a cosθ cosφ + b sinθ sinφ,  x2 = a cosθ sinφ − b sinθ cosφ,
 //   x3 = a sinθ cosφ − b cosθ sinφ,  x4 = a sinθ sinφ + b cosθ cosφ.
 State OrbitToState(const Orbit& orbit) noexcept;

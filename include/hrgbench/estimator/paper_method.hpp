@@ -7,7 +7,7 @@
 //  - EstimatePaperXiGrid: ξ1 by brute-force grid search, δ re-solved by OLS at every grid point with
 //    the first-order special regressor Mδ(Ω, r, λ, 0) (δ2 column corrected), minimising the residual.
 // Both are equation-error methods on a numerical derivative: biased under noise and at high rates
-// (MODEL.md); use EstimateMaximumLikelihood for results.
+// (docs/estimator/model.md); use EstimateMaximumLikelihood for results.
 
 #include <string>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Parameter vectors of the HRG free-run model (see ../shared/MODEL.md and the README's model section).
+// Parameter vectors of the HRG free-run model (docs/estimator/model.md "Parameters").
 //
 // delta (δ, 6): mechanical parameters of the resonator.
 //   δ1 damping [1/s, negative], δ2 gyro scale factor (angular gain, dimensionless, ≈ 0.3),

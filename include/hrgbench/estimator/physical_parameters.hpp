@@ -1,7 +1,7 @@
 #pragma once
 // Physical parameters of the n = 2 working mode and of the pick-off path, and their exact map to
-// and from the model's (δ, ξ) of ../shared/MODEL.md. Pure functions, Eigen and the standard library
-// only, no I/O, noexcept, no validation inside the maps (IsValid says what is meaningful).
+// and from the model's (δ, ξ) of docs/estimator/model.md. Pure functions, Eigen and the standard
+// library only, no I/O, noexcept, no validation inside the maps (IsValid says what is meaningful).
 //
 // ## The oscillator
 // The working mode as a 2-DOF linear oscillator in the coordinates q = (q1, q2) that the two
@@ -15,7 +15,7 @@
 //          | sin2β −cos2β |
 //
 // ALL ANGLES here (θ_τ, θ_ω, the electrode angle error, and the wave angle θ of Orbit) are in the
-// frame of q, the "electrical" frame of MODEL.md where channel 2's electrode sits at 90°; on the
+// frame of q, the "electrical" frame of model.md where channel 2's electrode sits at 90°; on the
 // shell (n = 2) every angle is half of this. A wave at θ = θ_ω vibrates at ω1, one at θ_ω + π/2 at
 // ω2; a wave at θ = θ_τ decays at 1/τ + Δ(1/τ)/2, one at θ_τ + π/2 at 1/τ − Δ(1/τ)/2.
 // k is the angular gain as a gyro engineer quotes it (Bryan's factor, ≈ 0.28–0.3 for a hemisphere):
@@ -36,7 +36,7 @@
 //
 //     u̇ = [ −D/2 − 2kΩ·J + i·(K − ω0²I)/(2ω0) ]·u.
 //
-// With K − ω0²I = ω0·Δω·P(θ_ω) + (Δω²/4)·I (Δω = 2πΔf) and −J = iσy, this is MODEL.md's
+// With K − ω0²I = ω0·Δω·P(θ_ω) + (Δω²/4)·I (Δω = 2πΔf) and −J = iσy, this is model.md's
 //   A = δ1·I + δ3·σz + δ4·σx + i·(δ5·σz + δ6·σx) + i·2Ωδ2·σy   with
 //
 //   δ1 = −1/τ                      δ2 = k
@@ -46,7 +46,7 @@
 // with the split exact in the eigenvalues: the modes vibrate at ω0 ± Δω/2, so the slow modes turn
 // at ±iΔω/2 exactly (the first-order average's i·Δω²/(8ω0)·I cancels at second order). What the
 // averaging drops is O(|A|/ω0) (for f0 = 5 kHz, Δf = 0.1 Hz, Ω = 1 rad/s: |A|/ω0 ≈ 2e-5), and two
-// second-order effects have no term in MODEL.md's A (drivers/sim/README.md measures both):
+// second-order effects have no term in model.md's A (drivers/sim/README.md measures both):
 //   - under rotation the two modes' mean frequency is exactly √(ω0² + (2kΩ)²) (undamped; whatever
 //     the split: the roots of (ω1² − ω²)(ω2² − ω²) = (4kΩω)² sum to that), a common drift
 //     ν ≈ (2kΩ)²/(2ω0) of the slow variables' phase (5.7e-6 rad/s at Ω = 1, 5 kHz);
@@ -58,7 +58,7 @@
 // ## The pick-off path at the carrier
 // A real pick-off path multiplies each channel's carrier by a gain and delays it; at the carrier a
 // gain and a delay are one complex number (a delay τ multiplies u by e^{−iω0τ}). The two channels
-// therefore see w = H·u with a complex 2×2 H. MODEL.md's C(ξ) acts on u as
+// therefore see w = H·u with a complex 2×2 H. model.md's C(ξ) acts on u as
 //
 //     I + C(ξ) = | 1 + p   q   |,   p = ξ1 − i·ξ2,   q = ξ4 − i·ξ3,
 //                | q     1 − p |

@@ -22,7 +22,7 @@
 // middle (kMidway) and carry the distance to either end as a systematic uncertainty.
 //
 // ## What the model can hold
-// MODEL.md's y = (I + C(ξ))·x holds a common complex factor c and the symmetric form
+// model.md's y = (I + C(ξ))·x holds a common complex factor c and the symmetric form
 // I + C(ξ) = [[1 + p, q], [q, 1 − p]] (p = ξ1 − iξ2, q = ξ4 − iξ3): 6 of the 8 real numbers of a
 // complex 2×2. Every invertible H is, uniquely near the identity,
 //

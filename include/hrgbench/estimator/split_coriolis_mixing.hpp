@@ -17,12 +17,12 @@
 //
 //     E = [S, G]/(8ω0²) = (kΩ·Δω/ω0)·(sin2θ_ω·σz − cos2θ_ω·σx),
 //
-// a real traceless term proportional to Ω, which MODEL.md's A (δ3, δ4 do not scale with Ω) has
+// a real traceless term proportional to Ω, which model.md's A (δ3, δ4 do not scale with Ω) has
 // not. It is, exactly at this order, a constant change of basis: u = (I + X)·v with v̇ = A1·v
 // needs [X, A1] = E, solved by X = −(Δω/(4ω0))·P(θ_ω) = −(δ5·σz + δ6·σx)/(2ω0) (X commutes with
 // the split's own i·(δ5·σz + δ6·σx); its commutator with δ3, δ4 is third order). The data are then
 // y = (I + C(ξ))·(I + X)·v = (I + C(ξ) + X)·v to second order, and C = ξ1·σz + ξ4·σx − i·(ξ2·σz +
-// ξ3·σx) (MODEL.md) takes X up in ξ1 and ξ4:
+// ξ3·σx) (model.md) takes X up in ξ1 and ξ4:
 //
 //     ξ1 seen = ξ1 − δ5/(2ω0),   ξ4 seen = ξ4 − δ6/(2ω0),   ξ2, ξ3 unchanged,
 //
