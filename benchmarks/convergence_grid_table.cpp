@@ -1,4 +1,4 @@
-// The long-run convergence grid of docs/estimator-convergence.md: for every run length × reference
+// The long-run convergence grid of docs/estimator/convergence.md: for every run length × reference
 // offset × common frequency drift, does the default estimator (EstimateMaximumLikelihood, the
 // production options) converge to the truth on carrier-level data? A Markdown table.
 //
@@ -17,7 +17,7 @@
 //            [--threads 0] [--verbose] [--zero-start] [--split-mhz 20]
 // (--unit fast: a 1 kHz carrier at 200 Hz output, the unit test's chain; production: 5 kHz, 1 kHz;
 // offsets in rad/s, drifts in mHz/s; --verbose prints every fit's outcome; --zero-start: each
-// run's common phase started at zero, as the estimator did before docs/estimator-convergence.md.)
+// run's common phase started at zero, as the estimator did before docs/estimator/convergence.md.)
 
 #include <chrono>
 #include <cmath>

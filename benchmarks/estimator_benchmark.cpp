@@ -1,4 +1,4 @@
-// Speed and accuracy of the estimators, printed as Markdown tables (pasted into the README):
+// Speed and accuracy of the estimators, printed as Markdown tables (kept in docs/measurements/):
 //  1. the paper's design (5 runs × 10 s × 100 Hz): the paper's methods against maximum likelihood,
 //     noise-free and at σ = 1e-4 over several seeds, with the time ratio grid / ML;
 //  2. a production-size session: 6 runs × 100 s × 1 kHz = 600 000 samples;

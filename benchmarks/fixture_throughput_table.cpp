@@ -8,7 +8,7 @@
 // have a 32-frame transmit queue and lose frames at the source when it is full. The plan check
 // (hrg-bench check, worst-case stuffing, 70 %) would refuse the shared classic bus; it is
 // bypassed here to see what would happen.
-// Prints Markdown tables (pasted into the README with the command that made them):
+// Prints Markdown tables (kept in docs/measurements/ with the command that made them):
 //
 //   fixture_throughput_table [--units 1,2,4,8] [--only units|buses]
 //

@@ -1,7 +1,7 @@
 // How much a run's Ω matters, and how well the bench knows it: δ3…δ6 over seeds when the estimator
 // is given each run's Ω as the bench would measure it on the simulated table, from its rate
 // readings (mean) or from its encoder angle (line fit), against the true mean rate. Prints a
-// Markdown table (pasted into the README with the command that made it).
+// Markdown table (kept in docs/measurements/ with the command that made it).
 //
 //   omega_metrology_table [--seeds N] [--run-s T]      (defaults: 40 seeds, 100 s runs)
 //

@@ -1,5 +1,5 @@
 // Out of its own model: how far each perturbation moves the estimate, in reported std, and whether
-// the fit says so. Prints the Markdown table of the README ("Is the fit right?").
+// the fit says so. Prints the Markdown table of docs/measurements/ ("Is the fit right?").
 //
 //   out_of_model_table [--seeds N] [--duration S] [--rate HZ] [--false-alarm N]
 //

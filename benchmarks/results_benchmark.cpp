@@ -1,4 +1,4 @@
-// The results database's figures (README "Results database"): per engine, the import of 1 000
+// The results database's figures (docs/results-store.md): per engine, the import of 1 000
 // session folders (the test fixture of tests/support/session_fixture.hpp with 6 runs: the rows of
 // a production session but fewer limits), one station upload (open + import + mark, as hrg-bench
 // does after every session), and `stats` over 100 000 generated sessions (rows written by SQL,

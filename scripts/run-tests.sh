@@ -6,7 +6,7 @@
 # Nothing is skipped: the run is strict (HRGBENCH_STRICT=1), so a test whose tool is missing fails,
 # and a part that has no tests to run fails. It says what it runs and how many passed.
 #
-# The load check of the README (the suite green with both cores busy beside it):
+# The load check of docs/testing.md (the suite green with both cores busy beside it):
 #   HRGBENCH_TEST_REPEAT=5 HRGBENCH_TEST_LOAD=1 bash scripts/run-tests.sh
 # HRGBENCH_TEST_REPEAT=N runs both parts N times (stopping at the first failure);
 # HRGBENCH_TEST_LOAD=1 runs `stress-ng --cpu <cores>` beside the tests for the whole time.

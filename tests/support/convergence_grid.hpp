@@ -1,5 +1,5 @@
 #pragma once
-// The long-run convergence grid (docs/estimator-convergence.md): the production plan's 6 runs
+// The long-run convergence grid (docs/estimator/convergence.md): the production plan's 6 runs
 // (Ω = ±0.1, ±0.3, ±1 rad/s, θ = kπ/12, b cycling 0, 0.1, 0.2, a = 1) simulated at carrier level
 // (drivers/sim's CarrierSimulation: oscillator, pick-off, free-running reference, I/Q
 // demodulation, Butterworth, decimation, the wire's LSB), with

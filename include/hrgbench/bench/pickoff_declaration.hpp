@@ -2,7 +2,7 @@
 // What a station declares of its pick-off ([gyro] pickoff_cross_talk_stage and
 // pickoff_coupling_bound_rad in the station file, recorded as session.json electronics.pickoff):
 // the two things about the pick-off that free runs cannot measure and the engineering quantities'
-// budget carries (estimator/pickoff_frame.hpp, docs/physics-accuracy.md). Data only.
+// budget carries (estimator/pickoff_frame.hpp, docs/estimator/physics-accuracy.md). Data only.
 
 #include "hrgbench/estimator/pickoff_frame.hpp"
 

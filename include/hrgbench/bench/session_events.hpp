@@ -1,7 +1,7 @@
 #pragma once
 // What a session tells a second program as it goes: the events of the event stream (issue 11 §1),
 // made from the sequencer's callbacks and the session's result. The transport is EventStream
-// (event_stream.hpp); the format, with an example of every type, is in the README ("Event stream").
+// (event_stream.hpp); the format, with an example of every type, is in docs/reference/events.md.
 //
 // Types (format version kEventFormatVersion), in the order a session produces them:
 //   session_started  unit, station, station_kind, sequence, limits, session (its folder), resume,

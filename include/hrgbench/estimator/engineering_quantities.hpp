@@ -4,7 +4,8 @@
 // gain and phase mismatch, cross-talk and electrode angle; each with its standard error from the
 // estimate's full covariance (delta method).
 //
-// ## Definitions (physical_parameters.hpp derives the maps; the README states the conventions)
+// ## Definitions (physical_parameters.hpp derives the maps; docs/estimator/engineering-units.md
+// states the conventions)
 //   resonant_frequency_hz  f0, as the electronics report it (not estimated: given by the caller)
 //   tau_s                  τ = −1/δ1, the mean amplitude decay time (1/τ is the mean of the two
 //                          modes' decay rates)

@@ -9,8 +9,9 @@
 //  - residual ratio: the residual RMS over that σ. 1 when the model explains everything but white
 //    noise; more when something the model lacks (a frequency drift, a wrong Ω, coloured noise) is
 //    left in the residuals. Its standard error for white noise over N samples of four channels is
-//    0.451/√N (derived in the README: the Δ⁴ sequence has Σρ² = 2.63 and correlates 0.62 with the
-//    residuals' mean square), so the check allows max(residual_ratio_max, 1 + 5·0.451/√N).
+//    0.451/√N (derived in docs/estimator/methods.md: the Δ⁴ sequence has Σρ² = 2.63 and
+//    correlates 0.62 with the residuals' mean square), so the check allows
+//    max(residual_ratio_max, 1 + 5·0.451/√N).
 //  - whiteness: the Ljung–Box statistic Q = N(N+2)·Σ_{l=1..L} ρ_l²/(N − l) of each channel's
 //    residuals, summed over the four channels; for white residuals Q ~ χ²(4L). Reported with its
 //    Wilson–Hilferty normal score z (≈ N(0, 1) when white; large and positive when coloured).

@@ -18,7 +18,7 @@
 //  the
 //     estimate), residual RMS per run and in total.
 //
-// Outside its own model (fit_diagnostics.hpp, README "Is the fit right?"):
+// Outside its own model (fit_diagnostics.hpp, docs/estimator/methods.md):
 //  - per run, besides x0, a common phase ψ(t) = q_1·t + … + q_D·t^D of both channels is estimated
 //    (phase_degree, default 2), so the estimate does not depend on what the demodulation
 //    reference's phase and frequency do (a constant offset and a ramp of the frequency);
@@ -83,7 +83,7 @@ struct MlOptions {
   // Start each run's common phase from the data (the orbit phase of data and model,
   // src/estimator/common_phase_start.hpp) rather than at zero. A run whose reference is off by
   // 0.06 rad/s has turned by 6 rad at 100 s: from zero, long runs with an offset and a drift land
-  // in a wrong basin (docs/estimator-convergence.md). false only to show that failure.
+  // in a wrong basin (docs/estimator/convergence.md). false only to show that failure.
   bool common_phase_start_from_data = true;
   // Each run's Ω as a nuisance parameter with a prior of RunData::omega_std_rad_s (runs without a
   // finite positive std keep their Ω exact).

@@ -53,7 +53,7 @@ TEST(NoiseShapeTest, WhiteGivesExactlyTheWhiteNoiseChecks) {
   const DifferenceNoiseModel d = DifferenceNoiseModelFor(white);
   EXPECT_EQ(d.stride, 1);
   EXPECT_DOUBLE_EQ(d.variance_factor, 70.0);
-  // The README's derivation of the white-noise standard error: 0.451.
+  // docs/estimator/methods.md's derivation of the white-noise standard error: 0.451.
   EXPECT_NEAR(d.ratio_standard_error_scale, kResidualRatioStandardErrorScale, 5e-4);
   const WhitenessNull null = WhitenessNullFor(white, 20);
   EXPECT_EQ(null.first_lag, 1);

@@ -1,5 +1,5 @@
-// Outside its own model the estimator is right, or says that it is not (README "Is the fit
-// right?").
+// Outside its own model the estimator is right, or says that it is not (docs/estimator/methods.md
+// "Is the fit right?").
 // Each row of the issue's table is a test here: the perturbation is applied to a session simulated
 // by the model (tests/support/out_of_model.hpp, written from the perturbations' definitions, not
 // with the estimator's propagator), and the default estimator must either stay within its reported
@@ -7,9 +7,10 @@
 // (no common phase, Ω exact, no outlier removal, white covariance) to show the perturbation bites:
 // a test that cannot fail proves nothing.
 //
-// Sizes: the production design's six runs, 2–10 s at 500 Hz, σ = 1e-4 (the README's table uses
-// 100 s at 1 kHz); "shift" = (estimate on the perturbed data − estimate on the same noise without
-// the perturbation) / reported std, so the noise itself does not enter the bound.
+// Sizes: the production design's six runs, 2–10 s at 500 Hz, σ = 1e-4 (the table in
+// docs/measurements/ uses 100 s at 1 kHz); "shift" = (estimate on the perturbed data − estimate on
+// the same noise without the perturbation) / reported std, so the noise itself does not enter the
+// bound.
 #include "out_of_model.hpp"
 
 #include <gtest/gtest.h>

@@ -50,7 +50,8 @@ Scatter Of(const std::vector<double>& v) {
 // The comparison with the paper is made on the paper's own terms: the model alone (a demodulation
 // reference locked to the wave's phase, Ω exact), so ML runs without the common-phase nuisance and
 // the bound is the model's. (With the nuisance, the default, the δ2 bound of this weak design is
-// about 3× wider: CommonPhaseCostsLittleOnAStrongDesign below and the README say why.)
+// about 3× wider: CommonPhaseCostsLittleOnAStrongDesign below and docs/estimator/methods.md say
+// why.)
 TEST(StatisticsTest, MaximumLikelihoodIsEfficientAndThePaperIsNot) {
   SimulationOptions truth;
   truth.delta << -0.001, 0.3, 0, 0, 0, 0;
@@ -126,7 +127,7 @@ namespace {
 
 // The default estimator, invariant to the demodulation reference's phase and frequency (a common
 // phase of degree 2 per run), on the same design: at its own bound, the CRLB with that nuisance
-// (3.1× the model's for δ2 here, README "Is the fit right?"), with honest reported std.
+// (3.1× the model's for δ2 here, docs/estimator/methods.md), with honest reported std.
 TEST(StatisticsTest, TheInvariantEstimatorIsEfficientAtItsOwnBound) {
   SimulationOptions truth;
   truth.delta << -0.001, 0.3, 0, 0, 0, 0;

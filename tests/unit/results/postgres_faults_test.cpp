@@ -91,7 +91,7 @@ TEST_F(PostgresFaults, AStationRoleWithOnlyUploadRightsUploadsAndCannotAlterTheS
     auto admin = results::ResultsStore::Open(url_);  // the administrator creates the schema
     ASSERT_TRUE(admin.has_value()) << admin.error();
   }
-  // The role setup the README documents.
+  // The role setup docs/results-store.md documents.
   ASSERT_TRUE(
       server_.Psql("results",
                    "CREATE ROLE station LOGIN; GRANT CONNECT ON DATABASE results TO station; "
