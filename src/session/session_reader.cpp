@@ -272,6 +272,12 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     entry.status = *status;
     session.runs.push_back(std::move(entry));
   }
+  for (const RunEntry& entry : session.runs) {
+    if (entry.status != "complete") {
+      session.warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
+                                 entry.status + "'");
+    }
+  }
   return session;
 }
 
@@ -292,11 +298,7 @@ std::expected<Session, SessionError> ReadSession(const fs::path& dir, const Read
     if (!session) return session;
 
     for (const RunEntry& entry : session->runs) {
-      if (entry.status != "complete") {
-        session->warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
-                                    entry.status + "'");
-        continue;
-      }
+      if (entry.status != "complete") continue;  // warned by ReadSessionJson
       if (!options.load_samples) continue;
       auto samples = ReadRunCsv(dir / entry.file, options.min_samples_per_run);
       if (!samples) return std::unexpected(samples.error());

@@ -109,7 +109,8 @@ class Fields {
   std::uint64_t Count(const json& parent, const std::string& path, std::string_view key) {
     const json* value = Find(parent, key);
     if (value == nullptr || !ok()) return 0;
-    if (!value->is_number_integer() || (!value->is_number_unsigned() && value->get<std::int64_t>() < 0)) {
+    if (!value->is_number_integer() ||
+        (!value->is_number_unsigned() && value->get<std::int64_t>() < 0)) {
       Fail(Join(path, key), "expected an integer >= 0, got " + Describe(*value));
       return 0;
     }
@@ -187,12 +188,13 @@ class Fields {
   std::optional<SessionError> error_;
 };
 
-std::optional<TimeStampRecord> ReadTimeStamp(Fields& f, const json& parent,
-                                             const std::string& path, std::string_view key) {
+std::optional<TimeStampRecord> ReadTimeStamp(Fields& f, const json& parent, const std::string& path,
+                                             std::string_view key) {
   const json* object = f.Object(parent, path, key);
   if (object == nullptr) return std::nullopt;
   const std::string at = Join(path, key);
-  return TimeStampRecord{f.String(*object, at, keys::kUtc), f.Int64(*object, at, keys::kMonotonicNs)};
+  return TimeStampRecord{f.String(*object, at, keys::kUtc),
+                         f.Int64(*object, at, keys::kMonotonicNs)};
 }
 
 std::optional<bench::PlannedRun> ReadPlan(Fields& f, const json& run, const std::string& path,
@@ -209,18 +211,9 @@ std::optional<bench::PlannedRun> ReadPlan(Fields& f, const json& run, const std:
       {"theta_rad", &out.theta_rad},
       {"free_run_s", &out.free_run_s},
       {"sample_rate_hz", &out.sample_rate_hz}};
-  for (const auto& [key, target] : fields) {
-    // The recorder writes every plan field; a plan without one cannot be resumed or replayed.
-    const json* value = f.Find(*plan, key);
-    if (value == nullptr) {
-      f.Fail(Join(at, key), std::string("missing key '") + key + "'");
-      return std::nullopt;
-    }
-    *target = f.Number(*value, Join(at, key));
-    if (f.ok() && !std::isfinite(*target)) {
-      f.Fail(Join(at, key), "expected a finite number, got " + value->dump());
-    }
-  }
+  // The recorder writes every field; a hand-made record (a results-store fixture) may hold only
+  // some: absent is NaN, and a reader that needs the whole plan (resume, replay) checks it.
+  for (const auto& [key, target] : fields) *target = f.Number(*plan, at, key);
   return out;
 }
 
@@ -297,6 +290,9 @@ void ReadRunDetails(Fields& f, const json& run, const std::string& path, RunReco
 EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& at) {
   EstimateRecord out;
   out.method = f.String(estimate, at, "method");
+  out.termination = f.String(estimate, at, "termination");
+  out.iterations = f.Int(estimate, at, "iterations").value_or(0);
+  out.samples_used = f.Int64(estimate, at, "samples_used").value_or(0);
   out.delta = f.Numbers<6>(estimate, at, "delta");
   out.delta_std = f.Numbers<6>(estimate, at, "delta_std");
   out.xi = f.Numbers<4>(estimate, at, "xi");
@@ -328,6 +324,7 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
     }
   }
   if (const json* fit = f.Object(estimate, at, "fit")) {
+    out.phase_degree = f.Int(*fit, Join(at, "fit"), "phase_degree").value_or(0);
     if (const json* limits = f.Object(*fit, Join(at, "fit"), "limits")) {
       const std::string l = Join(at, "fit.limits");
       out.fit_residual_ratio_max = f.Number(*limits, l, "residual_ratio_max");
@@ -336,6 +333,7 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
     }
   }
   if (const json* fitted = f.Array(estimate, at, keys::kFittedRuns)) {
+    out.fitted_runs_recorded = true;
     for (std::size_t k = 0; k < fitted->size() && f.ok(); ++k) {
       const std::string r = Index(Join(at, keys::kFittedRuns), k);
       const json& item = (*fitted)[k];
@@ -348,7 +346,8 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
       run.initial_state = f.Numbers<4>(item, r, "initial_state");
       if (const json* q = f.Array(item, r, "phase_coefficients")) {
         for (std::size_t j = 0; j < q->size(); ++j)
-          run.phase_coefficients.push_back(f.Number((*q)[j], Index(Join(r, "phase_coefficients"), j)));
+          run.phase_coefficients.push_back(
+              f.Number((*q)[j], Index(Join(r, "phase_coefficients"), j)));
       }
       const double offset = f.Number(item, r, "omega_offset_rad_s");
       run.omega_offset_rad_s = std::isfinite(offset) ? offset : 0.0;
@@ -418,10 +417,10 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
     }
   }
   if (!known) {
-    f.Fail(Join(at, keys::kKind), "expected \"PASS\", \"FAIL\", \"ERROR\" or \"ABORTED\", got " +
-                                      (f.Find(*outcome, keys::kKind) != nullptr
-                                           ? Describe(outcome->at(keys::kKind))
-                                           : std::string("nothing")));
+    f.Fail(Join(at, keys::kKind),
+           "expected \"PASS\", \"FAIL\", \"ERROR\" or \"ABORTED\", got " +
+               (f.Find(*outcome, keys::kKind) != nullptr ? Describe(outcome->at(keys::kKind))
+                                                         : std::string("nothing")));
     return std::nullopt;
   }
   out.exit_code = f.Int(*outcome, at, keys::kExitCode);
@@ -473,6 +472,7 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
   record.sample_rate_hz = base.sample_rate_hz;
   record.iq_convention = base.iq_convention;
   record.notes = std::move(base.notes);
+  record.warnings = std::move(base.warnings);
   record.state = f.String(doc, "", keys::kState);
   // "operator": a name, or {name} (both have been written by hand-made records).
   if (const json* op = f.Find(doc, keys::kOperator); op != nullptr && op->is_object()) {
@@ -493,10 +493,12 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
   record.ended = ReadTimeStamp(f, doc, "", keys::kEnded);
   record.realtime_status = f.String(doc, "", keys::kRealtime);
   if (const json* can = f.Object(doc, "", keys::kCanLog)) {
-    record.can_log.file = f.String(*can, keys::kCanLog, keys::kFile);
-    record.can_log.interface_name = f.String(*can, keys::kCanLog, keys::kInterface);
-    record.can_log.node = f.Int(*can, keys::kCanLog, keys::kNode).value_or(0);
-    record.can_log.protocol = f.Int(*can, keys::kCanLog, keys::kProtocol).value_or(0);
+    CanLogRecord log;
+    log.file = f.String(*can, keys::kCanLog, keys::kFile);
+    log.interface_name = f.String(*can, keys::kCanLog, keys::kInterface);
+    log.node = f.Int64(*can, keys::kCanLog, keys::kNode);
+    log.protocol = f.Int64(*can, keys::kCanLog, keys::kProtocol);
+    record.can_log = std::move(log);
   }
   record.electronics = Member(doc, keys::kElectronics);
   record.simulation = Member(doc, keys::kSimulation);

@@ -24,11 +24,10 @@
 #include <expected>
 #include <filesystem>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/bench/session_outcome.hpp"
 #include "hrgbench/bench/session_record_types.hpp"
@@ -41,21 +40,22 @@ inline constexpr double kNotRecorded = std::numeric_limits<double>::quiet_NaN();
 
 // started / ended / a run's start and end: wall clock and the bench's monotonic clock.
 struct TimeStampRecord {
-  std::string utc;                          // ISO 8601 as written, "" when absent
+  std::string utc;                           // ISO 8601 as written, "" when absent
   std::optional<std::int64_t> monotonic_ns;  // CLOCK_MONOTONIC, absent in hand-made records
 };
 
 struct ConfigHashesRecord {
-  std::string station_sha256;   // lower-case hex; "" when absent
+  std::string station_sha256;  // lower-case hex; "" when absent
   std::string sequence_sha256;
-  std::string limits_sha256;    // "" when no limits file was given (null)
+  std::string limits_sha256;  // "" when no limits file was given (null)
 };
 
+// can_log: where the raw CAN traffic is and what it speaks.
 struct CanLogRecord {
-  std::string file;             // "can/session.log"; "" when absent
-  std::string interface_name;   // "can0", "vcan0", "sim0"; "" when absent
-  int node = 0;                 // 0: not said
-  int protocol = 0;             // 0: not said
+  std::string file;                      // "can/session.log"; "" when absent
+  std::string interface_name;            // "can0", "vcan0", "sim0"; "" when absent
+  std::optional<std::int64_t> node;      // the unit's node id; absent before protocol v2
+  std::optional<std::int64_t> protocol;  // gyro CAN protocol version; absent: v1
 };
 
 // runs[i].start: the conditions at release (bench::RunStart) and when it was.
@@ -85,7 +85,9 @@ struct RunRecord {
   std::string file;        // relative to the session directory
   double omega_rad_s = 0;  // the Ω given to the estimator (commanded until the run ends)
   std::string status;      // bench::kRun* strings
-  std::optional<bench::PlannedRun> plan;  // absent only in records not written by the recorder
+  // absent only in records not written by the recorder; a field it lacks (hand-made records) or
+  // holds as null is NaN
+  std::optional<bench::PlannedRun> plan;
   std::optional<RunStartRecord> start;
   std::optional<RunEndRecord> end;
   std::vector<AttemptRecord> attempts;
@@ -93,7 +95,7 @@ struct RunRecord {
 
 // outcome.estimate.engineering.quantities[k]
 struct EngineeringQuantityRecord {
-  std::string name;   // "tau_s", "q_factor", ...
+  std::string name;  // "tau_s", "q_factor", ...
   std::string label;
   std::string unit;
   double value = kNotRecorded;
@@ -114,8 +116,12 @@ struct FittedRunRecord {
 
 // outcome.estimate (bench/estimate_report_json.hpp writes it): the numbers readers use.
 struct EstimateRecord {
-  std::string method;                 // "ml", "paper", ...; "" when absent
-  std::array<double, 6> delta;        // NaN where absent or null
+  std::string method;       // "ml", "paper", ...; "" when absent
+  std::string termination;  // estimator::ToString(Termination); "" when absent
+  int iterations = 0;
+  std::int64_t samples_used = 0;
+  int phase_degree = 0;         // fit.phase_degree: D of the common phase (0: none)
+  std::array<double, 6> delta;  // NaN where absent or null
   std::array<double, 6> delta_std;
   std::array<double, 4> xi;
   std::array<double, 4> xi_std;
@@ -129,8 +135,10 @@ struct EstimateRecord {
   double fit_residual_ratio_max = kNotRecorded;
   double fit_whiteness_z_max = kNotRecorded;
   double fit_omega_offset_max_in_std = kNotRecorded;
-  // fitted_runs: empty for a record from before it was kept (the report then re-runs the fit).
+  // fitted_runs: empty for a record from before it was kept (the report then re-runs the fit),
+  // and for an estimate that gave no nuisance (not usable, or a method without it).
   std::vector<FittedRunRecord> fitted_runs;
+  bool fitted_runs_recorded = false;  // the key is there (recorded by this bench or a later one)
   // truth.delta / truth.xi (simulated sessions), NaN when absent.
   std::optional<std::array<double, 6>> truth_delta;
   std::optional<std::array<double, 4>> truth_xi;
@@ -181,17 +189,17 @@ struct SessionRecord {
   std::filesystem::path file;  // the session.json read ("" when read from a document)
   std::string format;          // session::kFormatName
   int version = 0;
-  std::string state;           // keys::kStateRunning | kStateClosed; "" in hand-made records
+  std::string state;  // keys::kStateRunning | kStateClosed; "" in hand-made records
   std::string unit_serial;
-  std::string operator_name;   // "operator" (a string or {name}); "" when not recorded
-  std::string station_name;    // station.name; "" when absent
+  std::string operator_name;  // "operator" (a string or {name}); "" when not recorded
+  std::string station_name;   // station.name; "" when absent
   std::string software_version;
   ConfigHashesRecord config_sha256;
   std::optional<TimeStampRecord> started, ended;
   std::string realtime_status;
   double sample_rate_hz = 0.0;
   estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
-  CanLogRecord can_log;
+  std::optional<CanLogRecord> can_log;  // absent in records older than the CAN log
   // Opaque pass-through (owners elsewhere; null when absent): see the file comment.
   nlohmann::json electronics;
   nlohmann::json simulation;
@@ -201,6 +209,9 @@ struct SessionRecord {
   nlohmann::json results;                // the upload mark; null when not uploaded
   nlohmann::json document;               // the whole session.json
   std::vector<std::string> notes;        // the base reader's notes (iq convention assumed, ...)
+  // ReadSession's warnings for the same file: "run 3 skipped: status 'aborted'" per run that is
+  // not complete (the estimate of record and the report do not read it).
+  std::vector<std::string> warnings;
 
   bool Closed() const { return outcome.has_value(); }
   // The run with this id, or nullptr.

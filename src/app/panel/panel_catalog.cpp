@@ -139,9 +139,11 @@ nlohmann::json RecentSessions(const fs::path& sessions_dir, std::size_t count) {
     row["name"] = name;
     row["unit"] = record->unit_serial;
     row["station"] = text_or_null(record->station_name);
-    row["outcome"] = record->outcome ? nlohmann::json(std::string(bench::ToString(record->outcome->kind)))
-                                     : nlohmann::json(nullptr);
-    row["reason"] = record->outcome ? nlohmann::json(record->outcome->reason) : nlohmann::json(nullptr);
+    const session::OutcomeRecord* outcome = record->outcome ? &*record->outcome : nullptr;
+    row["outcome"] = outcome != nullptr
+                         ? nlohmann::json(std::string(bench::ToString(outcome->kind)))
+                         : nlohmann::json(nullptr);
+    row["reason"] = outcome != nullptr ? nlohmann::json(outcome->reason) : nlohmann::json(nullptr);
     row["started"] = record->started ? text_or_null(record->started->utc) : nlohmann::json(nullptr);
     row["report"] = fs::exists(f.dir / "report" / "report.html", ec)
                         ? nlohmann::json("sessions/" + name + "/report/report.html")

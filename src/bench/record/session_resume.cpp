@@ -1,5 +1,6 @@
 // SessionRecorder::OpenForResume: turn what a dead process left into a session that can go on.
 
+#include <cmath>
 #include <string>
 #include <system_error>
 
@@ -57,7 +58,15 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
     if (!run.plan) {
       return BadSession(json_file, "run " + std::to_string(run.id) + " has no \"plan\"");
     }
-    impl->plans.push_back(*run.plan);
+    const bench::PlannedRun& plan = *run.plan;
+    for (const double v : {plan.commanded_omega_rad_s, plan.a, plan.b, plan.theta_rad,
+                           plan.free_run_s, plan.sample_rate_hz}) {
+      if (!std::isfinite(v)) {
+        return BadSession(json_file, "run " + std::to_string(run.id) +
+                                         ": plan incomplete (a field missing or not a number)");
+      }
+    }
+    impl->plans.push_back(plan);
   }
 
   // The run the dead process was capturing: an attempt, its streamed data kept for forensics.
@@ -91,8 +100,9 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
     if (!moved) return std::unexpected(moved.error());
   }
 
-  const std::string interface_name =
-      record.can_log.interface_name.empty() ? "can0" : record.can_log.interface_name;
+  const std::string interface_name = record.can_log && !record.can_log->interface_name.empty()
+                                         ? record.can_log->interface_name
+                                         : "can0";
   if (auto made = internal::MakeDirectoryDurably(dir / "can"); !made) {
     return std::unexpected(made.error());
   }

@@ -1,14 +1,13 @@
 // The typed session record (session/session_record.hpp) reads back what the recorder wrote, field
 // by field, and a damaged field is named once: file, field path, line and value.
 
-#include "hrgbench/session/session_record.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "hrgbench/bench/session_recorder.hpp"
+#include "hrgbench/session/session_record.hpp"
 #include "record_test_dir.hpp"
 #include "synthetic_gyro_record.hpp"
 
@@ -107,12 +106,12 @@ fs::path RecordSession(const ScratchDir& scratch) {
                   {"min", 60.0},
                   {"max", nullptr},
                   {"message", "below"}}}}};
-  SessionOutcome outcome{OutcomeKind::kFail,
-                         "tau_s outside limits",
-                         {FailedParameter{"tau_s", 50.0, 60.0,
-                                          std::numeric_limits<double>::infinity()}},
-                         estimate,
-                         verdict};
+  SessionOutcome outcome{
+      OutcomeKind::kFail,
+      "tau_s outside limits",
+      {FailedParameter{"tau_s", 50.0, 60.0, std::numeric_limits<double>::infinity()}},
+      estimate,
+      verdict};
   EXPECT_TRUE(recorder->Close(outcome).has_value());
   return dir;
 }
@@ -135,7 +134,8 @@ TEST(SessionRecordRead, ReadsBackWhatTheRecorderWrote) {
   ASSERT_TRUE(r.started && r.ended);
   EXPECT_FALSE(r.started->utc.empty());
   EXPECT_TRUE(r.started->monotonic_ns.has_value());
-  EXPECT_EQ(r.can_log.interface_name, "vcan0");
+  ASSERT_TRUE(r.can_log.has_value());
+  EXPECT_EQ(r.can_log->interface_name, "vcan0");
   EXPECT_EQ(r.simulation, (json{{"seed", 7}}));
   EXPECT_EQ(r.electronics["output_filter"]["kind"], "none");
   ASSERT_EQ(r.runs.size(), 3u);
