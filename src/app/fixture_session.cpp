@@ -9,6 +9,8 @@
 
 #include "app/serial_check.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::app {
 namespace {
@@ -218,17 +220,12 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
 }
 
 std::optional<KeptVerdict> ClosedVerdict(const std::filesystem::path& unit_dir) {
-  session::ReadOptions options;
-  options.load_samples = false;
-  auto recorded = session::ReadSession(unit_dir, options);
-  if (!recorded) return std::nullopt;
-  const nlohmann::json& doc = recorded->document;
-  if (!doc.contains("state") || doc.at("state") != "closed") return std::nullopt;
-  if (!doc.contains("outcome") || !doc.at("outcome").is_object()) return std::nullopt;
-  const nlohmann::json& outcome = doc.at("outcome");
-  const std::string kind = outcome.value("kind", std::string());
-  if (kind != "PASS" && kind != "FAIL") return std::nullopt;
-  return KeptVerdict{kind == "PASS", outcome.value("reason", std::string())};
+  const auto recorded = session::ReadSessionRecord(unit_dir);
+  if (!recorded || recorded->state != session::keys::kStateClosed || !recorded->outcome)
+    return std::nullopt;
+  const bench::OutcomeKind kind = recorded->outcome->kind;
+  if (kind != bench::OutcomeKind::kPass && kind != bench::OutcomeKind::kFail) return std::nullopt;
+  return KeptVerdict{kind == bench::OutcomeKind::kPass, recorded->outcome->reason};
 }
 
 }  // namespace hrgbench::app

@@ -21,6 +21,7 @@ struct Arguments {
   std::string output;
   bool no_pdf = false;
   bool no_figures = false;
+  bool refit = false;
   std::string chart_js;
   std::string results_url;
 };
@@ -30,6 +31,7 @@ int Run(const Arguments& args) {
   options.output = args.output;
   options.pdf = !args.no_pdf;
   options.figures = !args.no_figures;
+  options.refit = args.refit;
   options.chart_js = args.chart_js;
   options.unit_history = app::ReadUnitHistory(args.results_url, args.dir);
   const auto written = report::WriteSessionReport(args.dir, options);
@@ -49,8 +51,10 @@ int Run(const Arguments& args) {
 
 int main(int argc, char** argv) {
   CLI::App cli{
-      "hrg-report: the session report. Reads SESSION_DIR, re-runs its estimate (ml, as the bench "
-      "does) and writes one self-contained HTML page (default SESSION_DIR/report/report.html; "
+      "hrg-report: the session report. Reads SESSION_DIR, draws the recorded fit (the estimate "
+      "of record and each run's fitted state; a record from before they were kept has its "
+      "estimate re-run, ml as the bench does, with a warning) and writes one self-contained HTML "
+      "page (default SESSION_DIR/report/report.html; "
       "Chart.js from Debian's libjs-chart.js inlined, nothing fetched), every figure as SVG "
       "(gnuplot) and report.pdf (headless Chromium; HRGBENCH_CHROMIUM overrides the binary). A "
       "missing gnuplot or Chromium is a warning. Prints the files written, one per line.\n"
@@ -63,6 +67,9 @@ int main(int argc, char** argv) {
                  "the HTML file (default SESSION_DIR/report/report.html)");
   cli.add_flag("--no-pdf", args.no_pdf, "do not print the PDF");
   cli.add_flag("--no-figures", args.no_figures, "do not draw the SVG figures");
+  cli.add_flag("--refit", args.refit,
+               "re-run the estimate (ml, as the bench does) and draw that fit instead of the "
+               "recorded one; a warning names any component that differs from the record");
   cli.add_option("--chart-js", args.chart_js,
                  "Chart.js UMD build to inline (default: Debian's, "
                  "/usr/share/javascript/chart.js/chart.min.js)");

@@ -52,7 +52,7 @@ int Import(results::ResultsStore& store, const std::vector<std::string>& dirs) {
 int Sync(results::ResultsStore& store, const fs::path& root) {
   int uploaded = 0, current = 0, skipped = 0, failed = 0;
   for (const fs::path& dir : results::FindSessionDirs(root)) {
-    auto record = results::ReadSessionRecord(dir);
+    auto record = results::ReadSessionRow(dir);
     if (!record) {
       std::cerr << "skipped: " << record.error() << '\n';
       ++skipped;

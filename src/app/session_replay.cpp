@@ -18,6 +18,7 @@
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::app {
 namespace {
@@ -35,26 +36,10 @@ struct BegunCapture {
   std::size_t samples_planned = 0;
 };
 
-std::string StringAt(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key) || !object.at(key).is_string()) return "";
-  return object.at(key).get<std::string>();
-}
-
-std::optional<std::int64_t> IntegerAt(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key) || !object.at(key).is_number_integer())
-    return std::nullopt;
-  return object.at(key).get<std::int64_t>();
-}
-
-std::size_t PlannedSamples(const json& run) {
-  if (!run.contains("plan") || !run.at("plan").is_object()) return 0;
-  const json& plan = run.at("plan");
-  if (!plan.contains("free_run_s") || !plan.at("free_run_s").is_number() ||
-      !plan.contains("sample_rate_hz") || !plan.at("sample_rate_hz").is_number()) {
-    return 0;
-  }
-  const double free_run_s = plan.at("free_run_s").get<double>();
-  const double rate_hz = plan.at("sample_rate_hz").get<double>();
+std::size_t PlannedSamples(const session::RunRecord& run) {
+  if (!run.plan) return 0;
+  const double free_run_s = run.plan->free_run_s;
+  const double rate_hz = run.plan->sample_rate_hz;
   // A damaged record's plan keeps nothing rather than an absurd bound.
   if (!(free_run_s > 0.0 && rate_hz >= 1.0 && rate_hz <= hw::kMaxSampleRateCanFdHz &&
         free_run_s * rate_hz <= bench::kMaxSamplesPerRun)) {
@@ -74,28 +59,21 @@ bool InsideSession(const std::string& name) {
                       [](const fs::path& part) { return part == ".."; });
 }
 
-std::vector<BegunCapture> BegunCaptures(const json& document) {
+std::vector<BegunCapture> BegunCaptures(const session::SessionRecord& record) {
   std::vector<BegunCapture> begun;
-  if (!document.contains("runs") || !document.at("runs").is_array()) return begun;
-  for (const json& run : document.at("runs")) {
-    if (!run.is_object() || !run.contains("id") || !run.at("id").is_number_integer()) continue;
-    const int id = run.at("id").get<int>();
+  for (const session::RunRecord& run : record.runs) {
     const std::size_t planned = PlannedSamples(run);
-    const auto add = [&](const json& entry, std::string attempt) {
-      if (!entry.contains("start")) return;
-      const std::string utc = StringAt(entry.at("start"), "utc");
-      if (utc.empty()) return;
-      begun.push_back({id, std::move(attempt), StringAt(entry, "status"), StringAt(entry, "file"),
-                       utc, planned});
+    const auto add = [&](const std::optional<session::RunStartRecord>& start,
+                         const std::string& status, const std::string& file, std::string attempt) {
+      if (!start || start->at.utc.empty()) return;
+      begun.push_back({run.id, std::move(attempt), status, file, start->at.utc, planned});
     };
-    if (run.contains("attempts") && run.at("attempts").is_array()) {
-      std::size_t k = 0;
-      for (const json& attempt : run.at("attempts")) {
-        ++k;
-        if (attempt.is_object()) add(attempt, "attempt " + std::to_string(k));
-      }
+    std::size_t k = 0;
+    for (const session::AttemptRecord& attempt : run.attempts) {
+      ++k;
+      add(attempt.start, attempt.status, attempt.file, "attempt " + std::to_string(k));
     }
-    add(run, "");
+    add(run.start, run.status, run.file, "");
   }
   // ISO 8601 UTC with fixed width sorts as text.
   std::stable_sort(begun.begin(), begun.end(),
@@ -239,6 +217,12 @@ void Compare(const fs::path& dir, const BegunCapture& begun, const RecordedCaptu
   }
 }
 
+// A string member of a JSON Patch operation (RFC 6902: "op", "path"), "" when absent.
+std::string StringAt(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object.at(key).is_string()) return "";
+  return object.at(key).get<std::string>();
+}
+
 std::string FirstJsonDifference(const json& recorded, const json& rebuilt) {
   const json patch = json::diff(recorded, rebuilt);
   if (patch.empty()) return "";
@@ -256,12 +240,11 @@ std::string FirstJsonDifference(const json& recorded, const json& rebuilt) {
 }
 
 void CompareEstimate(
-    const fs::path& dir, const json& document, const estimator::FitQualityLimits& fit,
+    const fs::path& dir, const session::SessionRecord& record,
+    const estimator::FitQualityLimits& fit,
     const std::vector<std::pair<int, const std::vector<bench::GyroSampleRecord>*>>& final_captures,
     SessionReplay& replay) {
-  if (!document.contains("outcome") || !document.at("outcome").is_object() ||
-      !document.at("outcome").contains("estimate") ||
-      !document.at("outcome").at("estimate").is_object()) {
+  if (!record.outcome || !record.outcome->estimate) {
     replay.estimate_difference = "not compared: the record holds no estimate";
     return;
   }
@@ -297,8 +280,7 @@ void CompareEstimate(
   }
   const bench::RecordedEstimate estimate = bench::EstimateRecordedSession(*recorded, fit);
   replay.estimate_compared = true;
-  replay.estimate_difference =
-      FirstJsonDifference(document.at("outcome").at("estimate"), estimate.report);
+  replay.estimate_difference = FirstJsonDifference(record.outcome->estimate_json, estimate.report);
   replay.estimate_identical = replay.estimate_difference.empty();
 }
 
@@ -354,11 +336,9 @@ bool SessionReplay::Identical() const {
 
 std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
                                                         const ReplayOptions& options) {
-  session::ReadOptions header_only;
-  header_only.load_samples = false;
-  auto session = session::ReadSession(dir, header_only);
-  if (!session) return std::unexpected(session.error().ToString());
-  const json& document = session->document;
+  const auto read = session::ReadSessionRecord(dir);
+  if (!read) return std::unexpected(read.error().ToString());
+  const session::SessionRecord& record = *read;
 
   SessionReplay replay;
   if (!options.rebuild_into.empty()) {
@@ -368,15 +348,15 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   std::string log_name = "can/session.log";
   drivers::gyro_can::GyroReplayOptions driver;
   const std::string where = (dir / "session.json").string() + ": field 'can_log.";
-  if (document.contains("can_log")) {
-    const json& can_log = document.at("can_log");
-    log_name = StringAt(can_log, "file");
+  if (record.can_log) {
+    const session::CanLogRecord& can_log = *record.can_log;
+    log_name = can_log.file;
     if (!InsideSession(log_name)) {
       return std::unexpected(where + "file': '" + log_name + "' is not a file inside the session");
     }
     // The protocol the log speaks: only version 2's identifiers are this driver's. A log without
     // it was recorded before version 2 (version 1's fixed identifiers).
-    const auto protocol = IntegerAt(can_log, "protocol");
+    const auto protocol = can_log.protocol;
     if (protocol != drivers::gyro_can::kProtocolVersion) {
       return std::unexpected(
           where + "protocol': " + (protocol ? std::to_string(*protocol) : "absent (version 1)") +
@@ -384,7 +364,7 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
           (protocol ? "v" + std::to_string(*protocol) : "v1") + " and this hrg-bench replays v" +
           std::to_string(drivers::gyro_can::kProtocolVersion) + " only");
     }
-    const auto node = IntegerAt(can_log, "node");
+    const auto node = can_log.node;
     if (!node || *node < 0 || *node > drivers::gyro_can::kMaxNodeId) {
       return std::unexpected(where + "node': " + (node ? std::to_string(*node) : "absent") +
                              ": a node id 0.." + std::to_string(drivers::gyro_can::kMaxNodeId) +
@@ -433,7 +413,7 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   // hidden). A release left over was never recorded (the host stopped in between); a capture left
   // over has no release in the log (a kill -9 loses the log's unwritten tail: at most its flush
   // interval).
-  const std::vector<BegunCapture> begun = BegunCaptures(document);
+  const std::vector<BegunCapture> begun = BegunCaptures(record);
   const std::size_t none = replayed.runs.size();
   std::vector<RecordedCapture> recorded(begun.size());
   std::vector<std::size_t> match(begun.size(), none);
@@ -520,7 +500,7 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
   }
 
   if (options.estimate && configs) {
-    CompareEstimate(dir, document, configs->limits.fit, final_captures, replay);
+    CompareEstimate(dir, record, configs->limits.fit, final_captures, replay);
   } else if (options.estimate) {
     replay.estimate_difference = "not compared: the session's saved configs cannot be read";
   } else {

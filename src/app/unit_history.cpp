@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hrgbench/results/results_store.hpp"
-#include "hrgbench/results/session_record.hpp"
+#include "hrgbench/results/session_row.hpp"
 
 namespace hrgbench::app {
 namespace {
@@ -22,7 +22,7 @@ std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
   report::UnitHistory history;
   history.store = url;
   // The serial and the stable id as the store knows them (an unfinished session has neither).
-  const auto record = results::ReadSessionRecord(session_dir);
+  const auto record = results::ReadSessionRow(session_dir);
   if (!record) return Unavailable(std::move(history), record.error());
   auto store = results::ResultsStore::OpenExisting(url);  // a report writes no database
   if (!store) return Unavailable(std::move(history), store.error());

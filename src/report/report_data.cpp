@@ -1,6 +1,7 @@
 #include "report_data.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <future>
 #include <numbers>
@@ -177,11 +178,11 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
 
 // Capture quality the report computes from the samples and the record (the recorded counters
 // themselves are shown from session.json).
-json CaptureQuality(const RunView& run, const json& document) {
+json CaptureQuality(const RunView& run, const session::SessionRecord& record) {
   json q = json::object();
   const std::vector<double>& t = run.data.t_s;
   q["samples_loaded"] = t.size();
-  const double rate_hz = NumberAt(document, "/sample_rate_hz");
+  const double rate_hz = record.sample_rate_hz;
   if (t.size() >= 2) {
     std::vector<double> dt(t.size() - 1);
     for (std::size_t k = 1; k < t.size(); ++k) dt[k - 1] = t[k] - t[k - 1];
@@ -205,76 +206,77 @@ json CaptureQuality(const RunView& run, const json& document) {
     q["sample_time_jitter_max_s"] = bench::NumberOrNull(worst);
     q["time_gaps"] = long_steps;  // steps longer than 1.5 nominal intervals
   }
-  const std::string end = "/runs/" + std::to_string(run.index) + "/end/";
-  q["temperature_drift_c"] = bench::NumberOrNull(NumberAt(document, end + "temperature_end_c") -
-                                                 NumberAt(document, end + "temperature_start_c"));
-  q["frequency_drift_hz"] = bench::NumberOrNull(NumberAt(document, end + "frequency_end_hz") -
-                                                NumberAt(document, end + "frequency_start_hz"));
+  // NaN (not measured, or no end recorded) gives null.
+  bench::RunEnd end;
+  if (run.index < record.runs.size() && record.runs[run.index].end)
+    end = record.runs[run.index].end->values;
+  q["temperature_drift_c"] = bench::NumberOrNull(end.temperature_end_c - end.temperature_start_c);
+  q["frequency_drift_hz"] = bench::NumberOrNull(end.frequency_end_hz - end.frequency_start_hz);
   return q;
 }
 
 // δ for the anisotropy: the recorded estimate when there is one, else the re-run's.
-bool RecordedDelta(const json& document, estimator::Delta* delta) {
+// The estimate of record, or nullptr.
+const session::EstimateRecord* OfRecord(const session::SessionRecord& record) {
+  return record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
+}
+
+bool RecordedDelta(const session::SessionRecord& record, estimator::Delta* delta) {
+  const session::EstimateRecord* estimate = OfRecord(record);
+  if (estimate == nullptr) return false;
   for (int j = 0; j < 6; ++j) {
-    const double v = NumberAt(document, "/outcome/estimate/delta/" + std::to_string(j));
+    const double v = estimate->delta[static_cast<std::size_t>(j)];
     if (!std::isfinite(v)) return false;
     (*delta)[j] = v;
   }
   return true;
 }
 
-double MeanResonantFrequency(const json& document) {
-  const double engineering = NumberAt(document, "/outcome/estimate/engineering/frequency_hz");
+double MeanResonantFrequency(const session::SessionRecord& record) {
+  const session::EstimateRecord* estimate = OfRecord(record);
+  const double engineering = estimate != nullptr ? estimate->engineering_frequency_hz : kNaN;
   if (std::isfinite(engineering) && engineering > 0.0) return engineering;
-  const json* runs = At(document, "/runs");
   double sum = 0.0;
   int count = 0;
-  if (runs != nullptr && runs->is_array()) {
-    for (std::size_t i = 0; i < runs->size(); ++i) {
-      const double f =
-          NumberAt(document, "/runs/" + std::to_string(i) + "/start/resonant_frequency_hz");
-      if (std::isfinite(f) && f > 0.0) {
-        sum += f;
-        ++count;
-      }
+  for (const session::RunRecord& run : record.runs) {
+    const double f = run.start ? run.start->values.resonant_frequency_hz : kNaN;
+    if (std::isfinite(f) && f > 0.0) {
+      sum += f;
+      ++count;
     }
   }
   return count > 0 ? sum / count : kNaN;
 }
 
 // The engineering quantity named `name` in the record, or nullptr.
-const json* EngineeringQuantity(const json& document, const std::string& name) {
-  const json* list = At(document, "/outcome/estimate/engineering/quantities");
-  if (list == nullptr || !list->is_array()) return nullptr;
-  for (const json& q : *list)
-    if (q.is_object() && q.contains("name") && q["name"] == name) return &q;
+const session::EngineeringQuantityRecord* EngineeringQuantity(const session::SessionRecord& record,
+                                                              const std::string& name) {
+  const session::EstimateRecord* estimate = OfRecord(record);
+  if (estimate == nullptr) return nullptr;
+  for (const session::EngineeringQuantityRecord& q : estimate->engineering)
+    if (q.name == name) return &q;
   return nullptr;
 }
 
 // "value ± std unit" of an engineering quantity, written to the std's precision.
-std::string MetrologicalText(const json& quantity) {
-  const auto number = [&](const char* key) {
-    const auto it = quantity.find(key);
-    return it != quantity.end() && it->is_number() ? it->get<double>() : kNaN;
-  };
-  const ValueWithStd t = Metrological(number("value"), number("std"));
-  const auto u = quantity.find("unit");
-  std::string unit = u != quantity.end() && u->is_string() ? u->get<std::string>() : "";
+std::string MetrologicalText(const session::EngineeringQuantityRecord& quantity) {
+  const ValueWithStd t = Metrological(quantity.value, quantity.std);
+  std::string unit = quantity.unit;
   if (unit == "deg") unit = "°";
   const std::string space = unit.empty() || unit == "°" ? "" : " ";
-  return std::isfinite(number("std")) ? t.value + " ± " + t.std + space + unit
-                                      : t.value + space + unit;
+  return std::isfinite(quantity.std) ? t.value + " ± " + t.std + space + unit
+                                     : t.value + space + unit;
 }
 
 json Anisotropy(const ReportInputs& inputs, json* figures) {
   estimator::Delta delta;
   std::string source = "/outcome/estimate/delta";
-  if (!RecordedDelta(inputs.document, &delta)) {
+  if (!RecordedDelta(inputs.record, &delta)) {
     if (!inputs.summary || !inputs.summary->delta.allFinite()) return nullptr;
     delta = inputs.summary->delta;
     source = "/derived/estimate/delta";
   }
-  const double f0 = MeanResonantFrequency(inputs.document);
+  const double f0 = MeanResonantFrequency(inputs.record);
   const estimator::ResonatorParameters r =
       estimator::ResonatorFromDelta(delta, std::isfinite(f0) ? f0 : 1.0);
   json a{{"delta_source", source},
@@ -325,8 +327,10 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
       {"damping_split_per_s", "damping_axis_deg", "damping", "Δ(1/τ)", "θτ", "fast-decay axis",
        "slow-decay axis", r.damping_anisotropy_per_s, "1/s", r.damping_axis_rad / 2, 0.75}};
   for (const AxisPair& p : pairs) {
-    const json* split = EngineeringQuantity(inputs.document, p.split_name);
-    const json* angle = EngineeringQuantity(inputs.document, p.axis_name);
+    const session::EngineeringQuantityRecord* split =
+        EngineeringQuantity(inputs.record, p.split_name);
+    const session::EngineeringQuantityRecord* angle =
+        EngineeringQuantity(inputs.record, p.axis_name);
     if (angle == nullptr || split == nullptr) {
       axis(std::string(p.first) + " (" + p.split_symbol + " = " + Readable(p.derived_split) + " " +
                p.derived_unit + ", derived by the report; significance not recorded)",
@@ -334,11 +338,8 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
       axis(p.second, p.derived_axis_shell_rad + quarter, p.length, false);
       continue;
     }
-    const auto angle_value = angle->find("value");
-    const double angle_deg =
-        angle_value != angle->end() && angle_value->is_number() ? angle_value->get<double>() : kNaN;
-    const auto determined = angle->find("determined");
-    if (determined == angle->end() || *determined != true || !std::isfinite(angle_deg)) {
+    const double angle_deg = angle->value;
+    if (!angle->determined || !std::isfinite(angle_deg)) {
       caption += "; " + std::string(p.what) +
                  " axis undetermined (split not significant: " + p.split_symbol + " = " +
                  MetrologicalText(*split) + ")";
@@ -351,7 +352,7 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
          p.length, false);
   }
   caption += "; from δ at " + source;
-  if (At(inputs.document, "/outcome/estimate/engineering/quantities") != nullptr)
+  if (OfRecord(inputs.record) != nullptr && !OfRecord(inputs.record)->engineering.empty())
     caption += " and outcome.estimate.engineering";
   figure["caption"] = caption;
   std::vector<double> cx, cy;
@@ -427,7 +428,10 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
     const bool estimated = is_delta ? s.delta_estimated[i] : s.xi_estimated[i];
     if (!estimated) continue;
     const std::string key = is_delta ? "delta_std" : "xi_std";
-    double value = NumberAt(inputs.document, "/outcome/estimate/" + key + "/" + std::to_string(i));
+    const session::EstimateRecord* of_record = OfRecord(inputs.record);
+    double value = of_record == nullptr ? kNaN
+                   : is_delta           ? of_record->delta_std[static_cast<std::size_t>(i)]
+                                        : of_record->xi_std[static_cast<std::size_t>(i)];
     if (!std::isfinite(value)) value = is_delta ? s.delta_std[i] : s.xi_std[i];
     figure["labels"].push_back((is_delta ? "δ" : "ξ") + std::to_string(i + 1));
     achieved.push_back(value);
@@ -466,27 +470,43 @@ json UnitHistoryJson(const std::optional<UnitHistory>& history) {
 // outcome.estimate.truth, or the simulation spec), with the estimate and std the page shows (the
 // record's, else the re-run's); null where any of the three is missing or the std is not positive.
 json TruthDeviation(const ReportInputs& inputs) {
-  const json& doc = inputs.document;
-  std::string truth_base;
-  if (At(doc, "/outcome/estimate/truth/delta") != nullptr)
-    truth_base = "/outcome/estimate/truth/";
-  else if (At(doc, "/simulation/delta") != nullptr)
-    truth_base = "/simulation/";
-  else
+  const session::EstimateRecord* of_record = OfRecord(inputs.record);
+  std::array<double, 6> truth_delta;
+  std::array<double, 4> truth_xi;
+  truth_delta.fill(kNaN);
+  truth_xi.fill(kNaN);
+  // "simulation" is the simulator's own block (opaque to the record): its delta and xi arrays.
+  const json& simulation = inputs.record.simulation;
+  if (of_record != nullptr && of_record->truth_delta) {
+    truth_delta = *of_record->truth_delta;
+    if (of_record->truth_xi) truth_xi = *of_record->truth_xi;
+  } else if (At(simulation, "/delta") != nullptr) {
+    for (std::size_t i = 0; i < 6; ++i)
+      truth_delta[i] = NumberAt(simulation, "/delta/" + std::to_string(i));
+    for (std::size_t i = 0; i < 4; ++i)
+      truth_xi[i] = NumberAt(simulation, "/xi/" + std::to_string(i));
+  } else {
     return nullptr;
-  const bool recorded = At(doc, "/outcome/estimate/delta") != nullptr;
+  }
+  const bool recorded =
+      of_record != nullptr && std::any_of(of_record->delta.begin(), of_record->delta.end(),
+                                          [](double v) { return std::isfinite(v); });
   json out = json::object();
   for (const char* key : {"delta", "xi"}) {
-    const int count = std::string(key) == "delta" ? 6 : 4;
+    const bool is_delta = std::string(key) == "delta";
+    const int count = is_delta ? 6 : 4;
     json z = json::array();
     for (int i = 0; i < count; ++i) {
+      const auto u = static_cast<std::size_t>(i);
       const std::string k = std::string(key) + "/" + std::to_string(i);
       const std::string s = std::string(key) + "_std/" + std::to_string(i);
-      const double estimate = recorded ? NumberAt(doc, "/outcome/estimate/" + k)
-                                       : NumberAt(inputs.estimate_json, "/" + k);
-      const double std_dev = recorded ? NumberAt(doc, "/outcome/estimate/" + s)
-                                      : NumberAt(inputs.estimate_json, "/" + s);
-      const double truth = NumberAt(doc, truth_base + k);
+      const double estimate = !recorded  ? NumberAt(inputs.estimate_json, "/" + k)
+                              : is_delta ? of_record->delta[u]
+                                         : of_record->xi[u];
+      const double std_dev = !recorded  ? NumberAt(inputs.estimate_json, "/" + s)
+                             : is_delta ? of_record->delta_std[u]
+                                        : of_record->xi_std[u];
+      const double truth = is_delta ? truth_delta[u] : truth_xi[u];
       z.push_back(std_dev > 0.0 ? bench::NumberOrNull((estimate - truth) / std_dev)
                                 : json(nullptr));
     }
@@ -528,7 +548,7 @@ json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_seri
   ParallelRuns(inputs.runs.size(), [&](std::size_t r) {
     const RunView& run = inputs.runs[r];
     if (!run.loaded) return;
-    quality[r] = CaptureQuality(run, inputs.document);
+    quality[r] = CaptureQuality(run, inputs.record);
     RunFigures(run, xi, max_points_per_series, &run_figures[r]);
   });
   derived["crlb"] = crlb.get();

@@ -1,6 +1,7 @@
 #pragma once
 // What the page, the figures and the data block are made from: the session as read, the runs that
-// could be loaded, the re-run estimate and each run's fitted model. Internal to src/report.
+// could be loaded, the estimate drawn (the record's, or a re-run) and each run's fitted model.
+// Internal to src/report.
 
 #include <cstddef>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/report/session_report.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::report::internal {
 
@@ -32,12 +34,17 @@ struct RunView {
 
 struct ReportInputs {
   std::filesystem::path session_dir;
-  nlohmann::json document;  // session.json as recorded
+  session::SessionRecord record;  // session.json as read by its one reader
+  // session.json as recorded: the page's data-source pointers index it (session_report.hpp).
+  nlohmann::json document;
   double sample_rate_hz = 0.0;  // the session's (session::Session::sample_rate_hz)
   std::vector<RunView> runs;
-  // The re-run estimate (method ml), when at least one run could be loaded.
+  // The estimate drawn: the estimate of record as a summary (δ, ξ, std, σ̂, each run's nuisance;
+  // session_report.cpp RecordedSummary), or a re-run (method ml) when asked or when the record
+  // keeps no fitted runs. nullopt when there is none.
   std::optional<estimator::EstimateSummary> summary;
-  nlohmann::json estimate_json;  // EstimateReportJson of `summary` (null when none)
+  // outcome.estimate as recorded, or EstimateReportJson of the re-run (null when none).
+  nlohmann::json estimate_json;
   // Warnings, each once, in the order found: the session reader's, the recorded estimate's, the
   // re-run's, the report's own.
   std::vector<std::string> warnings;

@@ -16,6 +16,7 @@
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 #include "html_page.hpp"
 #include "html_text.hpp"
 #include "parallel_runs.hpp"
@@ -78,21 +79,78 @@ void AddWarning(std::vector<std::string>* warnings, std::set<std::string>* seen,
 }
 
 // The fit-quality limits the bench judged with, as recorded under outcome.estimate.fit.limits.
-estimator::FitQualityLimits RecordedFitLimits(const json& document) {
+estimator::FitQualityLimits RecordedFitLimits(const session::SessionRecord& record) {
   estimator::FitQualityLimits limits;
-  const std::string base = "/outcome/estimate/fit/limits/";
-  const double ratio = internal::NumberAt(document, base + "residual_ratio_max");
-  const double whiteness = internal::NumberAt(document, base + "whiteness_z_max");
-  const double offset = internal::NumberAt(document, base + "omega_offset_max_in_std");
+  if (!record.outcome || !record.outcome->estimate) return limits;
+  const session::EstimateRecord& estimate = *record.outcome->estimate;
   estimator::FitQualityLimits recorded = limits;
-  if (std::isfinite(ratio)) recorded.residual_ratio_max = ratio;
-  if (std::isfinite(whiteness)) recorded.whiteness_z_max = whiteness;
-  if (std::isfinite(offset)) recorded.omega_offset_max_in_std = offset;
+  if (std::isfinite(estimate.fit_residual_ratio_max))
+    recorded.residual_ratio_max = estimate.fit_residual_ratio_max;
+  if (std::isfinite(estimate.fit_whiteness_z_max))
+    recorded.whiteness_z_max = estimate.fit_whiteness_z_max;
+  if (std::isfinite(estimate.fit_omega_offset_max_in_std))
+    recorded.omega_offset_max_in_std = estimate.fit_omega_offset_max_in_std;
   return recorded.IsValid(nullptr) ? recorded : limits;
 }
 
+// The estimate of record as a summary the drawing code takes: δ, ξ, their std, σ̂ and each run's
+// nuisance (what FittedState needs), the rest as recorded. nullopt when its δ/ξ are not all
+// finite (an estimate that failed).
+std::optional<estimator::EstimateSummary> RecordedSummary(const session::SessionRecord& record) {
+  if (!record.outcome || !record.outcome->estimate) return std::nullopt;
+  const session::EstimateRecord& e = *record.outcome->estimate;
+  estimator::EstimateSummary s;
+  s.method = e.method;
+  s.message = "the estimate of record (session.json outcome.estimate)";
+  for (const auto t :
+       {estimator::Termination::kConverged, estimator::Termination::kMaxIterations,
+        estimator::Termination::kNoProgress, estimator::Termination::kInvalidInput,
+        estimator::Termination::kNotIdentifiable, estimator::Termination::kNumericalFailure}) {
+    if (e.termination == estimator::ToString(t)) s.termination = t;
+  }
+  for (int i = 0; i < 6; ++i) {
+    s.delta[i] = e.delta[static_cast<std::size_t>(i)];
+    s.delta_std[i] = e.delta_std[static_cast<std::size_t>(i)];
+    s.delta_estimated[static_cast<std::size_t>(i)] = std::isfinite(s.delta_std[i]);
+  }
+  for (int i = 0; i < 4; ++i) {
+    s.xi[i] = e.xi[static_cast<std::size_t>(i)];
+    s.xi_std[i] = e.xi_std[static_cast<std::size_t>(i)];
+    s.xi_estimated[static_cast<std::size_t>(i)] = std::isfinite(s.xi_std[i]);
+  }
+  if (!s.delta.allFinite() || !s.xi.allFinite()) return std::nullopt;
+  s.residual_rms = e.residual_rms;
+  s.noise_sigma = e.noise_sigma;
+  s.iterations = e.iterations;
+  s.samples_used = static_cast<std::size_t>(std::max<std::int64_t>(e.samples_used, 0));
+  s.diagnostics.phase_degree = e.phase_degree;
+  s.warnings = e.warnings;
+  for (const session::FittedRunRecord& run : e.fitted_runs) {
+    estimator::RunNuisanceEstimate n;
+    n.run_id = run.run_id;
+    n.initial_state = Eigen::Vector4d(run.initial_state.data());
+    n.phase_coefficients = run.phase_coefficients;
+    n.omega_offset_rad_s = run.omega_offset_rad_s;
+    s.initial_states.push_back(n.initial_state);
+    s.run_nuisance.push_back(std::move(n));
+  }
+  return s;
+}
+
+// x̂ once per run, ŷ = (I + C(ξ̂))·x̂ from it (what FittedOutput computes, in one pass).
+void DrawFits(ReportInputs* in, const estimator::EstimateSummary& summary) {
+  const Eigen::Matrix4d distortion =
+      Eigen::Matrix4d::Identity() + estimator::DistortionMatrix(summary.xi);
+  internal::ParallelRuns(in->runs.size(), [&](std::size_t r) {
+    RunView& v = in->runs[r];
+    if (!v.loaded) return;
+    v.fitted_x = estimator::FittedState(summary, v.data);
+    v.fitted_y = v.fitted_x * distortion.transpose();
+  });
+}
+
 // Re-runs the estimate as the bench's EstimateAndClose does, and checks it against the record.
-void Estimate(ReportInputs* in, std::set<std::string>* seen,
+void Estimate(ReportInputs* in, const session::SessionRecord& record, std::set<std::string>* seen,
               const std::vector<std::string>& reader_warnings) {
   std::vector<estimator::RunData> runs;
   for (const RunView& v : in->runs)
@@ -102,7 +160,7 @@ void Estimate(ReportInputs* in, std::set<std::string>* seen,
     return;
   }
   bench::MethodRequest request;
-  request.fit_quality = RecordedFitLimits(in->document);
+  request.fit_quality = RecordedFitLimits(record);
   if (auto shape = bench::RecordedNoiseShape(in->document, in->sample_rate_hz); shape) {
     request.noise_shape = std::move(*shape);
   } else {
@@ -125,22 +183,17 @@ void Estimate(ReportInputs* in, std::set<std::string>* seen,
                "the report's estimate is not usable (" + estimated.summary.message +
                    "): no fitted model drawn");
   } else {
-    // x̂ once per run, ŷ = (I + C(ξ̂))·x̂ from it (what FittedOutput computes, in one pass).
-    const Eigen::Matrix4d distortion =
-        Eigen::Matrix4d::Identity() + estimator::DistortionMatrix(estimated.summary.xi);
-    internal::ParallelRuns(in->runs.size(), [&](std::size_t r) {
-      RunView& v = in->runs[r];
-      if (!v.loaded) return;
-      v.fitted_x = estimator::FittedState(estimated.summary, v.data);
-      v.fitted_y = v.fitted_x * distortion.transpose();
-    });
+    DrawFits(in, estimated.summary);
     // The model drawn is the re-run's: say so if it is not the one recorded.
     for (int p = 0; p < 10; ++p) {
       const bool is_delta = p < 6;
       const int i = is_delta ? p : p - 6;
       const std::string key = is_delta ? "delta" : "xi";
-      const double recorded =
-          internal::NumberAt(in->document, "/outcome/estimate/" + key + "/" + std::to_string(i));
+      const session::EstimateRecord* of_record =
+          record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
+      const double recorded = of_record == nullptr ? std::nan("")
+                              : is_delta           ? of_record->delta[static_cast<std::size_t>(i)]
+                                                   : of_record->xi[static_cast<std::size_t>(i)];
       const double now = is_delta ? estimated.summary.delta[i] : estimated.summary.xi[i];
       const double sd = is_delta ? estimated.summary.delta_std[i] : estimated.summary.xi_std[i];
       if (!std::isfinite(recorded) || !std::isfinite(sd) || !(sd > 0.0)) continue;
@@ -165,32 +218,31 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   if (!chart_js) return std::unexpected(chart_js.error());
 
   auto start = std::chrono::steady_clock::now();
-  session::ReadOptions read;
-  read.load_samples = false;
-  const auto session = session::ReadSession(session_dir, read);
-  if (!session)
+  const auto record = session::ReadSessionRecord(session_dir);
+  if (!record)
     return std::unexpected(
-        ReportError{session.error().file, session.error().field, session.error().message});
+        ReportError{record.error().file, record.error().field, record.error().message});
   ReportInputs in;
   in.session_dir = session_dir;
-  in.document = session->document;
-  in.sample_rate_hz = session->sample_rate_hz;
+  in.record = *record;
+  in.document = record->document;
+  in.sample_rate_hz = record->sample_rate_hz;
   in.unit_history = options.unit_history;
   std::set<std::string> seen;
   std::vector<std::string> reader_warnings;
-  for (const std::string& w : session->warnings) {
+  for (const std::string& w : record->warnings) {
     AddWarning(&in.warnings, &seen, w);
     reader_warnings.push_back(w);
   }
   const std::size_t min_samples = bench::MinimumSamples(bench::Method::kMl);
-  for (std::size_t i = 0; i < session->runs.size(); ++i) {
-    const session::RunEntry& entry = session->runs[i];
+  for (std::size_t i = 0; i < record->runs.size(); ++i) {
+    const session::RunRecord& entry = record->runs[i];
     RunView v;
     v.id = entry.id;
     v.index = i;
     v.status = entry.status;
     v.file = entry.file;
-    if (entry.status != "complete") {
+    if (entry.status != bench::kRunComplete) {
       v.not_loaded_reason = "status '" + entry.status + "'";
     } else {
       auto samples = session::ReadRunCsv(session_dir / entry.file, min_samples);
@@ -207,28 +259,50 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
         v.loaded = true;
         v.data.id = entry.id;
         v.data.omega_rad_s = entry.omega_rad_s;
-        v.data.omega_std_rad_s = entry.omega_std_rad_s;
+        // The standard error of Ω when the bench measured it (NaN: not measured, or a run ended
+        // by a recorder error).
+        v.data.omega_std_rad_s =
+            entry.end ? entry.end->values.omega_std_error_rad_s : session::kNotRecorded;
         v.data.t_s = std::move(samples->t_s);
         v.data.y = std::move(samples->y);
         // Drawn and fitted in the model's I/Q convention, as the bench fits (recorded_runs.hpp).
-        estimator::ToModelConvention(session->iq_convention, v.data.y);
+        estimator::ToModelConvention(record->iq_convention, v.data.y);
       }
     }
     in.runs.push_back(std::move(v));
   }
-  if (!internal::At(in.document, "/outcome"))
+  if (!record->outcome)
     AddWarning(&in.warnings, &seen,
                "session.json has no outcome: not recorded by a bench session that closed (an "
                "hrg-sim session or an older format); outcome, verdict and engineering quantities "
                "not shown");
-  if (const json* recorded = internal::At(in.document, "/outcome/estimate/warnings");
-      recorded != nullptr && recorded->is_array())
-    for (const json& w : *recorded)
-      if (w.is_string()) AddWarning(&in.warnings, &seen, w.get<std::string>());
+  if (record->outcome && record->outcome->estimate)
+    for (const std::string& w : record->outcome->estimate->warnings)
+      AddWarning(&in.warnings, &seen, w);
   result.read_s = Since(start);
 
   start = std::chrono::steady_clock::now();
-  Estimate(&in, &seen, reader_warnings);
+  // The recorded fit is drawn as recorded; the estimator runs only when asked or when the record
+  // keeps no fitted runs (it was recorded before they were kept, or has no estimate of record).
+  const session::EstimateRecord* of_record =
+      record->outcome && record->outcome->estimate ? &*record->outcome->estimate : nullptr;
+  if (!options.refit && of_record != nullptr && of_record->fitted_runs_recorded) {
+    in.estimate_json = record->outcome->estimate_json;
+    in.summary = RecordedSummary(*record);
+    if (in.summary && in.summary->IsUsable())
+      DrawFits(&in, *in.summary);
+    else
+      AddWarning(&in.warnings, &seen,
+                 "the estimate of record is not usable: no fitted model drawn (hrg-report --refit "
+                 "re-runs it)");
+  } else {
+    if (!options.refit && of_record != nullptr)
+      AddWarning(&in.warnings, &seen,
+                 "the record's estimate keeps no fitted runs (recorded before they were kept): the "
+                 "report re-runs the estimate to draw the fitted model");
+    Estimate(&in, *record, &seen, reader_warnings);
+    result.estimate_rerun = true;
+  }
   result.estimate_s = Since(start);
 
   start = std::chrono::steady_clock::now();

@@ -143,7 +143,7 @@ std::expected<std::optional<std::string>, std::string> ResultsStore::StoredConte
   return std::optional<std::string>(internal::ToText((*rows)[0][0]));
 }
 
-std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRecord& record,
+std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRow& record,
                                                               const ImportProbe& probe) {
   // A duplicate key means another writer stored the same session between our check and our
   // insert; the second attempt then sees it (unchanged, or replaces it).
@@ -155,7 +155,7 @@ std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRecor
   }
 }
 
-std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionRecord& record,
+std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionRow& record,
                                                                   const ImportProbe& probe,
                                                                   bool* retry) {
   int statement = 0;

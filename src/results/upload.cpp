@@ -11,7 +11,7 @@ namespace fs = std::filesystem;
 
 UploadOutcome UploadSession(ResultsStore& store, const fs::path& dir, const ImportProbe& probe) {
   UploadOutcome outcome;
-  auto record = ReadSessionRecord(dir);
+  auto record = ReadSessionRow(dir);
   if (!record) {
     outcome.reason = record.error();
     return outcome;

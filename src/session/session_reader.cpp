@@ -14,6 +14,7 @@
 #include "json_lines.hpp"
 #include "name_field.hpp"
 #include "run_file_path.hpp"
+#include "session_text.hpp"
 #include "whole_file.hpp"
 
 namespace hrgbench::session {
@@ -123,6 +124,10 @@ class Checker {
   std::string_view text_;
   fs::path file_;
 };
+
+}  // namespace
+
+namespace internal {
 
 std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                                      const fs::path& file) {
@@ -267,10 +272,16 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     entry.status = *status;
     session.runs.push_back(std::move(entry));
   }
+  for (const RunEntry& entry : session.runs) {
+    if (entry.status != "complete") {
+      session.warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
+                                 entry.status + "'");
+    }
+  }
   return session;
 }
 
-}  // namespace
+}  // namespace internal
 
 std::expected<Session, SessionError> ReadSession(const fs::path& dir, const ReadOptions& options) {
   const fs::path json_file = dir / "session.json";
@@ -283,15 +294,11 @@ std::expected<Session, SessionError> ReadSession(const fs::path& dir, const Read
     }
     const auto text = internal::ReadWholeFile(json_file, kMaxSessionJsonBytes);
     if (!text) return std::unexpected(text.error());
-    auto session = ReadSessionJson(*text, json_file);
+    auto session = internal::ReadSessionJson(*text, json_file);
     if (!session) return session;
 
     for (const RunEntry& entry : session->runs) {
-      if (entry.status != "complete") {
-        session->warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
-                                    entry.status + "'");
-        continue;
-      }
+      if (entry.status != "complete") continue;  // warned by ReadSessionJson
       if (!options.load_samples) continue;
       auto samples = ReadRunCsv(dir / entry.file, options.min_samples_per_run);
       if (!samples) return std::unexpected(samples.error());

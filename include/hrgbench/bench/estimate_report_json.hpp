@@ -91,4 +91,13 @@ nlohmann::json EstimateReportJson(std::string_view method,
 // A number, or null when not finite.
 nlohmann::json NumberOrNull(double value);
 
+// The estimate of record's per-run nuisance (summary.run_nuisance), recorded as outcome.estimate
+// "fitted_runs" by EstimateRecordedSession (not by EstimateReportJson: hrg-estimate --json keeps
+// its keys): [{run, initial_state [4], phase_coefficients [q_1 … q_D, rad/s^j],
+// omega_offset_rad_s}]. With δ and ξ it is the fitted model of each run (fitted_output.hpp), so the
+// report draws the recorded fit without re-running it. Numbers are written in shortest round-trip
+// form, so the model drawn is the fit's own to the last bit. Empty array for a method without
+// nuisance (the paper's).
+nlohmann::json FittedRunsJson(const estimator::EstimateSummary& summary);
+
 }  // namespace hrgbench::bench

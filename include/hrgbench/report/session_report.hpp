@@ -3,13 +3,17 @@
 // offline (every script and style inlined, no http(s) URL anywhere in the file), plus optional
 // gnuplot figures and a PDF printed by headless Chromium.
 //
-// What it does: reads the session (session::ReadSession; a run whose file is missing or empty is
-// reported and left out), re-runs the estimate exactly as the bench does (bench::RunMethod, method
-// "ml", the fit-quality limits the record holds under outcome.estimate.fit.limits) to get the
-// fitted model of every run (estimator::FittedOutput), and writes the page. Everything the page
-// shows about the outcome, the verdict and the engineering quantities is taken from session.json;
-// what the report computes itself (the re-run fit, the Cramér–Rao bound of the session's own
-// design, the anisotropy axes when the record has no engineering list, sample-time jitter) is
+// What it does: reads the session (session::ReadSessionRecord, the one reader of the record; a run
+// whose file is missing or empty is reported and left out), draws the fitted model of every run
+// from the estimate of record (δ, ξ and each run's nuisance, outcome.estimate.fitted_runs, through
+// estimator::FittedState), and writes the page. It does not re-run the estimate unless asked
+// (ReportOptions::refit, hrg-report --refit), or the record keeps no fitted runs (a session
+// recorded before they were kept, or one without an outcome such as hrg-sim's): then it re-runs it
+// exactly as the bench does (bench::RunMethod, method "ml", the fit-quality limits the record holds
+// under outcome.estimate.fit.limits) and a warning says so. Everything the page shows about the
+// outcome, the verdict and the engineering quantities is taken from session.json; what the report
+// computes itself (a re-run fit, the Cramér–Rao bound of the session's own design, the anisotropy
+// axes when the record has no engineering list, sample-time jitter) is
 // marked as derived (see the contract below).
 //
 // ## The HTML contract (the browser test, branch `browser`, relies on it; keep it exactly)
@@ -85,6 +89,9 @@ struct ReportOptions {
   double child_timeout_s = 60.0;
   // The unit's earlier sessions (section "unit-history"); nullopt: no store configured, no section.
   std::optional<UnitHistory> unit_history;
+  // Re-run the estimate even when the record keeps the fitted runs (to check the recorded fit, or
+  // to draw it with this build's estimator). Off: the recorded fit is drawn.
+  bool refit = false;
 };
 
 // Where Debian's libjs-chart.js puts its UMD build (chart.min.js is the UMD bundle in 3.x; the
@@ -114,6 +121,9 @@ struct ReportResult {
   // Seconds spent: reading the session, the estimate, building and writing the page, the gnuplot
   // figures, the PDF.
   double read_s = 0.0, estimate_s = 0.0, page_s = 0.0, figures_s = 0.0, pdf_s = 0.0;
+  // The estimator ran (ReportOptions::refit, or a record without fitted runs); false: the fit
+  // drawn is the recorded one.
+  bool estimate_rerun = false;
 };
 
 // Refuses (ReportError, nothing written) when session.json cannot be read or is not a session

@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "hrgbench/results/results_url.hpp"
-#include "hrgbench/results/session_record.hpp"
+#include "hrgbench/results/session_row.hpp"
 
 namespace hrgbench::results {
 
@@ -113,7 +113,7 @@ class ResultsStore {
   const std::string& url() const { return url_; }
 
   // Writes `record` (see the contract above).
-  std::expected<ImportStatus, std::string> Import(const SessionRecord& record,
+  std::expected<ImportStatus, std::string> Import(const SessionRow& record,
                                                   const ImportProbe& probe = {});
   // The stored content hash of session `id`, nullopt when the session is not stored.
   std::expected<std::optional<std::string>, std::string> StoredContentHash(const std::string& id);
@@ -132,7 +132,7 @@ class ResultsStore {
  private:
   ResultsStore(std::unique_ptr<internal::SqlConnection> connection, std::string url);
   std::expected<void, std::string> Migrate(const OpenOptions& options);
-  std::expected<ImportStatus, std::string> ImportOnce(const SessionRecord& record,
+  std::expected<ImportStatus, std::string> ImportOnce(const SessionRow& record,
                                                       const ImportProbe& probe, bool* retry);
 
   std::unique_ptr<internal::SqlConnection> db_;

@@ -3,16 +3,13 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <fstream>
-
 #include "hrgbench/results/results_store.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::app {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr std::uintmax_t kMaxSessionJsonBytes = 16u << 20;  // a production session's is < 1 MB
 
 std::vector<fs::path> Matching(const fs::path& dir, std::string_view prefix) {
   std::vector<fs::path> files;
@@ -130,26 +127,24 @@ nlohmann::json RecentSessions(const fs::path& sessions_dir, std::size_t count) {
   nlohmann::json out = nlohmann::json::array();
   for (const Found& f : found) {
     if (out.size() >= count) break;
-    const fs::path json = f.dir / "session.json";
-    if (fs::file_size(json, ec) > kMaxSessionJsonBytes || ec) continue;
-    std::ifstream in(json);
-    const nlohmann::json doc = nlohmann::json::parse(in, nullptr, false);
-    if (doc.is_discarded() || !doc.is_object()) continue;
+    // Through the one reader of the record: a damaged or half-written one is left out of the list
+    // (the operator opens it from the folder), as an unparsable file always was.
+    const auto record = session::ReadSessionRecord(f.dir);
+    if (!record) continue;
     const std::string name = f.dir.filename().string();
+    const auto text_or_null = [](const std::string& text) {
+      return text.empty() ? nlohmann::json(nullptr) : nlohmann::json(text);
+    };
     nlohmann::json row;
     row["name"] = name;
-    const auto text = [&](const nlohmann::json& j, const char* key) -> nlohmann::json {
-      return j.is_object() && j.contains(key) ? j[key] : nlohmann::json(nullptr);
-    };
-    const nlohmann::json unit = text(doc, "unit");
-    row["unit"] = unit.is_object() ? text(unit, "serial") : unit;
-    const nlohmann::json station = text(doc, "station");
-    row["station"] = station.is_object() ? text(station, "name") : station;
-    const nlohmann::json outcome = text(doc, "outcome");
-    row["outcome"] = text(outcome, "kind");
-    row["reason"] = text(outcome, "reason");
-    const nlohmann::json started = text(doc, "started");
-    row["started"] = started.is_object() ? text(started, "utc") : started;
+    row["unit"] = record->unit_serial;
+    row["station"] = text_or_null(record->station_name);
+    const session::OutcomeRecord* outcome = record->outcome ? &*record->outcome : nullptr;
+    row["outcome"] = outcome != nullptr
+                         ? nlohmann::json(std::string(bench::ToString(outcome->kind)))
+                         : nlohmann::json(nullptr);
+    row["reason"] = outcome != nullptr ? nlohmann::json(outcome->reason) : nlohmann::json(nullptr);
+    row["started"] = record->started ? text_or_null(record->started->utc) : nlohmann::json(nullptr);
     row["report"] = fs::exists(f.dir / "report" / "report.html", ec)
                         ? nlohmann::json("sessions/" + name + "/report/report.html")
                         : nlohmann::json(nullptr);

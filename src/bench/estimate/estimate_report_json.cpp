@@ -178,4 +178,17 @@ nlohmann::json EstimateReportJson(std::string_view method,
   return report;
 }
 
+nlohmann::json FittedRunsJson(const estimator::EstimateSummary& summary) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const estimator::RunNuisanceEstimate& n : summary.run_nuisance) {
+    nlohmann::json phase = nlohmann::json::array();
+    for (const double q : n.phase_coefficients) phase.push_back(NumberOrNull(q));
+    runs.push_back({{"run", n.run_id},
+                    {"initial_state", Numbers(n.initial_state)},
+                    {"phase_coefficients", std::move(phase)},
+                    {"omega_offset_rad_s", NumberOrNull(n.omega_offset_rad_s)}});
+  }
+  return runs;
+}
+
 }  // namespace hrgbench::bench

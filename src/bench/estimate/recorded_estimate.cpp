@@ -5,6 +5,7 @@
 #include "hrgbench/bench/estimate_report_json.hpp"
 #include "hrgbench/bench/output_filter.hpp"
 #include "hrgbench/bench/recorded_runs.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::bench {
 
@@ -29,6 +30,8 @@ RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
                       out.method.selection_warnings.end());
   out.report = EstimateReportJson("ml", out.method.summary, out.warnings, recorded.document);
   if (prepared) out.report["preparation"] = prepared->Json();
+  // What the report needs to draw this fit without re-running it (estimate_report_json.hpp).
+  out.report[session::keys::kFittedRuns] = FittedRunsJson(out.method.summary);
   return out;
 }
 

@@ -1,10 +1,12 @@
 // SessionRecorder::OpenForResume: turn what a dead process left into a session that can go on.
 
+#include <cmath>
 #include <string>
 #include <system_error>
 
 #include "append_file.hpp"
 #include "hrgbench/bench/session_recorder.hpp"
+#include "hrgbench/session/session_record.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
 
@@ -25,32 +27,46 @@ constexpr std::string_view kPartialSuffix = ".csv.partial";
 
 std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
     const fs::path& dir, const RecorderOptions& options) {
-  session::ReadOptions read_options;
-  read_options.load_samples = false;
-  auto read = session::ReadSession(dir, read_options);
+  auto read = session::ReadSessionRecord(dir);
   if (!read) return BadSession(read.error().file, read.error().ToString());
+  const session::SessionRecord& record = *read;
 
   auto impl = std::make_unique<Impl>();
   impl->dir = dir;
   impl->options = options;
-  impl->session = std::move(*read);
+  // The writer's view of the record: the typed fields it rewrites and the document it keeps.
+  impl->session.serial = record.unit_serial;
+  impl->session.sample_rate_hz = record.sample_rate_hz;
+  impl->session.iq_convention = record.iq_convention;
+  impl->session.notes = record.notes;
+  for (const session::RunRecord& run : record.runs) {
+    session::RunEntry entry;
+    entry.id = run.id;
+    entry.file = run.file;
+    entry.omega_rad_s = run.omega_rad_s;
+    entry.status = run.status;
+    if (run.end) entry.omega_std_rad_s = run.end->values.omega_std_error_rad_s;
+    impl->session.runs.push_back(std::move(entry));
+  }
+  impl->session.document = record.document;
   json& doc = impl->session.document;
   const fs::path json_file = dir / "session.json";
-  const auto state = doc.find("state");
-  if (state == doc.end() || !state->is_string()) {
+  if (record.state.empty()) {
     return BadSession(json_file, "no \"state\": not a session written by hrg-bench");
   }
-  // ReadSession checked that runs is an array of objects, parallel to session.runs.
-  for (std::size_t i = 0; i < impl->session.runs.size(); ++i) {
-    const json& object = doc["runs"][i];
-    const auto plan_json = object.find("plan");
-    if (plan_json == object.end()) {
-      return BadSession(json_file, "run " + std::to_string(impl->session.runs[i].id) +
-                                       " has no \"plan\"");
+  for (const session::RunRecord& run : record.runs) {
+    if (!run.plan) {
+      return BadSession(json_file, "run " + std::to_string(run.id) + " has no \"plan\"");
     }
-    auto plan = internal::PlanFromJson(*plan_json, impl->session.runs[i].id);
-    if (!plan) return BadSession(json_file, plan.error());
-    impl->plans.push_back(*plan);
+    const bench::PlannedRun& plan = *run.plan;
+    for (const double v : {plan.commanded_omega_rad_s, plan.a, plan.b, plan.theta_rad,
+                           plan.free_run_s, plan.sample_rate_hz}) {
+      if (!std::isfinite(v)) {
+        return BadSession(json_file, "run " + std::to_string(run.id) +
+                                         ": plan incomplete (a field missing or not a number)");
+      }
+    }
+    impl->plans.push_back(plan);
   }
 
   // The run the dead process was capturing: an attempt, its streamed data kept for forensics.
@@ -84,12 +100,9 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
     if (!moved) return std::unexpected(moved.error());
   }
 
-  std::string interface_name = "can0";
-  const auto can_log = doc.find("can_log");
-  if (can_log != doc.end() && can_log->is_object() && can_log->contains("interface") &&
-      (*can_log)["interface"].is_string()) {
-    interface_name = (*can_log)["interface"].get<std::string>();
-  }
+  const std::string interface_name = record.can_log && !record.can_log->interface_name.empty()
+                                         ? record.can_log->interface_name
+                                         : "can0";
   if (auto made = internal::MakeDirectoryDurably(dir / "can"); !made) {
     return std::unexpected(made.error());
   }
@@ -102,7 +115,7 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
   impl->can_log = std::move(*log);
 
   json resumed = internal::TimeStampNow();
-  resumed["previous_state"] = *state;
+  resumed["previous_state"] = record.state;
   if (doc.contains("outcome")) resumed["previous_outcome"] = doc["outcome"];
   doc["resumed_at"].push_back(std::move(resumed));
   doc.erase("outcome");

@@ -364,7 +364,7 @@ TEST_P(ResultsStoreTest, ConcurrentUploadersLoseAndDoubleNothing) {
   std::set<std::string> ids;
   for (const auto& r : *rows) {
     ids.insert(r.session.id);
-    auto record = results::ReadSessionRecord(r.session.path);
+    auto record = results::ReadSessionRow(r.session.path);
     ASSERT_TRUE(record.has_value());
     EXPECT_EQ(record->content_sha256, r.session.content_sha256);
     EXPECT_EQ(r.values.at("delta1"), record->parameters.front().value.value());

@@ -1,6 +1,7 @@
 #pragma once
-// One closed session as the results database holds it, taken from its folder's session.json (the
-// folder stays the complete raw record; these rows are the index a line works from).
+// One closed session as the results database holds it: the rows taken from the typed session
+// record (session/session_record.hpp, the one reader of session.json); the folder stays the
+// complete raw record, these rows are the index a line works from.
 //
 // Identity: `id` is stable for the life of a session: the first 32 hex digits of the SHA-256 of
 // "serial \n station \n started.utc \n started.monotonic_ns", which a resume keeps, so a resumed
@@ -18,6 +19,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::results {
 
@@ -51,7 +54,7 @@ struct LimitRow {
   std::string message;
 };
 
-struct SessionRecord {
+struct SessionRow {
   std::string id;
   std::string serial;
   std::string station;
@@ -71,10 +74,12 @@ struct SessionRecord {
   std::vector<std::string> warnings;
 };
 
-// Reads `dir`/session.json (bounded and validated by session::ReadSession, no run data loaded).
-// Errors (the message names the file and the key): unreadable, not a session, not closed (a
-// session still running or interrupted has no outcome yet: resume it first), a key of the wrong
-// type.
-std::expected<SessionRecord, std::string> ReadSessionRecord(const std::filesystem::path& dir);
+// The rows of a closed record. Error: the record is not closed (a session still running or
+// interrupted has no outcome yet: resume it first); the message names the file and the field.
+std::expected<SessionRow, std::string> ToSessionRow(const session::SessionRecord& record);
+
+// session::ReadSessionRecord(dir) then ToSessionRow. Errors (the message names the file and the
+// field): unreadable, not a session, a damaged field, not closed.
+std::expected<SessionRow, std::string> ReadSessionRow(const std::filesystem::path& dir);
 
 }  // namespace hrgbench::results

@@ -1,0 +1,230 @@
+#pragma once
+// The closed (or still running) session as every program reads it: one typed value read from
+// <session>/session.json by ONE function, ReadSessionRecord. Programs read fields, never keys
+// (STYLE rule 13); the key names live in session_record_keys.hpp, shared with the writers.
+//
+// What is typed: everything a reader of the record uses (report, results store, replay, panel,
+// resume, fixture, the estimate of record's inputs). What stays raw JSON: what another layer owns
+// and only passes through or interprets itself: "simulation" (the simulator's truth), "fixture",
+// the station's "electronics" declaration (its output filter and pick-off are read by the analysis
+// layer's own parsers, output_filter.hpp and engineering_of_record.hpp), and the estimate and
+// verdict objects as a whole (for pages that show every field the estimator wrote). `document` is
+// the whole file, unknown keys included, for the writer and for the results store's content hash.
+//
+// Optional fields: std::optional when the key may be absent in a record of an older bench or a
+// session still running; numbers the bench writes as null (not measured) read as NaN. A key that
+// is present with the wrong type, or a value out of its range, is an error naming the file, the
+// field path (jq style, 0-based: "runs[2].end.omega_rad_s") and the value, once, here.
+//
+// Bounds: those of ReadSession (session.hpp: size, depth, number of runs, name fields), which this
+// reader calls first. Thread-safe (no shared state); never throws (except std::bad_alloc).
+
+#include <array>
+#include <cstdint>
+#include <expected>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hrgbench/bench/session_outcome.hpp"
+#include "hrgbench/bench/session_record_types.hpp"
+#include "hrgbench/estimator/iq_convention.hpp"
+#include "hrgbench/session/session.hpp"
+
+namespace hrgbench::session {
+
+inline constexpr double kNotRecorded = std::numeric_limits<double>::quiet_NaN();
+
+// started / ended / a run's start and end: wall clock and the bench's monotonic clock.
+struct TimeStampRecord {
+  std::string utc;                           // ISO 8601 as written, "" when absent
+  std::optional<std::int64_t> monotonic_ns;  // CLOCK_MONOTONIC, absent in hand-made records
+};
+
+struct ConfigHashesRecord {
+  std::string station_sha256;  // lower-case hex; "" when absent
+  std::string sequence_sha256;
+  std::string limits_sha256;  // "" when no limits file was given (null)
+};
+
+// can_log: where the raw CAN traffic is and what it speaks.
+struct CanLogRecord {
+  std::string file;                      // "can/session.log"; "" when absent
+  std::string interface_name;            // "can0", "vcan0", "sim0"; "" when absent
+  std::optional<std::int64_t> node;      // the unit's node id; absent before protocol v2
+  std::optional<std::int64_t> protocol;  // gyro CAN protocol version; absent: v1
+};
+
+// runs[i].start: the conditions at release (bench::RunStart) and when it was.
+struct RunStartRecord {
+  bench::RunStart values;  // with_measured_omega / with_temperature are not recorded: false
+  TimeStampRecord at;
+};
+
+// runs[i].end: how the run ended (bench::RunEnd) and when. A recorder error writes only status
+// and reason: every other number is then NaN / 0.
+struct RunEndRecord {
+  bench::RunEnd values;
+  std::optional<std::uint64_t> samples;  // absent in an end written by a recorder error
+  TimeStampRecord at;
+};
+
+// runs[i].attempts[k]: an earlier attempt kept aside (interrupted, aborted, rejected).
+struct AttemptRecord {
+  std::string status;
+  std::string file;  // where its data was moved; "" when none was kept
+  std::optional<RunStartRecord> start;
+  std::optional<RunEndRecord> end;
+};
+
+struct RunRecord {
+  int id = 0;
+  std::string file;        // relative to the session directory
+  double omega_rad_s = 0;  // the Ω given to the estimator (commanded until the run ends)
+  std::string status;      // bench::kRun* strings
+  // absent only in records not written by the recorder; a field it lacks (hand-made records) or
+  // holds as null is NaN
+  std::optional<bench::PlannedRun> plan;
+  std::optional<RunStartRecord> start;
+  std::optional<RunEndRecord> end;
+  std::vector<AttemptRecord> attempts;
+};
+
+// outcome.estimate.engineering.quantities[k]
+struct EngineeringQuantityRecord {
+  std::string name;  // "tau_s", "q_factor", ...
+  std::string label;
+  std::string unit;
+  double value = kNotRecorded;
+  double std = kNotRecorded;
+  bool determined = false;
+  std::string note;
+};
+
+// The per-run nuisance of the estimate of record (estimator::RunNuisanceEstimate): with δ and ξ it
+// gives the fitted model of the run (fitted_output.hpp), so the report draws the recorded fit
+// without re-running it. Recorded since the report stopped re-running the estimate.
+struct FittedRunRecord {
+  int run_id = 0;
+  std::array<double, 4> initial_state{kNotRecorded, kNotRecorded, kNotRecorded, kNotRecorded};
+  std::vector<double> phase_coefficients;  // q_1 … q_D, rad/s^j
+  double omega_offset_rad_s = 0.0;
+};
+
+// outcome.estimate (bench/estimate_report_json.hpp writes it): the numbers readers use.
+struct EstimateRecord {
+  std::string method;       // "ml", "paper", ...; "" when absent
+  std::string termination;  // estimator::ToString(Termination); "" when absent
+  int iterations = 0;
+  std::int64_t samples_used = 0;
+  int phase_degree = 0;         // fit.phase_degree: D of the common phase (0: none)
+  std::array<double, 6> delta;  // NaN where absent or null
+  std::array<double, 6> delta_std;
+  std::array<double, 4> xi;
+  std::array<double, 4> xi_std;
+  double residual_rms = kNotRecorded;
+  double noise_sigma = kNotRecorded;
+  std::vector<std::string> warnings;
+  // engineering.frequency_hz and the quantities in the estimator's order (empty when absent).
+  double engineering_frequency_hz = kNotRecorded;
+  std::vector<EngineeringQuantityRecord> engineering;
+  // fit.limits, as the bench judged with (NaN when absent).
+  double fit_residual_ratio_max = kNotRecorded;
+  double fit_whiteness_z_max = kNotRecorded;
+  double fit_omega_offset_max_in_std = kNotRecorded;
+  // fitted_runs: empty for a record from before it was kept (the report then re-runs the fit),
+  // and for an estimate that gave no nuisance (not usable, or a method without it).
+  std::vector<FittedRunRecord> fitted_runs;
+  bool fitted_runs_recorded = false;  // the key is there (recorded by this bench or a later one)
+  // truth.delta / truth.xi (simulated sessions), NaN when absent.
+  std::optional<std::array<double, 6>> truth_delta;
+  std::optional<std::array<double, 4>> truth_xi;
+
+  EstimateRecord() {
+    delta.fill(kNotRecorded);
+    delta_std.fill(kNotRecorded);
+    xi.fill(kNotRecorded);
+    xi_std.fill(kNotRecorded);
+  }
+};
+
+// outcome.verdict.limits[k] and fit_checks[k] (bench/verdict_json.hpp writes them).
+struct LimitRowRecord {
+  std::string quantity;
+  std::string status;  // "PASS", "FAIL", "NOT_EVALUATED", ...
+  double value = kNotRecorded, std = kNotRecorded;
+  double min = kNotRecorded, max = kNotRecorded;  // NaN: no bound
+  std::string message;
+};
+struct FitCheckRecord {
+  int run = 0;
+  std::string name;
+  std::string status;
+  double value = kNotRecorded, max = kNotRecorded;
+  std::string message;
+};
+struct VerdictRecord {
+  std::string overall;  // "PASS" | "FAIL" | "NOT EVALUATED"; "" when absent
+  std::optional<bool> fit_acceptable;
+  std::vector<FitCheckRecord> fit_checks;
+  std::vector<LimitRowRecord> limits;
+};
+
+struct OutcomeRecord {
+  bench::OutcomeKind kind = bench::OutcomeKind::kError;
+  std::optional<int> exit_code;
+  std::string reason;
+  std::vector<bench::FailedParameter> failed_parameters;
+  std::optional<EstimateRecord> estimate;
+  std::optional<VerdictRecord> verdict;
+  // The estimate and verdict objects verbatim (null when absent), for pages that show them whole.
+  nlohmann::json estimate_json;
+  nlohmann::json verdict_json;
+};
+
+struct SessionRecord {
+  std::filesystem::path file;  // the session.json read ("" when read from a document)
+  std::string format;          // session::kFormatName
+  int version = 0;
+  std::string state;  // keys::kStateRunning | kStateClosed; "" in hand-made records
+  std::string unit_serial;
+  std::string operator_name;  // "operator" (a string or {name}); "" when not recorded
+  std::string station_name;   // station.name; "" when absent
+  std::string software_version;
+  ConfigHashesRecord config_sha256;
+  std::optional<TimeStampRecord> started, ended;
+  std::string realtime_status;
+  double sample_rate_hz = 0.0;
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
+  std::optional<CanLogRecord> can_log;  // absent in records older than the CAN log
+  // Opaque pass-through (owners elsewhere; null when absent): see the file comment.
+  nlohmann::json electronics;
+  nlohmann::json simulation;
+  nlohmann::json fixture;
+  std::vector<RunRecord> runs;
+  std::optional<OutcomeRecord> outcome;  // absent while running or after a crash
+  nlohmann::json results;                // the upload mark; null when not uploaded
+  nlohmann::json document;               // the whole session.json
+  std::vector<std::string> notes;        // the base reader's notes (iq convention assumed, ...)
+  // ReadSession's warnings for the same file: "run 3 skipped: status 'aborted'" per run that is
+  // not complete (the estimate of record and the report do not read it).
+  std::vector<std::string> warnings;
+
+  bool Closed() const { return outcome.has_value(); }
+  // The run with this id, or nullptr.
+  const RunRecord* Run(int id) const;
+};
+
+// Reads and validates `dir`/session.json (no run data). Errors as ReadSession's (file, line,
+// field, message with the value).
+std::expected<SessionRecord, SessionError> ReadSessionRecord(const std::filesystem::path& dir);
+
+// The same validation of a document already parsed (e.g. one the recorder holds); `file` names it
+// in errors. Lines are 0 (the text is not at hand).
+std::expected<SessionRecord, SessionError> ReadSessionRecord(const nlohmann::json& document,
+                                                             const std::filesystem::path& file);
+
+}  // namespace hrgbench::session

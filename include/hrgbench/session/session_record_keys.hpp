@@ -1,0 +1,76 @@
+#pragma once
+// The key names of session.json, spelled once. The typed reader (session_record.hpp) reads through
+// these; the writers (session_writer.cpp, the recorder's session_document.cpp) may use them too, so
+// a renamed key is renamed on both sides at once. Only the record's own keys are here: the event
+// stream and the panel's HTTP JSON are other formats.
+//
+// The schema, as the recorder writes it (every number that was not measured is null):
+//   format, version, state ("running" | "closed"), unit.serial, operator (string or {name}),
+//   station.name, software.version, realtime, config_sha256.{station, sequence, limits},
+//   started / ended {utc, monotonic_ns}, sample_rate_hz, can_log.{file, interface, node, protocol},
+//   electronics {iq_convention, output_filter, pickoff, ...} (the station's declaration),
+//   simulation (the simulator's truth: opaque), fixture {position, ...} (opaque),
+//   runs[] {id, file, omega_rad_s, status, plan {...}, start {...}, end {...}, attempts [...]},
+//   outcome {kind, exit_code, reason, failed_parameters [...], estimate {...}, verdict {...}},
+//   resumed_at [...], results (the upload mark).
+
+namespace hrgbench::session::keys {
+
+// Top level.
+inline constexpr const char* kFormat = "format";
+inline constexpr const char* kVersion = "version";
+inline constexpr const char* kState = "state";
+inline constexpr const char* kUnit = "unit";
+inline constexpr const char* kSerial = "serial";
+inline constexpr const char* kOperator = "operator";
+inline constexpr const char* kStation = "station";
+inline constexpr const char* kName = "name";
+inline constexpr const char* kSoftware = "software";
+inline constexpr const char* kRealtime = "realtime";
+inline constexpr const char* kConfigSha256 = "config_sha256";
+inline constexpr const char* kSequence = "sequence";
+inline constexpr const char* kLimits = "limits";
+inline constexpr const char* kStarted = "started";
+inline constexpr const char* kEnded = "ended";
+inline constexpr const char* kUtc = "utc";
+inline constexpr const char* kMonotonicNs = "monotonic_ns";
+inline constexpr const char* kSampleRateHz = "sample_rate_hz";
+inline constexpr const char* kCanLog = "can_log";
+inline constexpr const char* kInterface = "interface";
+inline constexpr const char* kNode = "node";
+inline constexpr const char* kProtocol = "protocol";
+inline constexpr const char* kElectronics = "electronics";
+inline constexpr const char* kIqConvention = "iq_convention";
+inline constexpr const char* kSimulation = "simulation";
+inline constexpr const char* kFixture = "fixture";
+inline constexpr const char* kRuns = "runs";
+inline constexpr const char* kOutcome = "outcome";
+inline constexpr const char* kResumedAt = "resumed_at";
+inline constexpr const char* kResults = "results";
+
+// State values.
+inline constexpr const char* kStateRunning = "running";
+inline constexpr const char* kStateClosed = "closed";
+
+// A run.
+inline constexpr const char* kId = "id";
+inline constexpr const char* kFile = "file";
+inline constexpr const char* kOmegaRadS = "omega_rad_s";
+inline constexpr const char* kStatus = "status";
+inline constexpr const char* kPlan = "plan";
+inline constexpr const char* kStart = "start";
+inline constexpr const char* kEnd = "end";
+inline constexpr const char* kAttempts = "attempts";
+inline constexpr const char* kReason = "reason";
+inline constexpr const char* kSamples = "samples";
+
+// The outcome.
+inline constexpr const char* kKind = "kind";
+inline constexpr const char* kExitCode = "exit_code";
+inline constexpr const char* kFailedParameters = "failed_parameters";
+inline constexpr const char* kEstimate = "estimate";
+inline constexpr const char* kVerdict = "verdict";
+// The estimate of record's nuisance per run (what the report needs to draw the recorded fit).
+inline constexpr const char* kFittedRuns = "fitted_runs";
+
+}  // namespace hrgbench::session::keys
