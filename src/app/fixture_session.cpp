@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "app/serial_check.hpp"
+#include "hrgbench/bench/session_judge.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::app {
@@ -223,12 +224,13 @@ std::optional<KeptVerdict> ClosedVerdict(const std::filesystem::path& unit_dir) 
   auto recorded = session::ReadSession(unit_dir, options);
   if (!recorded) return std::nullopt;
   const nlohmann::json& doc = recorded->document;
-  if (!doc.contains("state") || doc.at("state") != "closed") return std::nullopt;
+  const bool closed = doc.contains("state") && doc.at("state") == "closed";
   if (!doc.contains("outcome") || !doc.at("outcome").is_object()) return std::nullopt;
   const nlohmann::json& outcome = doc.at("outcome");
-  const std::string kind = outcome.value("kind", std::string());
-  if (kind != "PASS" && kind != "FAIL") return std::nullopt;
-  return KeptVerdict{kind == "PASS", outcome.value("reason", std::string())};
+  const std::optional<bench::OutcomeKind> kind =
+      bench::ParseOutcomeKind(outcome.value("kind", std::string()));
+  if (!kind || !bench::KeepsVerdict(closed, *kind)) return std::nullopt;
+  return KeptVerdict{*kind == bench::OutcomeKind::kPass, outcome.value("reason", std::string())};
 }
 
 }  // namespace hrgbench::app
