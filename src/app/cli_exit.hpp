@@ -1,5 +1,6 @@
 #pragma once
-// Exit codes shared by the tools (documented in each --help).
+// What every tool's main shares: the exit-code table (hrgbench/bench/exit_codes.hpp, printed by
+// each --help), the command-line parse and the catch-all.
 
 #include <exception>
 #include <string>
@@ -7,13 +8,10 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "hrgbench/bench/exit_codes.hpp"
 #include "logging.hpp"
 
 namespace hrgbench::app {
-
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitNotUsable = 1;  // ran, but the result is not usable (see the message)
-inline constexpr int kExitBadInput = 2;   // bad command line, config or session; nothing written
 
 // CLI11's parse outcome as our exit code: --help/--version print and exit 0, a bad command line
 // prints CLI11's message and exits kExitBadInput.
@@ -29,7 +27,7 @@ inline void AddCommonFlags(CLI::App& app, bool* quiet) {
 }
 
 // The body of every tool's main(): parse the command line, set up logging on stderr, run `body`.
-// Only main catches everything: an exception that escapes the tool is logged and is kExitNotUsable.
+// Only main catches everything: an exception that escapes the tool is logged and is kExitError.
 template <typename Body>
 int ParseAndRun(CLI::App& app, int argc, char** argv, const std::string& tool, const bool& quiet,
                 Body body) {
@@ -43,7 +41,7 @@ int ParseAndRun(CLI::App& app, int argc, char** argv, const std::string& tool, c
     return body();
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());
-    return kExitNotUsable;
+    return kExitError;
   }
 }
 

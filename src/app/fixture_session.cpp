@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "app/serial_check.hpp"
+#include "hrgbench/bench/session_judge.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
@@ -221,10 +222,10 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
 
 std::optional<KeptVerdict> ClosedVerdict(const std::filesystem::path& unit_dir) {
   const auto recorded = session::ReadSessionRecord(unit_dir);
-  if (!recorded || recorded->state != session::keys::kStateClosed || !recorded->outcome)
-    return std::nullopt;
+  if (!recorded || !recorded->outcome) return std::nullopt;
   const bench::OutcomeKind kind = recorded->outcome->kind;
-  if (kind != bench::OutcomeKind::kPass && kind != bench::OutcomeKind::kFail) return std::nullopt;
+  if (!bench::KeepsVerdict(recorded->state == session::keys::kStateClosed, kind))
+    return std::nullopt;
   return KeptVerdict{kind == bench::OutcomeKind::kPass, recorded->outcome->reason};
 }
 

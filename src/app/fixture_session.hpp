@@ -65,7 +65,7 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
 
 // The verdict a unit's session closed with (PASS or FAIL, its reason), which a resume keeps; none
 // when the session is to be continued: it is running (interrupted), closed as ERROR or ABORTED, or
-// cannot be read (ResumeSessions says why).
+// cannot be read (ResumeSessions says why). The rule is bench::KeepsVerdict (session_judge.hpp).
 struct KeptVerdict {
   bool pass = false;
   std::string reason;

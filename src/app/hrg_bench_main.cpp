@@ -9,11 +9,12 @@
 //   hrg-bench replay DIR [--unit POSITION|SERIAL] [--json] [--no-estimate] [--rebuild-into NEW_DIR]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
 //
-// Exit codes (bench/session_outcome.hpp): 0 PASS, 1 FAIL (a parameter out of its limits), 2 ERROR
-// (the bench: timeout, bus-off, Modbus failure, too many drops, disk), 3 ABORTED (operator),
-// 4 usage or config error (nothing was started). replay: 0 the raw CAN log rebuilds the record bit
-// for bit, 1 it does not (the first difference, damage or divergence is printed), 4 not a session
-// or no log.
+// Exit codes: the table of every program (bench/exit_codes.hpp): 0 PASS, 1 FAIL (a parameter out
+// of its limits), 2 ERROR (the bench: timeout, bus-off, Modbus failure, too many drops, disk),
+// 3 ABORTED (operator), 4 bad input: usage or config error (nothing was started). A fixture: the
+// worst unit's (bench/session_judge.hpp). replay: 0 the raw CAN log rebuilds the record bit for
+// bit, 1 it does not (the first difference, damage or divergence is printed), 4 not a session or
+// no log.
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -41,7 +42,9 @@
 #include "app/unit_history.hpp"
 #include "hrgbench/bench/bench_configs.hpp"
 #include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/bench/exit_codes.hpp"
 #include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/bench/session_judge.hpp"
 #include "hrgbench/bench/verdict_json.hpp"
 #include "hrgbench/report/session_report.hpp"
 #include "hrgbench/session/session.hpp"
@@ -58,7 +61,7 @@ std::atomic<int> g_interrupt_signal{0};  // the first interrupt's signal, for th
 extern "C" void OnInterrupt(int signal) {
   int none = 0;
   g_interrupt_signal.compare_exchange_strong(none, signal);
-  if (g_interrupts.fetch_add(1) >= 1) _exit(bench::kExitAborted);
+  if (g_interrupts.fetch_add(1) >= 1) _exit(kExitAborted);
 }
 
 void InstallSignalHandlers() {
@@ -201,7 +204,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
     auto opened = app::EventOutput::Open(events.target, events.capacity);
     if (!opened) {
       spdlog::error("{}", opened.error());
-      return bench::kExitUsage;
+      return kExitBadInput;
     }
     // A reader that goes away must cost events, not the process.
     ::signal(SIGPIPE, SIG_IGN);
@@ -210,7 +213,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
-    return bench::kExitError;
+    return kExitError;
   }
   ProgressPrinter printer;
   bench::RunnerOptions options;
@@ -243,13 +246,6 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
 }
 
-// The fixture's exit code: the worst of its units' (ABORTED over ERROR over FAIL over PASS).
-int FixtureExitCode(const std::vector<bench::SessionResult>& results) {
-  int code = bench::kExitPass;
-  for (const bench::SessionResult& result : results) code = std::max(code, result.exit_code);
-  return code;
-}
-
 // Every unit on the table in one session (a station with several fitted positions): the units'
 // folders under `dir`, fixture.json beside them. `resume`: continues the units that did not close
 // with a verdict; the others keep theirs.
@@ -258,7 +254,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
-    return bench::kExitError;
+    return kExitError;
   }
   const bench::BenchHardware& all = (*station)->hardware();
   std::vector<bench::UnitSession> sessions = app::FixtureUnitSessions(record, dir);
@@ -275,7 +271,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     if (at == all.units.end()) {
       spdlog::error("{}: position '{}' of the fixture record is not fitted on station '{}'",
                     dir.string(), record.units[i].position, configs.station.name);
-      return bench::kExitUsage;
+      return kExitBadInput;
     }
     if (resume && (kept[i] = app::ClosedVerdict(sessions[i].dir))) continue;
     sessions[i].simulation =
@@ -288,7 +284,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     if (auto written = app::WriteFixtureRecord(dir, record, {}, HRGBENCH_SOFTWARE_VERSION);
         !written) {
       spdlog::error("{}", written.error());
-      return bench::kExitUsage;
+      return kExitBadInput;
     }
   }
   ProgressPrinter printer;
@@ -320,13 +316,16 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     if (kept[i]) {
       results[i].outcome = kept[i]->pass ? bench::OutcomeKind::kPass : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
-      results[i].reason = "kept from before: " + kept[i]->reason;
+      results[i].reason = bench::KeptReason(kept[i]->reason);
     }
   }
   if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);
       !written)
     spdlog::error("{}", written.error());
-  const int code = FixtureExitCode(results);
+  // The worst unit's (ABORTED over ERROR over FAIL over PASS).
+  std::vector<bench::OutcomeKind> outcomes;
+  for (const bench::SessionResult& result : results) outcomes.push_back(result.outcome);
+  const int code = bench::FixtureExitCode(outcomes);
   if (json) {
     nlohmann::json out;
     out["fixture"] = dir.string();
@@ -352,13 +351,14 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
 }
 
 // `hrg-bench replay FIXTURE [--unit POSITION|SERIAL]`: each unit's session replayed in turn (or
-// the one named); exit 0 when every one is identical, 1 otherwise, 4 when the record is not read.
+// the one named); exit kExitOk when every one is identical, kExitFail otherwise, kExitBadInput
+// when the record is not read.
 int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, bool estimate,
                   const std::string& rebuild_into, bool json) {
   auto record = app::ReadFixtureRecord(dir);
   if (!record) {
     std::cerr << record.error() << '\n';
-    return bench::kExitUsage;
+    return kExitBadInput;
   }
   std::vector<app::FixtureUnit> chosen;
   for (const app::FixtureUnit& u : record->units) {
@@ -366,11 +366,11 @@ int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, boo
   }
   if (chosen.empty()) {
     std::cerr << "--unit " << unit << ": no such position or serial in " << dir.string() << '\n';
-    return bench::kExitUsage;
+    return kExitBadInput;
   }
   if (!rebuild_into.empty() && chosen.size() != 1) {
     std::cerr << "--rebuild-into: rebuilds one unit's session; name it with --unit\n";
-    return bench::kExitUsage;
+    return kExitBadInput;
   }
   nlohmann::json out{{"fixture", dir.string()}, {"units", nlohmann::json::array()}};
   bool identical = true;
@@ -381,7 +381,7 @@ int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, boo
     auto replayed = app::ReplaySession(dir / u.folder, options);
     if (!replayed) {
       std::cerr << replayed.error() << '\n';
-      return bench::kExitUsage;
+      return kExitBadInput;
     }
     identical = identical && replayed->Identical();
     if (json) {
@@ -397,74 +397,249 @@ int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, boo
     out["identical"] = identical;
     std::cout << out.dump(1) << '\n';
   }
-  return identical ? 0 : 1;
+  return identical ? kExitOk : kExitFail;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App cli{
-      "hrg-bench: free-run sessions of a hemispherical resonator gyro on a rate table, recorded, "
-      "estimated and judged.\nExit codes: 0 PASS; 1 FAIL (a parameter out of its limits); 2 ERROR "
-      "(the bench: timeout, bus-off, Modbus, drops, disk); 3 ABORTED (operator); 4 usage or "
-      "config error."};
-  cli.require_subcommand(1);
-  bool quiet = false;
-  bool json = false;
-  hrgbench::app::AddCommonFlags(cli, &quiet);
-
-  std::string station, sequence, limits, out_dir, resume_dir;
+// `hrg-bench run`'s command line.
+struct RunArgs {
+  std::string station, sequence, limits, out_dir;
   std::vector<std::string> serials;
+};
+
+// `hrg-bench replay`'s command line.
+struct ReplayArgs {
+  std::string dir;
+  bool no_estimate = false;
+  std::string unit;
+  std::string rebuild_into;
+};
+
+// `hrg-bench check`'s command line.
+struct CheckArgs {
+  std::string station, sequence, limits;
+};
+
+// `hrg-bench serve`: the operator panel until the first interrupt.
+int Serve(app::PanelOptions panel, const char* argv0) {
+  std::error_code ec;
+  panel.program = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) panel.program = argv0;
+  InstallSignalHandlers();
+  ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
+  return app::RunPanel(panel, g_interrupts);
+}
+
+// `hrg-bench replay DIR`: one unit's session, or a fixture's (ReplayFixture).
+int Replay(const ReplayArgs& args, bool json) {
+  if (app::IsFixtureFolder(args.dir)) {
+    return ReplayFixture(args.dir, args.unit, !args.no_estimate, args.rebuild_into, json);
+  }
+  if (!args.unit.empty()) {
+    std::cerr << "--unit: " << args.dir << " is one unit's session, not a fixture's\n";
+    return kExitBadInput;
+  }
+  app::ReplayOptions options;
+  options.estimate = !args.no_estimate;
+  options.rebuild_into = args.rebuild_into;
+  auto replayed = app::ReplaySession(args.dir, options);
+  if (!replayed) {
+    std::cerr << replayed.error() << '\n';
+    return kExitBadInput;
+  }
+  if (json) {
+    std::cout << app::ReplayJson(*replayed).dump(1) << '\n';
+  } else {
+    std::cout << app::ReplayText(*replayed);
+  }
+  return replayed->Identical() ? kExitOk : kExitFail;
+}
+
+// `hrg-bench check S.toml Q.toml [L.toml]`: the configs loaded and cross-checked, the planned bus
+// load printed; nothing started.
+int Check(const CheckArgs& args) {
+  auto configs = bench::LoadBenchConfigs(args.station, args.sequence, args.limits);
+  if (!configs) {
+    std::cerr << configs.error().ToString() << '\n';
+    return kExitBadInput;
+  }
+  std::cout << "ok: station '" << configs->station.name << "', sequence '" << configs->sequence.name
+            << "' (" << configs->sequence.runs.size() << " runs, "
+            << configs->sequence.TotalFreeRunS() << " s of free run)"
+            << (configs->limits.file.empty() ? "" : ", limits '" + configs->limits.name + "'")
+            << '\n';
+  const bench::PlannedBusLoad bus = bench::BusiestRunLoad(*configs);
+  std::cout << "gyro bus: " << bus.bus << ", at most " << bench::Percent(bus.load.bus_share)
+            << " busy (" << bus.sample_rate_hz << " samples/s" << (bus.units > 1 ? " per unit" : "")
+            << ", " << static_cast<long long>(bus.load.frames_per_s)
+            << " frames/s, worst-case stuffing; planned maximum "
+            << bench::Percent(hw::kMaxPlannedBusShare) << ")\n";
+  const std::vector<bench::PlannedBusLoad> buses = bench::EachBusLoad(*configs);
+  if (buses.size() > 1) {
+    for (const bench::PlannedBusLoad& each : buses) {
+      std::string positions;
+      for (const std::string& name : each.positions)
+        positions += (positions.empty() ? "" : ", ") + name;
+      std::cout << "  " << each.bus << ": " << positions << ", at most "
+                << bench::Percent(each.load.bus_share) << " busy\n";
+    }
+  }
+  return kExitOk;
+}
+
+// `hrg-bench run` on a station with several fitted positions: one session per unit under a new
+// fixture folder.
+int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, bool json,
+                      const EventsRequest& events) {
+  auto record = app::PlanFixture(configs.station, args.serials);
+  if (!record) {
+    std::cerr << record.error() << '\n';
+    return kExitBadInput;
+  }
+  if (!events.target.empty()) {
+    std::cerr << "--events: the event stream is one unit's; a fixture of " << record->units.size()
+              << " units has none yet\n";
+    return kExitBadInput;
+  }
+  std::filesystem::path dir = args.out_dir;
+  if (dir.empty()) {
+    const auto folder = app::NewSessionFolder("sessions", "fixture", std::time(nullptr));
+    if (!folder) {
+      std::cerr << folder.error() << '\n';
+      return kExitBadInput;
+    }
+    dir = *folder;
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_empty(dir, ec)) {
+    std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
+    return kExitBadInput;
+  }
+  return RunFixture(configs, dir, *record, false, json);
+}
+
+// `hrg-bench run`: a new session of one unit, or of a fixture's.
+int Run(const RunArgs& args, bool json, const EventsRequest& events) {
+  auto configs = bench::LoadBenchConfigs(args.station, args.sequence, args.limits);
+  if (!configs) {
+    std::cerr << configs.error().ToString() << '\n';
+    return kExitBadInput;
+  }
+  if (bench::FittedPositions(configs->station).size() > 1) {
+    return RunFixtureCommand(*configs, args, json, events);
+  }
+  if (args.serials.size() != 1) {
+    std::cerr << "--serial: " << args.serials.size() << " serials for station '"
+              << configs->station.name << "', which has one fitted position\n";
+    return kExitBadInput;
+  }
+  const std::string& serial = args.serials.front();
+  // One rule for a serial wherever it comes from (the panel checks the same).
+  if (auto problem = app::SerialProblem(serial)) {
+    std::cerr << "--serial: " << *problem << '\n';
+    return kExitBadInput;
+  }
+  std::string dir = args.out_dir;
+  if (dir.empty()) {
+    const auto folder = app::NewSessionFolder("sessions", serial, std::time(nullptr));
+    if (!folder) {
+      std::cerr << folder.error() << '\n';
+      return kExitBadInput;
+    }
+    dir = folder->string();
+  }
+  return RunOrResume(*configs, dir, serial, false, json, events);
+}
+
+// `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a
+// verdict.
+int Resume(const std::string& resume_dir, bool json, const EventsRequest& events) {
+  if (app::IsFixtureFolder(resume_dir)) {
+    auto record = app::ReadFixtureRecord(resume_dir);
+    if (!record) {
+      std::cerr << record.error() << '\n';
+      return kExitBadInput;
+    }
+    // Every unit ran with the same configs (each folder holds a copy); the first's are used.
+    auto configs =
+        bench::LoadSavedConfigs(std::filesystem::path(resume_dir) / record->units.front().folder);
+    if (!configs) {
+      std::cerr << configs.error() << '\n';
+      return kExitBadInput;
+    }
+    if (!events.target.empty()) {
+      std::cerr << "--events: the event stream is one unit's; a fixture has none yet\n";
+      return kExitBadInput;
+    }
+    return RunFixture(*configs, resume_dir, *record, true, json);
+  }
+  auto configs = bench::LoadSavedConfigs(resume_dir);
+  if (!configs) {
+    std::cerr << configs.error() << '\n';
+    return kExitBadInput;
+  }
+  return RunOrResume(*configs, resume_dir, "", true, json, events);
+}
+
+// --events and --events-queue on `run` and `resume`.
+void AddEventsOptions(CLI::App* command, EventsRequest& events) {
+  command->add_option("--events", events.target,
+                      "write the session's events, one JSON object per line, to FILE or - "
+                      "(stdout; not with --json)");
+  command
+      ->add_option("--events-queue", events.capacity,
+                   "events held for a slow reader before they are dropped (and counted)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+}
+
+CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest& events) {
   CLI::App* run = cli.add_subcommand("run", "run a session");
-  run->add_option("--station", station, "station config (TOML)")->required();
-  run->add_option("--sequence", sequence, "sequence config (TOML)")->required();
-  run->add_option("--limits", limits, "limits config (TOML) for the verdict");
-  run->add_option("--serial", serials,
+  run->add_option("--station", args.station, "station config (TOML)")->required();
+  run->add_option("--sequence", args.sequence, "sequence config (TOML)")->required();
+  run->add_option("--limits", args.limits, "limits config (TOML) for the verdict");
+  run->add_option("--serial", args.serials,
                   "unit serial number; on a fixture of N positions, one per fitted position in "
                   "order, or POSITION=SERIAL")
       ->required();
-  run->add_option("-o,--output", out_dir,
+  run->add_option("-o,--output", args.out_dir,
                   "session directory (default sessions/SERIAL-UTC; a fixture's: "
                   "sessions/fixture-UTC)");
   run->add_flag("--json", json, "print the result as one JSON object");
-  EventsRequest events;
-  const auto add_events = [&events](CLI::App* command) {
-    command->add_option("--events", events.target,
-                        "write the session's events, one JSON object per line, to FILE or - "
-                        "(stdout; not with --json)");
-    command
-        ->add_option("--events-queue", events.capacity,
-                     "events held for a slow reader before they are dropped (and counted)")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
-  };
-  add_events(run);
-  CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
-  resume->add_option("dir", resume_dir, "session directory")->required();
-  resume->add_flag("--json", json, "print the result as one JSON object");
-  add_events(resume);
-  std::string check_station, check_sequence, check_limits;
-  CLI::App* check = cli.add_subcommand("check", "validate configs only");
-  check->add_option("station", check_station, "station config")->required();
-  check->add_option("sequence", check_sequence, "sequence config")->required();
-  check->add_option("limits", check_limits, "limits config");
+  AddEventsOptions(run, events);
+  return run;
+}
 
-  std::string replay_dir;
-  bool replay_no_estimate = false;
+CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, bool& json, EventsRequest& events) {
+  CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
+  resume->add_option("dir", dir, "session directory")->required();
+  resume->add_flag("--json", json, "print the result as one JSON object");
+  AddEventsOptions(resume, events);
+  return resume;
+}
+
+CLI::App* AddCheckCommand(CLI::App& cli, CheckArgs& args) {
+  CLI::App* check = cli.add_subcommand("check", "validate configs only");
+  check->add_option("station", args.station, "station config")->required();
+  check->add_option("sequence", args.sequence, "sequence config")->required();
+  check->add_option("limits", args.limits, "limits config");
+  return check;
+}
+
+CLI::App* AddReplayCommand(CLI::App& cli, ReplayArgs& args, bool& json) {
   CLI::App* replay = cli.add_subcommand(
       "replay", "play a session's raw CAN log back through the gyro driver and compare");
-  replay->add_option("dir", replay_dir, "session directory")->required();
+  replay->add_option("dir", args.dir, "session directory")->required();
   replay->add_flag("--json", json, "print the comparison as one JSON object");
-  replay->add_flag("--no-estimate", replay_no_estimate,
+  replay->add_flag("--no-estimate", args.no_estimate,
                    "compare the samples only, not the estimate made from them");
-  std::string replay_unit;
-  replay->add_option("--unit", replay_unit,
+  replay->add_option("--unit", args.unit,
                      "a fixture's folder: replay only this unit (its position or its serial)");
-  std::string replay_rebuild;
-  replay->add_option("--rebuild-into", replay_rebuild,
+  replay->add_option("--rebuild-into", args.rebuild_into,
                      "write a new session folder whose complete runs are rebuilt from the log "
                      "(restores a lost or damaged run file)");
+  return replay;
+}
 
-  app::PanelOptions panel;
+CLI::App* AddServeCommand(CLI::App& cli, app::PanelOptions& panel) {
   CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
   serve
       ->add_option("--station", panel.station,
@@ -475,162 +650,54 @@ int main(int argc, char** argv) {
   serve->add_option("--sessions", panel.sessions, "sessions folder (default sessions)");
   serve->add_option("--token-file", panel.token_file,
                     "access token (required to listen on another address than localhost)");
+  return serve;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{
+      "hrg-bench: free-run sessions of a hemispherical resonator gyro on a rate table, recorded, "
+      "estimated and judged.\n"
+      "run, resume: the session's outcome (a fixture: its worst unit's). replay: 1 the log does "
+      "not rebuild the record. check, serve: 4 a config or option refused; serve: 2 the port is "
+      "taken.\n" +
+      std::string(kExitCodesHelp)};
+  cli.require_subcommand(1);
+  bool quiet = false;
+  bool json = false;
+  app::AddCommonFlags(cli, &quiet);
+  RunArgs run_args;
+  std::string resume_dir;
+  CheckArgs check_args;
+  ReplayArgs replay_args;
+  app::PanelOptions panel;
+  EventsRequest events;
+  CLI::App* run = AddRunCommand(cli, run_args, json, events);
+  CLI::App* resume = AddResumeCommand(cli, resume_dir, json, events);
+  CLI::App* check = AddCheckCommand(cli, check_args);
+  CLI::App* replay = AddReplayCommand(cli, replay_args, json);
+  CLI::App* serve = AddServeCommand(cli, panel);
 
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int code = cli.exit(error);
-    return code == 0 ? 0 : bench::kExitUsage;
+    return app::ExitForParseError(cli, error);
   }
-  hrgbench::app::SetUpStderrLogging("hrg-bench", quiet ? -1 : 0);
+  app::SetUpStderrLogging("hrg-bench", quiet ? -1 : 0);
   if (events.target == "-" && json) {
     std::cerr << "--events - and --json both write to stdout: send the events to a file\n";
-    return bench::kExitUsage;
+    return kExitBadInput;
   }
   try {
-    if (*serve) {
-      std::error_code ec;
-      panel.program = std::filesystem::read_symlink("/proc/self/exe", ec);
-      if (ec) panel.program = argv[0];
-      InstallSignalHandlers();
-      ::signal(SIGPIPE, SIG_IGN);  // a browser that goes away is a failed write, not a signal
-      return app::RunPanel(panel, g_interrupts);
-    }
-    if (*replay && app::IsFixtureFolder(replay_dir)) {
-      return ReplayFixture(replay_dir, replay_unit, !replay_no_estimate, replay_rebuild, json);
-    }
-    if (*replay) {
-      if (!replay_unit.empty()) {
-        std::cerr << "--unit: " << replay_dir << " is one unit's session, not a fixture's\n";
-        return bench::kExitUsage;
-      }
-      app::ReplayOptions options;
-      options.estimate = !replay_no_estimate;
-      options.rebuild_into = replay_rebuild;
-      auto replayed = app::ReplaySession(replay_dir, options);
-      if (!replayed) {
-        std::cerr << replayed.error() << '\n';
-        return bench::kExitUsage;
-      }
-      if (json) {
-        std::cout << app::ReplayJson(*replayed).dump(1) << '\n';
-      } else {
-        std::cout << app::ReplayText(*replayed);
-      }
-      return replayed->Identical() ? 0 : 1;
-    }
-    if (*check) {
-      auto configs = bench::LoadBenchConfigs(check_station, check_sequence, check_limits);
-      if (!configs) {
-        std::cerr << configs.error().ToString() << '\n';
-        return bench::kExitUsage;
-      }
-      std::cout << "ok: station '" << configs->station.name << "', sequence '"
-                << configs->sequence.name << "' (" << configs->sequence.runs.size()
-                << " runs, " << configs->sequence.TotalFreeRunS() << " s of free run)"
-                << (configs->limits.file.empty() ? "" : ", limits '" + configs->limits.name + "'")
-                << '\n';
-      const bench::PlannedBusLoad bus = bench::BusiestRunLoad(*configs);
-      std::cout << "gyro bus: " << bus.bus << ", at most " << bench::Percent(bus.load.bus_share)
-                << " busy (" << bus.sample_rate_hz << " samples/s"
-                << (bus.units > 1 ? " per unit" : "") << ", "
-                << static_cast<long long>(bus.load.frames_per_s)
-                << " frames/s, worst-case stuffing; planned maximum "
-                << bench::Percent(hw::kMaxPlannedBusShare) << ")\n";
-      const std::vector<bench::PlannedBusLoad> buses = bench::EachBusLoad(*configs);
-      if (buses.size() > 1) {
-        for (const bench::PlannedBusLoad& each : buses) {
-          std::string positions;
-          for (const std::string& name : each.positions)
-            positions += (positions.empty() ? "" : ", ") + name;
-          std::cout << "  " << each.bus << ": " << positions << ", at most "
-                    << bench::Percent(each.load.bus_share) << " busy\n";
-        }
-      }
-      return 0;
-    }
-    if (*run) {
-      auto configs = bench::LoadBenchConfigs(station, sequence, limits);
-      if (!configs) {
-        std::cerr << configs.error().ToString() << '\n';
-        return bench::kExitUsage;
-      }
-      if (bench::FittedPositions(configs->station).size() > 1) {
-        auto record = app::PlanFixture(configs->station, serials);
-        if (!record) {
-          std::cerr << record.error() << '\n';
-          return bench::kExitUsage;
-        }
-        if (!events.target.empty()) {
-          std::cerr << "--events: the event stream is one unit's; a fixture of "
-                    << record->units.size() << " units has none yet\n";
-          return bench::kExitUsage;
-        }
-        std::filesystem::path dir = out_dir;
-        if (dir.empty()) {
-          const auto folder = app::NewSessionFolder("sessions", "fixture", std::time(nullptr));
-          if (!folder) {
-            std::cerr << folder.error() << '\n';
-            return bench::kExitUsage;
-          }
-          dir = *folder;
-        }
-        std::error_code ec;
-        if (std::filesystem::exists(dir, ec) && !std::filesystem::is_empty(dir, ec)) {
-          std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
-          return bench::kExitUsage;
-        }
-        return RunFixture(*configs, dir, *record, false, json);
-      }
-      if (serials.size() != 1) {
-        std::cerr << "--serial: " << serials.size() << " serials for station '"
-                  << configs->station.name << "', which has one fitted position\n";
-        return bench::kExitUsage;
-      }
-      const std::string& serial = serials.front();
-      // One rule for a serial wherever it comes from (the panel checks the same).
-      if (auto problem = app::SerialProblem(serial)) {
-        std::cerr << "--serial: " << *problem << '\n';
-        return bench::kExitUsage;
-      }
-      std::string dir = out_dir;
-      if (dir.empty()) {
-        const auto folder = app::NewSessionFolder("sessions", serial, std::time(nullptr));
-        if (!folder) {
-          std::cerr << folder.error() << '\n';
-          return bench::kExitUsage;
-        }
-        dir = folder->string();
-      }
-      return RunOrResume(*configs, dir, serial, false, json, events);
-    }
-    if (app::IsFixtureFolder(resume_dir)) {
-      auto record = app::ReadFixtureRecord(resume_dir);
-      if (!record) {
-        std::cerr << record.error() << '\n';
-        return bench::kExitUsage;
-      }
-      // Every unit ran with the same configs (each folder holds a copy); the first's are used.
-      auto configs =
-          bench::LoadSavedConfigs(std::filesystem::path(resume_dir) / record->units.front().folder);
-      if (!configs) {
-        std::cerr << configs.error() << '\n';
-        return bench::kExitUsage;
-      }
-      if (!events.target.empty()) {
-        std::cerr << "--events: the event stream is one unit's; a fixture has none yet\n";
-        return bench::kExitUsage;
-      }
-      return RunFixture(*configs, resume_dir, *record, true, json);
-    }
-    auto configs = bench::LoadSavedConfigs(resume_dir);
-    if (!configs) {
-      std::cerr << configs.error() << '\n';
-      return bench::kExitUsage;
-    }
-    return RunOrResume(*configs, resume_dir, "", true, json, events);
+    if (*serve) return Serve(panel, argv[0]);
+    if (*replay) return Replay(replay_args, json);
+    if (*check) return Check(check_args);
+    if (*run) return Run(run_args, json, events);
+    if (*resume) return Resume(resume_dir, json, events);
+    return kExitBadInput;  // require_subcommand(1): not reached
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());
-    return bench::kExitError;
+    return kExitError;
   }
 }

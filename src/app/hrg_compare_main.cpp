@@ -52,12 +52,12 @@ int Run(const std::string& dir) {
   auto session = session::ReadSession(dir, read_options);
   if (!session) {
     std::cerr << session.error().ToString() << '\n';
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   const std::vector<estimator::RunData> runs = session::ToRunData(*session);
   if (runs.empty()) {
     std::cerr << dir << ": no complete run to estimate from\n";
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   for (const std::string& w : session->warnings) spdlog::warn("{}", w);
   const std::optional<estimator::Delta> truth = TruthDelta(session->document);
@@ -107,7 +107,7 @@ int Run(const std::string& dir) {
       "\nresid RMS: ML of y per channel and sample; paper methods of the equation (a "
       "diagnostic, not comparable).\n");
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
-  return all_usable ? app::kExitOk : app::kExitNotUsable;
+  return all_usable ? kExitOk : kExitFail;
 }
 
 }  // namespace
@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
       "hrg-compare: run the paper's method (xi ignored), the paper's xi1 grid and maximum "
       "likelihood (all xi) on one session and print delta2, xi1, the relative deviation from the "
       "truth (sessions with \"simulation\"), the residual RMS and the time of each.\n"
-      "Exit codes: 0 ok; 1 some estimate not usable; 2 bad input (command line or session)."};
+      "Here 1: some estimate not usable; 4: bad command line or session.\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   std::string dir;
   bool quiet = false;
   cli.add_option("dir", dir, "session directory")->required();

@@ -142,7 +142,7 @@ int Run(const std::string& plan_path, double sigma_override, int phase_degree, b
   auto plan = app::LoadSimSpec(plan_path);
   if (!plan) {
     spdlog::error("{}", plan.error().ToString());
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   double sigma = plan->sigma;
   if (sigma_override > 0.0) {
@@ -181,7 +181,7 @@ int Run(const std::string& plan_path, double sigma_override, int phase_degree, b
   } else {
     PrintTable(*plan, sigma, results);
   }
-  return all_valid ? app::kExitOk : app::kExitNotUsable;
+  return all_valid ? kExitOk : kExitFail;
 }
 
 }  // namespace
@@ -192,8 +192,9 @@ int main(int argc, char** argv) {
       "simulation spec is a plan), with xi known, xi1 unknown and all xi unknown, and the "
       "identifiability findings.\n"
       "sigma: --sigma, else the plan's noise.sigma, else 1e-4.\n"
-      "Exit codes: 0 ok; 1 a bound could not be computed (the plan cannot determine what is "
-      "asked; see findings); 2 bad input (command line or plan)."};
+      "Here 1: a bound could not be computed (the plan cannot determine what is asked; see "
+      "findings); 4: bad command line or plan.\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   std::string plan_path;
   double sigma = 0.0;
   bool json = false;

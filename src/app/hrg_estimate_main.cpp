@@ -39,7 +39,7 @@ int Run(const Arguments& args) {
   request.covariance = *bench::ParseCovariance(args.covariance);  // CLI11 checked membership
   if (const std::string problem = bench::CheckRequest(request); !problem.empty()) {
     spdlog::error("{}", problem);
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
 
   session::ReadOptions read_options;
@@ -48,26 +48,26 @@ int Run(const Arguments& args) {
   if (!session) {
     // The message alone on stderr, unadorned, so scripts can match it (it names the file).
     std::cerr << session.error().ToString() << '\n';
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   // In the model's I/Q convention, less the output filter's settling after release.
   auto prepared = bench::PrepareRecordedRuns(*session);
   if (!prepared) {
     std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
               << prepared.error() << '\n';
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   const std::vector<estimator::RunData>& runs = prepared->runs;
   if (runs.empty()) {
     std::cerr << args.dir << ": no complete run to estimate from\n";
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   // The noise shape the station declared for this session's electronics (white when none).
   auto noise_shape = bench::RecordedNoiseShape(session->document, session->sample_rate_hz);
   if (!noise_shape) {
     std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
               << noise_shape.error() << '\n';
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   request.noise_shape = std::move(*noise_shape);
   spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
@@ -92,7 +92,7 @@ int Run(const Arguments& args) {
       const auto engineering = bench::ComputeEngineeringOfRecord(result.summary, session->document);
       if (!engineering) {
         spdlog::error("{}: {}", args.dir, engineering.error());
-        return app::kExitNotUsable;
+        return kExitFail;
       }
       for (const std::string& n : engineering->notes) std::cout << "note: " << n << '\n';
       std::cout << "in the field's units (f0: " << engineering->frequency_source
@@ -105,9 +105,9 @@ int Run(const Arguments& args) {
   if (!result.summary.IsUsable()) {
     spdlog::error("estimate not usable: {}: {}", estimator::ToString(result.summary.termination),
                   result.summary.message);
-    return app::kExitNotUsable;
+    return kExitFail;
   }
-  return app::kExitOk;
+  return kExitOk;
 }
 
 }  // namespace
@@ -119,8 +119,9 @@ int main(int argc, char** argv) {
       "numerical derivatives, xi ignored), paper-xi-grid (the paper's xi1 grid search).\n"
       "--xi (ml only): none | xi1 | all; default: all four when the runs' rates make them "
       "identifiable, else the largest identifiable set (with a warning).\n"
-      "Exit codes: 0 ok; 1 estimate not usable (numerical failure, not identifiable); 2 bad input "
-      "(command line or malformed session: the reason on stderr, nothing on stdout)."};
+      "Here 1: estimate not usable (numerical failure, not identifiable); 4: bad command line or "
+      "malformed session (the reason on stderr, nothing on stdout).\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   Arguments args;
   bool quiet = false;
   cli.add_option("dir", args.dir, "session directory (session.json + runs/)")->required();

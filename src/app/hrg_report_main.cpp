@@ -38,13 +38,13 @@ int Run(const Arguments& args) {
   if (!written) {
     // The message alone on stderr, so scripts can match it (it names the file and field).
     std::cerr << written.error().ToString() << '\n';
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   for (const std::string& w : written->warnings) spdlog::warn("{}", w);
   std::cout << written->html.string() << '\n';
   if (!written->pdf.empty()) std::cout << written->pdf.string() << '\n';
   for (const auto& f : written->figures) std::cout << f.string() << '\n';
-  return app::kExitOk;
+  return kExitOk;
 }
 
 }  // namespace
@@ -58,8 +58,9 @@ int main(int argc, char** argv) {
       "Chart.js from Debian's libjs-chart.js inlined, nothing fetched), every figure as SVG "
       "(gnuplot) and report.pdf (headless Chromium; HRGBENCH_CHROMIUM overrides the binary). A "
       "missing gnuplot or Chromium is a warning. Prints the files written, one per line.\n"
-      "Exit codes: 0 written; 2 bad input (session.json unreadable, Chart.js missing: the reason "
-      "on stderr, nothing written)."};
+      "Here 0: written; 4: session.json unreadable, Chart.js missing (the reason on stderr, "
+      "nothing written).\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   Arguments args;
   bool quiet = false;
   cli.add_option("dir", args.dir, "session directory (session.json + runs/)")->required();

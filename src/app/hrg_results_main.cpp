@@ -8,8 +8,9 @@
 //   hrg-results ... stats PARAM [--since T] [--at-station N] [--json|--csv]
 //   hrg-results ... export [--since T] [--at-station N] [--outcome O] [--serial-like P]
 //
-// Exit codes: 0 done; 1 some session could not be imported or synced (each is named); 2 bad
-// command line, unusable URL or station file, or a database that cannot be opened.
+// Exit codes (hrgbench/bench/exit_codes.hpp): 0 done; 1 some session could not be imported or
+// synced (each is named); 4 bad command line, unusable URL or station file, or a database that
+// cannot be opened.
 // GCC 12 at -O2 reports a "potential null pointer dereference" inside CLI11's detail::split
 // (std::vector<std::string> relocation) as inlined here: a false positive in library code.
 #pragma GCC diagnostic ignored "-Wnull-dereference"
@@ -44,7 +45,7 @@ int Import(results::ResultsStore& store, const std::vector<std::string>& dirs) {
   }
   std::cout << "import: " << counts[0] << " inserted, " << counts[1] << " replaced, " << counts[2]
             << " unchanged, " << failed << " failed\n";
-  return failed == 0 ? app::kExitOk : app::kExitNotUsable;
+  return failed == 0 ? kExitOk : kExitFail;
 }
 
 // Every closed session under `root` that the database does not hold as it is on disk; each
@@ -75,7 +76,7 @@ int Sync(results::ResultsStore& store, const fs::path& root) {
   }
   std::cout << "sync: " << uploaded << " uploaded, " << current << " already stored, " << skipped
             << " skipped, " << failed << " failed\n";
-  return failed == 0 ? app::kExitOk : app::kExitNotUsable;
+  return failed == 0 ? kExitOk : kExitFail;
 }
 
 }  // namespace
@@ -83,8 +84,9 @@ int Sync(results::ResultsStore& store, const fs::path& root) {
 int main(int argc, char** argv) {
   CLI::App cli{
       "hrg-results: the results database of a bench station or a line (SQLite or PostgreSQL).\n"
-      "Exit codes: 0 done; 1 a session could not be imported or synced; 2 bad command line, URL, "
-      "station file or database."};
+      "Here 1: a session could not be imported or synced; 4: bad command line, URL, station "
+      "file or database.\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   cli.require_subcommand(1);
   bool quiet = false;
   app::AddCommonFlags(cli, &quiet);
@@ -139,7 +141,7 @@ int main(int argc, char** argv) {
       filter.outcome != "ERROR" && filter.outcome != "ABORTED") {
     std::cerr << "hrg-results: --outcome '" << filter.outcome
               << "': expected PASS, FAIL, ERROR or ABORTED\n";
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
 
   try {
@@ -147,29 +149,29 @@ int main(int argc, char** argv) {
       auto station = bench::LoadStationConfig(station_file);
       if (!station) {
         std::cerr << station.error().ToString() << '\n';
-        return app::kExitBadInput;
+        return kExitBadInput;
       }
       if (station->results_url.empty()) {
         std::cerr << station_file << ": no [results] url\n";
-        return app::kExitBadInput;
+        return kExitBadInput;
       }
       db_url = station->results_url;
     }
     if (db_url.empty()) {
       std::cerr << "hrg-results: give --db URL or --station FILE (with a [results] url)\n";
-      return app::kExitBadInput;
+      return kExitBadInput;
     }
     auto store = results::ResultsStore::Open(db_url);
     if (!store) {
       std::cerr << "hrg-results: " << store.error() << '\n';
-      return app::kExitBadInput;
+      return kExitBadInput;
     }
     const app::OutputFormat format =
         json ? app::OutputFormat::kJson
              : (csv ? app::OutputFormat::kCsv : app::OutputFormat::kTable);
     auto fail = [](const std::string& message) {
       std::cerr << "hrg-results: " << message << '\n';
-      return app::kExitBadInput;
+      return kExitBadInput;
     };
     if (*import) return Import(**store, import_dirs);
     if (*sync) return Sync(**store, sessions_root);
@@ -178,26 +180,26 @@ int main(int argc, char** argv) {
       auto rows = (*store)->SessionsWithParameters(filter);
       if (!rows) return fail(rows.error());
       app::PrintHistory(std::cout, serial, *rows, format);
-      return app::kExitOk;
+      return kExitOk;
     }
     if (*sessions) {
       auto rows = (*store)->Sessions(filter);
       if (!rows) return fail(rows.error());
       app::PrintSessions(std::cout, *rows, format);
-      return app::kExitOk;
+      return kExitOk;
     }
     if (*stats) {
       auto samples = (*store)->ParameterValues(parameter, filter);
       if (!samples) return fail(samples.error());
       app::PrintStats(std::cout, results::ComputeParameterStats(parameter, *samples), format);
-      return app::kExitOk;
+      return kExitOk;
     }
     auto rows = (*store)->SessionsWithParameters(filter);
     if (!rows) return fail(rows.error());
     app::PrintExport(std::cout, *rows);
-    return app::kExitOk;
+    return kExitOk;
   } catch (const std::exception& error) {
     std::cerr << "hrg-results: unexpected failure: " << error.what() << '\n';
-    return app::kExitBadInput;
+    return kExitError;
   }
 }

@@ -22,12 +22,12 @@ int Run(const std::filesystem::path& spec_path, const std::filesystem::path& out
   auto spec = app::LoadSimSpec(spec_path);
   if (!spec) {
     spdlog::error("{}", spec.error().ToString());
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   auto sha = config_file::Sha256FileHex(spec_path);
   if (!sha) {
     spdlog::error("{}", sha.error());
-    return app::kExitBadInput;
+    return kExitBadInput;
   }
   for (const auto& run : spec->runs) {
     if (run.sample_rate_hz != spec->runs.front().sample_rate_hz) {
@@ -48,7 +48,7 @@ int Run(const std::filesystem::path& spec_path, const std::filesystem::path& out
   const std::vector<estimator::RunData> runs = estimator::SimulateRuns(spec->runs, options, &why);
   if (runs.size() != spec->runs.size()) {
     spdlog::error("{}: simulation failed: {}", spec_path.string(), why);
-    return app::kExitNotUsable;
+    return kExitFail;
   }
 
   const session::Session session =
@@ -56,14 +56,13 @@ int Run(const std::filesystem::path& spec_path, const std::filesystem::path& out
   if (auto written = app::WriteSimSession(out_dir, session, runs, force); !written) {
     spdlog::error("{}", written.error());
     // A non-empty directory without --force is the operator's input; an I/O failure is not.
-    return written.error().find("--force") != std::string::npos ? app::kExitBadInput
-                                                                : app::kExitNotUsable;
+    return written.error().find("--force") != std::string::npos ? kExitBadInput : kExitFail;
   }
   std::size_t samples = 0;
   for (const auto& run : runs) samples += static_cast<std::size_t>(run.size());
   spdlog::info("wrote {} runs ({} samples, sigma = {}, seed = {}) to {}", runs.size(), samples,
                spec->sigma, spec->seed, out_dir.string());
-  return app::kExitOk;
+  return kExitOk;
 }
 
 }  // namespace
@@ -72,8 +71,9 @@ int main(int argc, char** argv) {
   CLI::App cli{
       "hrg-sim: simulate the free runs of a spec (bench_configs/sim-*.toml) and write them "
       "as a session directory (session.json + runs/run-NNN.csv) carrying the truth.\n"
-      "Exit codes: 0 ok; 1 simulation or writing failed; 2 bad input (command line, spec, "
-      "or a non-empty output directory without --force)."};
+      "Here 1: simulation or writing failed; 4: bad command line, spec, or a non-empty output "
+      "directory without --force.\n" +
+      std::string(hrgbench::kExitCodesHelp)};
   std::string spec_path;
   std::string out_dir;
   bool force = false;

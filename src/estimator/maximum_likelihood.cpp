@@ -524,6 +524,436 @@ std::string Format(const char* format, double a, double b = 0.0, double c = 0.0,
   return buffer;
 }
 
+// The noise the data carry, from the data alone (4th differences of y, model-free): per run, and
+// pooled over the runs' samples. It weighs the priors on Ω, and the residuals are judged against
+// it.
+struct DataNoise {
+  std::vector<double> sigma;  // per run; NaN once a run's samples change (outliers removed)
+  double pooled = kNaN;
+};
+
+DataNoise MeasureDataNoise(const std::vector<RunData>& runs,
+                           const DifferenceNoiseModel& difference_noise, std::size_t samples) {
+  DataNoise noise;
+  noise.sigma.resize(runs.size());
+  double noise_sum2 = 0.0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    noise.sigma[r] = DifferenceNoiseSigma(runs[r].y, difference_noise);
+    if (std::isfinite(noise.sigma[r]))
+      noise_sum2 += noise.sigma[r] * noise.sigma[r] * static_cast<double>(runs[r].size());
+  }
+  noise.pooled = std::sqrt(noise_sum2 / static_cast<double>(samples));
+  return noise;
+}
+
+// The runs' nuisance: the common phase's degree, and each run's Ω offset with its prior weight
+// (σ̂² / σ_Ω²) when the run records a standard error of Ω and its use is on.
+internal::NuisanceModel NuisanceModelFor(const std::vector<RunData>& runs, const MlOptions& options,
+                                         double noise_pooled, FitDiagnostics* diagnostics) {
+  internal::NuisanceModel model;
+  model.phase_degree = options.phase_degree;
+  model.omega_prior_weight.assign(runs.size(), 0.0);
+  if (options.omega_uncertainty && noise_pooled > 0.0) {
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const double sd = runs[r].omega_std_rad_s;
+      if (std::isfinite(sd) && sd > 0.0) {
+        model.omega_prior_weight[r] = noise_pooled * noise_pooled / (sd * sd);
+        diagnostics->omega_nuisance = true;
+      }
+    }
+  }
+  return model;
+}
+
+// The fit on the runs as they are used: all the samples, or without the outliers once some were
+// removed.
+struct CleanedFit {
+  FitState state;
+  bool samples_removed = false;  // `cleaned` holds the runs in use (else the caller's runs)
+  std::vector<RunData> cleaned;
+  std::vector<std::size_t> removed;         // per run: samples removed as outliers
+  std::vector<double> largest_removed;      // per run: the largest in robust sigma (NaN: none)
+  std::vector<Eigen::Matrix4Xd> residuals;  // of the latest fit, one matrix per run
+  bool residuals_current = false;
+
+  const std::vector<RunData>& Used(const std::vector<RunData>& runs) const {
+    return samples_removed ? cleaned : runs;
+  }
+};
+
+// The latest fit's residuals, one matrix per run, computed in parallel (the outlier check and the
+// diagnostics share them); and the fit's cost at its final point when no linearisation evaluated
+// it (FitState::ne_one_step_behind).
+void ComputeResiduals(const std::vector<RunData>& runs_now, const MlOptions& options,
+                      const internal::NuisanceModel& model, CleanedFit* fit) {
+  FitState& state = fit->state;
+  const internal::OutputErrorProblem problem(runs_now, state.indices, options.num_threads,
+                                             options.min_samples_for_threads, model);
+  fit->residuals.assign(runs_now.size(), Eigen::Matrix4Xd());
+  internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
+    problem.RunResiduals(r, state.p, state.nuisance[r], &fit->residuals[r]);
+  });
+  fit->residuals_current = true;
+  if (state.ne_one_step_behind) {
+    // The fit's cost at its final point, which no linearisation evaluated (FitState).
+    internal::NormalEquations& ne = state.ne;
+    ne.cost = 0.0;
+    for (std::size_t r = 0; r < runs_now.size(); ++r) {
+      ne.cost_per_run[r] = fit->residuals[r].squaredNorm();
+      ne.cost += ne.cost_per_run[r];
+      if (model.OmegaFree(r)) {
+        const double offset = state.nuisance[r][model.OmegaIndex()];
+        ne.cost += model.omega_prior_weight[r] * offset * offset;
+      }
+    }
+    state.ne_one_step_behind = false;
+  }
+}
+
+// Per run, the samples whose worst channel's residual is beyond outlier_threshold_sigma robust
+// sigma (ascending); none in noise-free data, and none where removing them would thin the run
+// below what the fit needs. Updates `largest_removed` with the worst found.
+std::vector<std::vector<Eigen::Index>> FindOutliers(const std::vector<RunData>& in_use,
+                                                    const MlOptions& options,
+                                                    const std::vector<double>& noise_sigma,
+                                                    CleanedFit* fit) {
+  std::vector<std::vector<Eigen::Index>> out(in_use.size());
+  internal::ParallelFor(in_use.size(), fit->state.threads, [&](std::size_t r) {
+    const RunData& run = in_use[r];
+    // Noise-free data (a simulation) have rounding for residuals: nothing there is an outlier.
+    const double signal_rms =
+        std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
+    if (!(noise_sigma[r] > 1e-10 * signal_rms)) return;
+    const Eigen::Matrix4Xd& e = fit->residuals[r];
+    const double robust = RobustSigma(e);
+    const double limit = options.outlier_threshold_sigma * robust;
+    for (Eigen::Index k = 0; k < e.cols(); ++k) {
+      const double worst = e.col(k).cwiseAbs().maxCoeff();
+      if (worst > limit) {
+        out[r].push_back(k);
+        const double in_sigma = worst / robust;
+        if (!(in_sigma <= fit->largest_removed[r])) fit->largest_removed[r] = in_sigma;
+      }
+    }
+    // Never thin a run below what the fit needs.
+    if (run.size() - static_cast<Eigen::Index>(out[r].size()) <
+        std::max<Eigen::Index>(kMlMinimumSamples, run.size() / 2))
+      out[r].clear();
+  });
+  return out;
+}
+
+// Steps 1–3 of the header, then outliers removed and the fit repeated from where it ended, until
+// none is found or max_outlier_passes. False (`s` says why) when no estimate could be made.
+// `noise_sigma`: a run's entry becomes NaN when its samples change.
+bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& options,
+                        const internal::NuisanceModel& model, std::vector<double>* noise_sigma,
+                        FreeSet* free, CleanedFit* fit, EstimateSummary* s) {
+  fit->removed.assign(runs.size(), 0);
+  fit->largest_removed.assign(runs.size(), kNaN);
+  FitState& state = fit->state;
+  const std::vector<std::string> prepared_warnings = s->warnings;
+  for (int pass = 0;; ++pass) {
+    const std::vector<RunData>& in_use = fit->Used(runs);
+    s->warnings = prepared_warnings;
+    FreeSet free_pass = *free;
+    const FullParameters previous = state.p;
+    const std::vector<internal::RunNuisance> previous_nuisance = state.nuisance;
+    fit->residuals_current = false;
+    if (!Fit(in_use, options, model, pass == 0 ? nullptr : &previous,
+             pass == 0 || !options.common_phase_start_from_data ? nullptr : &previous_nuisance,
+             &free_pass, &state, s))
+      return false;
+    *free = free_pass;
+    if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) break;
+    ComputeResiduals(in_use, options, model, fit);
+    const std::vector<std::vector<Eigen::Index>> out =
+        FindOutliers(in_use, options, *noise_sigma, fit);
+    bool any = false;
+    for (const auto& o : out) any = any || !o.empty();
+    if (!any) break;
+    std::vector<RunData> next;
+    for (std::size_t r = 0; r < in_use.size(); ++r) {
+      if (out[r].empty()) {
+        next.push_back(in_use[r]);
+        continue;
+      }
+      fit->removed[r] += out[r].size();
+      (*noise_sigma)[r] = kNaN;  // the data changed: computed again for the diagnostics
+      next.push_back(WithoutSamples(in_use[r], out[r]));
+    }
+    fit->cleaned = std::move(next);
+    fit->samples_removed = true;
+  }
+  return true;
+}
+
+// Step 4's per-run results: each run's initial state and nuisance, and its residual RMS.
+void FillRunResults(const std::vector<RunData>& used, const internal::NuisanceModel& model,
+                    const FitState& state, EstimateSummary* s) {
+  const FullParameters& p = state.p;
+  for (std::size_t r = 0; r < used.size(); ++r) {
+    const internal::RunNuisance& n = state.nuisance[r];
+    s->initial_states.push_back(internal::TrueInitialState(p, n.head<4>()));
+    RunNuisanceEstimate estimate;
+    estimate.run_id = used[r].id;
+    estimate.initial_state = s->initial_states.back();
+    for (int j = 1; j <= model.phase_degree; ++j)
+      estimate.phase_coefficients.push_back(n[internal::NuisanceModel::PhaseIndex(j)]);
+    if (model.OmegaFree(r)) estimate.omega_offset_rad_s = n[model.OmegaIndex()];
+    s->run_nuisance.push_back(std::move(estimate));
+  }
+  s->residual_rms_per_run.resize(used.size());
+  for (std::size_t r = 0; r < used.size(); ++r)
+    s->residual_rms_per_run[r] =
+        std::sqrt(state.ne.cost_per_run[r] / (4.0 * static_cast<double>(used[r].size())));
+}
+
+// The information about δ and ξ at the fit, with the runs' nuisance eliminated.
+struct FitInformation {
+  double s2 = kNaN;  // σ̂², the cost per degree of freedom
+  bool have_information = false;
+  Eigen::MatrixXd h_reduced;  // H_red
+  bool have_inverse = false;
+  Eigen::MatrixXd h_reduced_inverse;
+};
+
+// The recorded Ω of run r against what the data alone say (RunFitDiagnostics::omega_offset_*).
+void DiagnoseOmegaOffset(std::size_t r, const internal::RunNuisance& n,
+                         const internal::NuisanceModel& model, const internal::NormalEquations& ne,
+                         const FitInformation& info, RunFitDiagnostics* d) {
+  // The fitted offset is a compromise between the prior (variance v_p = σ̂²/w) and the data
+  // (variance v_d); the data's own offset is m = offset·(1/v_p + 1/v_d)·v_d, and under "the
+  // recorded Ω is right within its std" m ~ N(0, v_p + v_d). v_d comes from the posterior variance
+  // of the offset, 1/v_post = 1/v_p + 1/v_d, the (o, o) entry of σ̂²·H⁻¹ (Schur complement).
+  const double s2 = info.s2;
+  const int o = model.OmegaIndex();
+  d->omega_offset_rad_s = n[o];
+  const double v_p = s2 / model.omega_prior_weight[r];
+  Eigen::MatrixXd h_xx_inverse;
+  double v_d = kNaN;
+  if (internal::InvertScaledSpd(ne.h_xx[r], &h_xx_inverse)) {
+    const Eigen::VectorXd column = h_xx_inverse.col(o);
+    double h_oo = column[o];
+    if (info.have_inverse) {
+      const Eigen::VectorXd a = ne.h_px[r] * column;
+      h_oo += a.dot(info.h_reduced_inverse * a);
+    }
+    const double information_data = 1.0 / (s2 * h_oo) - 1.0 / v_p;
+    if (information_data > 0.0) v_d = 1.0 / information_data;
+  }
+  if (std::isfinite(v_d)) {
+    d->omega_offset_data_rad_s = d->omega_offset_rad_s * (1.0 / v_p + 1.0 / v_d) * v_d;
+    d->omega_offset_in_std = d->omega_offset_data_rad_s / std::sqrt(v_p + v_d);
+  } else {
+    d->omega_offset_in_std = d->omega_offset_rad_s / std::sqrt(v_p);
+  }
+}
+
+// What the noise of the data and the fit's nuisance say about the runs, as the diagnostics carry
+// them: the residuals against the model-free noise, whiteness, outliers, the common phase and Ω.
+struct RunEvidence {
+  const ResidualStatistics* stats = nullptr;
+  double noise_sigma = kNaN;
+  std::size_t outliers_removed = 0;
+  double largest_outlier_in_sigma = kNaN;
+};
+
+RunFitDiagnostics DiagnoseRun(std::size_t r, const RunData& run, const RunEvidence& evidence,
+                              const FitState& state, const internal::NuisanceModel& model,
+                              const MlOptions& options,
+                              const DifferenceNoiseModel& difference_noise,
+                              const FitInformation& info) {
+  const ResidualStatistics& stats = *evidence.stats;
+  RunFitDiagnostics d;
+  d.run_id = run.id;
+  d.samples = static_cast<std::size_t>(run.size());
+  d.noise_sigma = evidence.noise_sigma;
+  d.residual_rms = stats.rms;
+  // Noise-free data (simulation): the noise is rounding, its whiteness means nothing, and the
+  // ratio is taken against a floor of 1e-10 of the signal.
+  const double signal_rms = std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
+  d.noise_free = !(d.noise_sigma > 1e-10 * signal_rms);
+  d.residual_ratio = stats.rms / std::max(d.noise_sigma, 1e-10 * signal_rms);
+  d.residual_ratio_threshold = ResidualRatioThreshold(options.fit_quality, d.samples,
+                                                      difference_noise.ratio_standard_error_scale);
+  d.lag1_autocorrelation = stats.lag1_autocorrelation;
+  d.whiteness_lags = stats.lags;
+  d.whiteness_q = stats.ljung_box_q;
+  d.whiteness_z = d.noise_free ? kNaN : stats.ljung_box_z;
+  d.max_abs_residual_in_sigma = stats.max_abs_in_sigma;
+  d.excess_kurtosis = stats.excess_kurtosis;
+  d.outliers_removed = evidence.outliers_removed;
+  d.largest_outlier_in_sigma = evidence.largest_outlier_in_sigma;
+  const internal::RunNuisance& n = state.nuisance[r];
+  if (model.phase_degree >= 1) d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
+  if (model.phase_degree >= 2)
+    d.common_frequency_drift_rad_s2 = 2.0 * n[internal::NuisanceModel::PhaseIndex(2)];
+  if (model.OmegaFree(r)) DiagnoseOmegaOffset(r, n, model, state.ne, info, &d);
+  return d;
+}
+
+// Step 5's judgement of one run: a problem per check the run fails (residual ratio, whiteness,
+// Ω offset), a warning for the outliers removed. True when its residuals are coloured beyond what
+// the station declares.
+bool JudgeRunFit(const RunFitDiagnostics& d, const MlOptions& options, bool declared_colour,
+                 const WhitenessNull& whiteness_null, FitDiagnostics* diagnostics,
+                 std::vector<std::string>* warnings) {
+  bool coloured = false;
+  const FitQualityLimits& q = options.fit_quality;
+  const double id = static_cast<double>(d.run_id);
+  if (!(d.residual_ratio <= d.residual_ratio_threshold))
+    diagnostics->problems.push_back(Format(
+        "run %.0f: residual RMS %.4g times the noise of the data (%.3g, from 4th differences; "
+        "limit %.4g): the model misses something (a frequency drift, a wrong rate, noise "
+        "coloured beyond what the station declares?)",
+        id, d.residual_ratio, d.noise_sigma, d.residual_ratio_threshold));
+  if (!d.noise_free && !(d.whiteness_z <= q.whiteness_z_max)) {
+    coloured = true;
+    diagnostics->problems.push_back(
+        declared_colour
+            ? Format("run %.0f: residuals correlated beyond the declared noise's memory "
+                     "(Ljung-Box z = %.3g from lag %.0f, limit %.3g): noise coloured beyond "
+                     "the declaration, or a model error",
+                     id, d.whiteness_z, whiteness_null.first_lag, q.whiteness_z_max)
+            : Format("run %.0f: residuals not white (Ljung-Box z = %.3g, limit %.3g; lag-1 "
+                     "autocorrelation %.2f): coloured noise or a model error",
+                     id, d.whiteness_z, q.whiteness_z_max, d.lag1_autocorrelation));
+  }
+  if (std::isfinite(d.omega_offset_in_std) &&
+      !(std::abs(d.omega_offset_in_std) <= q.omega_offset_max_in_std))
+    diagnostics->problems.push_back(
+        Format("run %.0f: the data put its rate %.3g rad/s from the recorded one, %.3g std of "
+               "the difference (limit %.3g): check the rate table's calibration",
+               id, d.omega_offset_data_rad_s, d.omega_offset_in_std, q.omega_offset_max_in_std));
+  if (d.outliers_removed > 0)
+    warnings->push_back(
+        Format("run %.0f: %.0f samples removed as outliers (beyond %.3g robust sigma; largest %.3g "
+               "sigma) and the fit repeated without them",
+               id, static_cast<double>(d.outliers_removed), options.outlier_threshold_sigma,
+               d.largest_outlier_in_sigma));
+  return coloured;
+}
+
+// The sandwich covariance H⁻¹·S·H⁻¹: S from batch sums of the reduced score, batches long against
+// the residuals' correlation so that they are nearly independent. Empty when it cannot be made.
+// A pass over the data.
+Eigen::MatrixXd SandwichCovariance(const std::vector<RunData>& used,
+                                   const internal::OutputErrorProblem& problem,
+                                   const FitState& state, const FitInformation& info,
+                                   const std::vector<double>& integrated_correlation,
+                                   const EstimateSummary& s, FitDiagnostics* diagnostics) {
+  Eigen::MatrixXd sandwich;
+  std::vector<Eigen::MatrixXd> projection;
+  if (!info.have_inverse || !internal::NuisanceProjections(state.ne, &projection)) return sandwich;
+  const Eigen::MatrixXd& h_inverse = info.h_reduced_inverse;
+  const auto nf = static_cast<Eigen::Index>(state.indices.size());
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(nf, nf);
+  std::size_t longest_batch = 0;
+  std::vector<Eigen::MatrixXd> reduced(used.size());
+  std::vector<std::size_t> batch(used.size());
+  internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
+    const auto n = static_cast<std::size_t>(used[r].size());
+    const double wanted = 20.0 * integrated_correlation[r];
+    batch[r] = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), 16,
+                                       std::max<std::size_t>(16, n / 16));
+    Eigen::MatrixXd scores;
+    problem.RunBlockScores(r, state.p, state.nuisance[r], batch[r], &scores);
+    reduced[r] = scores.topRows(nf) - projection[r] * scores.bottomRows(scores.rows() - nf);
+  });
+  for (std::size_t r = 0; r < used.size(); ++r) {
+    longest_batch = std::max(longest_batch, batch[r]);
+    meat.noalias() += reduced[r] * reduced[r].transpose();
+  }
+  sandwich = h_inverse * meat * h_inverse;
+  sandwich = 0.5 * (sandwich + sandwich.transpose()).eval();
+  diagnostics->sandwich_batch_samples = longest_batch;
+  double ratio = 0.0;
+  for (Eigen::Index c = 0; c < nf; ++c)
+    ratio = std::max(ratio, std::sqrt(std::max(0.0, sandwich(c, c)) / s.covariance(c, c)));
+  diagnostics->sandwich_to_white_std_max = ratio;
+  return sandwich;
+}
+
+// Ω taken as exact: what a 1e-6 rad/s error of each such run's Ω would do (summary.hpp). With run
+// r's Ω as one more nuisance (ΔΩ last, NuisanceModel), the Gauss–Newton answer to a fixed shift ε
+// of it, every other nuisance of the run re-fitted, is Δθ = −H_red⁻¹·b·ε with
+// b = h_pΩ − H_px'·H_x'x'⁻¹·h_x'Ω (x' the run's other nuisance). The prior weight only enters the
+// (Ω, Ω) entry, which this does not use: any positive weight gives the same b. One more pass over
+// the data.
+void OmegaExactSensitivity(const std::vector<RunData>& used, const internal::NuisanceModel& model,
+                           const FitState& state, const MlOptions& options,
+                           const FitInformation& info, EstimateSummary* s) {
+  const std::vector<int>& indices = state.indices;
+  std::vector<std::size_t> exact;
+  for (std::size_t r = 0; r < used.size(); ++r)
+    if (!model.OmegaFree(r)) exact.push_back(r);
+  if (exact.empty() || !info.have_inverse) return;
+  internal::NuisanceModel with_omega = model;
+  std::vector<internal::RunNuisance> nuisance = state.nuisance;
+  for (std::size_t r : exact) {
+    with_omega.omega_prior_weight[r] = 1.0;
+    nuisance[r].conservativeResize(nuisance[r].size() + 1);
+    nuisance[r][nuisance[r].size() - 1] = 0.0;
+  }
+  const internal::OutputErrorProblem omega_problem(used, indices, options.num_threads,
+                                                   options.min_samples_for_threads, with_omega);
+  internal::NormalEquations ne_omega;
+  omega_problem.Linearize(state.p, nuisance, &ne_omega);
+  const int o = with_omega.OmegaIndex();
+  double largest_in_std = 0.0;
+  std::string run_list;
+  for (std::size_t r : exact) {
+    const Eigen::MatrixXd& h_xx = ne_omega.h_xx[r];
+    const Eigen::MatrixXd& h_px = ne_omega.h_px[r];
+    const Eigen::MatrixXd h_other = h_xx.topLeftCorner(o, o);
+    Eigen::MatrixXd h_other_inverse;
+    if (!internal::InvertScaledSpd(h_other, &h_other_inverse)) continue;
+    // Plain matrices, not nested block expressions (which GCC 12 flags as a potential null
+    // dereference inside Eigen).
+    const Eigen::VectorXd h_other_omega = h_xx.col(o).head(o);
+    const Eigen::VectorXd solved = h_other_inverse * h_other_omega;
+    const Eigen::MatrixXd h_p_other = h_px.leftCols(o);
+    const Eigen::VectorXd b = h_px.col(o) - h_p_other * solved;
+    const Eigen::VectorXd change = -kOmegaSensitivityStepRadS * (info.h_reduced_inverse * b);
+    OmegaSensitivity sensitivity;
+    sensitivity.run_id = used[r].id;
+    for (std::size_t c = 0; c < indices.size(); ++c) {
+      const int full = indices[c];
+      const auto ci = static_cast<Eigen::Index>(c);
+      if (full < internal::kXiOffset)
+        sensitivity.delta[full] = change[ci];
+      else
+        sensitivity.xi[full - internal::kXiOffset] = change[ci];
+      const double sd =
+          full < internal::kXiOffset ? s->delta_std[full] : s->xi_std[full - internal::kXiOffset];
+      if (sd > 0.0) largest_in_std = std::max(largest_in_std, std::abs(change[ci]) / sd);
+    }
+    s->omega_sensitivity.push_back(sensitivity);
+    run_list += (run_list.empty() ? "" : ", ") + std::to_string(used[r].id);
+  }
+  if (!s->omega_sensitivity.empty())
+    s->warnings.push_back(
+        "Omega taken as exact in run" + std::string(exact.size() > 1 ? "s " : " ") + run_list +
+        " (no recorded standard error, or its use turned off): the std do not include the "
+        "rates' error; a 1e-06 rad/s error of one run's Omega moves the estimate by up to " +
+        Format("%.3g", largest_in_std) + " std (omega_sensitivity)");
+}
+
+// The wave precesses at −δ2·Ω relative to the case with δ2 = k > 0 for every resonator of this
+// kind: a significantly negative δ2 fits data whose rates have the wrong sign (the unit's axis
+// mounted the other way, the table's sign). Such data fit perfectly, so no residual check sees
+// it. (Not the I/Q convention: conjugating the channels leaves δ2 as it is, iq_convention.hpp.)
+void CheckAngularGainSign(const EstimateSummary& s, FitDiagnostics* diagnostics) {
+  if (s.delta_estimated[1] && std::isfinite(s.delta_std[1]) &&
+      s.delta[1] < -kNegativeAngularGainInStd * s.delta_std[1])
+    diagnostics->problems.push_back(Format(
+        "angular gain delta2 = %.6g is negative (%.3g std below 0): the wave turns with the case, "
+        "not against it as every such resonator does. Likely the recorded rates have the wrong "
+        "sign (the unit's sensitive axis, the table's sign convention)",
+        s.delta[1], -s.delta[1] / s.delta_std[1]));
+}
+
 }  // namespace
 
 EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
@@ -547,115 +977,16 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   diagnostics.noise_shape = options.noise_shape.description;
   diagnostics.difference_stride = difference_noise.stride;
   diagnostics.whiteness_first_lag = whiteness_null.first_lag;
-  std::vector<double> noise_sigma(runs.size());
-  double noise_sum2 = 0.0;
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    noise_sigma[r] = DifferenceNoiseSigma(runs[r].y, difference_noise);
-    if (std::isfinite(noise_sigma[r]))
-      noise_sum2 += noise_sigma[r] * noise_sigma[r] * static_cast<double>(runs[r].size());
-  }
-  const double noise_pooled = std::sqrt(noise_sum2 / static_cast<double>(s.samples_used));
-  internal::NuisanceModel model;
-  model.phase_degree = options.phase_degree;
-  model.omega_prior_weight.assign(runs.size(), 0.0);
-  if (options.omega_uncertainty && noise_pooled > 0.0) {
-    for (std::size_t r = 0; r < runs.size(); ++r) {
-      const double sd = runs[r].omega_std_rad_s;
-      if (std::isfinite(sd) && sd > 0.0) {
-        model.omega_prior_weight[r] = noise_pooled * noise_pooled / (sd * sd);
-        diagnostics.omega_nuisance = true;
-      }
-    }
-  }
+  DataNoise noise = MeasureDataNoise(runs, difference_noise, s.samples_used);
+  std::vector<double>& noise_sigma = noise.sigma;
+  const internal::NuisanceModel model = NuisanceModelFor(runs, options, noise.pooled, &diagnostics);
 
   // Fit; remove outliers; fit again from there.
-  std::vector<RunData> cleaned;
-  const std::vector<RunData>* in_use = &runs;
-  std::vector<std::size_t> removed(runs.size(), 0);
-  std::vector<double> largest_removed(runs.size(), kNaN);
-  FitState state;
-  const std::vector<std::string> prepared_warnings = s.warnings;
-  // Residuals of the latest fit, one matrix per run, computed in parallel: the outlier check and
-  // the diagnostics share them.
-  std::vector<Eigen::Matrix4Xd> residuals;
-  bool residuals_current = false;
-  const auto compute_residuals = [&](const std::vector<RunData>& runs_now) {
-    const internal::OutputErrorProblem problem(runs_now, state.indices, options.num_threads,
-                                               options.min_samples_for_threads, model);
-    residuals.assign(runs_now.size(), Eigen::Matrix4Xd());
-    internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
-      problem.RunResiduals(r, state.p, state.nuisance[r], &residuals[r]);
-    });
-    residuals_current = true;
-    if (state.ne_one_step_behind) {
-      // The fit's cost at its final point, which no linearisation evaluated (FitState).
-      internal::NormalEquations& ne = state.ne;
-      ne.cost = 0.0;
-      for (std::size_t r = 0; r < runs_now.size(); ++r) {
-        ne.cost_per_run[r] = residuals[r].squaredNorm();
-        ne.cost += ne.cost_per_run[r];
-        if (model.OmegaFree(r)) {
-          const double offset = state.nuisance[r][model.OmegaIndex()];
-          ne.cost += model.omega_prior_weight[r] * offset * offset;
-        }
-      }
-      state.ne_one_step_behind = false;
-    }
-  };
-  for (int pass = 0;; ++pass) {
-    s.warnings = prepared_warnings;
-    FreeSet free_pass = free;
-    const FullParameters previous = state.p;
-    const std::vector<internal::RunNuisance> previous_nuisance = state.nuisance;
-    residuals_current = false;
-    if (!Fit(*in_use, options, model, pass == 0 ? nullptr : &previous,
-             pass == 0 || !options.common_phase_start_from_data ? nullptr : &previous_nuisance,
-             &free_pass, &state, &s))
-      return s;
-    free = free_pass;
-    if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) break;
-    compute_residuals(*in_use);
-    std::vector<std::vector<Eigen::Index>> out(in_use->size());
-    internal::ParallelFor(in_use->size(), state.threads, [&](std::size_t r) {
-      const RunData& run = (*in_use)[r];
-      // Noise-free data (a simulation) have rounding for residuals: nothing there is an outlier.
-      const double signal_rms =
-          std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
-      if (!(noise_sigma[r] > 1e-10 * signal_rms)) return;
-      const Eigen::Matrix4Xd& e = residuals[r];
-      const double robust = RobustSigma(e);
-      const double limit = options.outlier_threshold_sigma * robust;
-      for (Eigen::Index k = 0; k < e.cols(); ++k) {
-        const double worst = e.col(k).cwiseAbs().maxCoeff();
-        if (worst > limit) {
-          out[r].push_back(k);
-          const double in_sigma = worst / robust;
-          if (!(in_sigma <= largest_removed[r])) largest_removed[r] = in_sigma;
-        }
-      }
-      // Never thin a run below what the fit needs.
-      if (run.size() - static_cast<Eigen::Index>(out[r].size()) <
-          std::max<Eigen::Index>(kMlMinimumSamples, run.size() / 2))
-        out[r].clear();
-    });
-    bool any = false;
-    for (const auto& o : out) any = any || !o.empty();
-    if (!any) break;
-    std::vector<RunData> next;
-    for (std::size_t r = 0; r < in_use->size(); ++r) {
-      if (out[r].empty()) {
-        next.push_back((*in_use)[r]);
-        continue;
-      }
-      removed[r] += out[r].size();
-      noise_sigma[r] = kNaN;  // the data changed: computed again for the diagnostics
-      next.push_back(WithoutSamples((*in_use)[r], out[r]));
-    }
-    cleaned = std::move(next);
-    in_use = &cleaned;
-  }
-  const std::vector<RunData>& used = *in_use;
-  if (!residuals_current) compute_residuals(used);
+  CleanedFit fit;
+  if (!FitWithoutOutliers(runs, options, model, &noise_sigma, &free, &fit, &s)) return s;
+  const std::vector<RunData>& used = fit.Used(runs);
+  if (!fit.residuals_current) ComputeResiduals(used, options, model, &fit);
+  const FitState& state = fit.state;
   const FullParameters& p = state.p;
   const internal::NormalEquations& ne = state.ne;
   const std::vector<int>& indices = state.indices;
@@ -666,29 +997,15 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
 
   // 4. Results.
   FillParameters(p, free, &s);
-  for (std::size_t r = 0; r < used.size(); ++r) {
-    const internal::RunNuisance& n = state.nuisance[r];
-    s.initial_states.push_back(internal::TrueInitialState(p, n.head<4>()));
-    RunNuisanceEstimate estimate;
-    estimate.run_id = used[r].id;
-    estimate.initial_state = s.initial_states.back();
-    for (int j = 1; j <= model.phase_degree; ++j)
-      estimate.phase_coefficients.push_back(n[internal::NuisanceModel::PhaseIndex(j)]);
-    if (model.OmegaFree(r)) estimate.omega_offset_rad_s = n[model.OmegaIndex()];
-    s.run_nuisance.push_back(std::move(estimate));
-  }
-  s.residual_rms_per_run.resize(used.size());
-  for (std::size_t r = 0; r < used.size(); ++r)
-    s.residual_rms_per_run[r] =
-        std::sqrt(ne.cost_per_run[r] / (4.0 * static_cast<double>(used[r].size())));
+  FillRunResults(used, model, state, &s);
   double samples_cost = 0.0;
   for (double c : ne.cost_per_run) samples_cost += c;
   s.residual_rms = std::sqrt(samples_cost / static_cast<double>(problem.NumObservations()));
-  const double s2 = ne.cost / state.dof;
-  s.noise_sigma = std::sqrt(s2);
-  Eigen::MatrixXd h_reduced;
-  const bool have_information = !indices.empty() && internal::ReducedInformation(ne, &h_reduced);
-  if (have_information) FillCovariance(h_reduced, indices, s2, &s);
+  FitInformation info;
+  info.s2 = ne.cost / state.dof;
+  s.noise_sigma = std::sqrt(info.s2);
+  info.have_information = !indices.empty() && internal::ReducedInformation(ne, &info.h_reduced);
+  if (info.have_information) FillCovariance(info.h_reduced, indices, info.s2, &s);
   if (!p.allFinite()) {
     s.termination = Termination::kNumericalFailure;
     s.message = "non-finite estimate";
@@ -701,147 +1018,35 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   // common phase and Ω offsets.
   std::vector<double> integrated_correlation(used.size(), 1.0);
   bool coloured = false;
-  Eigen::MatrixXd h_reduced_inverse;
-  const bool have_inverse =
-      have_information && internal::InvertScaledSpd(h_reduced, &h_reduced_inverse);
+  info.have_inverse =
+      info.have_information && internal::InvertScaledSpd(info.h_reduced, &info.h_reduced_inverse);
   std::vector<ResidualStatistics> run_stats(used.size());
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
-    run_stats[r] = AnalyseResiduals(residuals[r], whiteness_null);
+    run_stats[r] = AnalyseResiduals(fit.residuals[r], whiteness_null);
     if (!std::isfinite(noise_sigma[r]))
       noise_sigma[r] = DifferenceNoiseSigma(used[r].y, difference_noise);
   });
-  residuals.clear();
+  fit.residuals.clear();
   for (std::size_t r = 0; r < used.size(); ++r) {
-    const ResidualStatistics& stats = run_stats[r];
-    RunFitDiagnostics d;
-    d.run_id = used[r].id;
-    d.samples = static_cast<std::size_t>(used[r].size());
-    d.noise_sigma = noise_sigma[r];
-    d.residual_rms = stats.rms;
-    // Noise-free data (simulation): the noise is rounding, its whiteness means nothing, and the
-    // ratio is taken against a floor of 1e-10 of the signal.
-    const double signal_rms =
-        std::sqrt(used[r].y.squaredNorm() / (4.0 * static_cast<double>(d.samples)));
-    d.noise_free = !(d.noise_sigma > 1e-10 * signal_rms);
-    d.residual_ratio = stats.rms / std::max(d.noise_sigma, 1e-10 * signal_rms);
-    d.residual_ratio_threshold = ResidualRatioThreshold(
-        options.fit_quality, d.samples, difference_noise.ratio_standard_error_scale);
-    d.lag1_autocorrelation = stats.lag1_autocorrelation;
-    d.whiteness_lags = stats.lags;
-    d.whiteness_q = stats.ljung_box_q;
-    d.whiteness_z = d.noise_free ? kNaN : stats.ljung_box_z;
-    d.max_abs_residual_in_sigma = stats.max_abs_in_sigma;
-    d.excess_kurtosis = stats.excess_kurtosis;
-    d.outliers_removed = removed[r];
-    d.largest_outlier_in_sigma = largest_removed[r];
-    const internal::RunNuisance& n = state.nuisance[r];
-    if (model.phase_degree >= 1)
-      d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
-    if (model.phase_degree >= 2)
-      d.common_frequency_drift_rad_s2 = 2.0 * n[internal::NuisanceModel::PhaseIndex(2)];
-    if (model.OmegaFree(r)) {
-      // The recorded Ω against what the data alone say: the fitted offset is a compromise between
-      // the prior (variance v_p = σ̂²/w) and the data (variance v_d); the data's own offset is
-      // m = offset·(1/v_p + 1/v_d)·v_d, and under "the recorded Ω is right within its std"
-      // m ~ N(0, v_p + v_d). v_d comes from the posterior variance of the offset,
-      // 1/v_post = 1/v_p + 1/v_d, the (o, o) entry of σ̂²·H⁻¹ (Schur complement).
-      const int o = model.OmegaIndex();
-      d.omega_offset_rad_s = n[o];
-      const double v_p = s2 / model.omega_prior_weight[r];
-      Eigen::MatrixXd h_xx_inverse;
-      double v_d = kNaN;
-      if (internal::InvertScaledSpd(ne.h_xx[r], &h_xx_inverse)) {
-        const Eigen::VectorXd column = h_xx_inverse.col(o);
-        double h_oo = column[o];
-        if (have_inverse) {
-          const Eigen::VectorXd a = ne.h_px[r] * column;
-          h_oo += a.dot(h_reduced_inverse * a);
-        }
-        const double information_data = 1.0 / (s2 * h_oo) - 1.0 / v_p;
-        if (information_data > 0.0) v_d = 1.0 / information_data;
-      }
-      if (std::isfinite(v_d)) {
-        d.omega_offset_data_rad_s = d.omega_offset_rad_s * (1.0 / v_p + 1.0 / v_d) * v_d;
-        d.omega_offset_in_std = d.omega_offset_data_rad_s / std::sqrt(v_p + v_d);
-      } else {
-        d.omega_offset_in_std = d.omega_offset_rad_s / std::sqrt(v_p);
-      }
-    }
-    integrated_correlation[r] = stats.integrated_correlation_samples;
-    const FitQualityLimits& q = options.fit_quality;
-    const double id = static_cast<double>(d.run_id);
-    if (!(d.residual_ratio <= d.residual_ratio_threshold))
-      diagnostics.problems.push_back(Format(
-          "run %.0f: residual RMS %.4g times the noise of the data (%.3g, from 4th differences; "
-          "limit %.4g): the model misses something (a frequency drift, a wrong rate, noise "
-          "coloured beyond what the station declares?)",
-          id, d.residual_ratio, d.noise_sigma, d.residual_ratio_threshold));
-    if (!d.noise_free && !(d.whiteness_z <= q.whiteness_z_max)) {
+    const RunEvidence evidence{&run_stats[r], noise_sigma[r], fit.removed[r],
+                               fit.largest_removed[r]};
+    const RunFitDiagnostics d =
+        DiagnoseRun(r, used[r], evidence, state, model, options, difference_noise, info);
+    integrated_correlation[r] = run_stats[r].integrated_correlation_samples;
+    if (JudgeRunFit(d, options, declared_colour, whiteness_null, &diagnostics, &s.warnings))
       coloured = true;
-      diagnostics.problems.push_back(
-          declared_colour
-              ? Format("run %.0f: residuals correlated beyond the declared noise's memory "
-                       "(Ljung-Box z = %.3g from lag %.0f, limit %.3g): noise coloured beyond "
-                       "the declaration, or a model error",
-                       id, d.whiteness_z, whiteness_null.first_lag, q.whiteness_z_max)
-              : Format("run %.0f: residuals not white (Ljung-Box z = %.3g, limit %.3g; lag-1 "
-                       "autocorrelation %.2f): coloured noise or a model error",
-                       id, d.whiteness_z, q.whiteness_z_max, d.lag1_autocorrelation));
-    }
-    if (std::isfinite(d.omega_offset_in_std) &&
-        !(std::abs(d.omega_offset_in_std) <= q.omega_offset_max_in_std))
-      diagnostics.problems.push_back(
-          Format("run %.0f: the data put its rate %.3g rad/s from the recorded one, %.3g std of "
-                 "the difference (limit %.3g): check the rate table's calibration",
-                 id, d.omega_offset_data_rad_s, d.omega_offset_in_std, q.omega_offset_max_in_std));
-    if (d.outliers_removed > 0)
-      s.warnings.push_back(Format(
-          "run %.0f: %.0f samples removed as outliers (beyond %.3g robust sigma; largest %.3g "
-          "sigma) and the fit repeated without them",
-          id, static_cast<double>(d.outliers_removed), options.outlier_threshold_sigma,
-          d.largest_outlier_in_sigma));
     diagnostics.runs.push_back(d);
   }
 
-  // The sandwich covariance H⁻¹·S·H⁻¹: S from batch sums of the reduced score, batches long
-  // against the residuals' correlation so that they are nearly independent.
-  // Computed only when it is reported (a pass over the data).
+  // The sandwich covariance, computed only when it is reported (a pass over the data).
   Eigen::MatrixXd sandwich;
   const bool sandwich_wanted =
       options.covariance == MlOptions::Covariance::kSandwich ||
       (options.covariance == MlOptions::Covariance::kAuto && (coloured || declared_colour));
-  if (have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
-      sandwich_wanted) {
-    std::vector<Eigen::MatrixXd> projection;
-    if (have_inverse && internal::NuisanceProjections(ne, &projection)) {
-      const Eigen::MatrixXd& h_inverse = h_reduced_inverse;
-      const auto nf = static_cast<Eigen::Index>(indices.size());
-      Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(nf, nf);
-      std::size_t longest_batch = 0;
-      std::vector<Eigen::MatrixXd> reduced(used.size());
-      std::vector<std::size_t> batch(used.size());
-      internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
-        const auto n = static_cast<std::size_t>(used[r].size());
-        const double wanted = 20.0 * integrated_correlation[r];
-        batch[r] = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), 16,
-                                           std::max<std::size_t>(16, n / 16));
-        Eigen::MatrixXd scores;
-        problem.RunBlockScores(r, p, state.nuisance[r], batch[r], &scores);
-        reduced[r] = scores.topRows(nf) - projection[r] * scores.bottomRows(scores.rows() - nf);
-      });
-      for (std::size_t r = 0; r < used.size(); ++r) {
-        longest_batch = std::max(longest_batch, batch[r]);
-        meat.noalias() += reduced[r] * reduced[r].transpose();
-      }
-      sandwich = h_inverse * meat * h_inverse;
-      sandwich = 0.5 * (sandwich + sandwich.transpose()).eval();
-      diagnostics.sandwich_batch_samples = longest_batch;
-      double ratio = 0.0;
-      for (Eigen::Index c = 0; c < nf; ++c)
-        ratio = std::max(ratio, std::sqrt(std::max(0.0, sandwich(c, c)) / s.covariance(c, c)));
-      diagnostics.sandwich_to_white_std_max = ratio;
-    }
-  }
+  if (info.have_information && s.covariance.rows() == static_cast<Eigen::Index>(indices.size()) &&
+      sandwich_wanted)
+    sandwich =
+        SandwichCovariance(used, problem, state, info, integrated_correlation, s, &diagnostics);
   const bool use_sandwich = sandwich.size() > 0;
   if (use_sandwich) {
     SetCovariance(sandwich, indices, &s);
@@ -854,80 +1059,8 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
           static_cast<double>(diagnostics.sandwich_batch_samples),
           diagnostics.sandwich_to_white_std_max));
   }
-  // Ω taken as exact: what a 1e-6 rad/s error of each such run's Ω would do (summary.hpp). With
-  // run r's Ω as one more nuisance (ΔΩ last, NuisanceModel), the Gauss–Newton answer to a fixed
-  // shift ε of it, every other nuisance of the run re-fitted, is Δθ = −H_red⁻¹·b·ε with
-  // b = h_pΩ − H_px'·H_x'x'⁻¹·h_x'Ω (x' the run's other nuisance). The prior weight only enters
-  // the (Ω, Ω) entry, which this does not use: any positive weight gives the same b. One more
-  // pass over the data.
-  {
-    std::vector<std::size_t> exact;
-    for (std::size_t r = 0; r < used.size(); ++r)
-      if (!model.OmegaFree(r)) exact.push_back(r);
-    if (!exact.empty() && have_inverse) {
-      internal::NuisanceModel with_omega = model;
-      std::vector<internal::RunNuisance> nuisance = state.nuisance;
-      for (std::size_t r : exact) {
-        with_omega.omega_prior_weight[r] = 1.0;
-        nuisance[r].conservativeResize(nuisance[r].size() + 1);
-        nuisance[r][nuisance[r].size() - 1] = 0.0;
-      }
-      const internal::OutputErrorProblem omega_problem(used, indices, options.num_threads,
-                                                       options.min_samples_for_threads, with_omega);
-      internal::NormalEquations ne_omega;
-      omega_problem.Linearize(p, nuisance, &ne_omega);
-      const int o = with_omega.OmegaIndex();
-      double largest_in_std = 0.0;
-      std::string run_list;
-      for (std::size_t r : exact) {
-        const Eigen::MatrixXd& h_xx = ne_omega.h_xx[r];
-        const Eigen::MatrixXd& h_px = ne_omega.h_px[r];
-        const Eigen::MatrixXd h_other = h_xx.topLeftCorner(o, o);
-        Eigen::MatrixXd h_other_inverse;
-        if (!internal::InvertScaledSpd(h_other, &h_other_inverse)) continue;
-        // Plain matrices, not nested block expressions (which GCC 12 flags as a potential null
-        // dereference inside Eigen).
-        const Eigen::VectorXd h_other_omega = h_xx.col(o).head(o);
-        const Eigen::VectorXd solved = h_other_inverse * h_other_omega;
-        const Eigen::MatrixXd h_p_other = h_px.leftCols(o);
-        const Eigen::VectorXd b = h_px.col(o) - h_p_other * solved;
-        const Eigen::VectorXd change = -kOmegaSensitivityStepRadS * (h_reduced_inverse * b);
-        OmegaSensitivity sensitivity;
-        sensitivity.run_id = used[r].id;
-        for (std::size_t c = 0; c < indices.size(); ++c) {
-          const int full = indices[c];
-          const auto ci = static_cast<Eigen::Index>(c);
-          if (full < internal::kXiOffset)
-            sensitivity.delta[full] = change[ci];
-          else
-            sensitivity.xi[full - internal::kXiOffset] = change[ci];
-          const double sd =
-              full < internal::kXiOffset ? s.delta_std[full] : s.xi_std[full - internal::kXiOffset];
-          if (sd > 0.0) largest_in_std = std::max(largest_in_std, std::abs(change[ci]) / sd);
-        }
-        s.omega_sensitivity.push_back(sensitivity);
-        run_list += (run_list.empty() ? "" : ", ") + std::to_string(used[r].id);
-      }
-      if (!s.omega_sensitivity.empty())
-        s.warnings.push_back(
-            "Omega taken as exact in run" + std::string(exact.size() > 1 ? "s " : " ") + run_list +
-            " (no recorded standard error, or its use turned off): the std do not include the "
-            "rates' error; a 1e-06 rad/s error of one run's Omega moves the estimate by up to " +
-            Format("%.3g", largest_in_std) + " std (omega_sensitivity)");
-    }
-  }
-
-  // The wave precesses at −δ2·Ω relative to the case with δ2 = k > 0 for every resonator of this
-  // kind: a significantly negative δ2 fits data whose rates have the wrong sign (the unit's axis
-  // mounted the other way, the table's sign). Such data fit perfectly, so no residual check sees
-  // it. (Not the I/Q convention: conjugating the channels leaves δ2 as it is, iq_convention.hpp.)
-  if (s.delta_estimated[1] && std::isfinite(s.delta_std[1]) &&
-      s.delta[1] < -kNegativeAngularGainInStd * s.delta_std[1])
-    diagnostics.problems.push_back(Format(
-        "angular gain delta2 = %.6g is negative (%.3g std below 0): the wave turns with the case, "
-        "not against it as every such resonator does. Likely the recorded rates have the wrong "
-        "sign (the unit's sensitive axis, the table's sign convention)",
-        s.delta[1], -s.delta[1] / s.delta_std[1]));
+  OmegaExactSensitivity(used, model, state, options, info, &s);
+  CheckAngularGainSign(s, &diagnostics);
   for (const std::string& problem_text : diagnostics.problems) s.warnings.push_back(problem_text);
   return s;
 }

@@ -5,18 +5,11 @@
 //   {...},
 //    "verdict": {...}} (estimate: estimate_report_json.hpp; verdict: verdict_json.hpp)
 //
-// Exit codes of hrg-bench (run and resume; `check` uses 0 and kExitUsage only):
-//   0  PASS     every limit met
-//   1  FAIL     the unit's fault: at least one estimated parameter (or the residual RMS) is outside
-//               its declared limits; `failed_parameters` names each one
-//   2  ERROR    the bench's fault: timeout, bus-off, Modbus failure, too many drops, a crash of a
-//               component, disk full or an unwritable session directory. Says nothing about the
-//               unit.
-//   3  ABORTED  the operator stopped the session (Ctrl-C, SIGTERM)
-//   4  usage    bad command line, invalid or unreadable config, a session directory that cannot be
-//               created or resumed (refused before any hardware moved). Never written into a
-//               record: there is no session to write it into.
-// A recorder error (std::expected failure of SessionRecorder) during a session is an ERROR.
+// Exit codes: the one table of every program (exit_codes.hpp); ExitCode(kind) is the code a
+// session of that kind ends with (0 PASS, 1 FAIL, 2 ERROR, 3 ABORTED), written beside the kind
+// into the record. kExitBadInput (4) is never written into a record: there is no session to write
+// it into. A recorder error (std::expected failure of SessionRecorder) during a session is an
+// ERROR.
 
 #include <cmath>
 #include <limits>
@@ -27,20 +20,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hrgbench/bench/exit_codes.hpp"
+
 namespace hrgbench::bench {
 
 enum class OutcomeKind { kPass, kFail, kError, kAborted };
 
-inline constexpr int kExitPass = 0;
-inline constexpr int kExitFail = 1;
-inline constexpr int kExitError = 2;
-inline constexpr int kExitAborted = 3;
-inline constexpr int kExitUsage = 4;
-
 constexpr int ExitCode(OutcomeKind kind) noexcept {
   switch (kind) {
     case OutcomeKind::kPass:
-      return kExitPass;
+      return kExitOk;
     case OutcomeKind::kFail:
       return kExitFail;
     case OutcomeKind::kError:

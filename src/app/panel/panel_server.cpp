@@ -20,6 +20,7 @@
 #include "app/panel/session_process.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
+#include "hrgbench/bench/exit_codes.hpp"
 #include "hrgbench/report/session_report.hpp"
 // Last: it brings <httplib.h> and so <resolv.h>, whose `_res` macro breaks Eigen's headers
 // (bench_configs.hpp).
@@ -460,33 +461,33 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
   auto listen = ParseListen(options.listen);
   if (!listen) {
     std::cerr << listen.error() << '\n';
-    return 4;
+    return kExitBadInput;
   }
   std::string token;
   if (!options.token_file.empty()) {
     auto read = ReadToken(options.token_file);
     if (!read) {
       std::cerr << read.error() << '\n';
-      return 4;
+      return kExitBadInput;
     }
     token = *read;
   } else if (!IsLoopbackListen(listen->host)) {
     std::cerr << "--listen " << options.listen
               << ": another address than localhost needs an access token (--token-file FILE), "
                  "or listen on localhost behind a reverse proxy\n";
-    return 4;
+    return kExitBadInput;
   }
   auto catalog = LoadPanelCatalog(options.station);
   if (!catalog) {
     std::cerr << catalog.error() << '\n';
-    return 4;
+    return kExitBadInput;
   }
   std::error_code ec;
   fs::create_directories(options.sessions, ec);
   const fs::path sessions = fs::weakly_canonical(options.sessions, ec);
   if (ec || !fs::is_directory(sessions, ec)) {
     std::cerr << "--sessions " << options.sessions.string() << ": not a usable folder\n";
-    return 4;
+    return kExitBadInput;
   }
   std::string chart_js;
   for (const char* candidate : report::kChartJsCandidates) {
@@ -498,7 +499,7 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
   if (chart_js.empty()) {
     std::cerr << "Chart.js not found (Debian's libjs-chart.js: " << report::kChartJsCandidates[0]
               << ")\n";
-    return 4;
+    return kExitBadInput;
   }
 
   Panel panel(options, *listen, std::move(*catalog), sessions, token, std::move(chart_js));
@@ -511,7 +512,7 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
               << " of " << listen->host
               << ": the port is in use (another panel or program on this station?) or the "
                  "address is not this machine's\n";
-    return 2;
+    return kExitError;
   }
   std::thread watcher([&] {
     while (stop.load() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -525,7 +526,7 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
   std::cout << "panel: http://" << listen->host << ":" << listen->port << "/" << std::endl;
   server.listen_after_bind();
   watcher.join();
-  return 0;
+  return kExitOk;
 }
 
 }  // namespace hrgbench::app

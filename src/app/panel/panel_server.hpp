@@ -50,8 +50,9 @@ struct PanelOptions {
 
 inline constexpr int kHttpThreads = 32;  // every open page holds one for its event stream
 
-// Exit code: 0 after a stop; 4 (usage) when the options are refused (message on stderr); 2 when the
-// port cannot be bound (another panel or program holds it: the message names the port).
+// Exit code (exit_codes.hpp): kExitOk after a stop; kExitBadInput (4) when the options are refused
+// (message on stderr); kExitError (2) when the port cannot be bound (another panel or program holds
+// it: the message names the port).
 int RunPanel(const PanelOptions& options, const std::atomic<int>& stop);
 
 }  // namespace hrgbench::app

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <expected>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/run_omega_readings.hpp"
+#include "hrgbench/bench/run_acceptance.hpp"
 
 namespace hrgbench::bench::internal {
 namespace {
@@ -106,11 +108,6 @@ std::expected<hw::GyroStatus, NotReady> WaitUntilReady(SessionContext& ctx, Unit
   }
 }
 
-double RelativeChange(double start, double end) {
-  if (!std::isfinite(start) || !std::isfinite(end) || start == 0.0) return 0.0;
-  return std::abs(end - start) / std::abs(start);
-}
-
 // One unit's part of a run: from its release to its end in the record.
 struct UnitRun {
   UnitLane* lane = nullptr;
@@ -186,40 +183,27 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
   }
   if (outcome.ok() && !stopped)
     outcome = StepOutcome::Error("gyro: stop: " + stopped.error().ToString());
-  const std::uint64_t lost = result.samples_missing + result.ring_overruns;
-  if (outcome.ok() &&
-      (static_cast<std::int64_t>(result.sequence_gaps) > seq.capture.max_sequence_gaps ||
-       static_cast<std::int64_t>(lost) > seq.capture.max_samples_lost)) {
-    outcome = StepOutcome::Error("too many drops in run " + std::to_string(run_id) + ": " +
-                                 std::to_string(result.sequence_gaps) + " gaps, " +
-                                 std::to_string(lost) + " samples lost (allowed " +
-                                 std::to_string(seq.capture.max_sequence_gaps) + ", " +
-                                 std::to_string(seq.capture.max_samples_lost) + ")");
+  if (outcome.ok()) {
+    if (auto drops = TooManyDrops(run_id, result.sequence_gaps,
+                                  result.samples_missing + result.ring_overruns, seq.capture))
+      outcome = StepOutcome::Error(std::move(*drops));
   }
 
   if (!outcome.ok()) {
     end.status = kRunAborted;
     end.reason = outcome.reason;
   } else {
-    // The paper estimates only when temperature is stationary (change < 1 %).
-    const double temperature_change =
-        RelativeChange(end.temperature_start_c, end.temperature_end_c);
-    const double frequency_change = RelativeChange(end.frequency_start_hz, end.frequency_end_hz);
-    std::string drift;
-    if (temperature_change > seq.drift.max_temperature_change_rel)
-      drift = "temperature changed by " + Format("%.3g %%", 100 * temperature_change);
-    if (seq.drift.max_frequency_change_rel &&
-        frequency_change > *seq.drift.max_frequency_change_rel)
-      drift += (drift.empty() ? "" : ", ") +
-               ("resonant frequency changed by " + Format("%.3g %%", 100 * frequency_change));
-    if (!drift.empty()) {
-      const std::string line = "run " + std::to_string(run_id) + ": " + drift;
-      if (seq.drift.action == DriftAction::kReject) {
+    const RunDriftJudgement drift =
+        JudgeRunDrift(end.temperature_start_c, end.temperature_end_c, end.frequency_start_hz,
+                      end.frequency_end_hz, seq.drift);
+    if (drift.drift != RunDrift::kSteady) {
+      const std::string line = "run " + std::to_string(run_id) + ": " + drift.what;
+      if (drift.drift == RunDrift::kRejected) {
         end.status = kRunRejected;
-        end.reason = drift;
+        end.reason = drift.what;
         lane.result.warnings.push_back(line + " (rejected)");
       } else {
-        end.reason = "flagged: " + drift;  // kept for the estimator, marked in the record
+        end.reason = "flagged: " + drift.what;  // kept for the estimator, marked in the record
         lane.result.warnings.push_back(line + " (flagged)");
       }
       ctx.Log(lane, lane.result.warnings.back());

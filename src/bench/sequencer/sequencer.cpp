@@ -9,11 +9,10 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
-#include "hrgbench/bench/engineering_of_record.hpp"
 #include "hrgbench/bench/realtime_setup.hpp"
 #include "hrgbench/bench/recorded_estimate.hpp"
 #include "hrgbench/bench/recorded_frequency.hpp"
-#include "hrgbench/bench/verdict_json.hpp"
+#include "hrgbench/bench/session_judge.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench {
@@ -170,58 +169,13 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
       MethodResult& estimated = recorded_estimate.method;
       std::vector<std::string> warnings = std::move(recorded_estimate.warnings);
       result.estimate_json = std::move(recorded_estimate.report);
-      outcome.estimate = result.estimate_json;
       for (const std::string& w : estimated.summary.warnings) warnings.push_back(w);
       result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
-      if (!estimated.summary.IsUsable()) {
-        outcome.kind = OutcomeKind::kError;
-        outcome.reason = "estimate not usable: " + estimated.summary.message;
-      } else if (const auto of_record =
-                     ComputeEngineeringOfRecord(estimated.summary, recorded->document);
-                 !of_record) {
-        outcome.kind = OutcomeKind::kError;
-        outcome.reason = "the record's electronics: " + of_record.error();
-      } else {
-        const estimator::EngineeringQuantities& engineering = of_record->quantities;
-        Verdict verdict = EvaluateLimits(ctx.configs->limits, estimated.summary, engineering);
-        outcome.verdict = VerdictJson(verdict);
-        std::string not_judged;  // "xi2: not evaluated, held fixed ...; delta4: ..."
-        for (const LimitResult& r : verdict.results) {
-          if (r.status == LimitStatus::kFail)
-            outcome.failed_parameters.push_back(
-                {std::string(ToString(r.quantity)), r.value, r.min, r.max});
-          if (r.status == LimitStatus::kNotEvaluated)
-            not_judged += (not_judged.empty() ? "" : "; ") + r.message;
-        }
-        std::string names;
-        for (const FailedParameter& f : outcome.failed_parameters)
-          names += (names.empty() ? "" : ", ") + f.name;
-        // PASS means every declared limit was judged and met. A limit the bench could not judge
-        // (the information was rank-deficient at run time, say) is the bench's failure: ERROR.
-        // A limit that failed is the unit's, whatever else could not be judged: FAIL.
-        switch (verdict.overall) {
-          case LimitStatus::kFail:
-            outcome.kind = OutcomeKind::kFail;
-            outcome.reason = "out of limits: " + names;
-            if (!not_judged.empty()) outcome.reason += "; not judged: " + not_judged;
-            break;
-          case LimitStatus::kNotEvaluated:
-            outcome.kind = OutcomeKind::kError;
-            outcome.reason =
-                verdict.fit_acceptable
-                    ? "limits not judged: " + not_judged
-                    : "the fit is outside its model, no limit judged: " + verdict.FitProblems();
-            break;
-          case LimitStatus::kPass:
-            outcome.kind = OutcomeKind::kPass;
-            outcome.reason = ctx.configs->limits.limits.empty()
-                                 ? "the fit is within its model; no limits to judge"
-                                 : "the fit is within its model and every limit met";
-            break;
-        }
-        result.verdict = std::move(verdict);
-        result.engineering = engineering;
-      }
+      SessionJudgement judgement =
+          JudgeRecordedSession(estimated.summary, recorded->document, ctx.configs->limits);
+      outcome = judgement.ToOutcome(result.estimate_json);
+      result.verdict = std::move(judgement.verdict);
+      result.engineering = std::move(judgement.engineering);
       result.estimate = std::move(estimated.summary);
     }
   }

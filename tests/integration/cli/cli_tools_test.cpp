@@ -1,6 +1,6 @@
 // The tools end to end: hrg-sim writes the paper's session, hrg-estimate reads it back with each
-// method, hrg-design and hrg-compare run on it, and bad input gives exit code 2 with the culprit
-// named on stderr and nothing on stdout.
+// method, hrg-design and hrg-compare run on it, and bad input gives exit code 4 (exit_codes.hpp)
+// with the culprit named on stderr and nothing on stdout.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -127,22 +127,22 @@ TEST_F(CliTest, ReadableReportByDefault) {
   EXPECT_NE(r.out.find("delta2"), std::string::npos) << r.out;
 }
 
-TEST_F(CliTest, MalformedSessionExitsTwoNamingTheFile) {
+TEST_F(CliTest, MalformedSessionExitsBadInputNamingTheFile) {
   const fs::path session = SimulatePaper();
   nlohmann::json doc = nlohmann::json::parse(ReadAll(session / "session.json"));
   doc["runs"][2]["omega_rad_s"] = "fast";
   std::ofstream(session / "session.json") << doc.dump(1);
   const Result r = Run(HRG_ESTIMATE, Quote(session) + " --json");
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("session.json"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
-TEST_F(CliTest, MissingRunFileExitsTwoNamingTheFile) {
+TEST_F(CliTest, MissingRunFileExitsBadInputNamingTheFile) {
   const fs::path session = SimulatePaper();
   fs::remove(session / "runs" / "run-003.csv");
   const Result r = Run(HRG_ESTIMATE, Quote(session) + " --json");
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("run-003.csv"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
@@ -165,25 +165,25 @@ TEST_F(CliTest, ReportWritesThePageAndPrintsItsPath) {
   EXPECT_TRUE(fs::exists(session / "report" / "report.html"));
 }
 
-TEST_F(CliTest, ReportOfAMalformedSessionExitsTwoNamingFileAndField) {
+TEST_F(CliTest, ReportOfAMalformedSessionExitsBadInputNamingFileAndField) {
   const fs::path session = SimulatePaper();
   nlohmann::json doc = nlohmann::json::parse(ReadAll(session / "session.json"));
   doc["runs"][2]["omega_rad_s"] = "fast";
   std::ofstream(session / "session.json") << doc.dump(1);
   const Result r = Run(HRG_REPORT, Quote(session) + " --no-pdf --no-figures");
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("session.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("runs[2].omega_rad_s"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_FALSE(fs::exists(session / "report"));
 }
 
-TEST_F(CliTest, BadCommandLineExitsTwo) {
+TEST_F(CliTest, BadCommandLineExitsBadInput) {
   const Result r = Run(HRG_ESTIMATE, Quote(dir_) + " --method magic");
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 4);
   EXPECT_TRUE(r.out.empty()) << r.out;
   const Result paper_all = Run(HRG_ESTIMATE, Quote(dir_) + " --method paper --xi all");
-  EXPECT_EQ(paper_all.exit_code, 2);
+  EXPECT_EQ(paper_all.exit_code, 4);
 }
 
 TEST_F(CliTest, HelpDocumentsExitCodes) {
@@ -197,7 +197,7 @@ TEST_F(CliTest, HelpDocumentsExitCodes) {
 TEST_F(CliTest, SimRefusesNonEmptyDirectoryWithoutForce) {
   const fs::path session = SimulatePaper();
   const Result again = Run(HRG_SIM, Quote(PaperSpec()) + " -o " + Quote(session));
-  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_EQ(again.exit_code, 4);
   EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
   const Result forced = Run(HRG_SIM, Quote(PaperSpec()) + " -o " + Quote(session) + " --force");
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
@@ -210,7 +210,7 @@ TEST_F(CliTest, SimRejectsABadSpecNamingFileLineKeyValue) {
   text.replace(text.find(good), good.size(), "sample_rate_hz = -100.0");
   std::ofstream(spec) << text;
   const Result r = Run(HRG_SIM, Quote(spec) + " -o " + Quote(dir_ / "out"));
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("bad.toml:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("defaults.sample_rate_hz"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("-100.0"), std::string::npos) << r.err;

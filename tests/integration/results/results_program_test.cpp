@@ -244,10 +244,10 @@ TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {
 
 TEST_F(ResultsProgram, BadDatabaseUrlsAreUsageErrors) {
   Output o = Results("--db 'postgresql://u:secret@localhost/x' sessions");
-  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_EQ(o.exit_code, 4);
   EXPECT_EQ(o.out.find("secret"), std::string::npos) << o.out;
   o = Results("--db sqlit:///tmp/x sessions");
-  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_EQ(o.exit_code, 4);
   EXPECT_NE(o.out.find("unknown scheme"), std::string::npos) << o.out;
 }
 
