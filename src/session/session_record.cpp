@@ -408,15 +408,9 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
   OutcomeRecord out;
   const std::string kind = f.String(*outcome, at, keys::kKind);
   if (!f.ok()) return std::nullopt;
-  bool known = false;
-  for (const auto k : {bench::OutcomeKind::kPass, bench::OutcomeKind::kFail,
-                       bench::OutcomeKind::kError, bench::OutcomeKind::kAborted}) {
-    if (kind == bench::ToString(k)) {
-      out.kind = k;
-      known = true;
-    }
-  }
-  if (!known) {
+  const std::optional<bench::OutcomeKind> parsed = bench::ParseOutcomeKind(kind);
+  if (parsed) out.kind = *parsed;
+  if (!parsed) {
     f.Fail(Join(at, keys::kKind),
            "expected \"PASS\", \"FAIL\", \"ERROR\" or \"ABORTED\", got " +
                (f.Find(*outcome, keys::kKind) != nullptr ? Describe(outcome->at(keys::kKind))

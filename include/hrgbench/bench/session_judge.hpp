@@ -84,8 +84,5 @@ bool KeepsVerdict(bool closed, OutcomeKind kind) noexcept;
 // The reason a kept verdict is reported with: "kept from before: <the recorded reason>".
 std::string KeptReason(std::string_view recorded_reason);
 
-// "PASS", "FAIL", "ERROR", "ABORTED" (session.json's spelling, ToString) back to the kind; none
-// for anything else.
-std::optional<OutcomeKind> ParseOutcomeKind(std::string_view text) noexcept;
 
 }  // namespace hrgbench::bench

@@ -55,6 +55,15 @@ constexpr std::string_view ToString(OutcomeKind kind) noexcept {
   return "ERROR";
 }
 
+// ToString back to the kind ("PASS" ...); none for anything else (a reader names the field then).
+constexpr std::optional<OutcomeKind> ParseOutcomeKind(std::string_view text) noexcept {
+  for (const OutcomeKind kind :
+       {OutcomeKind::kPass, OutcomeKind::kFail, OutcomeKind::kError, OutcomeKind::kAborted}) {
+    if (text == ToString(kind)) return kind;
+  }
+  return std::nullopt;
+}
+
 // One estimated quantity outside its limits (the verdict's finding, recorded verbatim).
 struct FailedParameter {
   std::string name;  // as in the limits file, e.g. "delta_tau_s" or "residual_rms"

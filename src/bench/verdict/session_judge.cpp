@@ -117,12 +117,4 @@ std::string KeptReason(std::string_view recorded_reason) {
   return "kept from before: " + std::string(recorded_reason);
 }
 
-std::optional<OutcomeKind> ParseOutcomeKind(std::string_view text) noexcept {
-  for (const OutcomeKind kind :
-       {OutcomeKind::kPass, OutcomeKind::kFail, OutcomeKind::kError, OutcomeKind::kAborted}) {
-    if (text == ToString(kind)) return kind;
-  }
-  return std::nullopt;
-}
-
 }  // namespace hrgbench::bench
