@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/event_stream.hpp"
-#include "hrgbench/bench/session_events.hpp"
+#include "hrgbench/bench/events/event_stream.hpp"
+#include "hrgbench/bench/events/session_events.hpp"
 
 namespace {
 

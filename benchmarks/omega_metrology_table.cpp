@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "hrgbench/bench/run_omega.hpp"
+#include "hrgbench/bench/capture/run_omega.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 #include "sim/table_physics.hpp"

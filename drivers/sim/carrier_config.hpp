@@ -3,7 +3,7 @@
 // with the project's strict reader: every key optional (absent = the in-class default), checked
 // at its key against the bounds below, unknown keys are errors, and keys that do not apply to the
 // chosen reference (reference_offset_hz with "tracking", pll_bandwidth_hz with "free-running") are
-// errors too. The simulated station's [simulated.carrier] table (src/bench/config/station_loader)
+// errors too. The simulated station's [simulated.carrier] table (src/config/station_loader)
 // has the same keys and bounds. Key by key: drivers/sim/README.md.
 //
 //   frequency_hz, decay_time_s, damping_anisotropy_per_s, damping_axis_rad, frequency_split_hz,
@@ -17,8 +17,8 @@
 
 #include <expected>
 
-#include "hrgbench/config_file/config_error.hpp"
-#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/config/config_error.hpp"
+#include "hrgbench/config/toml_reader.hpp"
 #include "sim/carrier_options.hpp"
 
 namespace hrgbench::drivers::sim {

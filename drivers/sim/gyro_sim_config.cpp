@@ -1,5 +1,5 @@
 // Loader of the hrg-gyro-sim config file, on the project's one strict config-file reader
-// (hrgbench/config_file/toml_reader.hpp): the same messages, bounds and file checks as the bench's
+// (hrgbench/config/toml_reader.hpp): the same messages, bounds and file checks as the bench's
 // configs. Each table reader reports its unknown keys last, so a misspelt key is reported even
 // when everything else is right.
 
@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 
-#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/config/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "sim/carrier_config.hpp"
 

@@ -1,7 +1,7 @@
 #pragma once
 // The hrg-gyro-sim configuration file (TOML; the shipped example is
 // drivers/sim/gyro_sim.example.toml). Declared, validated data (STYLE rule 10), read with the
-// project's one strict config-file reader (hrgbench/config_file/toml_reader.hpp) like the bench's
+// project's one strict config-file reader (hrgbench/config/toml_reader.hpp) like the bench's
 // configs: unknown tables and keys are errors, and every error is a ConfigError naming file, line,
 // key and value (`sim.toml:3: key 'model.sigmaa' = 2: unknown key (allowed here: ...)`). The
 // ranges are GyroSimOptions::IsValid's and the integer fields' own; numbers must be finite; a
@@ -22,7 +22,7 @@
 #include <string>
 #include <string_view>
 
-#include "hrgbench/config_file/config_error.hpp"
+#include "hrgbench/config/config_error.hpp"
 #include "sim/gyro_sim_options.hpp"
 
 namespace hrgbench::drivers::sim {

@@ -1,5 +1,5 @@
 #pragma once
-// What every tool's main shares: the exit-code table (hrgbench/bench/exit_codes.hpp, printed by
+// What every tool's main shares: the exit-code table (hrgbench/session/exit_codes.hpp, printed by
 // each --help), the command-line parse and the catch-all.
 
 #include <exception>
@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
-#include "hrgbench/bench/exit_codes.hpp"
+#include "hrgbench/session/exit_codes.hpp"
 #include "logging.hpp"
 
 namespace hrgbench::app {

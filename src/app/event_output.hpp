@@ -11,8 +11,8 @@
 #include <memory>
 #include <string>
 
-#include "hrgbench/bench/event_stream.hpp"
-#include "hrgbench/bench/session_events.hpp"
+#include "hrgbench/bench/events/event_stream.hpp"
+#include "hrgbench/bench/events/session_events.hpp"
 
 namespace hrgbench::app {
 

@@ -8,7 +8,7 @@
 #include <system_error>
 
 #include "app/serial_check.hpp"
-#include "hrgbench/bench/session_judge.hpp"
+#include "hrgbench/analysis/session_judge.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
 #include "hrgbench/session/session_record_keys.hpp"

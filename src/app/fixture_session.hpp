@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/sequencer.hpp"
-#include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/station_config.hpp"
 
 namespace hrgbench::app {
 

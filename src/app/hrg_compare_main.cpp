@@ -12,7 +12,7 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
-#include "hrgbench/bench/estimate_method.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
 #include "app/logging.hpp"
 #include "hrgbench/session/session.hpp"
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "app/cli_exit.hpp"
-#include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/analysis/estimate_report_json.hpp"
 #include "app/logging.hpp"
 #include "app/sim_spec.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"

@@ -8,12 +8,12 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
-#include "hrgbench/bench/engineering_of_record.hpp"
-#include "hrgbench/bench/estimate_method.hpp"
-#include "hrgbench/bench/estimate_report_json.hpp"
-#include "hrgbench/bench/output_filter.hpp"
-#include "hrgbench/bench/recorded_frequency.hpp"
-#include "hrgbench/bench/recorded_runs.hpp"
+#include "hrgbench/analysis/engineering_of_record.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
+#include "hrgbench/analysis/estimate_report_json.hpp"
+#include "hrgbench/analysis/output_filter.hpp"
+#include "hrgbench/analysis/recorded_frequency.hpp"
+#include "hrgbench/analysis/recorded_runs.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {

@@ -8,7 +8,7 @@
 //   hrg-results ... stats PARAM [--since T] [--at-station N] [--json|--csv]
 //   hrg-results ... export [--since T] [--at-station N] [--outcome O] [--serial-like P]
 //
-// Exit codes (hrgbench/bench/exit_codes.hpp): 0 done; 1 some session could not be imported or
+// Exit codes (hrgbench/session/exit_codes.hpp): 0 done; 1 some session could not be imported or
 // synced (each is named); 4 bad command line, unusable URL or station file, or a database that
 // cannot be opened.
 // GCC 12 at -O2 reports a "potential null pointer dereference" inside CLI11's detail::split
@@ -22,7 +22,7 @@
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
 #include "app/results_print.hpp"
-#include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/results/parameter_stats.hpp"
 #include "hrgbench/results/upload.hpp"
 

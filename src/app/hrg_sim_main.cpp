@@ -11,7 +11,7 @@
 #include "app/logging.hpp"
 #include "app/sim_session.hpp"
 #include "app/sim_spec.hpp"
-#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/config/sha256.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 
 namespace {

@@ -1,6 +1,6 @@
 #include "app/serial_check.hpp"
 
-#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/config/toml_reader.hpp"
 
 namespace hrgbench::app {
 namespace {

@@ -9,12 +9,12 @@
 #include <utility>
 
 #include "gyro_can/gyro_traffic_replay.hpp"
-#include "hrgbench/bench/candump_log.hpp"
-#include "hrgbench/bench/capture.hpp"
-#include "hrgbench/bench/estimate_method.hpp"
-#include "hrgbench/bench/recorded_estimate.hpp"
-#include "hrgbench/bench/sequence_config.hpp"
-#include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/session/candump_log.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
+#include "hrgbench/analysis/recorded_estimate.hpp"
+#include "hrgbench/config/sequence_config.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"

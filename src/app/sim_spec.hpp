@@ -15,14 +15,14 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/config_file/config_error.hpp"
+#include "hrgbench/config/config_error.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 
 namespace hrgbench::app {
 
 // The project's config error (file, line, key, value, message); see
-// hrgbench/config_file/config_error.hpp.
+// hrgbench/config/config_error.hpp.
 using ConfigError = config_file::ConfigError;
 
 struct SimSpec {

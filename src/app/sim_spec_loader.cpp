@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "app/sim_spec.hpp"
-#include "hrgbench/config_file/config_bounds.hpp"
-#include "hrgbench/config_file/toml_reader.hpp"
+#include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/toml_reader.hpp"
 
 namespace hrgbench::app {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
-#include "sim_station/simulated_station.hpp"
+#include "sim/simulated_station.hpp"
 #include "socketcan/socket_can_bus.hpp"
 
 namespace hrgbench::app {

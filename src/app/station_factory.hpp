@@ -14,8 +14,8 @@
 #include <optional>
 #include <string>
 
-#include "hrgbench/bench/sequencer.hpp"
-#include "hrgbench/bench/station_config.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/station_config.hpp"
 
 namespace hrgbench::app {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/estimate_report_json.hpp"
+#include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"

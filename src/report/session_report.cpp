@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "external_outputs.hpp"
-#include "hrgbench/bench/estimate_method.hpp"
-#include "hrgbench/bench/estimate_report_json.hpp"
-#include "hrgbench/bench/output_filter.hpp"
-#include "hrgbench/bench/recorded_runs.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
+#include "hrgbench/analysis/estimate_report_json.hpp"
+#include "hrgbench/analysis/output_filter.hpp"
+#include "hrgbench/analysis/recorded_runs.hpp"
 #include "hrgbench/estimator/fitted_output.hpp"
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/session/session.hpp"

@@ -9,7 +9,7 @@
 #include <set>
 #include <string_view>
 
-#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/config/sha256.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::results {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/results/results_url.hpp"
+#include "hrgbench/config/results_url.hpp"
 
 namespace hrgbench::results::internal {
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "hrgbench/bench/session_record_types.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::testing {
 

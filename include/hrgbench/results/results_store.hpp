@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/results/results_url.hpp"
+#include "hrgbench/config/results_url.hpp"
 #include "hrgbench/results/session_row.hpp"
 
 namespace hrgbench::results {

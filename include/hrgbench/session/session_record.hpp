@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/session_outcome.hpp"
-#include "hrgbench/bench/session_record_types.hpp"
+#include "hrgbench/session/session_outcome.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/session/session.hpp"
 

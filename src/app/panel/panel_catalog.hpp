@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/bench_configs.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 
 namespace hrgbench::app {
 

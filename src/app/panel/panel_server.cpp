@@ -20,7 +20,7 @@
 #include "app/panel/session_process.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
-#include "hrgbench/bench/exit_codes.hpp"
+#include "hrgbench/session/exit_codes.hpp"
 #include "hrgbench/report/session_report.hpp"
 // Last: it brings <httplib.h> and so <resolv.h>, whose `_res` macro breaks Eigen's headers
 // (bench_configs.hpp).

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <span>
 
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 namespace hrgbench::bench {
 

@@ -3,7 +3,7 @@
 #include <span>
 #include <system_error>
 
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 namespace hrgbench::bench {
 

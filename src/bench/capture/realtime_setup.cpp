@@ -1,4 +1,4 @@
-#include "hrgbench/bench/realtime_setup.hpp"
+#include "hrgbench/bench/capture/realtime_setup.hpp"
 
 #include <pthread.h>
 #include <sched.h>

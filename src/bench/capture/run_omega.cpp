@@ -1,7 +1,7 @@
 // A run's Ω from the table's rate readings and from its angle (include/hrgbench/bench/
 // run_omega.hpp has the error model this implements).
 
-#include "hrgbench/bench/run_omega.hpp"
+#include "hrgbench/bench/capture/run_omega.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "hrgbench/bench/event_stream.hpp"
+#include "hrgbench/bench/events/event_stream.hpp"
 
 #include <fcntl.h>
 #include <limits.h>

@@ -1,8 +1,8 @@
-#include "hrgbench/bench/session_events.hpp"
+#include "hrgbench/bench/events/session_events.hpp"
 
 #include <cmath>
 
-#include "hrgbench/bench/verdict_json.hpp"
+#include "hrgbench/analysis/verdict_json.hpp"
 
 namespace hrgbench::bench {
 namespace {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/capture.hpp"
-#include "hrgbench/bench/sequencer.hpp"
-#include "hrgbench/bench/session_recorder.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 
 namespace hrgbench::bench::internal {
 

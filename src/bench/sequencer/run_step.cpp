@@ -10,7 +10,7 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/run_omega_readings.hpp"
-#include "hrgbench/bench/run_acceptance.hpp"
+#include "hrgbench/analysis/run_acceptance.hpp"
 
 namespace hrgbench::bench::internal {
 namespace {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "hrgbench/bench/bench_configs.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 
 namespace hrgbench::bench::internal {
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "app/station_factory.hpp"
-#include "hrgbench/bench/bench_configs.hpp"
-#include "hrgbench/bench/sequencer.hpp"
+#include "hrgbench/config/bench_configs.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
 
 namespace hrgbench::testing {
 

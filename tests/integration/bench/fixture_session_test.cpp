@@ -14,7 +14,7 @@
 
 #include "bench_test_support.hpp"
 #include "hrgbench/session/session.hpp"
-#include "sim_station/in_process_rate_table.hpp"
+#include "sim/in_process_rate_table.hpp"
 
 namespace hrgbench::testing {
 namespace {

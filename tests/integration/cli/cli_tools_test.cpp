@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/config/sha256.hpp"
 
 namespace {
 

@@ -16,7 +16,7 @@
 
 #include "modbus_rate_table/modbus_rate_table.hpp"
 #include "modbus_rate_table/register_map.hpp"
-#include "sim_station/in_process_rate_table.hpp"
+#include "sim/in_process_rate_table.hpp"
 #include "sim_table_fixture.hpp"
 
 namespace hrgbench::drivers::modbus_rate_table {

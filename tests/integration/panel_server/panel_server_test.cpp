@@ -20,7 +20,7 @@
 #include <string_view>
 #include <thread>
 
-#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/config/sha256.hpp"
 
 namespace hrgbench::app {
 namespace {

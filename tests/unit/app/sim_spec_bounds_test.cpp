@@ -1,4 +1,4 @@
-// The config bounds (hrgbench/config_file/config_bounds.hpp) applied to simulation specs: a serial
+// The config bounds (hrgbench/config/config_bounds.hpp) applied to simulation specs: a serial
 // is a name, at most 1000 runs and a day of simulated free run, a path that is a directory says so.
 
 #include <gtest/gtest.h>

@@ -17,7 +17,7 @@
 
 #include "allocation_counter.hpp"  // first: the replacement operator new (this TU only)
 #include "fake_gyro_electronics.hpp"
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 #ifdef HRGBENCH_CAPTURE_WITH_RIG
 #include "gyro_rig.hpp"

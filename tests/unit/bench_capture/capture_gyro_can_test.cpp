@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "gyro_rig.hpp"
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 namespace hrgbench::bench {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fake_gyro_electronics.hpp"
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 namespace hrgbench::bench {
 namespace {

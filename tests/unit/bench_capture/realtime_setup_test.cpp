@@ -27,7 +27,7 @@
 #include <string>
 
 #include "fake_gyro_electronics.hpp"
-#include "hrgbench/bench/capture.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 
 namespace hrgbench::bench {
 namespace {

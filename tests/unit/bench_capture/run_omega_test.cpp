@@ -2,7 +2,7 @@
 // Synthetic readings whose truth is known exactly (quantisation and time jitter made here, not by
 // the code under test), a Monte Carlo check that the reported standard error is the scatter, and
 // the simulated table (TablePhysics, rate noise and encoder) read as the sequencer reads it.
-#include "hrgbench/bench/run_omega.hpp"
+#include "hrgbench/bench/capture/run_omega.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // span operations, through a small ring so that both full and empty are hit constantly; every
 // item must arrive exactly once, in order, with its content intact. Prints the throughput.
 
-#include "hrgbench/bench/spsc_ring.hpp"
+#include "hrgbench/bench/capture/spsc_ring.hpp"
 
 #include <gtest/gtest.h>
 

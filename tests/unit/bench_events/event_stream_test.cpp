@@ -1,7 +1,7 @@
 // EventStream against real pipes: every line a JSON object with the stream's fields first and
 // seq in order; a full queue drops (and counts) instead of waiting; a reader that stops or goes
 // away costs events, never a blocked producer; Close always returns and ends with the "end" event.
-#include "hrgbench/bench/event_stream.hpp"
+#include "hrgbench/bench/events/event_stream.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // sequencer's "table" is "settle"), progress at a bounded rate, the run's samples decimated to
 // about plot_points_per_run, run results with their warnings, and the end of a session (estimate,
 // each limit, outcome, report) in that order.
-#include "hrgbench/bench/session_events.hpp"
+#include "hrgbench/bench/events/session_events.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

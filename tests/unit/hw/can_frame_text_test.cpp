@@ -1,7 +1,7 @@
 // The can-utils frame notation of the hardware layer (hrgbench/hw/can_frame_text.hpp), the one
 // formatter and parser of CAN frames as text: every kind of frame written as candump writes it, the
 // notation round-tripped, parsed fields, refused text and buffer bounds. The candump log line
-// around the frame is tested in tests/unit/bench_record/candump_log_test.cpp.
+// around the frame is tested in tests/unit/session_recorder/candump_log_test.cpp.
 
 #include "hrgbench/hw/can_frame_text.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hrgbench/bench/recorded_estimate.hpp"
+#include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/estimator/fit_diagnostics.hpp"
 #include "report_test_session.hpp"
 

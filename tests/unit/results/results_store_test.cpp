@@ -16,7 +16,7 @@
 #include <set>
 #include <thread>
 
-#include "hrgbench/config_file/sha256.hpp"
+#include "hrgbench/config/sha256.hpp"
 #include "hrgbench/results/parameter_stats.hpp"
 #include "hrgbench/results/upload.hpp"
 #include "postgres_server.hpp"

@@ -1,5 +1,5 @@
 // What a station file's [results] url may say, and what a bad database looks like to the user.
-#include "hrgbench/results/results_url.hpp"
+#include "hrgbench/config/results_url.hpp"
 
 #include <gtest/gtest.h>
 

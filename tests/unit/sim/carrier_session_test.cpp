@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/bench/estimate_method.hpp"
-#include "hrgbench/bench/output_filter.hpp"
-#include "hrgbench/bench/recorded_estimate.hpp"
-#include "hrgbench/bench/recorded_runs.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
+#include "hrgbench/analysis/output_filter.hpp"
+#include "hrgbench/analysis/recorded_estimate.hpp"
+#include "hrgbench/analysis/recorded_runs.hpp"
 #include "hrgbench/session/session.hpp"
 #include "sim/butterworth_low_pass.hpp"
 #include "sim/carrier_simulation.hpp"

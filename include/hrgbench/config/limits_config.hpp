@@ -1,0 +1,92 @@
+#pragma once
+// LimitsConfig: the product's acceptance limits (bench_configs/limits-*.toml): an allowed range
+// [min, max] for any of the estimated parameters δ1…δ6, ξ1…ξ4, for the fit's residual RMS and
+// noise σ̂, and for the engineering quantities in the field's units (tau_s, q_factor,
+// frequency_split_mhz, ..., estimator/engineering_quantities.hpp). A quantity without a limit is
+// not judged. The verdict (verdict.hpp) applies them to an estimate: outside its range is a FAIL of
+// the unit (STYLE rule 9).
+//
+// The fit itself is always judged: [fit] (optional) sets how far outside the model a fit may be
+// before no limit is trusted (estimator::FitQualityLimits; its defaults when the table is absent).
+//
+// Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
+// for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
+
+#include <array>
+#include <cstddef>
+#include <expected>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrgbench/config/config_error.hpp"
+#include "hrgbench/estimator/engineering_quantities.hpp"
+#include "hrgbench/estimator/fit_diagnostics.hpp"
+
+namespace hrgbench::bench {
+
+// What a limit can be put on; the names are the keys in the file and in the verdict. The
+// engineering quantities (estimator/engineering_quantities.hpp: τ, Q, splits and axes on the shell,
+// k, the pick-off errors in % and degrees) follow in the estimator's order and under its names.
+enum class LimitedQuantity {
+  kDelta1,
+  kDelta2,
+  kDelta3,
+  kDelta4,
+  kDelta5,
+  kDelta6,
+  kXi1,
+  kXi2,
+  kXi3,
+  kXi4,
+  kResidualRms,
+  kNoiseSigma,
+  kFirstEngineering,  // = estimator::EngineeringQuantity::kResonantFrequency, then the others
+};
+inline constexpr std::size_t kFirstEngineeringLimit =
+    static_cast<std::size_t>(LimitedQuantity::kFirstEngineering);
+inline constexpr std::size_t kLimitedQuantityCount =
+    kFirstEngineeringLimit + estimator::kEngineeringQuantityCount;
+inline constexpr std::array<std::string_view, kLimitedQuantityCount> kLimitedQuantityNames = {
+    "delta1", "delta2", "delta3", "delta4", "delta5", "delta6", "xi1", "xi2", "xi3", "xi4",
+    "residual_rms", "noise_sigma",
+    // estimator::kEngineeringQuantities' names (a static_assert in the loader keeps them equal)
+    "resonant_frequency_hz", "tau_s", "q_factor", "tau1_s", "tau2_s", "damping_split_per_s",
+    "damping_axis_deg", "frequency_split_mhz", "frequency_axis_deg", "angular_gain",
+    "gain_mismatch_percent", "phase_mismatch_deg", "cross_talk_percent", "electrode_angle_deg"};
+
+// The engineering quantity a limit is on (nullopt for δ, ξ and the fit's numbers).
+std::optional<estimator::EngineeringQuantity> EngineeringOf(LimitedQuantity quantity) noexcept;
+// The limit on an engineering quantity.
+LimitedQuantity LimitOf(estimator::EngineeringQuantity quantity) noexcept;
+
+std::string_view ToString(LimitedQuantity quantity) noexcept;
+
+struct ParameterLimit {
+  LimitedQuantity quantity = LimitedQuantity::kDelta1;
+  double min = 0.0;      // inclusive; same unit as the parameter (bench_configs/README.md)
+  double max = 0.0;      // inclusive; min <= max
+  std::size_t line = 0;  // where the limit was written
+};
+
+struct LimitsConfig {
+  std::filesystem::path file;  // where it was loaded from; empty: no limits file
+  std::string sha256_hex;      // SHA-256 of the file's bytes; empty: no limits file
+
+  std::string name;  // [limits] name (required in a file)
+  std::string description;
+  std::vector<ParameterLimit>
+      limits;  // in the order of LimitedQuantity; each quantity at most once
+  // How far outside its model a fit may be ([fit]; the defaults when absent).
+  estimator::FitQualityLimits fit;
+  std::size_t fit_line = 0;  // where [fit] was written; 0 = not in the file (defaults)
+};
+
+std::expected<LimitsConfig, config_file::ConfigError> LoadLimitsConfig(
+    const std::filesystem::path& file);
+std::expected<LimitsConfig, config_file::ConfigError> ParseLimitsConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
+
+}  // namespace hrgbench::bench

@@ -1,0 +1,116 @@
+#pragma once
+// SequenceConfig: the run plan of a session (bench_configs/sequence-*.toml): the free runs (table
+// rate Ω, wave state to excite, free-run length, sample rate) and the criteria the sequencer
+// applies around them: when the table counts as settled, how long to wait for anything, when the
+// gyro is warm, when a run's temperature drifted too much, how many lost samples a run may have.
+// Plain data; every key, unit and default is in bench_configs/README.md, and the in-class defaults
+// are the documented ones.
+//
+// Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
+// for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
+
+#include <cstddef>
+#include <cstdint>
+#include <expected>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hrgbench/config/config_error.hpp"
+#include "hrgbench/estimator/run_data.hpp"
+
+namespace hrgbench::bench {
+
+// The wave-state limits of the gyro protocol (hw/gyro_electronics.hpp WaveState).
+inline constexpr double kMaxWaveAmplitude = 6.5535;
+inline constexpr double kMaxWaveQuadrature = 3.2767;
+inline constexpr double kMaxWaveAngleRad = 3.2767;
+// A run of more samples is a typo in a rate or a length (same bound as the simulation specs).
+inline constexpr double kMaxSamplesPerRun = 1e7;
+
+struct SequenceRun {
+  double omega_rad_s =
+      0.0;                 // table rate to command (the Earth-rate part is added for the estimator)
+  double a = 1.0;          // wave amplitude to excite, (0, 6.5535]
+  double b = 0.0;          // quadrature, |b| < a
+  double theta_rad = 0.0;  // wave angle, |θ| <= 3.2767 rad
+  double free_run_s = 10.0;  // capture length after the release; n = round(free_run_s·fs) samples
+  std::uint32_t sample_rate_hz = 100;  // fs, integer (the electronics' configuration is in Hz)
+
+  // Where omega_rad_s and sample_rate_hz were written (for errors of checks against the station).
+  std::size_t omega_line = 0;
+  std::size_t sample_rate_line = 0;
+
+  std::size_t Samples() const;  // round(free_run_s · sample_rate_hz)
+};
+
+// [settle]: the table is settled when |measured − commanded| <= rate_tolerance_rad_s (and the
+// table's own at-rate bit is set) continuously for dwell_s (hw::StableCriteria).
+struct SettleCriteria {
+  double rate_tolerance_rad_s = 1e-3;
+  double dwell_s = 1.0;
+  double poll_period_s = 0.05;
+};
+
+// [timeouts]
+struct SequenceTimeouts {
+  double settle_s = 60.0;     // table to rate and settled, including the ramp
+  double excite_s = 10.0;     // Excite → "ready"
+  double run_margin_s = 5.0;  // a capture that has not ended after free_run_s + this is an ERROR
+};
+
+// [warmup]: before the first run, the bench waits at least min_s, then until the gyro's temperature
+// drifts by no more than max_drift_c over the last window_s (or gives up after timeout_s: ERROR).
+struct WarmupCriteria {
+  double min_s = 0.0;
+  double window_s = 60.0;
+  double max_drift_c = 0.1;
+  double timeout_s = 3600.0;
+};
+
+enum class DriftAction { kFlag, kReject };
+std::string_view ToString(DriftAction action) noexcept;  // "flag", "reject"
+
+// [drift]: per run, the paper estimates only when temperature is stationary (change < 1 %):
+// |T_end − T_start| / |T_start| (T in °C, as the paper states it) and the same for the resonant
+// frequency. A run beyond a limit is flagged (kept, marked) or rejected (not given to the
+// estimator).
+struct DriftCriteria {
+  double max_temperature_change_rel = 0.01;
+  std::optional<double> max_frequency_change_rel;  // absent: not checked
+  DriftAction action = DriftAction::kFlag;
+};
+
+// [capture]: per-run loss allowed; more is an ERROR of the bench (STYLE rule 9), not a FAIL.
+struct CaptureCriteria {
+  std::int64_t max_sequence_gaps = 0;  // breaks in the sample sequence per run
+  std::int64_t max_samples_lost = 0;   // samples missing per run
+};
+
+struct SequenceConfig {
+  std::filesystem::path file;  // where it was loaded from
+  std::string sha256_hex;      // SHA-256 of the file's bytes (recorded in the session)
+
+  std::string name;  // [sequence] name (required)
+  std::string description;
+  SettleCriteria settle;
+  SequenceTimeouts timeouts;
+  WarmupCriteria warmup;
+  DriftCriteria drift;
+  CaptureCriteria capture;
+  std::vector<SequenceRun> runs;  // in order: run ids 1, 2, ...
+
+  // The runs as the estimator's design (φ = 0; Ω is the table rate: add the Earth-rate part for a
+  // plan that should match a real session).
+  std::vector<estimator::RunPlan> ToRunPlans(double omega_offset_rad_s = 0.0) const;
+  double TotalFreeRunS() const;
+};
+
+std::expected<SequenceConfig, config_file::ConfigError> LoadSequenceConfig(
+    const std::filesystem::path& file);
+std::expected<SequenceConfig, config_file::ConfigError> ParseSequenceConfig(
+    std::string_view toml_text, const std::filesystem::path& file);
+
+}  // namespace hrgbench::bench

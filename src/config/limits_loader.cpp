@@ -1,0 +1,123 @@
+// Loader of limits files.
+
+#include <string>
+#include <utility>
+
+#include "hrgbench/config/limits_config.hpp"
+#include "hrgbench/config/toml_reader.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+constexpr bool EngineeringNamesAgree() {
+  for (std::size_t i = 0; i < estimator::kEngineeringQuantityCount; ++i)
+    if (kLimitedQuantityNames[kFirstEngineeringLimit + i] !=
+        estimator::kEngineeringQuantities[i].name)
+      return false;
+  return true;
+}
+static_assert(EngineeringNamesAgree(), "limit names must be the estimator's engineering names");
+
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+
+std::expected<ParameterLimit, ConfigError> ReadLimit(const TableReader& reader,
+                                                     const toml::node& node,
+                                                     LimitedQuantity quantity) {
+  const std::string_view key = ToString(quantity);
+  HRG_TRY(range, VectorFrom<2>(reader, node, key, kAnyFinite));
+  ParameterLimit limit;
+  limit.quantity = quantity;
+  limit.min = (*range)(0);
+  limit.max = (*range)(1);
+  limit.line = LineOf(node);
+  if (limit.min > limit.max) {
+    return std::unexpected(
+        reader.Error(node, key, "out of range: must be [min, max] with min <= max"));
+  }
+  if ((quantity == LimitedQuantity::kResidualRms || quantity == LimitedQuantity::kNoiseSigma) &&
+      limit.min < 0.0) {
+    return std::unexpected(
+        reader.Error(node, key, "out of range: an RMS or a sigma is >= 0, so min must be >= 0"));
+  }
+  return limit;
+}
+
+std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document,
+                                                    const std::filesystem::path& file) {
+  const Source source(file, document.text);
+  LimitsConfig limits;
+  limits.file = file;
+  limits.sha256_hex = document.sha256_hex;
+  TableReader root(document.root, "", source);
+
+  HRG_TRY(header, SubTable(root, "limits", true));
+  TableReader reader(**header, "limits", source);
+  HRG_TRY(name, RequiredString(reader, "name"));
+  limits.name = *name;
+  HRG_TRY(description, OptionalString(reader, "description", "", false, StringKind::kDescription));
+  limits.description = *description;
+  for (std::size_t q = 0; q < kLimitedQuantityCount; ++q) {
+    const auto quantity = static_cast<LimitedQuantity>(q);
+    const toml::node* node = reader.Find(ToString(quantity));
+    if (node == nullptr) continue;
+    HRG_TRY(limit, ReadLimit(reader, *node, quantity));
+    limits.limits.push_back(*limit);
+  }
+  HRG_CHECK(reader.Unknown(
+      "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma, "
+      "resonant_frequency_hz, tau_s, q_factor, tau1_s, tau2_s, damping_split_per_s, "
+      "damping_axis_deg, frequency_split_mhz, frequency_axis_deg, angular_gain, "
+      "gain_mismatch_percent, phase_mismatch_deg, cross_talk_percent, electrode_angle_deg (each "
+      "[min, max])"));
+
+  HRG_TRY(fit_table, SubTable(root, "fit", false));
+  if (*fit_table != nullptr) {
+    TableReader fit(**fit_table, "fit", source);
+    limits.fit_line = LineOf(**fit_table);
+    // Bounds: a ratio of 1 is a perfect fit and 100 is no check at all; a normal score beyond
+    // 1e6 or a rate offset beyond 1e6 of its std would never be reached either.
+    static constexpr Range kRatio{1.0, 100.0, true, "in [1, 100]"};
+    static constexpr Range kScore{0.0, 1e6, false, "in (0, 1e6]"};
+    HRG_TRY(ratio,
+            OptionalNumber(fit, "residual_ratio_max", kRatio, limits.fit.residual_ratio_max));
+    HRG_TRY(white, OptionalNumber(fit, "whiteness_z_max", kScore, limits.fit.whiteness_z_max));
+    HRG_TRY(omega, OptionalNumber(fit, "omega_offset_max_in_std", kScore,
+                                  limits.fit.omega_offset_max_in_std));
+    limits.fit.residual_ratio_max = *ratio;
+    limits.fit.whiteness_z_max = *white;
+    limits.fit.omega_offset_max_in_std = *omega;
+    HRG_CHECK(fit.Unknown("residual_ratio_max, whiteness_z_max, omega_offset_max_in_std"));
+  }
+  HRG_CHECK(root.Unknown("[limits], [fit]"));
+  return limits;
+}
+
+}  // namespace
+
+std::string_view ToString(LimitedQuantity quantity) noexcept {
+  const auto index = static_cast<std::size_t>(quantity);
+  return index < kLimitedQuantityCount ? kLimitedQuantityNames[index] : "?";
+}
+
+std::optional<estimator::EngineeringQuantity> EngineeringOf(LimitedQuantity quantity) noexcept {
+  const auto index = static_cast<std::size_t>(quantity);
+  if (index < kFirstEngineeringLimit || index >= kLimitedQuantityCount) return std::nullopt;
+  return static_cast<estimator::EngineeringQuantity>(index - kFirstEngineeringLimit);
+}
+
+LimitedQuantity LimitOf(estimator::EngineeringQuantity quantity) noexcept {
+  return static_cast<LimitedQuantity>(kFirstEngineeringLimit + static_cast<std::size_t>(quantity));
+}
+
+std::expected<LimitsConfig, ConfigError> ParseLimitsConfig(std::string_view toml_text,
+                                                           const std::filesystem::path& file) {
+  HRG_TRY(document, ParseTomlText(toml_text, file));
+  return ReadLimits(*document, file);
+}
+
+std::expected<LimitsConfig, ConfigError> LoadLimitsConfig(const std::filesystem::path& file) {
+  HRG_TRY(document, LoadTomlFile(file));
+  return ReadLimits(*document, file);
+}
+
+}  // namespace hrgbench::bench

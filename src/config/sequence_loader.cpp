@@ -1,0 +1,354 @@
+// Loader of sequence files.
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "hrgbench/config/sequence_config.hpp"
+#include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/toml_reader.hpp"
+#include "hrgbench/hw/gyro_electronics.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
+
+// The fastest any gyro link carries (CAN FD); the station's own link is judged by the cross-check.
+constexpr double kMaxSampleRateHz = hw::kMaxSampleRateCanFdHz;
+constexpr Range kWait{0.0, kMaxWaitS, false, "in (0, 3600] s (an hour)"};
+constexpr Range kLongWaitPositive{0.0, kMaxLongWaitS, false, "in (0, 86400] s (a day)"};
+constexpr Range kLongWaitNonNegative{0.0, kMaxLongWaitS, true, "in [0, 86400] s (a day)"};
+constexpr std::string_view kRunKeysText =
+    "omega_rad_s, a, b, theta_rad, free_run_s, sample_rate_hz";
+constexpr std::string_view kDefaultKeysText = "a, b, theta_rad, free_run_s, sample_rate_hz";
+
+// Shortest fixed-point text of a total (seconds, samples): "100000", not "1e+05".
+std::string Shortest(double v) {
+  char text[400];
+  const auto result = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed);
+  return std::string(text, result.ptr);
+}
+
+// The run keys; [defaults] may supply any of them but Ω (a rate is what makes a run a run).
+enum RunKey { kOmega, kA, kB, kTheta, kFreeRun, kSampleRate, kRunKeyCount };
+constexpr std::string_view kRunKeyNames[kRunKeyCount] = {
+    "omega_rad_s", "a", "b", "theta_rad", "free_run_s", "sample_rate_hz"};
+
+std::expected<double, ConfigError> RunValue(const TableReader& reader, const toml::node& node,
+                                            RunKey key) {
+  const std::string_view name = kRunKeyNames[key];
+  switch (key) {
+    case kOmega:
+      return NumberFrom(reader, node, name, kAnyFinite);
+    case kA:
+      return NumberFrom(reader, node, name,
+                        {0.0, kMaxWaveAmplitude, false, "in (0, 6.5535] (the protocol's range)"});
+    case kB:
+      return NumberFrom(reader, node, name,
+                        {-kMaxWaveQuadrature, kMaxWaveQuadrature, true, "in [-3.2767, 3.2767]"});
+    case kTheta:
+      return NumberFrom(reader, node, name,
+                        {-kMaxWaveAngleRad, kMaxWaveAngleRad, true, "in [-3.2767, 3.2767] rad"});
+    case kFreeRun:  // also bounded by the total over the runs (a day), checked after each run
+      return NumberFrom(reader, node, name, kPositive);
+    case kSampleRate: {
+      constexpr std::string_view kWhat = "a whole number of Hz in [1, 10000]";
+      auto v = NumberFrom(reader, node, name, {1.0, kMaxSampleRateHz, true, kWhat});
+      if (v && *v != std::floor(*v))
+        return std::unexpected(
+            reader.Error(node, name, "out of range: must be " + std::string(kWhat)));
+      return v;
+    }
+    case kRunKeyCount:
+      break;
+  }
+  return std::unexpected(reader.Error(node, name, "internal: unknown run key"));
+}
+
+struct Defaults {
+  const toml::node* node[kRunKeyCount] = {};
+};
+
+std::expected<Defaults, ConfigError> ReadDefaults(TableReader& reader) {
+  Defaults defaults;
+  for (int k = kA; k < kRunKeyCount; ++k) {
+    const toml::node* node = reader.Find(kRunKeyNames[k]);
+    if (node == nullptr) continue;
+    HRG_TRY(v, RunValue(reader, *node, static_cast<RunKey>(k)));
+    defaults.node[k] = node;
+  }
+  HRG_CHECK(reader.Unknown(kDefaultKeysText));
+  return defaults;
+}
+
+std::expected<SequenceRun, ConfigError> ReadRun(TableReader& reader, const Defaults& defaults,
+                                                TableReader* defaults_reader) {
+  double values[kRunKeyCount] = {};
+  const toml::node* nodes[kRunKeyCount] = {};
+  for (int k = 0; k < kRunKeyCount; ++k) {
+    const RunKey key = static_cast<RunKey>(k);
+    const toml::node* node = reader.Find(kRunKeyNames[k]);
+    const TableReader* from = &reader;
+    if (node == nullptr && defaults.node[k] != nullptr) {
+      node = defaults.node[k];
+      from = defaults_reader;
+    }
+    if (node == nullptr) {
+      return std::unexpected(reader.Missing(
+          kRunKeyNames[k], k == kOmega ? "a number, per run" : "a number, here or in [defaults]"));
+    }
+    HRG_TRY(v, RunValue(*from, *node, key));
+    values[k] = *v;
+    nodes[k] = node;
+  }
+  SequenceRun run;
+  run.omega_rad_s = values[kOmega];
+  run.a = values[kA];
+  run.b = values[kB];
+  run.theta_rad = values[kTheta];
+  run.free_run_s = values[kFreeRun];
+  run.sample_rate_hz = static_cast<std::uint32_t>(values[kSampleRate]);
+  run.omega_line = LineOf(*nodes[kOmega]);
+  run.sample_rate_line = LineOf(*nodes[kSampleRate]);
+  // The electronics hold |b| < a (a = |b| is a circular orbit: no wave angle to excite).
+  if (std::abs(run.b) >= run.a) {
+    const TableReader& from =
+        nodes[kB] == defaults.node[kB] && defaults_reader != nullptr ? *defaults_reader : reader;
+    return std::unexpected(from.Error(
+        *nodes[kB], "b",
+        "out of range: must satisfy |b| < a (a = " + from.source().Render(*nodes[kA]) + ")"));
+  }
+  const double samples = std::round(run.free_run_s * values[kSampleRate]);
+  if (samples < 2.0 || samples > kMaxSamplesPerRun) {
+    const TableReader& from =
+        nodes[kFreeRun] == defaults.node[kFreeRun] && defaults_reader != nullptr ? *defaults_reader
+                                                                                 : reader;
+    return std::unexpected(from.Error(
+        *nodes[kFreeRun], "free_run_s",
+        "out of range: free_run_s * sample_rate_hz gives " +
+            std::to_string(static_cast<long long>(samples)) +
+            " samples; a run needs at least 2 and at most 1e7 (a typo in a rate or a length?)"));
+  }
+  HRG_CHECK(reader.Unknown(kRunKeysText));
+  return run;
+}
+
+std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& document,
+                                                        const std::filesystem::path& file) {
+  const Source source(file, document.text);
+  SequenceConfig sequence;
+  sequence.file = file;
+  sequence.sha256_hex = document.sha256_hex;
+  TableReader root(document.root, "", source);
+
+  HRG_TRY(header, SubTable(root, "sequence", true));
+  {
+    TableReader reader(**header, "sequence", source);
+    HRG_TRY(name, RequiredString(reader, "name"));
+    sequence.name = *name;
+    HRG_TRY(description,
+            OptionalString(reader, "description", "", false, StringKind::kDescription));
+    sequence.description = *description;
+    HRG_CHECK(reader.Unknown("name, description"));
+  }
+
+  HRG_TRY(settle_table, SubTable(root, "settle", false));
+  if (*settle_table != nullptr) {
+    TableReader reader(**settle_table, "settle", source);
+    SettleCriteria& s = sequence.settle;
+    HRG_TRY(tolerance,
+            OptionalNumber(reader, "rate_tolerance_rad_s", kPositive, s.rate_tolerance_rad_s));
+    s.rate_tolerance_rad_s = *tolerance;
+    HRG_TRY(dwell, OptionalNumber(reader, "dwell_s", kWait, s.dwell_s));
+    s.dwell_s = *dwell;
+    HRG_TRY(poll, OptionalNumber(reader, "poll_period_s", {0.0, 10.0, false, "in (0, 10]"},
+                                 s.poll_period_s));
+    s.poll_period_s = *poll;
+    HRG_CHECK(reader.Unknown("rate_tolerance_rad_s, dwell_s, poll_period_s"));
+  }
+
+  HRG_TRY(timeouts_table, SubTable(root, "timeouts", false));
+  if (*timeouts_table != nullptr) {
+    TableReader reader(**timeouts_table, "timeouts", source);
+    SequenceTimeouts& t = sequence.timeouts;
+    HRG_TRY(settle, OptionalNumber(reader, "settle_s", kWait, t.settle_s));
+    t.settle_s = *settle;
+    if (sequence.settle.dwell_s > t.settle_s) {
+      const toml::node* node = reader.table().get("settle_s");
+      const std::string message = "out of range: must be >= settle.dwell_s (" +
+                                  std::to_string(sequence.settle.dwell_s) +
+                                  "), else the table can never count as settled";
+      if (node == nullptr) return std::unexpected(reader.Missing("settle_s", message));
+      return std::unexpected(reader.Error(*node, "settle_s", message));
+    }
+    HRG_TRY(excite, OptionalNumber(reader, "excite_s", kWait, t.excite_s));
+    t.excite_s = *excite;
+    HRG_TRY(margin, OptionalNumber(reader, "run_margin_s", kWait, t.run_margin_s));
+    t.run_margin_s = *margin;
+    HRG_CHECK(reader.Unknown("settle_s, excite_s, run_margin_s"));
+  } else if (sequence.settle.dwell_s > sequence.timeouts.settle_s) {
+    return std::unexpected(root.Missing(
+        "timeouts", "[timeouts] settle_s >= settle.dwell_s (the default 60 s is shorter)"));
+  }
+
+  HRG_TRY(warmup_table, SubTable(root, "warmup", false));
+  if (*warmup_table != nullptr) {
+    TableReader reader(**warmup_table, "warmup", source);
+    WarmupCriteria& w = sequence.warmup;
+    HRG_TRY(min_s, OptionalNumber(reader, "min_s", kLongWaitNonNegative, w.min_s));
+    w.min_s = *min_s;
+    HRG_TRY(window, OptionalNumber(reader, "window_s", kLongWaitPositive, w.window_s));
+    w.window_s = *window;
+    HRG_TRY(drift, OptionalNumber(reader, "max_drift_c", kPositive, w.max_drift_c));
+    w.max_drift_c = *drift;
+    HRG_TRY(timeout,
+            OptionalNumber(reader, "timeout_s",
+                           {0.0, 2.0 * kMaxLongWaitS, false, "in (0, 172800] s (two days)"},
+                           w.timeout_s));
+    w.timeout_s = *timeout;
+    if (w.timeout_s < w.min_s + w.window_s) {
+      const toml::node* node = reader.table().get("timeout_s");
+      const std::string message = "out of range: must be >= min_s + window_s (" +
+                                  std::to_string(w.min_s + w.window_s) + ")";
+      if (node == nullptr) return std::unexpected(reader.Missing("timeout_s", message));
+      return std::unexpected(reader.Error(*node, "timeout_s", message));
+    }
+    HRG_CHECK(reader.Unknown("min_s, window_s, max_drift_c, timeout_s"));
+  }
+
+  HRG_TRY(drift_table, SubTable(root, "drift", false));
+  if (*drift_table != nullptr) {
+    TableReader reader(**drift_table, "drift", source);
+    DriftCriteria& d = sequence.drift;
+    HRG_TRY(temperature,
+            OptionalNumber(reader, "max_temperature_change_rel", {0.0, 1.0, false, "in (0, 1]"},
+                           d.max_temperature_change_rel));
+    d.max_temperature_change_rel = *temperature;
+    HRG_TRY(frequency,
+            MaybeNumber(reader, "max_frequency_change_rel", {0.0, 1.0, false, "in (0, 1]"}));
+    d.max_frequency_change_rel = *frequency;
+    HRG_TRY(action, Choice(reader, "action", {"flag", "reject"}, 0));
+    d.action = *action == 0 ? DriftAction::kFlag : DriftAction::kReject;
+    HRG_CHECK(reader.Unknown("max_temperature_change_rel, max_frequency_change_rel, action"));
+  }
+
+  HRG_TRY(capture_table, SubTable(root, "capture", false));
+  if (*capture_table != nullptr) {
+    TableReader reader(**capture_table, "capture", source);
+    constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+    HRG_TRY(gaps, OptionalInteger(reader, "max_sequence_gaps", 0, kMax, 0));
+    sequence.capture.max_sequence_gaps = *gaps;
+    HRG_TRY(lost, OptionalInteger(reader, "max_samples_lost", 0, kMax, 0));
+    sequence.capture.max_samples_lost = *lost;
+    if (sequence.capture.max_samples_lost < sequence.capture.max_sequence_gaps) {
+      constexpr std::string_view kWhy =
+          "out of range: must be >= max_sequence_gaps (every gap loses at least one sample)";
+      const toml::node* node = reader.table().get("max_samples_lost");
+      if (node == nullptr) return std::unexpected(reader.Missing("max_samples_lost", kWhy));
+      return std::unexpected(reader.Error(*node, "max_samples_lost", std::string(kWhy)));
+    }
+    HRG_CHECK(reader.Unknown("max_sequence_gaps, max_samples_lost"));
+  }
+
+  HRG_TRY(defaults_table, SubTable(root, "defaults", false));
+  std::optional<TableReader> defaults_reader;
+  Defaults defaults;
+  if (*defaults_table != nullptr) {
+    defaults_reader.emplace(**defaults_table, "defaults", source);
+    HRG_TRY(d, ReadDefaults(*defaults_reader));
+    defaults = *d;
+  }
+
+  const toml::node* runs_node = root.Find("runs");
+  if (runs_node == nullptr)
+    return std::unexpected(root.Missing("runs", "one [[runs]] table per run"));
+  const toml::array* runs = runs_node->as_array();
+  if (runs == nullptr || !runs->is_array_of_tables() || runs->empty()) {
+    return std::unexpected(
+        root.Error(*runs_node, "runs", "wrong type: expected one or more [[runs]] tables"));
+  }
+  // Checked before reading any run: 100 000 runs would otherwise all be read first.
+  if (runs->size() > kMaxRuns) {
+    // At the first [[runs]] header; the value (every run) is too long to quote.
+    return std::unexpected(ConfigError{file, LineOf(*runs->get(0)), "runs", "",
+                                       "out of range: " + std::to_string(runs->size()) +
+                                           " [[runs]] tables; a sequence has at most " +
+                                           std::to_string(kMaxRuns)});
+  }
+  double total_free_run_s = 0.0;
+  double total_samples = 0.0;
+  for (std::size_t i = 0; i < runs->size(); ++i) {
+    const toml::table& table = *runs->get(i)->as_table();
+    TableReader reader(table, "runs[" + std::to_string(i) + "]", source);
+    HRG_TRY(run, ReadRun(reader, defaults, defaults_reader ? &*defaults_reader : nullptr));
+    total_free_run_s += run->free_run_s;
+    total_samples += static_cast<double>(run->Samples());
+    if (total_free_run_s > kMaxTotalFreeRunS || total_samples > kMaxTotalSamples) {
+      // Named at this run's free_run_s (or the default it took): the run that crossed the bound.
+      const toml::node* node = table.get("free_run_s");
+      const TableReader& from = node != nullptr || !defaults_reader ? reader : *defaults_reader;
+      if (node == nullptr) node = defaults.node[kFreeRun];
+      const std::string what =
+          total_free_run_s > kMaxTotalFreeRunS
+              ? "runs[0.." + std::to_string(i) + "] free-run " + Shortest(total_free_run_s) +
+                    " s in total; a sequence free-runs at most 86400 s (a day)"
+              : "runs[0.." + std::to_string(i) + "] capture " + Shortest(total_samples) +
+                    " samples in total; a sequence captures at most 1e8";
+      return std::unexpected(from.Error(*node, "free_run_s", "out of range: " + what));
+    }
+    sequence.runs.push_back(*run);
+  }
+
+  HRG_CHECK(root.Unknown(
+      "[sequence], [settle], [timeouts], [warmup], [drift], [capture], [defaults], [[runs]]"));
+  return sequence;
+}
+
+}  // namespace
+
+std::string_view ToString(DriftAction action) noexcept {
+  return action == DriftAction::kReject ? "reject" : "flag";
+}
+
+std::size_t SequenceRun::Samples() const {
+  return static_cast<std::size_t>(std::llround(free_run_s * static_cast<double>(sample_rate_hz)));
+}
+
+std::vector<estimator::RunPlan> SequenceConfig::ToRunPlans(double omega_offset_rad_s) const {
+  std::vector<estimator::RunPlan> plans;
+  plans.reserve(runs.size());
+  for (const SequenceRun& run : runs) {
+    estimator::RunPlan plan;
+    plan.omega_rad_s = run.omega_rad_s + omega_offset_rad_s;
+    plan.a = run.a;
+    plan.b = run.b;
+    plan.theta_rad = run.theta_rad;
+    plan.phi_rad = 0.0;
+    plan.sample_rate_hz = static_cast<double>(run.sample_rate_hz);
+    plan.duration_s = run.free_run_s;
+    plans.push_back(plan);
+  }
+  return plans;
+}
+
+double SequenceConfig::TotalFreeRunS() const {
+  double total = 0.0;
+  for (const SequenceRun& run : runs) total += run.free_run_s;
+  return total;
+}
+
+std::expected<SequenceConfig, ConfigError> ParseSequenceConfig(std::string_view toml_text,
+                                                               const std::filesystem::path& file) {
+  HRG_TRY(document, ParseTomlText(toml_text, file));
+  return ReadSequence(*document, file);
+}
+
+std::expected<SequenceConfig, ConfigError> LoadSequenceConfig(const std::filesystem::path& file) {
+  HRG_TRY(document, LoadTomlFile(file));
+  return ReadSequence(*document, file);
+}
+
+}  // namespace hrgbench::bench

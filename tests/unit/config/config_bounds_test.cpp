@@ -1,0 +1,228 @@
+// The bounds on what a config file may say (hrgbench/config/config_bounds.hpp): names without
+// control characters and of a sane length, waits and free-run time of at most a day, at most 1000
+// runs, files of at most 1 MiB, and a path that is a directory named as such. Each error names
+// file, line, key and value like every other config error.
+
+#include "hrgbench/config/config_bounds.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "hrgbench/config/bench_configs.hpp"
+
+namespace hrgbench::bench {
+namespace {
+
+using config_file::ConfigError;
+using config_file::kMaxConfigFileBytes;
+using config_file::kMaxRuns;
+
+namespace fs = std::filesystem;
+
+const fs::path kFile = "bench_configs/bad.toml";
+
+const std::string kSequenceHead = R"([sequence]
+name = "q"
+
+[timeouts]
+settle_s = 30.0
+
+[defaults]
+a = 1.0
+b = 0.0
+theta_rad = 0.0
+free_run_s = 10.0
+sample_rate_hz = 100
+)";
+
+const std::string kRun = "\n[[runs]]\nomega_rad_s = 0.5\n";
+
+const std::string kLimits = "[limits]\nname = \"l\"\ndelta2 = [0.29, 0.31]\n";
+
+void ExpectError(const ConfigError& error, std::size_t line, const std::string& key,
+                 const std::string& value, const std::string& message_part) {
+  EXPECT_EQ(error.file, kFile) << error.ToString();
+  EXPECT_EQ(error.line, line) << error.ToString();
+  EXPECT_EQ(error.key, key) << error.ToString();
+  EXPECT_EQ(error.value, value) << error.ToString();
+  EXPECT_NE(error.message.find(message_part), std::string::npos) << error.ToString();
+}
+
+TEST(ConfigBounds, TheBaseSequenceLoads) {
+  auto sequence = ParseSequenceConfig(kSequenceHead + kRun, kFile);
+  EXPECT_TRUE(sequence) << sequence.error().ToString();
+}
+
+TEST(ConfigBounds, NulInANameIsRefused) {
+  auto limits = ParseLimitsConfig("[limits]\nname = \"l\\u0000x\"\n", kFile);
+  ASSERT_FALSE(limits);
+  ExpectError(limits.error(), 2, "limits.name", "\"l\\u0000x\"",
+              "control character U+0000 at byte 1");
+}
+
+TEST(ConfigBounds, LineFeedInAHostIsRefused) {
+  auto station = ParseStationConfig(R"([station]
+name = "s"
+kind = "real"
+[site]
+latitude_deg = 45.0
+[gyro]
+can_interface = "can0"
+[table]
+transport = "tcp"
+host = "192.0.2.1\nX-Forged: 1"
+)",
+                                    kFile);
+  ASSERT_FALSE(station);
+  ExpectError(station.error(), 10, "table.host", "\"192.0.2.1\\nX-Forged: 1\"",
+              "control character U+000A");
+}
+
+TEST(ConfigBounds, OneMegabyteNameIsRefused) {
+  const std::string name(1'000'000, 'x');
+  auto sequence = ParseSequenceConfig("[sequence]\nname = \"" + name + "\"\n" + kRun, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 2, "sequence.name", "\"" + name.substr(0, 79) + "...",
+              "1000000 bytes long; a name has at most 255");
+}
+
+TEST(ConfigBounds, DescriptionMayHoldLineFeedsButNotOtherControlCharacters) {
+  auto ok = ParseLimitsConfig(kLimits + "description = \"\"\"two\n\tlines\"\"\"\n", kFile);
+  EXPECT_TRUE(ok) << ok.error().ToString();
+  auto bad = ParseLimitsConfig(kLimits + "description = \"bell\\u0007\"\n", kFile);
+  ASSERT_FALSE(bad);
+  ExpectError(bad.error(), 4, "limits.description", "\"bell\\u0007\"", "control character U+0007");
+}
+
+TEST(ConfigBounds, SettleTimeoutOf1e12SecondsIsRefused) {
+  std::string text = kSequenceHead + kRun;
+  text.replace(text.find("settle_s = 30.0"), 15, "settle_s = 1e12");
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 5, "timeouts.settle_s", "1e12", "must be in (0, 3600] s");
+}
+
+TEST(ConfigBounds, ExciteTimeoutOf1e12SecondsIsRefused) {
+  std::string text = kSequenceHead + kRun;
+  text.replace(text.find("settle_s = 30.0"), 15, "settle_s = 30.0\nexcite_s = 1e12");
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 6, "timeouts.excite_s", "1e12", "must be in (0, 3600] s");
+}
+
+TEST(ConfigBounds, WarmupTimeoutBeyondTwoDaysIsRefused) {
+  auto sequence = ParseSequenceConfig(kSequenceHead + "[warmup]\ntimeout_s = 1e12\n" + kRun, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 14, "warmup.timeout_s", "1e12", "must be in (0, 172800] s");
+}
+
+TEST(ConfigBounds, FaultTimeBeyondADayIsRefused) {
+  auto station = ParseStationConfig(R"([station]
+name = "s"
+kind = "simulated"
+[site]
+latitude_deg = 45.0
+[simulated]
+faster_than_real_time = true
+[simulated.faults]
+table_fault_after_s = 1e12
+)",
+                                    kFile);
+  ASSERT_FALSE(station);
+  ExpectError(station.error(), 9, "simulated.faults.table_fault_after_s", "1e12",
+              "must be in [0, 86400] s");
+}
+
+TEST(ConfigBounds, A100006RunSequenceIsRefused) {
+  // The issue's file: 100 006 runs of 100 s, 1e7 s of free run. At 2.8 MB it is refused for its
+  // size before it is parsed.
+  std::string text = kSequenceHead;
+  for (int i = 0; i < 100'006; ++i) text += kRun;
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  EXPECT_EQ(sequence.error().ToString(),
+            "bench_configs/bad.toml: file too large: 2800301 bytes (a config file has at most "
+            "1048576)");
+}
+
+TEST(ConfigBounds, MoreThanAThousandRunsAreRefusedBeforeAnyIsRead) {
+  std::string text = kSequenceHead;
+  for (std::size_t i = 0; i <= kMaxRuns; ++i) text += kRun;
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 14, "runs", "",
+              "1001 [[runs]] tables; a sequence has at most 1000");
+}
+
+TEST(ConfigBounds, TotalFreeRunBeyondADayIsRefusedAtTheRunThatCrossesIt) {
+  // Each run alone is fine (50 000 samples); the second brings the total to 100 000 s.
+  std::string text = kSequenceHead + kRun + kRun + kRun;
+  text.replace(text.find("free_run_s = 10.0"), 17, "free_run_s = 50000.0");
+  text.replace(text.find("sample_rate_hz = 100"), 20, "sample_rate_hz = 1");
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  ExpectError(sequence.error(), 11, "defaults.free_run_s", "50000.0",
+              "runs[0..1] free-run 100000 s in total; a sequence free-runs at most 86400 s");
+}
+
+TEST(ConfigBounds, OversizedTextIsRefused) {
+  const std::string text = kLimits + "#" + std::string(kMaxConfigFileBytes, 'x') + "\n";
+  auto limits = ParseLimitsConfig(text, kFile);
+  ASSERT_FALSE(limits);
+  EXPECT_EQ(limits.error().line, 0u);
+  EXPECT_NE(limits.error().message.find("file too large"), std::string::npos)
+      << limits.error().ToString();
+}
+
+class ConfigPathTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hrgbench_config_bounds_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "limits-dir.toml");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+};
+
+TEST_F(ConfigPathTest, LimitsPathThatIsADirectorySaysSo) {
+  const fs::path limits = dir_ / "limits-dir.toml";
+  auto loaded = LoadLimitsConfig(limits);
+  ASSERT_FALSE(loaded);
+  EXPECT_EQ(loaded.error().ToString(), limits.string() + ": is a directory, not a file");
+  const fs::path configs = fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
+  auto all =
+      LoadBenchConfigs(configs / "station-sim.toml", configs / "sequence-paper.toml", limits);
+  ASSERT_FALSE(all);
+  EXPECT_EQ(all.error().ToString(), limits.string() + ": is a directory, not a file");
+}
+
+TEST_F(ConfigPathTest, StationAndSequencePathsThatAreDirectoriesSaySo) {
+  const fs::path path = dir_ / "limits-dir.toml";
+  auto station = LoadStationConfig(path);
+  ASSERT_FALSE(station);
+  EXPECT_NE(station.error().message.find("is a directory"), std::string::npos);
+  auto sequence = LoadSequenceConfig(path);
+  ASSERT_FALSE(sequence);
+  EXPECT_NE(sequence.error().message.find("is a directory"), std::string::npos);
+}
+
+TEST_F(ConfigPathTest, OversizedFileIsRefusedUnread) {
+  const fs::path path = dir_ / "limits-big.toml";
+  { std::ofstream(path) << kLimits; }
+  fs::resize_file(path, std::uintmax_t{64} << 20);  // sparse
+  auto limits = LoadLimitsConfig(path);
+  ASSERT_FALSE(limits);
+  EXPECT_EQ(limits.error().ToString(),
+            path.string() + ": file too large: 67108864 bytes (a config file has at most 1048576)");
+}
+
+}  // namespace
+}  // namespace hrgbench::bench
