@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "app/station_factory.hpp"
-#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {

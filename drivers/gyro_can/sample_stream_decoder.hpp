@@ -29,10 +29,10 @@
 namespace hrgbench::drivers::gyro_can {
 
 struct SampleStreamCounters {
-  std::uint64_t samples_decoded = 0;  // whole samples put into the ring
-  std::uint64_t sequence_gaps = 0;    // breaks in the frame sequence (events)
-  std::uint64_t samples_lost = 0;     // sample numbers skipped (incomplete or never seen)
-  std::uint64_t buffer_overruns = 0;  // whole samples discarded because the ring was full
+  std::uint64_t samples_decoded = 0;           // whole samples put into the ring
+  std::uint64_t sequence_gaps = 0;             // breaks in the frame sequence (events)
+  std::uint64_t samples_lost = 0;              // sample numbers skipped (incomplete or never seen)
+  std::uint64_t buffer_overruns = 0;           // whole samples discarded because the ring was full
   std::uint64_t reference_phases_missing = 0;  // samples delivered unturned: no report after them
 };
 

@@ -62,15 +62,15 @@ inline constexpr int kServerDeviceFailure = 4;  // motion refused: fault, e-stop
 // Input registers (read-only, FC 04): the status block (0..10, one read of kStatusCount) and,
 // from map version 2, the angle block (11..15, one read of kAngleCount from kAngleFirst).
 namespace input {
-inline constexpr int kStatusBits = 0;     // StatusBit flags
-inline constexpr int kFaultCode = 1;      // RateTableFault
-inline constexpr int kCommandedRate = 2;  // float32 rad/s, the setpoint being followed
-inline constexpr int kMeasuredRate = 4;   // float32 rad/s
-inline constexpr int kMode = 6;           // RateTableMode actually active
-inline constexpr int kHeartbeatEcho = 7;  // last heartbeat value received
-inline constexpr int kTemperature = 8;    // float32 °C
-inline constexpr int kMapVersion = 10;    // kMapVersion
-inline constexpr int kStatusCount = 11;   // the status block: registers 0..10 (all of version 1)
+inline constexpr int kStatusBits = 0;      // StatusBit flags
+inline constexpr int kFaultCode = 1;       // RateTableFault
+inline constexpr int kCommandedRate = 2;   // float32 rad/s, the setpoint being followed
+inline constexpr int kMeasuredRate = 4;    // float32 rad/s
+inline constexpr int kMode = 6;            // RateTableMode actually active
+inline constexpr int kHeartbeatEcho = 7;   // last heartbeat value received
+inline constexpr int kTemperature = 8;     // float32 °C
+inline constexpr int kMapVersion = 10;     // kMapVersion
+inline constexpr int kStatusCount = 11;    // the status block: registers 0..10 (all of version 1)
 inline constexpr int kEncoderStatus = 11;  // EncoderBit flags
 inline constexpr int kEncoderCount = 12;   // uint32, registers 12-13: count modulo 2^32
 inline constexpr int kCountsPerRev = 14;   // uint32, registers 14-15: encoder resolution

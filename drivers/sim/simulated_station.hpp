@@ -41,11 +41,11 @@
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/hw/rate_table.hpp"
-#include "sim/gyro_sim_node.hpp"
-#include "sim/table_physics.hpp"
 #include "sim/clocked_can_endpoint.hpp"
+#include "sim/gyro_sim_node.hpp"
 #include "sim/in_process_rate_table.hpp"
 #include "sim/simulated_station_options.hpp"
+#include "sim/table_physics.hpp"
 #include "sim/virtual_time_clock.hpp"
 
 namespace hrgbench::drivers::sim_station {

@@ -19,8 +19,8 @@
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "sim/gyro_sim_options.hpp"
-#include "sim/table_physics.hpp"
 #include "sim/in_process_rate_table.hpp"
+#include "sim/table_physics.hpp"
 
 namespace hrgbench::drivers::sim_station {
 
@@ -72,7 +72,7 @@ struct SimulatedStationOptions {
   std::int64_t can_bit_rate_bps = 1'000'000;
   bool can_fd = false;                             // FD bus; gyro_link.prefer_fd
   std::int64_t can_data_bit_rate_bps = 5'000'000;  // FD data phase
-  std::size_t host_queue_frames = 4096;  // the gyro driver's receive queue (2 s at 1 kHz)
+  std::size_t host_queue_frames = 4096;            // the gyro driver's receive queue (2 s at 1 kHz)
   // Each simulated electronics' transmit queue, frames: a CAN controller's mailboxes and its
   // firmware's queue. On an overloaded bus the queue fills and frames are lost at the source
   // (sample overrun, fault bit 4), as on a real bus. 0: unlimited (the node falls behind instead).

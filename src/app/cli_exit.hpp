@@ -2,11 +2,11 @@
 // What every tool's main shares: the exit-code table (hrgbench/session/exit_codes.hpp, printed by
 // each --help), the command-line parse and the catch-all.
 
-#include <exception>
-#include <string>
+#include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
+#include <exception>
+#include <string>
 
 #include "hrgbench/session/exit_codes.hpp"
 #include "logging.hpp"

@@ -40,13 +40,13 @@
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
 #include "app/unit_history.hpp"
-#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
-#include "hrgbench/session/exit_codes.hpp"
-#include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
 #include "hrgbench/analysis/verdict_json.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/report/session_report.hpp"
+#include "hrgbench/session/exit_codes.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {
@@ -56,8 +56,8 @@ using namespace hrgbench;
 std::atomic<int> g_interrupts{0};
 std::atomic<int> g_interrupt_signal{0};  // the first interrupt's signal, for the record
 
-// First Ctrl-C (or SIGTERM): the session stops safely (table to zero, gyro stopped, record closed as
-// ABORTED). Second: exit at once. Both are async-signal-safe (a lock-free atomic and _exit).
+// First Ctrl-C (or SIGTERM): the session stops safely (table to zero, gyro stopped, record closed
+// as ABORTED). Second: exit at once. Both are async-signal-safe (a lock-free atomic and _exit).
 extern "C" void OnInterrupt(int signal) {
   int none = 0;
   g_interrupt_signal.compare_exchange_strong(none, signal);

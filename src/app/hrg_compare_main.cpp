@@ -12,8 +12,8 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
-#include "hrgbench/analysis/estimate_method.hpp"
 #include "app/logging.hpp"
+#include "hrgbench/analysis/estimate_method.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace {
@@ -46,9 +46,9 @@ std::string Number(double value, const char* format) {
 
 int Run(const std::string& dir) {
   session::ReadOptions read_options;
-  read_options.min_samples_per_run =
-      std::max({bench::MinimumSamples(bench::Method::kMl), bench::MinimumSamples(bench::Method::kPaper),
-                bench::MinimumSamples(bench::Method::kPaperXiGrid)});
+  read_options.min_samples_per_run = std::max({bench::MinimumSamples(bench::Method::kMl),
+                                               bench::MinimumSamples(bench::Method::kPaper),
+                                               bench::MinimumSamples(bench::Method::kPaperXiGrid)});
   auto session = session::ReadSession(dir, read_options);
   if (!session) {
     std::cerr << session.error().ToString() << '\n';
@@ -123,5 +123,6 @@ int main(int argc, char** argv) {
   bool quiet = false;
   cli.add_option("dir", dir, "session directory")->required();
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-compare", quiet, [&] { return Run(dir); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-compare", quiet,
+                                    [&] { return Run(dir); });
 }

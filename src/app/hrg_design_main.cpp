@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "app/cli_exit.hpp"
-#include "hrgbench/analysis/estimate_report_json.hpp"
 #include "app/logging.hpp"
 #include "app/sim_spec.hpp"
+#include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
 
 namespace {

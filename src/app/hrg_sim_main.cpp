@@ -82,5 +82,6 @@ int main(int argc, char** argv) {
   cli.add_option("-o,--output", out_dir, "session directory to write")->required();
   cli.add_flag("--force", force, "write into a non-empty directory (replaces an earlier session)");
   hrgbench::app::AddCommonFlags(cli, &quiet);
-  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-sim", quiet, [&] { return Run(spec_path, out_dir, force); });
+  return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-sim", quiet,
+                                    [&] { return Run(spec_path, out_dir, force); });
 }

@@ -9,13 +9,13 @@
 #include <utility>
 
 #include "gyro_can/gyro_traffic_replay.hpp"
-#include "hrgbench/session/candump_log.hpp"
-#include "hrgbench/bench/capture/capture.hpp"
 #include "hrgbench/analysis/estimate_method.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
-#include "hrgbench/config/sequence_config.hpp"
+#include "hrgbench/bench/capture/capture.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/session/candump_log.hpp"
 #include "hrgbench/session/number_text.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"

@@ -6,8 +6,8 @@
 #include <string>
 #include <utility>
 
-#include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 

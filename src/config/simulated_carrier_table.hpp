@@ -7,8 +7,8 @@
 
 #include <expected>
 
-#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/config/config_error.hpp"
+#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/config/toml_reader.hpp"
 
 namespace hrgbench::bench::internal {

@@ -10,12 +10,12 @@
 #include <utility>
 
 #include "config/simulated_carrier_table.hpp"
-#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/results_url.hpp"
+#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/config/toml_reader.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
-#include "hrgbench/config/results_url.hpp"
 
 namespace hrgbench::bench {
 namespace {

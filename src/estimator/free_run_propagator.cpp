@@ -43,13 +43,13 @@ FreeRunPropagator::FreeRunPropagator(double omega_rad_s, const Delta& d) noexcep
 PropagatorScalars FreeRunPropagator::Scalars(double t) const noexcept {
   PropagatorScalars s;
   s.decay = std::exp(alpha_ * t);
-  const Complex m = mu2_ * (t * t);  // μ²t²
+  const Complex m = mu2_ * (t * t);                          // μ²t²
   if (std::norm(m) < kSeriesThreshold * kSeriesThreshold) {  // |m| without hypot
     // f0 = Σ m^n/(2n)!, f1 = t·Σ m^n/(2n+1)!, ∂f1/∂μ² = t³·Σ (n+1)·m^n/(2n+3)!.
     Complex f0 = 0.0, g1 = 0.0, g2 = 0.0, mn = 1.0;
     double fact_even = 1.0;  // (2n)!
     for (int n = 0; n < 7; ++n) {
-      const double fact_odd = fact_even * (2 * n + 1);       // (2n+1)!
+      const double fact_odd = fact_even * (2 * n + 1);                // (2n+1)!
       const double fact_odd3 = fact_odd * (2 * n + 2) * (2 * n + 3);  // (2n+3)!
       f0 += mn / fact_even;
       g1 += mn / fact_odd;
@@ -78,7 +78,8 @@ CMatrix2 FreeRunPropagator::Transition(const PropagatorScalars& s) const noexcep
   return s.decay * phi;
 }
 
-CVector2 FreeRunPropagator::Propagate(const PropagatorScalars& s, const CVector2& u0) const noexcept {
+CVector2 FreeRunPropagator::Propagate(const PropagatorScalars& s,
+                                      const CVector2& u0) const noexcept {
   return s.decay * (s.f0 * u0 + s.f1 * (b_ * u0));
 }
 

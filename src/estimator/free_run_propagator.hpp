@@ -10,16 +10,16 @@
 // in μ² give ∂exp(A·t)/∂δ in closed form: ∂f0/∂μ² = t·f1/2, ∂f1/∂μ² = (t·f0 − f1)/(2μ²) (series
 // near μ = 0). Every time stamp is evaluated directly, so irregular sampling costs nothing and
 // nothing accumulates over long runs.
-// The distortion is complex-linear as well: I + C = [[1 + p, q], [q, 1 − p]], p = ξ1 − iξ2, q = ξ4 − iξ3.
+// The distortion is complex-linear as well: I + C = [[1 + p, q], [q, 1 − p]], p = ξ1 − iξ2, q = ξ4
+// − iξ3.
 //
 // Internal to the estimator library.
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <complex>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hrgbench/estimator/parameters.hpp"
 
@@ -31,10 +31,10 @@ using CMatrix2 = Eigen::Matrix<Complex, 2, 2>;
 
 // Scalar functions of one time stamp.
 struct PropagatorScalars {
-  double decay = 1.0;       // e^{αt}
-  Complex f0 = 1.0;         // cosh(μt)
-  Complex f1 = 0.0;         // sinh(μt)/μ
-  Complex df1_dmu2 = 0.0;   // ∂f1/∂μ²
+  double decay = 1.0;      // e^{αt}
+  Complex f0 = 1.0;        // cosh(μt)
+  Complex f1 = 0.0;        // sinh(μt)/μ
+  Complex df1_dmu2 = 0.0;  // ∂f1/∂μ²
 };
 
 class FreeRunPropagator {
@@ -83,8 +83,8 @@ class FreeRunPropagator {
   std::array<int, 6> pauli_{};  // 0 = σx, 1 = σy, 2 = σz
   std::array<Complex, 6> dmu2_{};
   double omega_rad_s_ = 0.0;
-  Complex mu_inv_;                 // 1/μ (0 when μ = 0)
-  Complex half_mu2_inv_;           // 1/(2μ²)
+  Complex mu_inv_;        // 1/μ (0 when μ = 0)
+  Complex half_mu2_inv_;  // 1/(2μ²)
 };
 
 inline constexpr int kResyncSamples = 64;

@@ -1,10 +1,9 @@
 #include "hrgbench/estimator/identifiability.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Eigenvalues>
 
 namespace hrgbench::estimator {
 
@@ -104,8 +103,8 @@ double CheckInformation(const Eigen::MatrixXd& information, const std::array<boo
           scaled(i, j) = information(active[i], active[j]) * scale[i] * scale[j];
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
       const Eigen::VectorXd& values = eig.eigenvalues();  // ascending
-      condition = values[0] > 0.0 ? values[n - 1] / values[0]
-                                  : std::numeric_limits<double>::infinity();
+      condition =
+          values[0] > 0.0 ? values[n - 1] / values[0] : std::numeric_limits<double>::infinity();
       if (condition <= options.max_condition) break;
       // The parameter with the largest share of the nearly null direction goes first.
       eig.eigenvectors().col(0).cwiseAbs().maxCoeff(&worst);

@@ -5,11 +5,12 @@
 // amplifying it). The distortion ξ enters to first order as Ω-proportional anisotropies,
 // (δ3, δ4, δ5, δ6)_eff = (δ3 − 4Ωδ2ξ4, δ4 + 4Ωδ2ξ1, δ5 + 4Ωδ2ξ3, δ6 − 4Ωδ2ξ2), so one extra column
 // Ω·Mδ[:, j] per estimated ξ gives ξ from its coefficient. ξ held fixed is removed exactly first.
+#include "integral_equation_error.hpp"
+
 #include <cmath>
 
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/model.hpp"
-#include "integral_equation_error.hpp"
 #include "least_squares_util.hpp"
 #include "parallel_for.hpp"
 
@@ -91,9 +92,9 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
       if (!delta_free[j]) *lhs -= m.col(j) * delta_fixed[j];
     for (Eigen::Index c = 0; c < n; ++c) {
       const auto which = static_cast<std::size_t>(columns[static_cast<std::size_t>(c)]);
-      row_block->col(c) = which < 6 ? Forms(m.col(static_cast<Eigen::Index>(which)))
-                                    : Forms(m.col(kXiColumn[which - 6]) *
-                                            (4.0 * omega * kXiSign[which - 6]));
+      row_block->col(c) =
+          which < 6 ? Forms(m.col(static_cast<Eigen::Index>(which)))
+                    : Forms(m.col(kXiColumn[which - 6]) * (4.0 * omega * kXiSign[which - 6]));
     }
   };
 

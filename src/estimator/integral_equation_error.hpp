@@ -1,10 +1,9 @@
 #pragma once
 // Internal entry point of the integral equation-error estimator (see integral_equation_error.cpp).
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"

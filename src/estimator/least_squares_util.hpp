@@ -1,12 +1,11 @@
 #pragma once
 // Small helpers shared by the estimators. Internal to the estimator library.
 
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
 
 #include "hrgbench/estimator/run_data.hpp"
 
@@ -67,7 +66,8 @@ inline bool ValidateRunData(const std::vector<RunData>& runs, std::size_t min_sa
   }
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const RunData& run = runs[r];
-    const std::string name = "run " + std::to_string(run.id != 0 ? run.id : static_cast<int>(r + 1));
+    const std::string name =
+        "run " + std::to_string(run.id != 0 ? run.id : static_cast<int>(r + 1));
     if (static_cast<Eigen::Index>(run.t_s.size()) != run.y.cols()) {
       *why = name + ": " + std::to_string(run.t_s.size()) + " time stamps but " +
              std::to_string(run.y.cols()) + " samples";

@@ -20,9 +20,9 @@ Matrix4 SystemMatrix(double omega_rad_s, const Delta& d) noexcept {
 Matrix4 DistortionMatrix(const Xi& xi) noexcept {
   const double x1 = xi[0], x2 = xi[1], x3 = xi[2], x4 = xi[3];
   Matrix4 c;
-  c << x1, x2, x4, x3,    //
-      -x2, x1, -x3, x4,   //
-      x4, x3, -x1, -x2,   //
+  c << x1, x2, x4, x3,   //
+      -x2, x1, -x3, x4,  //
+      x4, x3, -x1, -x2,  //
       -x3, x4, x2, -x1;
   return c;
 }
@@ -91,15 +91,16 @@ Matrix46 FirstOrderFormsRegressor(double omega_rad_s, const Forms& r, double lam
   const double ac = r[kAc], as = r[kAs], k = r[kK], s = r[kS];
   const double w = omega_rad_s;
   Matrix46 m;
-  m << ac, 2 * w * as + 4 * w * phi * k, s, 2 * lambda * as, 0, -k + 2 * phi * as,  //
+  m << ac, 2 * w * as + 4 * w * phi * k, s, 2 * lambda * as, 0, -k + 2 * phi * as,     //
       as, -2 * w * ac + 4 * w * lambda * s, 0, s - 2 * lambda * ac, k, -2 * phi * ac,  //
-      k, -4 * w * phi * ac, 0, 2 * phi * s, -as, ac - 2 * lambda * s,  //
+      k, -4 * w * phi * ac, 0, 2 * phi * s, -as, ac - 2 * lambda * s,                  //
       s, 4 * w * lambda * as, ac, as + 2 * phi * k, 0, -2 * lambda * k;
   return m;
 }
 
 State UndistortExact(const Xi& xi, const Observation& y) noexcept {
-  // I + C on u = (x1 + i·x2, x3 + i·x4) is [[1 + p, q], [q, 1 − p]] with p = ξ1 − iξ2, q = ξ4 − iξ3.
+  // I + C on u = (x1 + i·x2, x3 + i·x4) is [[1 + p, q], [q, 1 − p]] with p = ξ1 − iξ2, q = ξ4 −
+  // iξ3.
   using C = std::complex<double>;
   const C p(xi[0], -xi[1]);
   const C q(xi[3], -xi[2]);

@@ -1,8 +1,8 @@
 #pragma once
 // Marks a sample loop that must not allocate. In the checked build of the library (compiled with
 // EIGEN_RUNTIME_NO_MALLOC and assertions on, used by tests/unit/estimator/allocation_test.cpp) any
-// Eigen heap allocation inside the scope aborts; in normal builds this is empty. Eigen's flag is one
-// global, so the checked build is exercised single-threaded.
+// Eigen heap allocation inside the scope aborts; in normal builds this is empty. Eigen's flag is
+// one global, so the checked build is exercised single-threaded.
 //
 // Internal to the estimator library.
 
@@ -21,7 +21,8 @@ class NoAllocationScope {
  private:
   bool previous_;
 #else
-  // User-provided (not defaulted) so that an unused-variable warning does not fire in normal builds.
+  // User-provided (not defaulted) so that an unused-variable warning does not fire in normal
+  // builds.
   NoAllocationScope() {}
   ~NoAllocationScope() {}
 #endif

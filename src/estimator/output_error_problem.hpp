@@ -27,9 +27,8 @@
 //
 // Internal to the estimator library.
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"

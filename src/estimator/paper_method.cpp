@@ -1,9 +1,8 @@
 #include "hrgbench/estimator/paper_method.hpp"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Cholesky>
 
 #include "hrgbench/estimator/model.hpp"
 #include "least_squares_util.hpp"
@@ -14,10 +13,10 @@ namespace {
 // One equation of the paper's method: at the centre of each derivative window, the line-fit slope
 // of r and the line-fit value of r (the window mean, which is the fit's value at the mean time).
 struct WindowEquations {
-  std::vector<double> omega_rad_s;            // per equation
-  std::vector<Forms> r_centre;                // regressor point
-  std::vector<Forms> dr_dt;                   // numerical derivative
-  std::vector<std::size_t> run_of_equation;   // index into runs
+  std::vector<double> omega_rad_s;           // per equation
+  std::vector<Forms> r_centre;               // regressor point
+  std::vector<Forms> dr_dt;                  // numerical derivative
+  std::vector<std::size_t> run_of_equation;  // index into runs
 };
 
 WindowEquations BuildWindowEquations(const std::vector<RunData>& runs, int window) {
@@ -105,8 +104,9 @@ bool ValidateRuns(const std::vector<RunData>& runs, const PaperOptions& options,
   return true;
 }
 
-void Finish(const WindowEquations& eq, std::size_t n_runs, const Eigen::Matrix<double, 6, 6>& normal,
-            const std::vector<double>& per_run_sse, double sse, EstimateSummary* s) {
+void Finish(const WindowEquations& eq, std::size_t n_runs,
+            const Eigen::Matrix<double, 6, 6>& normal, const std::vector<double>& per_run_sse,
+            double sse, EstimateSummary* s) {
   const std::size_t n_obs = 4 * eq.r_centre.size();
   std::vector<std::size_t> per_run_count(n_runs, 0);
   for (std::size_t r : eq.run_of_equation) per_run_count[r] += 4;
@@ -176,7 +176,8 @@ EstimateSummary EstimatePaperXiGrid(const std::vector<RunData>& runs, const Pape
   if (!ValidateRuns(runs, options, &s)) return s;
   const WindowEquations eq = BuildWindowEquations(runs, options.derivative_window);
   const auto points =
-      static_cast<long>(std::floor((options.xi1_max - options.xi1_min) / options.xi1_step + 1e-9)) + 1;
+      static_cast<long>(std::floor((options.xi1_max - options.xi1_min) / options.xi1_step + 1e-9)) +
+      1;
   double best_sse = std::numeric_limits<double>::infinity();
   double best_xi1 = kNaN;
   Delta best_delta = Delta::Constant(kNaN);

@@ -17,7 +17,8 @@ namespace hrgbench::estimator::internal {
 inline int ResolveThreads(int requested, std::size_t tasks) {
   int threads = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
   threads = std::max(1, threads);
-  return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), std::max<std::size_t>(1, tasks)));
+  return static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(threads), std::max<std::size_t>(1, tasks)));
 }
 
 template <typename Fn>

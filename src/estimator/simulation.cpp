@@ -30,7 +30,8 @@ bool PlanIsValid(const RunPlan& p, std::size_t index, std::string* why) {
     return fail("non-finite rate or orbit element");
   if (!(p.sample_rate_hz > 0.0) || !std::isfinite(p.sample_rate_hz))
     return fail("sample_rate_hz must be > 0");
-  if (!(p.duration_s >= 0.0) || !std::isfinite(p.duration_s)) return fail("duration_s must be >= 0");
+  if (!(p.duration_s >= 0.0) || !std::isfinite(p.duration_s))
+    return fail("duration_s must be >= 0");
   if (p.duration_s * p.sample_rate_hz > 1e9) return fail("more than 1e9 samples");
   return true;
 }
@@ -86,8 +87,8 @@ State PropagateExact(double omega_rad_s, const Delta& delta, const State& x0, do
   return internal::ToReal(propagator.Propagate(propagator.Scalars(t_s), internal::ToComplex(x0)));
 }
 
-std::vector<RunData> SimulateRuns(const std::vector<RunPlan>& plans, const SimulationOptions& options,
-                                  std::string* why) {
+std::vector<RunData> SimulateRuns(const std::vector<RunPlan>& plans,
+                                  const SimulationOptions& options, std::string* why) {
   if (!options.IsValid(why)) return {};
   for (std::size_t r = 0; r < plans.size(); ++r)
     if (!PlanIsValid(plans[r], r, why)) return {};
@@ -100,8 +101,8 @@ std::vector<RunData> SimulateRuns(const std::vector<RunPlan>& plans, const Simul
     // One independent stream per run, so adding a run never changes the noise of the others.
     NormalGenerator noise(options.seed + 0x9E3779B97F4A7C15ull * (r + 1));
     const internal::FreeRunPropagator propagator(plan.omega_rad_s, options.delta);
-    const internal::CVector2 u0 = internal::ToComplex(
-        OrbitToState(Orbit{plan.a, plan.b, plan.theta_rad, plan.phi_rad}));
+    const internal::CVector2 u0 =
+        internal::ToComplex(OrbitToState(Orbit{plan.a, plan.b, plan.theta_rad, plan.phi_rad}));
     // Samples at k/fs for k = 0..n−1, n = round(duration·fs): a 10 s run at 100 Hz has 1000 samples
     // ending at 9.99 s, as the reference data and a capture of `duration` seconds have.
     const auto n = std::max<Eigen::Index>(

@@ -7,13 +7,20 @@ namespace hrgbench::estimator {
 
 const char* ToString(Termination termination) noexcept {
   switch (termination) {
-    case Termination::kNotRun: return "not run";
-    case Termination::kConverged: return "converged";
-    case Termination::kMaxIterations: return "max iterations";
-    case Termination::kNoProgress: return "no progress";
-    case Termination::kInvalidInput: return "invalid input";
-    case Termination::kNotIdentifiable: return "not identifiable";
-    case Termination::kNumericalFailure: return "numerical failure";
+    case Termination::kNotRun:
+      return "not run";
+    case Termination::kConverged:
+      return "converged";
+    case Termination::kMaxIterations:
+      return "max iterations";
+    case Termination::kNoProgress:
+      return "no progress";
+    case Termination::kInvalidInput:
+      return "invalid input";
+    case Termination::kNotIdentifiable:
+      return "not identifiable";
+    case Termination::kNumericalFailure:
+      return "numerical failure";
   }
   return "unknown";
 }

@@ -82,7 +82,8 @@ std::expected<void, RecordError> TrimToLastNewline(const fs::path& path) {
   }
   std::expected<void, RecordError> result;
   if (keep != st.st_size) {
-    if (::ftruncate(fd, keep) != 0 || ::fsync(fd) != 0) result = IoError(path, "cannot trim", errno);
+    if (::ftruncate(fd, keep) != 0 || ::fsync(fd) != 0)
+      result = IoError(path, "cannot trim", errno);
   }
   ::close(fd);
   return result;
@@ -104,8 +105,8 @@ AppendFile::AppendFile(fs::path path, int fd, std::int64_t flush_interval_ns)
 
 std::expected<std::unique_ptr<AppendFile>, RecordError> AppendFile::Open(
     const fs::path& path, Mode mode, std::int64_t flush_interval_ns) {
-  const int flags = O_WRONLY | O_CLOEXEC | O_APPEND |
-                    (mode == Mode::kCreateNew ? O_CREAT | O_EXCL : O_CREAT);
+  const int flags =
+      O_WRONLY | O_CLOEXEC | O_APPEND | (mode == Mode::kCreateNew ? O_CREAT | O_EXCL : O_CREAT);
   const int fd = ::open(path.c_str(), flags, 0666);
   if (fd < 0) return IoError(path, "cannot create", errno);
   // A new file's directory entry must survive a power loss as well as its data.

@@ -1,5 +1,3 @@
-#include "hrgbench/session/session.hpp"
-
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -10,6 +8,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "hrgbench/session/session.hpp"
 
 namespace hrgbench::session {
 namespace {

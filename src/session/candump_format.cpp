@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "hrgbench/session/candump_log.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
+#include "hrgbench/session/candump_log.hpp"
 
 namespace hrgbench::bench {
 namespace {

@@ -32,8 +32,8 @@ std::expected<CandumpLogWriter, RecordError> CandumpLogWriter::Open(
     }
   }
   auto file = internal::AppendFile::Open(
-      path, options.append ? internal::AppendFile::Mode::kAppend
-                           : internal::AppendFile::Mode::kCreateNew,
+      path,
+      options.append ? internal::AppendFile::Mode::kAppend : internal::AppendFile::Mode::kCreateNew,
       options.flush_interval_ns);
   if (!file) return std::unexpected(file.error());
   CandumpLogWriter writer;

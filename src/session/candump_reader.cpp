@@ -9,8 +9,8 @@
 #include <system_error>
 #include <utility>
 
-#include "hrgbench/session/candump_log.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
+#include "hrgbench/session/candump_log.hpp"
 
 namespace hrgbench::bench {
 namespace {

@@ -49,17 +49,17 @@ std::expected<void, RecordError> RunCsvStream::Append(std::span<const GyroSample
     return std::unexpected(RecordError{RecordErrorKind::kWrongState, {}, "run file closed"});
   }
   auto refuse = [this](std::uint64_t index, std::string message) {
-    return std::unexpected(RecordError{
-        RecordErrorKind::kInvalidArgument, file_->path(),
-        "sample " + std::to_string(samples_ + index) + ": " + std::move(message)});
+    return std::unexpected(
+        RecordError{RecordErrorKind::kInvalidArgument, file_->path(),
+                    "sample " + std::to_string(samples_ + index) + ": " + std::move(message)});
   };
   double previous_t_s = last_t_s_;
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const GyroSampleRecord& s = samples[k];
     if (!std::isfinite(s.t_s)) return refuse(k, "non-finite t_s " + Show(s.t_s));
     if ((samples_ > 0 || k > 0) && !(s.t_s > previous_t_s)) {
-      return refuse(k, "t_s not strictly increasing: " + Show(s.t_s) + " after " +
-                           Show(previous_t_s));
+      return refuse(k,
+                    "t_s not strictly increasing: " + Show(s.t_s) + " after " + Show(previous_t_s));
     }
     previous_t_s = s.t_s;
     for (int c = 0; c < 4; ++c) {
@@ -107,8 +107,8 @@ std::expected<void, RecordError> RunCsvStream::Append(std::span<const GyroSample
 
 std::expected<void, RecordError> RunCsvStream::Finish(const fs::path& final_path) {
   if (!file_ || !file_->is_open()) {
-    return std::unexpected(RecordError{RecordErrorKind::kWrongState, final_path,
-                                       "run file closed"});
+    return std::unexpected(
+        RecordError{RecordErrorKind::kWrongState, final_path, "run file closed"});
   }
   const fs::path partial = file_->path();
   if (auto closed = file_->Close(); !closed) {

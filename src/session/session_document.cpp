@@ -84,9 +84,10 @@ json ToJson(const RunEnd& end, std::uint64_t samples) {
 json ToJson(const SessionOutcome& outcome) {
   json failed = json::array();
   for (const FailedParameter& p : outcome.failed_parameters) {
-    failed.push_back(
-        json{{"name", p.name}, {"value", Number(p.value)}, {"min", Number(p.min)},
-             {"max", Number(p.max)}});
+    failed.push_back(json{{"name", p.name},
+                          {"value", Number(p.value)},
+                          {"min", Number(p.min)},
+                          {"max", Number(p.max)}});
   }
   json out{{"kind", std::string(ToString(outcome.kind))},
            {"exit_code", ExitCode(outcome.kind)},

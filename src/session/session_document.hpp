@@ -2,13 +2,12 @@
 // Internal: the bench's additions to session.json as JSON values, and back (for resume).
 
 #include <expected>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_outcome.hpp"
 #include "hrgbench/session/session_record_types.hpp"
-#include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench::internal {
 

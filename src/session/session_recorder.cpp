@@ -65,8 +65,8 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
           RecordError{RecordErrorKind::kIo, dir, "exists and is not a directory"});
     }
     if (!fs::is_empty(dir, ec)) {
-      return std::unexpected(RecordError{RecordErrorKind::kDirectoryNotEmpty, dir,
-                                         "session directory is not empty"});
+      return std::unexpected(
+          RecordError{RecordErrorKind::kDirectoryNotEmpty, dir, "session directory is not empty"});
     }
   }
   for (const fs::path& d : {dir, dir / "runs", dir / "can"}) {
@@ -85,12 +85,11 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   doc["station"] = {{"name", header.station_name}};
   doc["software"] = {{"version", header.software_version}};
   doc["realtime"] = header.realtime_status;
-  doc["config_sha256"] = {
-      {"station", header.config_sha256.station_sha256},
-      {"sequence", header.config_sha256.sequence_sha256},
-      {"limits", header.config_sha256.limits_sha256.empty()
-                     ? json(nullptr)
-                     : json(header.config_sha256.limits_sha256)}};
+  doc["config_sha256"] = {{"station", header.config_sha256.station_sha256},
+                          {"sequence", header.config_sha256.sequence_sha256},
+                          {"limits", header.config_sha256.limits_sha256.empty()
+                                         ? json(nullptr)
+                                         : json(header.config_sha256.limits_sha256)}};
   doc["started"] = internal::TimeStampNow();
   doc["can_log"] = {
       {"file", "can/session.log"}, {"interface", header.can_interface}, {"node", header.can_node}};
@@ -130,8 +129,7 @@ std::expected<void, RecordError> SessionRecorder::BeginRun(int run_id, const Run
   Impl& m = *impl_;
   if (m.closed) return std::unexpected(m.WrongState("session is closed"));
   if (m.open_run) {
-    return std::unexpected(
-        m.WrongState("run " + std::to_string(*m.open_run) + " is still open"));
+    return std::unexpected(m.WrongState("run " + std::to_string(*m.open_run) + " is still open"));
   }
   const int index = m.IndexOf(run_id);
   if (index < 0) {
@@ -163,9 +161,9 @@ std::expected<void, RecordError> SessionRecorder::BeginRun(int run_id, const Run
     object["attempts"].push_back(std::move(attempt));
   }
 
-  auto stream = internal::RunCsvStream::Open(m.dir / (final_name + ".partial"),
-                                             start.with_measured_omega, start.with_temperature,
-                                             m.options.flush_interval_ns);
+  auto stream =
+      internal::RunCsvStream::Open(m.dir / (final_name + ".partial"), start.with_measured_omega,
+                                   start.with_temperature, m.options.flush_interval_ns);
   if (!stream) return std::unexpected(stream.error());
   m.stream = std::move(*stream);
   m.open_run = run_id;
@@ -244,9 +242,9 @@ std::expected<void, RecordError> SessionRecorder::Close(const SessionOutcome& ou
   Impl& m = *impl_;
   if (m.closed) return std::unexpected(m.WrongState("session is closed"));
   if (outcome.kind != OutcomeKind::kPass && outcome.reason.empty()) {
-    return std::unexpected(RecordError{RecordErrorKind::kInvalidArgument, m.dir,
-                                       std::string(ToString(outcome.kind)) +
-                                           " outcome needs a reason"});
+    return std::unexpected(
+        RecordError{RecordErrorKind::kInvalidArgument, m.dir,
+                    std::string(ToString(outcome.kind)) + " outcome needs a reason"});
   }
   m.closed = true;
   std::expected<void, RecordError> first_error;
@@ -288,8 +286,7 @@ std::vector<RecordedRun> SessionRecorder::Runs() const {
     const auto attempts = object.find("attempts");
     out.push_back(RecordedRun{
         impl_->plans[i], impl_->session.runs[i].status, impl_->session.runs[i].file,
-        attempts != object.end() && attempts->is_array() ? static_cast<int>(attempts->size())
-                                                          : 0});
+        attempts != object.end() && attempts->is_array() ? static_cast<int>(attempts->size()) : 0});
   }
   return out;
 }

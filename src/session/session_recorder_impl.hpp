@@ -5,15 +5,14 @@
 
 #include <expected>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "hrgbench/session/candump_log.hpp"
-#include "hrgbench/session/session_recorder.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 #include "run_csv_stream.hpp"
 
 namespace hrgbench::bench {

@@ -5,8 +5,8 @@
 #include <system_error>
 
 #include "append_file.hpp"
-#include "hrgbench/session/session_recorder.hpp"
 #include "hrgbench/session/session_record.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
 

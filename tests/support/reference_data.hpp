@@ -1,13 +1,13 @@
 #pragma once
-// The reference sessions of ../shared/reference-data (copied to tests/data/reference): written by an
-// independent numpy prototype, with that prototype's answers in expected.json.
-
-#include <fstream>
-#include <string>
-#include <vector>
+// The reference sessions of ../shared/reference-data (copied to tests/data/reference): written by
+// an independent numpy prototype, with that prototype's answers in expected.json.
 
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"

@@ -29,8 +29,7 @@ inline std::vector<bench::GyroSampleRecord> SyntheticSamples(int run_id, std::si
     s.seq = static_cast<std::uint32_t>(k);
     s.t_s = static_cast<double>(k) / sample_rate_hz;
     for (int c = 0; c < 4; ++c) {
-      s.y[c] = std::exp(-s.t_s / 50.0) * std::cos(2 * kPi * 3.0 * s.t_s + c * kPi / 4) +
-               noise(rng);
+      s.y[c] = std::exp(-s.t_s / 50.0) * std::cos(2 * kPi * 3.0 * s.t_s + c * kPi / 4) + noise(rng);
     }
     s.measured_omega_rad_s = omega_rad_s + 1e-6 * std::sin(s.t_s);
     s.temperature_c = 25.0 + 0.01 * s.t_s;
@@ -48,8 +47,7 @@ inline bench::SessionHeader SyntheticHeader(int runs = 3, double sample_rate_hz 
   header.realtime_status = "not permitted: running without SCHED_FIFO (test)";
   header.can_interface = "vcan0";
   for (int id = 1; id <= runs; ++id) {
-    header.runs.push_back(
-        bench::PlannedRun{id, 0.1 * id, 1.0, 0.0, 0.1 * id, 0.5, sample_rate_hz});
+    header.runs.push_back(bench::PlannedRun{id, 0.1 * id, 1.0, 0.0, 0.1 * id, 0.5, sample_rate_hz});
   }
   return header;
 }

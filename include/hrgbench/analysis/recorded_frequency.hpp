@@ -10,9 +10,8 @@
 // Pure function; never throws except std::bad_alloc (wrong types are treated as absent).
 
 #include <limits>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 namespace hrgbench::bench {
 

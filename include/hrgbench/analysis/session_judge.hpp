@@ -31,11 +31,11 @@
 #include <vector>
 
 #include "hrgbench/analysis/engineering_of_record.hpp"
-#include "hrgbench/config/limits_config.hpp"
-#include "hrgbench/session/session_outcome.hpp"
 #include "hrgbench/analysis/verdict.hpp"
+#include "hrgbench/config/limits_config.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
+#include "hrgbench/session/session_outcome.hpp"
 
 namespace hrgbench::bench {
 
@@ -83,6 +83,5 @@ int FixtureExitCode(std::span<const OutcomeKind> units) noexcept;
 bool KeepsVerdict(bool closed, OutcomeKind kind) noexcept;
 // The reason a kept verdict is reported with: "kept from before: <the recorded reason>".
 std::string KeptReason(std::string_view recorded_reason);
-
 
 }  // namespace hrgbench::bench

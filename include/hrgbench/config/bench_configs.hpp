@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "hrgbench/config/config_error.hpp"
 #include "hrgbench/config/limits_config.hpp"
 #include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/station_config.hpp"
-#include "hrgbench/config/config_error.hpp"
 #include "hrgbench/hw/gyro_link_load.hpp"
 
 namespace hrgbench::bench {

@@ -22,10 +22,10 @@
 #include <vector>
 
 #include "hrgbench/analysis/output_filter.hpp"
-#include "hrgbench/config/pickoff_declaration.hpp"
-#include "hrgbench/estimator/iq_convention.hpp"
-#include "hrgbench/config/site.hpp"
 #include "hrgbench/config/config_error.hpp"
+#include "hrgbench/config/pickoff_declaration.hpp"
+#include "hrgbench/config/site.hpp"
+#include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 
@@ -48,7 +48,7 @@ std::string_view ToString(OmegaSourceSetting setting) noexcept;
 // [gyro]: the gyro electronics' link. Timeouts apply to the simulated station too (its simulated
 // electronics speak the same protocol on an in-process bus); the CAN interface keys only to real.
 struct GyroLinkConfig {
-  std::string can_interface;         // real: SocketCAN interface name ("can0", "vcan0")
+  std::string can_interface;  // real: SocketCAN interface name ("can0", "vcan0")
   // The electronics' node id on the bus (0..15; gyro protocol v2): a station without [[fixture]].
   int can_node = 0;
   // Nominal bit rate, bit/s: real, set by `ip link` (checked); simulated, the in-process bus's
@@ -58,10 +58,10 @@ struct GyroLinkConfig {
   // FD data-phase bit rate, bit/s: real, fd only (default 2 Mbit/s); simulated, the in-process
   // bus's (5 Mbit/s, set by the loader).
   std::int64_t data_bitrate = 2'000'000;
-  std::int64_t ack_timeout_ms = 50;       // per command attempt; the electronics answer in < 5 ms
-  std::int64_t command_attempts = 3;      // attempts per command (a lost frame costs one retry)
-  std::int64_t status_poll_ms = 20;       // status request period while waiting for "ready"
-  std::int64_t sample_timeout_ms = 100;   // no sample for this long in a free run: "gyro stopped"
+  std::int64_t ack_timeout_ms = 50;      // per command attempt; the electronics answer in < 5 ms
+  std::int64_t command_attempts = 3;     // attempts per command (a lost frame costs one retry)
+  std::int64_t status_poll_ms = 20;      // status request period while waiting for "ready"
+  std::int64_t sample_timeout_ms = 100;  // no sample for this long in a free run: "gyro stopped"
   // The electronics' output low-pass (output_filter, output_filter_order, output_filter_cutoff_hz):
   // the shape of the pick-off noise the fit's checks assume. Default: none (white noise).
   OutputFilter output_filter;
@@ -104,10 +104,10 @@ struct TableLinkConfig {
 // [simulated.faults]: failure injection for tests; everything off by default. Absent optionals
 // mean "never".
 struct SimulatedFaults {
-  bool table_never_stable = false;                         // the table's rate never settles
-  std::optional<double> table_fault_after_s;               // table latches a drive fault after t s
-  std::optional<double> table_unresponsive_after_s;        // table stops answering after t s
-  std::optional<std::int64_t> gyro_stall_after_samples;    // gyro stops streaming in a free run
+  bool table_never_stable = false;                       // the table's rate never settles
+  std::optional<double> table_fault_after_s;             // table latches a drive fault after t s
+  std::optional<double> table_unresponsive_after_s;      // table stops answering after t s
+  std::optional<std::int64_t> gyro_stall_after_samples;  // gyro stops streaming in a free run
   std::int64_t gyro_stall_from_run = 1;  // ... in this free run of the session and every later one
   std::optional<std::int64_t> gyro_bus_off_after_samples;  // the bus goes bus-off in a free run
   std::int64_t gyro_drop_every_nth_sample = 0;  // drop every n-th sample frame (0 = none)
@@ -161,7 +161,7 @@ struct SimulatedStationConfig {
   SimulatedCarrierConfig carrier;  // physics = kCarrier only
   // Table physics (drivers/sim/table_physics.hpp).
   double table_settle_time_constant_s = 0.05;
-  double table_noise_rad_s = 2e-5;  // measured-rate noise, 1 σ
+  double table_noise_rad_s = 2e-5;                      // measured-rate noise, 1 σ
   std::int64_t table_encoder_counts_per_rev = 1 << 23;  // the table top's encoder resolution
   double table_encoder_noise_rad = 1e-6;  // encoder read noise, 1 σ, before quantisation
   double table_stable_tolerance_rad_s = 1e-3;
@@ -229,7 +229,7 @@ struct StationConfig {
   SiteConfig site;  // where it stands; its Earth rate: EarthRateOnAxisRadS(site) (site.hpp)
   GyroLinkConfig gyro;
   TableLinkConfig table;
-  SimulatedStationConfig simulated;  // meaningful only for kind = kSimulated
+  SimulatedStationConfig simulated;      // meaningful only for kind = kSimulated
   std::vector<FixturePosition> fixture;  // at least one, in the order declared
   RealtimeConfig realtime;
   // [results] url: where hrg-bench uploads each closed session (results/results_url.hpp:

@@ -15,8 +15,8 @@ namespace hrgbench::estimator {
 struct DesignSpec {
   Delta delta = Delta::Zero();
   Xi xi = Xi::Zero();
-  double sigma = 1e-4;          // noise std on each channel of y
-  XiMask xi_unknown = kAllXi;   // which ξ are estimated (the rest known)
+  double sigma = 1e-4;         // noise std on each channel of y
+  XiMask xi_unknown = kAllXi;  // which ξ are estimated (the rest known)
   // Degree of the per-run common phase the estimator takes as unknown (MlOptions::phase_degree):
   // the bound of the estimator that does not depend on the demodulation reference's phase.
   int phase_degree = 2;
@@ -35,7 +35,6 @@ struct CrlbResult {
   IdentifiabilityReport identifiability;  // rules and numerical rank of this design
 };
 
-CrlbResult CramerRaoBound(const DesignSpec& design,
-                          const IdentifiabilityOptions& options = {});
+CrlbResult CramerRaoBound(const DesignSpec& design, const IdentifiabilityOptions& options = {});
 
 }  // namespace hrgbench::estimator

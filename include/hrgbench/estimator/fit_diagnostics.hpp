@@ -33,8 +33,8 @@ namespace hrgbench::estimator {
 // (bench_configs: [fit] in a limits file overrides them). Defaults chosen from the false-alarm rate
 // measured over seeds (README: "Is the fit right?").
 struct FitQualityLimits {
-  double residual_ratio_max = 1.05;  // residual RMS / model-free noise σ
-  double whiteness_z_max = 6.0;      // Ljung–Box normal score
+  double residual_ratio_max = 1.05;      // residual RMS / model-free noise σ
+  double whiteness_z_max = 6.0;          // Ljung–Box normal score
   double omega_offset_max_in_std = 4.0;  // |Ω the data say − Ω recorded| in std of the difference
 
   bool IsValid(std::string* why) const;
@@ -42,23 +42,23 @@ struct FitQualityLimits {
 
 struct RunFitDiagnostics {
   int run_id = 0;
-  std::size_t samples = 0;            // used in the fit (after outliers were removed)
-  double noise_sigma = kNaN;          // from 4th differences of y, robust (model-free)
-  double residual_rms = kNaN;         // per channel and sample
-  double residual_ratio = kNaN;       // residual_rms / noise_sigma
-  double residual_ratio_threshold = kNaN;  // what it was judged against (ResidualRatioThreshold)
-  double lag1_autocorrelation = kNaN; // of the residuals, pooled over the channels
-  int whiteness_lags = 0;             // L
-  double whiteness_q = kNaN;          // Ljung–Box Q over four channels, χ²(4L) when white
-  double whiteness_z = kNaN;          // its normal score
+  std::size_t samples = 0;                  // used in the fit (after outliers were removed)
+  double noise_sigma = kNaN;                // from 4th differences of y, robust (model-free)
+  double residual_rms = kNaN;               // per channel and sample
+  double residual_ratio = kNaN;             // residual_rms / noise_sigma
+  double residual_ratio_threshold = kNaN;   // what it was judged against (ResidualRatioThreshold)
+  double lag1_autocorrelation = kNaN;       // of the residuals, pooled over the channels
+  int whiteness_lags = 0;                   // L
+  double whiteness_q = kNaN;                // Ljung–Box Q over four channels, χ²(4L) when white
+  double whiteness_z = kNaN;                // its normal score
   double max_abs_residual_in_sigma = kNaN;  // largest |residual| / robust residual σ
   double excess_kurtosis = kNaN;
-  std::size_t outliers_removed = 0;   // samples removed as outliers before the final fit
-  double largest_outlier_in_sigma = kNaN;   // of the removed ones (NaN when none)
-  double common_frequency_rad_s = kNaN;     // fitted common phase: dψ/dt at the start (q_1)
+  std::size_t outliers_removed = 0;             // samples removed as outliers before the final fit
+  double largest_outlier_in_sigma = kNaN;       // of the removed ones (NaN when none)
+  double common_frequency_rad_s = kNaN;         // fitted common phase: dψ/dt at the start (q_1)
   double common_frequency_drift_rad_s2 = kNaN;  // 2·q_2 (NaN when the degree is below 2)
-  double omega_offset_rad_s = kNaN;   // fitted Ω − recorded Ω (NaN when Ω was held)
-  double omega_offset_data_rad_s = kNaN;  // what the data alone say it is (without the prior)
+  double omega_offset_rad_s = kNaN;             // fitted Ω − recorded Ω (NaN when Ω was held)
+  double omega_offset_data_rad_s = kNaN;        // what the data alone say it is (without the prior)
   // The data's offset in std of (recorded error ⊕ data error): N(0, 1) when the recorded Ω is right
   // within its recorded std; large when the data contradict it.
   double omega_offset_in_std = kNaN;
@@ -76,16 +76,16 @@ struct FitDiagnostics {
   // Largest ratio, over the estimated parameters, of the sandwich std to the white-noise std
   // (NaN when not computed). About 1 for white residuals.
   double sandwich_to_white_std_max = kNaN;
-  int phase_degree = 0;                  // degree of the common-phase nuisance in the fit
+  int phase_degree = 0;  // degree of the common-phase nuisance in the fit
   // The noise shape the checks assumed (MlOptions::noise_shape's description; "white" by
   // default), the stride of the 4th differences that estimated σ, and the first lag the
   // whiteness statistic judged (1 for white noise; past the declared noise's memory otherwise).
   std::string noise_shape = "white";
   int difference_stride = 1;
   int whiteness_first_lag = 1;
-  bool omega_nuisance = false;           // whether recorded Ω uncertainties entered the fit
-  FitQualityLimits limits;               // what the checks below were judged against
-  std::vector<std::string> problems;     // one line per failed check, naming the run
+  bool omega_nuisance = false;        // whether recorded Ω uncertainties entered the fit
+  FitQualityLimits limits;            // what the checks below were judged against
+  std::vector<std::string> problems;  // one line per failed check, naming the run
 
   bool Acceptable() const { return problems.empty(); }
 };
@@ -105,7 +105,7 @@ double ResidualRatioThreshold(const FitQualityLimits& limits, std::size_t sample
 
 struct ResidualStatistics {
   double rms = kNaN;
-  double robust_sigma = kNaN;   // 1.4826·median|r|
+  double robust_sigma = kNaN;  // 1.4826·median|r|
   double lag1_autocorrelation = kNaN;
   double ljung_box_q = kNaN;
   int lags = 0;

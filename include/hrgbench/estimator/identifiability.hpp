@@ -8,10 +8,9 @@
 // a nominal point catches what the rules miss: a near-null direction names the parameters it
 // involves.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hrgbench/estimator/parameters.hpp"
 
@@ -34,8 +33,8 @@ struct IdentifiabilityReport {
   XiMask xi_identifiable = kAllXi;
   int distinct_omegas = 0;
   bool has_nonzero_omega = false;
-  double condition_number = kNaN;  // of the scaled information of what remains; NaN if unknown
-  std::vector<std::string> reasons;        // one sentence per finding, for the operator
+  double condition_number = kNaN;    // of the scaled information of what remains; NaN if unknown
+  std::vector<std::string> reasons;  // one sentence per finding, for the operator
 
   // True when every requested ξ and every δ are identifiable.
   bool AllIdentifiable(const XiMask& requested) const;
@@ -44,7 +43,8 @@ struct IdentifiabilityReport {
 };
 
 // The structural check from the run rates alone (no data needed).
-IdentifiabilityReport CheckRatePlan(const std::vector<double>& omegas_rad_s, const XiMask& requested,
+IdentifiabilityReport CheckRatePlan(const std::vector<double>& omegas_rad_s,
+                                    const XiMask& requested,
                                     const IdentifiabilityOptions& options = {});
 
 // The numerical check: `information` is the Fisher information (JᵀJ, any positive scale) of the

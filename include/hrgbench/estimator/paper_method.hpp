@@ -4,8 +4,10 @@
 //  - EstimatePaper: ordinary least squares of numerical dz/dt on 2·Mδ(Ω, z), all runs stacked, with
 //    z = W(y)·y taken from the raw observation (ξ ignored) and dz/dt from a straight-line fit over
 //    `derivative_window` samples, sliding by one sample, regressor at the window centre;
-//  - EstimatePaperXiGrid: ξ1 by brute-force grid search, δ re-solved by OLS at every grid point with
-//    the first-order special regressor Mδ(Ω, r, λ, 0) (δ2 column corrected), minimising the residual.
+//  - EstimatePaperXiGrid: ξ1 by brute-force grid search, δ re-solved by OLS at every grid point
+//  with
+//    the first-order special regressor Mδ(Ω, r, λ, 0) (δ2 column corrected), minimising the
+//    residual.
 // Both are equation-error methods on a numerical derivative: biased under noise and at high rates
 // (docs/estimator/model.md); use EstimateMaximumLikelihood for results.
 

@@ -7,11 +7,10 @@
 // xi (ξ, 4): errors of the pick-off path, dimensionless and small (|ξ| ≪ 1).
 //   ξ1 gain mismatch, ξ2 phase-delay mismatch, ξ3 cross-talk, ξ4 pick-off angle error.
 
+#include <Eigen/Core>
 #include <array>
 #include <limits>
 #include <string_view>
-
-#include <Eigen/Core>
 
 namespace hrgbench::estimator {
 
@@ -19,9 +18,9 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 using Delta = Eigen::Matrix<double, 6, 1>;
 using Xi = Eigen::Matrix<double, 4, 1>;
-using State = Eigen::Matrix<double, 4, 1>;       // x = (x1, x2, x3, x4), slow variables
-using Observation = Eigen::Matrix<double, 4, 1>; // y = (y1, y2, y3, y4), demodulated channels
-using Forms = Eigen::Matrix<double, 4, 1>;       // z = (Ac, As, K, S), principal quadratic forms
+using State = Eigen::Matrix<double, 4, 1>;        // x = (x1, x2, x3, x4), slow variables
+using Observation = Eigen::Matrix<double, 4, 1>;  // y = (y1, y2, y3, y4), demodulated channels
+using Forms = Eigen::Matrix<double, 4, 1>;        // z = (Ac, As, K, S), principal quadratic forms
 
 // Named indices into Delta (0-based; δ1 is kDamping).
 inline constexpr int kDamping = 0;

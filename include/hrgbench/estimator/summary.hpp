@@ -2,11 +2,10 @@
 // What every estimator returns: Options in, Summary out. A default-constructed summary says the
 // estimator was not called; every estimator fills in all fields, including on failure.
 
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "hrgbench/estimator/fit_diagnostics.hpp"
 #include "hrgbench/estimator/parameters.hpp"

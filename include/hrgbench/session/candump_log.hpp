@@ -27,9 +27,9 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/hw/can_frame.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::bench {
 
@@ -73,7 +73,8 @@ struct CandumpLogOptions {
 class CandumpLogWriter {
  public:
   CandumpLogWriter();
-  ~CandumpLogWriter();  // flushes (no fsync) and closes; errors are dropped: call Close() to see them
+  ~CandumpLogWriter();  // flushes (no fsync) and closes; errors are dropped: call Close() to see
+                        // them
   CandumpLogWriter(CandumpLogWriter&&) noexcept;
   CandumpLogWriter& operator=(CandumpLogWriter&&) noexcept;
 

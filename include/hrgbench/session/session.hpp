@@ -29,16 +29,15 @@
 // Writing is atomic per file (temporary file in the same directory, fsync, rename, fsync of the
 // directory), so a crash leaves either the old or the new file, never half of one.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <expected>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/run_data.hpp"
@@ -92,7 +91,7 @@ struct RunSamples {
 // One entry of session.json "runs".
 struct RunEntry {
   int id = 0;
-  std::string file;           // relative to the session directory, e.g. "runs/run-001.csv"
+  std::string file;  // relative to the session directory, e.g. "runs/run-001.csv"
   double omega_rad_s = 0.0;
   std::string status = "complete";
   // end.omega_std_error_rad_s when the bench recorded it (the standard error of Ω); NaN otherwise.
@@ -100,13 +99,13 @@ struct RunEntry {
 };
 
 struct Session {
-  std::string serial;                 // unit.serial
+  std::string serial;  // unit.serial
   double sample_rate_hz = 0.0;
-  std::vector<RunEntry> runs;         // every run listed, whatever its status
+  std::vector<RunEntry> runs;  // every run listed, whatever its status
   // electronics.iq_convention: the sign convention of the recorded quadrature channels (y2, y4).
   // The writer always records it; ToRunData converts to the model's.
   estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
-  nlohmann::json document;            // the whole session.json, unknown keys included
+  nlohmann::json document;  // the whole session.json, unknown keys included
 
   // Samples of the runs that were loaded (status "complete"), parallel to `loaded_run_ids`.
   std::vector<int> loaded_run_ids;
@@ -156,10 +155,10 @@ std::expected<void, SessionError> WriteRunCsv(const std::filesystem::path& path,
 
 // Writes session.json atomically from `session.document` after setting format, version,
 // unit.serial, sample_rate_hz, electronics.iq_convention and runs from the typed fields. Unknown
-// keys are kept, also inside a run entry (matched to `session.runs` by id). Keys come out in alphabetical order (nlohmann::json
-// is a sorted map), 2-space indent. Creates `dir`. Refuses what ReadSession would reject: a
-// document that is neither null nor an object, sample_rate_hz not finite and > 0, run id < 1 or
-// repeated, a non-finite omega_rad_s, a run file outside `dir`.
+// keys are kept, also inside a run entry (matched to `session.runs` by id). Keys come out in
+// alphabetical order (nlohmann::json is a sorted map), 2-space indent. Creates `dir`. Refuses what
+// ReadSession would reject: a document that is neither null nor an object, sample_rate_hz not
+// finite and > 0, run id < 1 or repeated, a non-finite omega_rad_s, a run file outside `dir`.
 std::expected<void, SessionError> WriteSessionJson(const std::filesystem::path& dir,
                                                    const Session& session);
 

@@ -29,10 +29,10 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/session/session_outcome.hpp"
-#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_outcome.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::session {
 

@@ -10,11 +10,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace hrgbench::bench {
 
@@ -36,30 +35,30 @@ struct RecordError {
 
 // One run as the sequence file plans it.
 struct PlannedRun {
-  int id = 0;                         // 1-based, unique in the session; names runs/run-NNN.csv
+  int id = 0;                          // 1-based, unique in the session; names runs/run-NNN.csv
   double commanded_omega_rad_s = 0.0;  // table rate to command
-  double a = 1.0;                     // wave state to excite (model.hpp's Orbit at release)
+  double a = 1.0;                      // wave state to excite (model.hpp's Orbit at release)
   double b = 0.0;
   double theta_rad = 0.0;
-  double free_run_s = 0.0;            // capture length after release, > 0
-  double sample_rate_hz = 0.0;        // > 0
+  double free_run_s = 0.0;      // capture length after release, > 0
+  double sample_rate_hz = 0.0;  // > 0
 };
 
 struct ConfigHashes {
-  std::string station_sha256;   // lower-case hex SHA-256 of each file's bytes, as loaded
+  std::string station_sha256;  // lower-case hex SHA-256 of each file's bytes, as loaded
   std::string sequence_sha256;
-  std::string limits_sha256;    // empty when no limits file was given (JSON null)
+  std::string limits_sha256;  // empty when no limits file was given (JSON null)
 };
 
 struct SessionHeader {
-  std::string unit_serial;        // required, non-empty
-  std::string station_name;       // required, non-empty
-  std::string software_version;   // git describe of the build (HRGBENCH_GIT_DESCRIBE)
+  std::string unit_serial;       // required, non-empty
+  std::string station_name;      // required, non-empty
+  std::string software_version;  // git describe of the build (HRGBENCH_GIT_DESCRIBE)
   ConfigHashes config_sha256;
   // As the capture set it up, e.g. "SCHED_FIFO 80 granted, mlockall granted" or
   // "not permitted: running without SCHED_FIFO (EPERM)".
   std::string realtime_status;
-  std::vector<PlannedRun> runs;   // at least one; session.json lists them in this order
+  std::vector<PlannedRun> runs;  // at least one; session.json lists them in this order
   // Simulated station: the simulator's truth (parameters, seed), recorded as "simulation".
   std::optional<nlohmann::json> simulation;
   // What the station declares about the gyro's electronics, recorded as "electronics" (e.g. its
@@ -79,20 +78,20 @@ struct SessionHeader {
 struct RunStart {
   double commanded_omega_rad_s = 0.0;
   double measured_omega_rad_s = std::numeric_limits<double>::quiet_NaN();  // table, settled
-  double earth_rate_rad_s = 0.0;      // Earth-rate component on the sensitive axis
+  double earth_rate_rad_s = 0.0;  // Earth-rate component on the sensitive axis
   double temperature_c = std::numeric_limits<double>::quiet_NaN();
   double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
-  std::int64_t release_t_ns = 0;      // acknowledged release stamp, receive time base
+  std::int64_t release_t_ns = 0;  // acknowledged release stamp, receive time base
   // Optional per-sample columns of this run's CSV; when set, every sample must carry a finite
   // value for it.
-  bool with_measured_omega = false;   // column omega_meas_rad_s
-  bool with_temperature = false;      // column temp_c
+  bool with_measured_omega = false;  // column omega_meas_rad_s
+  bool with_temperature = false;     // column temp_c
 };
 
 // One sample as the run CSV stores it.
 struct GyroSampleRecord {
-  std::uint32_t seq = 0;              // electronics' sample number since release (column seq)
-  double t_s = 0.0;                   // s since release; strictly increasing within a run
+  std::uint32_t seq = 0;  // electronics' sample number since release (column seq)
+  double t_s = 0.0;       // s since release; strictly increasing within a run
   double y[4] = {0.0, 0.0, 0.0, 0.0};
   double measured_omega_rad_s = std::numeric_limits<double>::quiet_NaN();  // if with_measured_omega
   double temperature_c = std::numeric_limits<double>::quiet_NaN();         // if with_temperature
@@ -100,7 +99,7 @@ struct GyroSampleRecord {
 
 // Run status strings in session.json. Only kRunComplete runs are read by the estimator.
 inline constexpr const char* kRunPlanned = "planned";
-inline constexpr const char* kRunRunning = "running";          // open, or the process died
+inline constexpr const char* kRunRunning = "running";  // open, or the process died
 inline constexpr const char* kRunComplete = "complete";
 inline constexpr const char* kRunAborted = "aborted";          // stopped early (fault, Ctrl-C)
 inline constexpr const char* kRunRejected = "rejected";        // captured, but unfit (drift, drops)
@@ -146,9 +145,9 @@ struct RunEnd {
 // A run as the record holds it now (for resume and the progress display).
 struct RecordedRun {
   PlannedRun plan;
-  std::string status;    // one of the kRun* strings
-  std::string file;      // "runs/run-003.csv"
-  int attempts = 0;      // earlier attempts kept aside (interrupted, aborted, rejected)
+  std::string status;  // one of the kRun* strings
+  std::string file;    // "runs/run-003.csv"
+  int attempts = 0;    // earlier attempts kept aside (interrupted, aborted, rejected)
 };
 
 }  // namespace hrgbench::bench

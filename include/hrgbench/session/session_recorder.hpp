@@ -121,9 +121,9 @@ class SessionRecorder {
   std::expected<void, RecordError> Close(const SessionOutcome& outcome);
 
   const std::filesystem::path& directory() const noexcept;
-  std::vector<RecordedRun> Runs() const;           // every planned run, plan order
-  std::vector<int> CompleteRunIds() const;         // status complete
-  std::vector<int> RemainingRunIds() const;        // not complete, plan order
+  std::vector<RecordedRun> Runs() const;            // every planned run, plan order
+  std::vector<int> CompleteRunIds() const;          // status complete
+  std::vector<int> RemainingRunIds() const;         // not complete, plan order
   std::optional<int> open_run_id() const noexcept;  // the run between BeginRun and EndRun
   std::uint64_t samples_in_open_run() const noexcept;
 

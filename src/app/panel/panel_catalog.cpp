@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+
 #include "hrgbench/results/results_store.hpp"
 #include "hrgbench/session/session_record.hpp"
 

@@ -20,8 +20,8 @@
 #include "app/panel/session_process.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
-#include "hrgbench/session/exit_codes.hpp"
 #include "hrgbench/report/session_report.hpp"
+#include "hrgbench/session/exit_codes.hpp"
 // Last: it brings <httplib.h> and so <resolv.h>, whose `_res` macro breaks Eigen's headers
 // (bench_configs.hpp).
 #include "app/panel/panel_http.hpp"  // NOLINT(llvm-include-order)

@@ -48,11 +48,11 @@ struct SessionContext {
   const RunnerOptions* options = nullptr;
   std::vector<UnitLane> lanes;
   double earth_rate_rad_s = 0.0;
-  std::int64_t start_ns = 0;            // hardware clock at the start of this invocation
-  std::int64_t unix_offset_ns = 0;      // unix time = hardware clock + offset (CAN log stamps)
+  std::int64_t start_ns = 0;        // hardware clock at the start of this invocation
+  std::int64_t unix_offset_ns = 0;  // unix time = hardware clock + offset (CAN log stamps)
   std::int64_t last_progress_ns = 0;
   std::atomic<bool> stop_capture{false};  // set on the first interrupt; read by capture threads
-  int run_index = 0;                    // 1-based, this invocation
+  int run_index = 0;                      // 1-based, this invocation
   int run_count = 0;
   double remaining_free_run_s = 0.0;  // of the runs not yet captured
 

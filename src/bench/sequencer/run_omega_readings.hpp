@@ -1,18 +1,18 @@
 #pragma once
 // A run's Ω as the sequencer measures it (internal to the sequencer): the table's rate at every
 // table read of the run loop, its angle at the release, at every table read and after the
-// capture (include/hrgbench/bench/capture/run_omega.hpp computes both). Both are kept in the record; the
-// station's [table] omega_source says which one the estimator gets. Owner thread only (the
-// sequencer's); the angle readings go into room reserved by the constructor.
+// capture (include/hrgbench/bench/capture/run_omega.hpp computes both). Both are kept in the
+// record; the station's [table] omega_source says which one the estimator gets. Owner thread only
+// (the sequencer's); the angle readings go into room reserved by the constructor.
 
 #include <cstddef>
 #include <string>
 
 #include "bench/sequencer/run_context.hpp"
 #include "hrgbench/bench/capture/run_omega.hpp"
-#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/hw/rate_table.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::bench::internal {
 

@@ -1,9 +1,10 @@
 // The configs a session ran with, saved inside it: <dir>/config/{station,sequence,limits}.toml.
 // `resume` needs nothing but the session directory, and a session shows exactly what was run.
+#include "bench/sequencer/saved_configs.hpp"
+
 #include <fstream>
 #include <sstream>
 
-#include "bench/sequencer/saved_configs.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench::internal {
@@ -52,7 +53,8 @@ std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem:
   options.load_samples = false;
   auto recorded = session::ReadSession(dir, options);
   if (!recorded) return std::unexpected(recorded.error().ToString());
-  const nlohmann::json& hashes = recorded->document.value("config_sha256", nlohmann::json::object());
+  const nlohmann::json& hashes =
+      recorded->document.value("config_sha256", nlohmann::json::object());
   const std::pair<const char*, const std::string*> checks[] = {
       {"station", &configs->station.sha256_hex},
       {"sequence", &configs->sequence.sha256_hex},
@@ -61,8 +63,8 @@ std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem:
     const nlohmann::json& expected = hashes.value(key, nlohmann::json());
     const std::string want = expected.is_string() ? expected.get<std::string>() : "";
     if (want != *actual)
-      return std::unexpected((config / (std::string(key) + ".toml")).string() +
-                             ": SHA-256 " + (actual->empty() ? "(none)" : *actual) +
+      return std::unexpected((config / (std::string(key) + ".toml")).string() + ": SHA-256 " +
+                             (actual->empty() ? "(none)" : *actual) +
                              " differs from the one recorded in session.json (" +
                              (want.empty() ? "(none)" : want) + ")");
   }

@@ -9,10 +9,10 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
-#include "hrgbench/bench/capture/realtime_setup.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/analysis/recorded_frequency.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
+#include "hrgbench/bench/capture/realtime_setup.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::bench {

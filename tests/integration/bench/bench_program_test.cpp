@@ -135,8 +135,8 @@ bool WaitForCompleteRuns(const fs::path& dir, std::size_t n, std::chrono::second
 
 TEST(BenchProgram, CheckValidatesTheShippedConfigs) {
   const Output o = RunBench("check " + (kConfigs / "station-sim.toml").string() + " " +
-                       (kConfigs / "sequence-production.toml").string() + " " +
-                       (kConfigs / "limits-example.toml").string());
+                            (kConfigs / "sequence-production.toml").string() + " " +
+                            (kConfigs / "limits-example.toml").string());
   EXPECT_EQ(o.exit_code, 0) << o.out;
   EXPECT_NE(o.out.find("ok: station"), std::string::npos) << o.out;
 }
@@ -146,7 +146,7 @@ TEST(BenchProgram, BadConfigIsAUsageErrorNamingFileLineAndKey) {
   fs::create_directories(dir);
   std::ofstream(dir / "bad.toml") << "[sequence]\nname = \"x\"\nbogus_key = 3\n";
   const Output o = RunBench("check " + (kConfigs / "station-sim.toml").string() + " " +
-                       (dir / "bad.toml").string());
+                            (dir / "bad.toml").string());
   EXPECT_EQ(o.exit_code, 4) << o.out;
   EXPECT_NE(o.out.find("bad.toml"), std::string::npos) << o.out;
   EXPECT_NE(o.out.find("bogus_key"), std::string::npos) << o.out;
@@ -155,8 +155,8 @@ TEST(BenchProgram, BadConfigIsAUsageErrorNamingFileLineAndKey) {
 
 TEST(BenchProgram, UnwritableOutputIsAnErrorAndMovesNothing) {
   const Output o = RunBench("run --station " + (kConfigs / "station-sim.toml").string() +
-                       " --sequence " + (kConfigs / "sequence-paper.toml").string() +
-                       " --serial SN-X -o /proc/hrgbench-cannot-write-here");
+                            " --sequence " + (kConfigs / "sequence-paper.toml").string() +
+                            " --serial SN-X -o /proc/hrgbench-cannot-write-here");
   EXPECT_EQ(o.exit_code, 2) << o.out;
   EXPECT_NE(o.out.find("/proc/hrgbench-cannot-write-here"), std::string::npos) << o.out;
 }
@@ -165,11 +165,10 @@ TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   const fs::path work = FreshDir("kill9");
   const fs::path session_dir = work / "session";
   const fs::path station = PacedStation(work);
-  const pid_t pid =
-      Spawn({"run", "--station", station.string(), "--sequence",
-             (kConfigs / "sequence-paper.toml").string(), "--serial", "SN-K9", "-o",
-             session_dir.string()},
-            work / "run.log");
+  const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
+                           (kConfigs / "sequence-paper.toml").string(), "--serial", "SN-K9", "-o",
+                           session_dir.string()},
+                          work / "run.log");
   ASSERT_GT(pid, 0);
   // Two runs done, the third under way: then the power goes.
   const bool reached = WaitForCompleteRuns(session_dir, 2, std::chrono::seconds(60));
@@ -441,11 +440,10 @@ void ExpectSignalAborts(int signal, const std::string& reason) {
   const fs::path work = FreshDir("signal" + std::to_string(signal));
   const fs::path session_dir = work / "session";
   const fs::path station = PacedStation(work);
-  const pid_t pid =
-      Spawn({"run", "--station", station.string(), "--sequence",
-             (kConfigs / "sequence-paper.toml").string(), "--serial", "SN-INT", "-o",
-             session_dir.string()},
-            work / "run.log");
+  const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
+                           (kConfigs / "sequence-paper.toml").string(), "--serial", "SN-INT", "-o",
+                           session_dir.string()},
+                          work / "run.log");
   ASSERT_GT(pid, 0);
   const bool reached = WaitForCompleteRuns(session_dir, 1, std::chrono::seconds(60));
   ::kill(pid, signal);

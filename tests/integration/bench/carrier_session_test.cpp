@@ -159,8 +159,7 @@ TEST(CarrierSession, DeclaredOutputFilterPassesTheExampleLimits) {
   // sample as an "outlier" (4-7 of 50-70 sigma per run before), and the record says what was
   // skipped; the convention the station declares is recorded.
   EXPECT_EQ(session.at("electronics").at("iq_convention"), "minus-sine");
-  for (const nlohmann::json& r : fit.at("runs"))
-    EXPECT_EQ(r.at("outliers_removed"), 0) << r.dump();
+  for (const nlohmann::json& r : fit.at("runs")) EXPECT_EQ(r.at("outliers_removed"), 0) << r.dump();
   const nlohmann::json& settling =
       session.at("outcome").at("estimate").at("preparation").at("release_settling");
   EXPECT_EQ(settling.at("output_filter"), "4th-order Butterworth, 200 Hz");

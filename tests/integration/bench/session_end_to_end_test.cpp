@@ -34,7 +34,8 @@ void ExpectAgreesWithTruth(const bench::SessionResult& result) {
     const double t = truth.at("xi").at(static_cast<std::size_t>(k)).get<double>();
     EXPECT_NEAR(s.xi[k], t, 4 * s.xi_std[k]) << "xi" << k + 1 << "\n" << s.Report();
   }
-  EXPECT_NEAR(s.noise_sigma, truth.at("sigma").get<double>(), 0.05 * truth.at("sigma").get<double>());
+  EXPECT_NEAR(s.noise_sigma, truth.at("sigma").get<double>(),
+              0.05 * truth.at("sigma").get<double>());
 }
 
 // The run's Ω measured both ways (bench/run_omega.hpp) and `used` given to the estimator. The

@@ -1,6 +1,6 @@
 // Faults on the in-process simulated station: every one ends the session with ERROR (the bench's
-// fault, not the unit's) or ABORTED (operator), the table commanded to zero rate, the runs completed
-// before the fault intact on disk, and the record saying why.
+// fault, not the unit's) or ABORTED (operator), the table commanded to zero rate, the runs
+// completed before the fault intact on disk, and the record saying why.
 #include <nlohmann/json.hpp>
 
 #include "bench_test_support.hpp"
@@ -109,9 +109,10 @@ TEST(BenchFaults, GyroNeverReady) {
 }
 
 TEST(BenchFaults, OperatorInterruptDuringRunTwo) {
-  const BenchRun run = RunOnSimulatedStation(
-      "sequence-paper.toml", "", Shorten,
-      [](const bench::Progress& p) { return p.run == 2 && p.phase == "capture" && p.samples > 20; });
+  const BenchRun run =
+      RunOnSimulatedStation("sequence-paper.toml", "", Shorten, [](const bench::Progress& p) {
+        return p.run == 2 && p.phase == "capture" && p.samples > 20;
+      });
   ExpectStoppedSafely(run, {bench::OutcomeKind::kAborted, "aborted by operator during run 2", 1});
 }
 
@@ -138,7 +139,8 @@ TEST(BenchDrift, ADriftingRunIsFlaggedAndKept) {
   EXPECT_EQ(run.result.complete_runs, 5);
   int flagged = 0;
   for (const std::string& w : run.result.warnings)
-    flagged += w.find("temperature changed") != std::string::npos && w.find("flagged") != std::string::npos;
+    flagged += w.find("temperature changed") != std::string::npos &&
+               w.find("flagged") != std::string::npos;
   EXPECT_EQ(flagged, 5);
   auto session = session::ReadSession(run.dir);
   ASSERT_TRUE(session) << session.error().ToString();

@@ -18,7 +18,7 @@ namespace hrgbench::testing {
 struct GyroRigOptions {
   drivers::sim::GyroSimOptions sim;
   drivers::gyro_can::GyroCanDeviceConfig device;  // clock is filled in by the rig
-  std::int64_t bit_rate_bps = 1'000'000;  // 0: untimed bus
+  std::int64_t bit_rate_bps = 1'000'000;          // 0: untimed bus
   bool fd_bus = false;
   double omega_rad_s = 0.3;
 };

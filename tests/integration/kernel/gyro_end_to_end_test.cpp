@@ -6,6 +6,7 @@
 //
 // Arguments after GoogleTest's: --sim PATH --config PATH. Without vcan0 (a host without AF_CAN) the
 // test skips, unless HRGBENCH_REQUIRE_VCAN=1 (set by the VM harness).
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,8 +16,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"

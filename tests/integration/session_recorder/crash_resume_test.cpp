@@ -26,7 +26,8 @@ constexpr int kFramesBeforeKill = 250;
 
 // Child: records runs 1 and 2, starts run 3, streams half of it and some CAN frames, tells the
 // parent, then waits to be killed. Exit codes > 0 name the step that failed.
-[[noreturn]] void RecordUntilKilled(const fs::path& dir, const SessionHeader& header, int ready_fd) {
+[[noreturn]] void RecordUntilKilled(const fs::path& dir, const SessionHeader& header,
+                                    int ready_fd) {
   RecorderOptions options;
   options.flush_interval_ns = 0;  // what is appended is in the file (page cache) at once
   auto recorder = SessionRecorder::Create(dir, header, options);

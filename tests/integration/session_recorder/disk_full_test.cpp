@@ -30,8 +30,7 @@ using record_test::StartFor;
 // Mounts a tmpfs of `size` at `dir` for the scope (lazy unmount at the end).
 class TmpfsMount {
  public:
-  TmpfsMount(const fs::path& dir, const std::string& options, unsigned long flags = 0)
-      : dir_(dir) {
+  TmpfsMount(const fs::path& dir, const std::string& options, unsigned long flags = 0) : dir_(dir) {
     if (::mount("tmpfs", dir.c_str(), "tmpfs", flags, options.c_str()) == 0) {
       mounted_ = true;
     } else {

@@ -47,8 +47,7 @@ TEST(CandumpLogCompat, Log2ascReadsEveryKindOfFrame) {
     ASSERT_TRUE(log->Close().has_value());
   }
   const fs::path asc = scratch / "session.asc";
-  const std::string command =
-      "log2asc -I " + log_path.string() + " -O " + asc.string() + " can0";
+  const std::string command = "log2asc -I " + log_path.string() + " -O " + asc.string() + " can0";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::ifstream in(asc);
   std::stringstream text;
@@ -77,13 +76,16 @@ TEST(RecorderThroughput, StreamsARunToDisk) {
     ASSERT_TRUE(recorder->AppendSamples(std::span(samples).subspan(k, 1000)).has_value());
   }
   ASSERT_TRUE(recorder->EndRun(record_test::CompleteEnd(header.runs[0])).has_value());
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double bytes = static_cast<double>(fs::file_size(scratch / "session" / "runs" / "run-001.csv"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double bytes =
+      static_cast<double>(fs::file_size(scratch / "session" / "runs" / "run-001.csv"));
   const double mb_s = bytes / 1e6 / seconds;
   const double samples_s = static_cast<double>(samples.size()) / seconds;
-  std::printf("recorder: %.0f samples (%.1f MB) in %.3f s incl. fsync+rename: %.1f MB/s, %.0f "
-              "samples/s\n",
-              static_cast<double>(samples.size()), bytes / 1e6, seconds, mb_s, samples_s);
+  std::printf(
+      "recorder: %.0f samples (%.1f MB) in %.3f s incl. fsync+rename: %.1f MB/s, %.0f "
+      "samples/s\n",
+      static_cast<double>(samples.size()), bytes / 1e6, seconds, mb_s, samples_s);
   ::testing::Test::RecordProperty("mb_per_s", std::to_string(mb_s));
   auto read = session::ReadRunCsv(scratch / "session" / "runs" / "run-001.csv");
   ASSERT_TRUE(read.has_value());

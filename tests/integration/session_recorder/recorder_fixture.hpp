@@ -7,8 +7,8 @@
 #include <span>
 #include <vector>
 
-#include "hrgbench/session/session_recorder.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 #include "synthetic_gyro_record.hpp"
 
 namespace hrgbench::bench::record_test {
@@ -31,8 +31,7 @@ inline RunEnd CompleteEnd(const PlannedRun& plan) {
 }
 
 // Returns the first error (no gtest assertions: also used in forked children).
-inline std::expected<void, RecordError> RecordRun(SessionRecorder& recorder,
-                                                  const PlannedRun& plan,
+inline std::expected<void, RecordError> RecordRun(SessionRecorder& recorder, const PlannedRun& plan,
                                                   std::size_t samples = kSamplesPerRun) {
   if (auto begun = recorder.BeginRun(plan.id, StartFor(plan)); !begun) return begun;
   const auto data = testing::SyntheticSamples(plan.id, samples, plan.sample_rate_hz);

@@ -142,13 +142,14 @@ TEST(SimStationTest, ThreeRunsEstimateTheTruthWithinFiveSigma) {
     if (!summary.delta_estimated[i]) continue;
     ++compared;
     EXPECT_LE(std::abs(summary.delta(i) - truth.delta(i)), 5 * summary.delta_std(i))
-        << "delta" << i + 1 << "\n" << summary.Report();
+        << "delta" << i + 1 << "\n"
+        << summary.Report();
   }
   for (int i = 0; i < 4; ++i) {
     if (!summary.xi_estimated[i]) continue;
     ++compared;
-    EXPECT_LE(std::abs(summary.xi(i) - truth.xi(i)), 5 * summary.xi_std(i))
-        << "xi" << i + 1 << "\n" << summary.Report();
+    EXPECT_LE(std::abs(summary.xi(i) - truth.xi(i)), 5 * summary.xi_std(i)) << "xi" << i + 1 << "\n"
+                                                                            << summary.Report();
   }
   EXPECT_GE(compared, 6);
   // σ̂ ≈ σ: the wire's quantisation (LSB 2^-22) adds LSB²/12, negligible.
@@ -246,10 +247,11 @@ TEST(SimStationTest, BenchThreadsCaptureSixHundredSecondRunsInSeconds) {
   const double sim_s = static_cast<double>(clock.NowNs()) * 1e-9;
   EXPECT_GT(sim_s, kRuns * 100.0);
   EXPECT_EQ(s.attached_threads, 0u);
-  std::printf("[ info ] %d x 100 s at 1 kHz (%.0f s simulated, %llu tap frames) in %.2f s wall; "
-              "%llu advances, %llu parks\n",
-              kRuns, sim_s, static_cast<unsigned long long>(tap_frames.load()), wall_s,
-              static_cast<unsigned long long>(s.advances), static_cast<unsigned long long>(s.parks));
+  std::printf(
+      "[ info ] %d x 100 s at 1 kHz (%.0f s simulated, %llu tap frames) in %.2f s wall; "
+      "%llu advances, %llu parks\n",
+      kRuns, sim_s, static_cast<unsigned long long>(tap_frames.load()), wall_s,
+      static_cast<unsigned long long>(s.advances), static_cast<unsigned long long>(s.parks));
 }
 
 TEST(SimStationTest, RealTimeRunTakesItsLengthInWallTime) {

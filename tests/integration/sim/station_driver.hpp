@@ -46,18 +46,20 @@ inline void ReadSamples(hw::GyroElectronics& gyro, std::size_t n, FreeRun* run,
 
 inline std::expected<FreeRun, std::string> DoFreeRun(hw::RateTable& table,
                                                      hw::GyroElectronics& gyro, double omega_rad_s,
-                                                     const hw::WaveState& wave,
-                                                     std::size_t samples,
+                                                     const hw::WaveState& wave, std::size_t samples,
                                                      std::uint32_t rate_hz = 1000) {
   FreeRun run;
   run.omega_rad_s = omega_rad_s;
-  if (auto ok = table.SetRate(omega_rad_s); !ok) return std::unexpected("SetRate: " + ok.error().ToString());
+  if (auto ok = table.SetRate(omega_rad_s); !ok)
+    return std::unexpected("SetRate: " + ok.error().ToString());
   auto stable = table.WaitUntilStable(TestCriteria());
   if (!stable) return std::unexpected("WaitUntilStable: " + stable.error().ToString());
   run.stable_status = *stable;
-  if (auto ok = gyro.Configure({rate_hz}); !ok) return std::unexpected("Configure: " + ok.error().ToString());
+  if (auto ok = gyro.Configure({rate_hz}); !ok)
+    return std::unexpected("Configure: " + ok.error().ToString());
   if (auto ok = gyro.Excite(wave); !ok) return std::unexpected("Excite: " + ok.error().ToString());
-  if (auto ok = gyro.WaitReady(2'000'000'000); !ok) return std::unexpected("WaitReady: " + ok.error().ToString());
+  if (auto ok = gyro.WaitReady(2'000'000'000); !ok)
+    return std::unexpected("WaitReady: " + ok.error().ToString());
   auto t0 = gyro.Release();
   if (!t0) return std::unexpected("Release: " + t0.error().ToString());
   run.t0_ns = *t0;
@@ -66,7 +68,8 @@ inline std::expected<FreeRun, std::string> DoFreeRun(hw::RateTable& table,
        n = std::min(samples, n + rate_hz / 10)) {
     ReadSamples(gyro, n, &run);
     if (run.last_read != hw::GyroReadStatus::kOk) break;
-    if (auto ok = table.Heartbeat(); !ok) return std::unexpected("Heartbeat: " + ok.error().ToString());
+    if (auto ok = table.Heartbeat(); !ok)
+      return std::unexpected("Heartbeat: " + ok.error().ToString());
   }
   if (auto ok = gyro.Stop(); !ok) return std::unexpected("Stop: " + ok.error().ToString());
   return run;

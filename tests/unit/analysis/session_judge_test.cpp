@@ -11,8 +11,8 @@
 #include <cmath>
 #include <limits>
 
-#include "hrgbench/session/exit_codes.hpp"
 #include "hrgbench/analysis/run_acceptance.hpp"
+#include "hrgbench/session/exit_codes.hpp"
 
 namespace hrgbench::bench {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/analysis/output_filter.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"

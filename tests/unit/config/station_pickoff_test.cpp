@@ -8,8 +8,8 @@
 
 #include <string>
 
-#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/analysis/engineering_of_record.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/simulation.hpp"

@@ -1,7 +1,8 @@
 // The estimator's sample loops do not allocate (STYLE rule 3). Two independent checks:
 //  - this test links the checked build of the library (EIGEN_RUNTIME_NO_MALLOC, assertions on): any
 //    Eigen heap allocation inside a NoAllocationScope aborts the test;
-//  - a counting global operator new: a pass over the data must allocate the same number of times for
+//  - a counting global operator new: a pass over the data must allocate the same number of times
+//  for
 //    1 000 and for 100 000 samples per run (std containers, lambdas, anything else).
 #include <gtest/gtest.h>
 

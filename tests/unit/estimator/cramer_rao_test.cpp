@@ -49,13 +49,12 @@ TEST_P(CramerRaoTest, MatchesThePrototype) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Reference, CramerRaoTest,
-    ::testing::Values(Case{"paper-noisefree", "xi_known", kNoXi},
-                      Case{"paper-noisefree", "xi1_unknown", kXi1Only},
-                      Case{"paper-noisefree", "all_xi_unknown", kAllXi},
-                      Case{"ratetable-noisefree", "xi_known", kNoXi},
-                      Case{"ratetable-noisefree", "all_xi_unknown", kAllXi}));
+INSTANTIATE_TEST_SUITE_P(Reference, CramerRaoTest,
+                         ::testing::Values(Case{"paper-noisefree", "xi_known", kNoXi},
+                                           Case{"paper-noisefree", "xi1_unknown", kXi1Only},
+                                           Case{"paper-noisefree", "all_xi_unknown", kAllXi},
+                                           Case{"ratetable-noisefree", "xi_known", kNoXi},
+                                           Case{"ratetable-noisefree", "all_xi_unknown", kAllXi}));
 
 // MODEL.md: 6 runs at ±0.1, ±0.3, ±1 rad/s, θ = kπ/12, 100 s each give a CRLB relative std of δ2
 // ≈ 4e-8 at σ = 1e-4, against 2.3e-2 for the paper's design. (Sample rate: the model digest does

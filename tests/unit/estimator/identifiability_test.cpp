@@ -9,7 +9,8 @@
 namespace hrgbench::estimator {
 namespace {
 
-std::vector<RunData> Simulate(const std::vector<double>& omegas, const Xi& xi = Xi(0.01, 0.002, -0.003, 0.004)) {
+std::vector<RunData> Simulate(const std::vector<double>& omegas,
+                              const Xi& xi = Xi(0.01, 0.002, -0.003, 0.004)) {
   std::vector<RunPlan> plans;
   for (std::size_t k = 0; k < omegas.size(); ++k) {
     RunPlan p;
@@ -51,8 +52,9 @@ TEST(IdentifiabilityTest, InformationRankFindsTheNullDirection) {
   Eigen::MatrixXd j(5, 3);
   j << 1, 2, 2.000000000001, 0, 1, 1, 3, 0, 0, 1, 1, 1, 2, 5, 5;
   IdentifiabilityReport report;
-  const double condition = CheckInformation(j.transpose() * j, {true, true, true, false, false, false},
-                                            kNoXi, IdentifiabilityOptions{}, &report);
+  const double condition =
+      CheckInformation(j.transpose() * j, {true, true, true, false, false, false}, kNoXi,
+                       IdentifiabilityOptions{}, &report);
   EXPECT_LT(condition, 1e10);
   EXPECT_TRUE(report.delta_identifiable[0]);
   EXPECT_NE(report.delta_identifiable[1], report.delta_identifiable[2]);

@@ -127,7 +127,8 @@ TEST(MaximumLikelihoodTest, HeldParametersStayAtTheirValues) {
   options.xi_estimated = kNoXi;
   options.xi_fixed << 0.01, 0, 0, 0;  // the truth: then δ comes out exact
   const auto truth = LoadReferenceTruth("paper-noisefree");
-  const EstimateSummary s = EstimateMaximumLikelihood(LoadReferenceRuns("paper-noisefree"), options);
+  const EstimateSummary s =
+      EstimateMaximumLikelihood(LoadReferenceRuns("paper-noisefree"), options);
   ASSERT_TRUE(s.Converged()) << s.Report();
   EXPECT_EQ(s.xi, options.xi_fixed);
   EXPECT_TRUE(s.xi_std.array().isNaN().all());

@@ -1,19 +1,23 @@
 // Identities of the model (MODEL.md), checked at random points: independent of any estimator.
 #include "hrgbench/estimator/model.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include <gtest/gtest.h>
 
 namespace hrgbench::estimator {
 namespace {
 
 class ModelTest : public ::testing::Test {
  protected:
-  State RandomState() { return State::NullaryExpr([&] { return normal_(rng_); }); }
-  Delta RandomDelta() { return Delta::NullaryExpr([&] { return 1e-2 * normal_(rng_); }); }
+  State RandomState() {
+    return State::NullaryExpr([&] { return normal_(rng_); });
+  }
+  Delta RandomDelta() {
+    return Delta::NullaryExpr([&] { return 1e-2 * normal_(rng_); });
+  }
   std::mt19937_64 rng_{20261121};
   std::normal_distribution<double> normal_{0.0, 1.0};
 };
@@ -67,7 +71,8 @@ TEST_F(ModelTest, OrbitRoundTrip) {
   for (int i = 0; i < 200; ++i) {
     // Random orbit in the convention's range: a > |b|, θ ∈ (−π/2, π/2], φ ∈ (−π, π].
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    Orbit o{1.0 + std::abs(u(rng_)), 0.0, 0.5 * std::numbers::pi * u(rng_), std::numbers::pi * u(rng_)};
+    Orbit o{1.0 + std::abs(u(rng_)), 0.0, 0.5 * std::numbers::pi * u(rng_),
+            std::numbers::pi * u(rng_)};
     o.b = o.a * 0.9 * u(rng_);
     const Orbit back = StateToOrbit(OrbitToState(o));
     EXPECT_NEAR(back.a, o.a, 1e-12);
@@ -142,8 +147,7 @@ TEST_F(ModelTest, SpecialCaseRegressorIsFirstOrderInXi) {
     const Matrix4 g = Matrix4::Identity() + DistortionMatrix(xi);
     const Observation y = g * x;
     const Forms dr_dt = 2.0 * FormsMatrix(y) * g * SystemMatrix(omega, d) * x;
-    const Forms approx =
-        2.0 * FirstOrderFormsRegressor(omega, QuadraticForms(y), xi[0], xi[1]) * d;
+    const Forms approx = 2.0 * FirstOrderFormsRegressor(omega, QuadraticForms(y), xi[0], xi[1]) * d;
     const double error = (approx - dr_dt).norm();
     if (previous > 0.0) {
       EXPECT_GT(previous / error, 3.5);
@@ -157,8 +161,7 @@ TEST_F(ModelTest, SystemMatrixMatchesTheEExpansion) {
   // A = δ1·I + 2Ωδ2·E34-1-2 + δ3·E12-3-4 + δ4·E3412 + δ5·E-214-3 + δ6·E-43-21 (MODEL.md notation).
   const auto e = [](std::array<int, 4> idx) {
     Matrix4 m = Matrix4::Zero();
-    for (int row = 0; row < 4; ++row)
-      m(row, std::abs(idx[row]) - 1) = idx[row] > 0 ? 1.0 : -1.0;
+    for (int row = 0; row < 4; ++row) m(row, std::abs(idx[row]) - 1) = idx[row] > 0 ? 1.0 : -1.0;
     return m;
   };
   const Delta d = RandomDelta();

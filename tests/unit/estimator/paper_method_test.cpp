@@ -20,7 +20,8 @@ TEST(PaperMethodTest, NoiseFreeWithoutXiMatchesThePrototype) {
   const Delta expected = DeltaFrom(Expected()["paper-noisefree"]["paper_no_xi"]["delta"]);
   EXPECT_NEAR(s.delta[kScaleFactor], 0.29857, 5e-6);
   EXPECT_NEAR(s.delta[kScaleFactor], expected[kScaleFactor], 1e-7);
-  for (int j = 0; j < 6; ++j) EXPECT_NEAR(s.delta[j], expected[j], 1e-7 * std::abs(expected[kScaleFactor]));
+  for (int j = 0; j < 6; ++j)
+    EXPECT_NEAR(s.delta[j], expected[j], 1e-7 * std::abs(expected[kScaleFactor]));
   // The paper's figure of merit: relative deviation ‖δ*−δ0‖/‖δ0‖ = 0.0048 (MODEL.md).
   const Delta truth = (Delta() << -0.001, 0.3, 0, 0, 0, 0).finished();
   EXPECT_NEAR((s.delta - truth).norm() / truth.norm(), 0.0048, 0.0001);

@@ -2,10 +2,10 @@
 // squaring: an independent algorithm), and the noise generator's statistics.
 #include "hrgbench/estimator/simulation.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 #include <unsupported/Eigen/MatrixFunctions>
 
 namespace hrgbench::estimator {

@@ -3,10 +3,10 @@
 //
 // Bounds: with N = 300 seeds the sample std has a relative standard error of 1/√(2(N−1)) = 4.1 %;
 // the tests allow ±15 % (3.6 standard errors). The mean has standard error std/√N; ±4 of those.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"

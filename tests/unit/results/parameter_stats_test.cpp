@@ -1,10 +1,11 @@
 // Line statistics on hand-made samples: ISO weeks at year boundaries (expected values from
-// Python's datetime.date.isocalendar), one-sided limits, a single sample, the newest limits in force.
+// Python's datetime.date.isocalendar), one-sided limits, a single sample, the newest limits in
+// force.
+#include "hrgbench/results/parameter_stats.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "hrgbench/results/parameter_stats.hpp"
 
 namespace {
 

@@ -35,8 +35,8 @@ hw::CanFrame Frame(std::uint32_t id, std::initializer_list<std::uint8_t> bytes) 
 }
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("hrgbench_candump_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("hrgbench_candump_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -95,7 +95,8 @@ TEST(CandumpFormat, RandomFramesRoundTripThroughTheParser) {
       frame.length = static_cast<std::uint8_t>(rng() % 9);
     }
     if (!frame.remote) {
-      for (std::uint8_t k = 0; k < frame.length; ++k) frame.data[k] = static_cast<std::uint8_t>(rng());
+      for (std::uint8_t k = 0; k < frame.length; ++k)
+        frame.data[k] = static_cast<std::uint8_t>(rng());
     }
     const std::int64_t t_ns = static_cast<std::int64_t>(rng() % 4'000'000'000'000'000'000ull);
     const std::string line = Line(frame, t_ns, "vcan0");
@@ -112,8 +113,9 @@ TEST(CandumpLogWriter, WritesEveryFrameAndRefusesToOverwrite) {
   const fs::path path = dir / "session.log";
   std::vector<LoggedCanFrame> frames;
   for (std::uint32_t k = 0; k < 3000; ++k) {
-    frames.push_back(LoggedCanFrame{1'700'000'000'000'000'000 + k * 1'000'000,
-                                    Frame(0x100 + (k % 16), {std::uint8_t(k), std::uint8_t(k >> 8)})});
+    frames.push_back(
+        LoggedCanFrame{1'700'000'000'000'000'000 + k * 1'000'000,
+                       Frame(0x100 + (k % 16), {std::uint8_t(k), std::uint8_t(k >> 8)})});
   }
   {
     auto log = CandumpLogWriter::Open(path, {.interface_name = "vcan0"});

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "hrgbench/session/session_recorder.hpp"
 #include "hrgbench/session/session_record.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 #include "record_test_dir.hpp"
 #include "synthetic_gyro_record.hpp"
 

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <limits>
 
-#include "hrgbench/session/session_recorder.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_recorder.hpp"
 #include "record_test_dir.hpp"
 #include "synthetic_gyro_record.hpp"
 

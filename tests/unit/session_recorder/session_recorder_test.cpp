@@ -62,7 +62,8 @@ RunEnd CompleteEnd(const PlannedRun& plan) {
 // Records every planned run, in batches of 64 samples.
 void RecordRun(SessionRecorder& recorder, const PlannedRun& plan, const RunEnd& end) {
   ASSERT_TRUE(recorder.BeginRun(plan.id, StartFor(plan)).has_value());
-  const auto samples = SyntheticSamples(plan.id, 500, plan.sample_rate_hz, plan.commanded_omega_rad_s);
+  const auto samples =
+      SyntheticSamples(plan.id, 500, plan.sample_rate_hz, plan.commanded_omega_rad_s);
   for (std::size_t k = 0; k < samples.size(); k += 64) {
     const std::size_t n = std::min<std::size_t>(64, samples.size() - k);
     auto appended = recorder.AppendSamples(std::span(samples).subspan(k, n));
@@ -117,12 +118,14 @@ TEST(SessionRecorder, FullSessionReadsBackExactlyThroughTheSessionLibrary) {
   for (std::size_t r = 0; r < 3; ++r) {
     const PlannedRun& plan = header.runs[r];
     EXPECT_EQ(runs[r].omega_rad_s, CompleteEnd(plan).omega_rad_s);  // bit-exact
-    const auto samples = SyntheticSamples(plan.id, 500, plan.sample_rate_hz, plan.commanded_omega_rad_s);
+    const auto samples =
+        SyntheticSamples(plan.id, 500, plan.sample_rate_hz, plan.commanded_omega_rad_s);
     ASSERT_EQ(runs[r].t_s.size(), samples.size());
     const auto& extra = read->loaded_samples[r].extra_columns;
     for (std::size_t k = 0; k < samples.size(); ++k) {
       ASSERT_EQ(runs[r].t_s[k], samples[k].t_s);
-      for (int c = 0; c < 4; ++c) ASSERT_EQ(runs[r].y(c, static_cast<Eigen::Index>(k)), samples[k].y[c]);
+      for (int c = 0; c < 4; ++c)
+        ASSERT_EQ(runs[r].y(c, static_cast<Eigen::Index>(k)), samples[k].y[c]);
       ASSERT_EQ(extra.at("seq")[k], samples[k].seq);
       ASSERT_EQ(extra.at("omega_meas_rad_s")[k], samples[k].measured_omega_rad_s);
       ASSERT_EQ(extra.at("temp_c")[k], samples[k].temperature_c);

@@ -48,10 +48,10 @@
 #include <vector>
 
 #include "hrgbench/bench/capture/realtime_setup.hpp"
-#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/bench/capture/spsc_ring.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::bench {
 

@@ -36,9 +36,9 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/bench/events/event_stream.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 
 namespace hrgbench::bench {
 

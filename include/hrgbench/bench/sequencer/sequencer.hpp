@@ -33,15 +33,15 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/config/bench_configs.hpp"
-#include "hrgbench/session/session_outcome.hpp"
-#include "hrgbench/session/session_record_types.hpp"
 #include "hrgbench/analysis/verdict.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 #include "hrgbench/hw/rate_table.hpp"
+#include "hrgbench/session/session_outcome.hpp"
+#include "hrgbench/session/session_record_types.hpp"
 
 namespace hrgbench::bench {
 
@@ -60,7 +60,7 @@ struct UnitHardware {
   // (0: not said), recorded with the log (can_log.node, can_log.protocol) for its replay.
   int can_node = 0;
   int can_protocol = 0;
-  std::string position;                // the fixture position it sits in ("A", "1")
+  std::string position;  // the fixture position it sits in ("A", "1")
   // +1: its sensitive axis along the table's axis; −1: against it (mounted upside down). Its Ω,
   // Earth rate and record are in its own frame: −1 × the table's.
   int axis_sign = 1;
@@ -83,8 +83,8 @@ struct Progress {
   // "warm-up", "table" (settling), "excite", "ready", "release", "capture", "stop", "estimate";
   // every change of phase is reported at once (the period applies within a phase).
   std::string_view phase;
-  double elapsed_s = 0.0;     // since the session (or the resume) started, on the hardware clock
-  double remaining_s = 0.0;   // rough: the free-run time still to capture plus settling
+  double elapsed_s = 0.0;    // since the session (or the resume) started, on the hardware clock
+  double remaining_s = 0.0;  // rough: the free-run time still to capture plus settling
   // Summed over the units capturing the current run.
   std::uint64_t samples = 0;  // captured in the current run
   std::uint64_t samples_expected = 0;
@@ -127,8 +127,8 @@ struct SessionResult {
   // The estimate in the field's units (τ, Q, splits, axes, k, pick-off errors), with the f0 the
   // electronics reported; when the estimate was usable.
   std::optional<estimator::EngineeringQuantities> engineering;
-  nlohmann::json estimate_json;                        // as recorded in session.json (or null)
-  std::vector<std::string> warnings;                   // flagged runs, estimator warnings
+  nlohmann::json estimate_json;       // as recorded in session.json (or null)
+  std::vector<std::string> warnings;  // flagged runs, estimator warnings
   int complete_runs = 0;
 };
 
