@@ -26,6 +26,8 @@ packages=(
   libpq-dev                # results database: PostgreSQL engine (libpq)
   postgresql-15            # results tests and benchmark: a throwaway server (initdb, pg_ctl)
   libcpp-httplib-dev       # hrg-bench serve: the operator panel's web server (cpp-httplib)
+  clang-format             # the formatting check (scripts/check-format.sh, ctest format.*)
+  python3                  # the layer check (tests/architecture) and the Python-driven tests
 )
 
 missing=()
