@@ -4,6 +4,7 @@
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
+#include "sim/carrier_config.hpp"
 #include "sim/simulated_station.hpp"
 #include "socketcan/socket_can_bus.hpp"
 
@@ -75,34 +76,12 @@ class RealStation final : public Station {
   bench::BenchHardware hardware_;
 };
 
-drivers::sim::CarrierOptions MapCarrier(const bench::SimulatedCarrierConfig& c) {
-  drivers::sim::CarrierOptions o;
-  o.resonator = c.resonator;
-  o.frequency_temperature_coefficient_per_c = c.frequency_temperature_coefficient_per_c;
-  o.reference_temperature_c = c.reference_temperature_c;
-  o.pickoff.errors = c.pickoff;
-  o.pickoff.common_gain = c.common_gain;
-  o.pickoff.common_delay_s = c.common_delay_s;
-  o.pickoff.white_noise_std = c.white_noise_std;
-  o.pickoff.coloured_noise_std = c.coloured_noise_std;
-  o.pickoff.coloured_noise_time_s = c.coloured_noise_time_s;
-  o.sample_rate_hz = c.sample_rate_hz;
-  o.electronics.reference.mode = c.tracking_reference ? drivers::sim::ReferenceMode::kTracking
-                                                      : drivers::sim::ReferenceMode::kFreeRunning;
-  o.electronics.reference.offset_hz = c.reference_offset_hz;
-  o.electronics.reference.pll_bandwidth_hz = c.pll_bandwidth_hz;
-  o.electronics.filter_order = static_cast<int>(c.filter_order);
-  o.electronics.filter_cutoff_hz = c.filter_cutoff_hz;
-  o.electronics.report_reference_phase = c.report_reference_phase;
-  return o;
-}
-
 // One simulated unit: a fixture position's [simulated] (the station's with its own keys).
 drivers::sim::GyroSimOptions MapSimulatedUnit(const bench::SimulatedStationConfig& sim) {
   drivers::sim::GyroSimOptions o;
   if (sim.physics == bench::SimulatedPhysics::kCarrier) {
     o.physics = drivers::sim::GyroPhysics::kCarrier;
-    o.carrier = MapCarrier(sim.carrier);
+    o.carrier = drivers::sim::CarrierOptionsFrom(sim.carrier);
   }
   o.delta = sim.delta;
   o.xi = sim.xi;

@@ -9,7 +9,6 @@
 #include <string_view>
 #include <utility>
 
-#include "config/simulated_carrier_table.hpp"
 #include "hrgbench/config/config_bounds.hpp"
 #include "hrgbench/config/results_url.hpp"
 #include "hrgbench/config/station_config.hpp"
@@ -395,7 +394,7 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
     HRG_TRY(carrier_table, SubTable(reader, "carrier", false));
     if (*carrier_table != nullptr) {
       TableReader carrier_reader(**carrier_table, reader.KeyPath("carrier"), reader.source());
-      HRG_TRY(carrier_config, internal::ReadSimulatedCarrier(carrier_reader));
+      HRG_TRY(carrier_config, ReadSimulatedCarrier(carrier_reader));
       sim.carrier = *carrier_config;
     }
   } else {

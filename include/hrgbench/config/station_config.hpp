@@ -24,6 +24,7 @@
 #include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/config/config_error.hpp"
 #include "hrgbench/config/pickoff_declaration.hpp"
+#include "hrgbench/config/simulated_carrier.hpp"
 #include "hrgbench/config/site.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
@@ -118,28 +119,6 @@ struct SimulatedFaults {
 enum class SimulatedPhysics {
   kSlow,     // the estimator's own model (delta, xi, sigma)
   kCarrier,  // the 2-DOF resonator at its carrier and real electronics ([simulated.carrier])
-};
-
-// [simulated.carrier]: the carrier-level resonator, pick-off path and electronics; the same keys,
-// defaults and bounds as hrg-gyro-sim's [carrier] (drivers/sim/carrier_config.hpp), mapped by
-// src/app onto drivers/sim's CarrierOptions.
-struct SimulatedCarrierConfig {
-  estimator::ResonatorParameters resonator;  // frequency_hz ... angular_gain
-  double frequency_temperature_coefficient_per_c = 0.0;
-  double reference_temperature_c = 25.0;
-  estimator::PickoffParameters pickoff;  // gain_ratio, phase_mismatch_rad, cross_talk, ...
-  double common_gain = 1.0;
-  double common_delay_s = 0.0;
-  double white_noise_std = 0.0;
-  double coloured_noise_std = 0.0;
-  double coloured_noise_time_s = 1e-3;
-  double sample_rate_hz = 100000.0;
-  bool tracking_reference = false;  // reference = "tracking" (else "free-running")
-  double reference_offset_hz = 0.0;
-  double pll_bandwidth_hz = 2.0;
-  std::int64_t filter_order = 4;
-  double filter_cutoff_hz = 200.0;
-  bool report_reference_phase = true;  // the electronics send their reference phase (0x103)
 };
 
 // [simulated]: the in-process simulated station (drivers/sim physics, seeded, reproducible).

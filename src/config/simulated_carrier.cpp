@@ -1,9 +1,8 @@
-// Reader of a simulated station's [simulated.carrier] table: the keys, defaults and bounds of
-// hrg-gyro-sim's [carrier] (drivers/sim/carrier_config.cpp, which the bench cannot include; keep
-// the two in step: tests/unit/config/station_carrier_test.cpp and
-// tests/unit/sim/gyro_sim_config_test.cpp check the same cases on both).
+// The one reader of a simulated carrier table (simulated_carrier.hpp). The bounds are wide enough
+// for any real resonator and chain and narrow enough that a unit typo (Hz for kHz, us for s) is
+// caught; |xi| < 1/4 for the slow physics, and the pick-off bounds keep the mapped xi of that size.
 
-#include "config/simulated_carrier_table.hpp"
+#include "hrgbench/config/simulated_carrier.hpp"
 
 #include <numbers>
 #include <string>
@@ -11,7 +10,7 @@
 
 #include "hrgbench/hw/gyro_electronics.hpp"
 
-namespace hrgbench::bench::internal {
+namespace hrgbench::bench {
 namespace {
 
 using namespace config_file;  // NOLINT(google-build-using-namespace): the loader's vocabulary
@@ -102,6 +101,10 @@ std::expected<SimulatedCarrierConfig, ConfigError> ReadSimulatedCarrier(TableRea
                          "), so that the 2*f0 image is rejected"));
   HRG_TRY(report, OptionalBool(reader, "report_reference_phase", c.report_reference_phase));
   c.report_reference_phase = *report;
+  HRG_TRY(iq, Choice(reader, "iq_convention", {"minus-sine", "plus-sine"},
+                     c.iq_convention == estimator::IqConvention::kPlusSine ? 1 : 0));
+  c.iq_convention =
+      *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
   HRG_CHECK(reader.Unknown(
       "frequency_hz, decay_time_s, damping_anisotropy_per_s, damping_axis_rad, "
       "frequency_split_hz, frequency_axis_rad, angular_gain, "
@@ -109,8 +112,8 @@ std::expected<SimulatedCarrierConfig, ConfigError> ReadSimulatedCarrier(TableRea
       "phase_mismatch_rad, cross_talk, electrode_angle_error_rad, common_gain, common_delay_s, "
       "white_noise_std, coloured_noise_std, coloured_noise_time_s, sample_rate_hz, reference, "
       "reference_offset_hz, pll_bandwidth_hz, filter_order, filter_cutoff_hz, "
-      "report_reference_phase"));
+      "report_reference_phase, iq_convention"));
   return c;
 }
 
-}  // namespace hrgbench::bench::internal
+}  // namespace hrgbench::bench
