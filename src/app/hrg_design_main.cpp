@@ -17,8 +17,8 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
-#include "app/sim_spec.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
 
 namespace {

@@ -10,8 +10,8 @@
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
 #include "app/sim_session.hpp"
-#include "app/sim_spec.hpp"
 #include "hrgbench/config/sha256.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 #include "hrgbench/estimator/simulation.hpp"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "app/sim_spec.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/session/session.hpp"
 

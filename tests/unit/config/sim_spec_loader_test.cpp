@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "app/sim_spec.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 
 namespace hrgbench::app {
 namespace {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "app/sim_spec.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 
 namespace hrgbench::app {
 namespace {

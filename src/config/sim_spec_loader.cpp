@@ -6,8 +6,8 @@
 #include <optional>
 #include <utility>
 
-#include "app/sim_spec.hpp"
 #include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/sim_spec.hpp"
 #include "hrgbench/config/toml_reader.hpp"
 
 namespace hrgbench::app {
