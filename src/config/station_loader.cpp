@@ -126,7 +126,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
   gyro.status_poll_ms = *poll;
   HRG_TRY(sample, OptionalInteger(reader, "sample_timeout_ms", 1, 60'000, gyro.sample_timeout_ms));
   gyro.sample_timeout_ms = *sample;
-  // The electronics' output low-pass: what colours the pick-off noise (output_filter.hpp).
+  // The electronics' output low-pass: what colours the pick-off noise (session/electronics.hpp).
   HRG_TRY(filter, Choice(reader, "output_filter", {"none", "butterworth"}, 0));
   if (*filter == 1) {
     gyro.output_filter.kind = OutputFilterKind::kButterworth;
@@ -145,7 +145,7 @@ std::expected<GyroLinkConfig, ConfigError> ReadGyro(TableReader& reader, Station
                      gyro.iq_convention == estimator::IqConvention::kPlusSine ? 1 : 0));
   gyro.iq_convention =
       *iq == 1 ? estimator::IqConvention::kPlusSine : estimator::IqConvention::kMinusSine;
-  // What free runs cannot measure of the pick-off (pickoff_declaration.hpp).
+  // What free runs cannot measure of the pick-off (session/electronics.hpp).
   HRG_TRY(stage,
           Choice(reader, "pickoff_cross_talk_stage", {"midway", "before_gain", "after_gain"}, 0));
   gyro.pickoff.cross_talk_stage = *stage == 1   ? estimator::CrossTalkStage::kBeforeGain

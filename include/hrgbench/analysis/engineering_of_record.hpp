@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/config/pickoff_declaration.hpp"
+#include "hrgbench/session/electronics.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
 

@@ -9,7 +9,9 @@
 // noise the electronics should not have. A declaration that does not explain the data is flagged
 // by the fit like any other misfit.
 //
-// Pure functions; never throw except std::bad_alloc.
+// The declaration itself (OutputFilter) is plain data of the session layer
+// (session/electronics.hpp): the station declares it and the record keeps it; this is what the
+// analysis makes of it. Pure functions; never throw except std::bad_alloc.
 
 #include <cstdint>
 #include <expected>
@@ -17,19 +19,9 @@
 #include <string>
 
 #include "hrgbench/estimator/noise_shape.hpp"
+#include "hrgbench/session/electronics.hpp"
 
 namespace hrgbench::bench {
-
-enum class OutputFilterKind {
-  kNone,         // the electronics pass white pick-off noise (or filter far above the output rate)
-  kButterworth,  // a Butterworth low-pass of `order` with cutoff `cutoff_hz`, then decimation
-};
-
-struct OutputFilter {
-  OutputFilterKind kind = OutputFilterKind::kNone;
-  std::int64_t order = 4;    // 1 … estimator::kMaxButterworthOrder
-  double cutoff_hz = 200.0;  // > 0
-};
 
 // {"kind": "none"} or {"kind": "butterworth", "order": 4, "cutoff_hz": 200.0}.
 nlohmann::json OutputFilterJson(const OutputFilter& filter);

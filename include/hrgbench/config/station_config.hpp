@@ -21,14 +21,13 @@
 #include <string_view>
 #include <vector>
 
-#include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/config/config_error.hpp"
-#include "hrgbench/config/pickoff_declaration.hpp"
 #include "hrgbench/config/simulated_carrier.hpp"
 #include "hrgbench/config/site.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
+#include "hrgbench/session/electronics.hpp"
 
 namespace hrgbench::bench {
 
@@ -71,7 +70,7 @@ struct GyroLinkConfig {
   // conjugated into the model's before every fit.
   estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
   // What free runs cannot measure of the pick-off (pickoff_cross_talk_stage,
-  // pickoff_coupling_bound_rad; pickoff_declaration.hpp): recorded as electronics.pickoff.
+  // pickoff_coupling_bound_rad; session/electronics.hpp): recorded as electronics.pickoff.
   PickoffDeclaration pickoff;
 };
 

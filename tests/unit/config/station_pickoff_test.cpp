@@ -1,5 +1,5 @@
 // The station's [gyro] pick-off declaration (pickoff_cross_talk_stage, pickoff_coupling_bound_rad:
-// what free runs cannot measure of the pick-off, pickoff_declaration.hpp): defaults, the values
+// what free runs cannot measure of the pick-off, session/electronics.hpp): defaults, the values
 // loaded and recorded, bad values named by key and value; and the engineering quantities of a
 // record (engineering_of_record.hpp) reading it back: the budget follows the declaration, a record
 // without one is read as the default with a note, a bad one is refused by field and value.
