@@ -49,7 +49,7 @@ class LayerCheckTest(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
 
     def test_estimator_including_the_bench(self):
-        self.add_line("src/estimator/model.cpp", '#include "hrgbench/bench/sequencer.hpp"')
+        self.add_line("src/estimator/model.cpp", '#include "hrgbench/bench/sequencer/sequencer.hpp"')
         self.expect_violation("src/estimator/model.cpp", ["'estimator' may not depend on 'bench'"])
 
     def test_estimator_using_a_library_other_than_eigen(self):
@@ -65,7 +65,7 @@ class LayerCheckTest(unittest.TestCase):
         self.expect_violation("include/hrgbench/estimator/model.hpp", ["private header"])
 
     def test_a_driver_including_the_bench(self):
-        self.add_line("drivers/gyro_can/gyro_codec.cpp", '#include "hrgbench/bench/capture.hpp"')
+        self.add_line("drivers/gyro_can/gyro_codec.cpp", '#include "hrgbench/bench/capture/capture.hpp"')
         self.expect_violation("drivers/gyro_can/gyro_codec.cpp",
                               ["'drivers/gyro_can' may not depend on 'bench'"])
 
