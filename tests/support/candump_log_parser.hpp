@@ -1,6 +1,6 @@
 #pragma once
 // Test-side reader of candump -L log lines, written from can-utils lib.c parse_canframe()'s rules
-// (independently of src/bench/record's formatter, so a round trip checks one against the other):
+// (independently of src/session's candump formatter, so a round trip checks one against the other):
 //   "(<sec>.<usec>) <ifname> <frame>" with <frame> one of
 //   3 hex digits '#' data | 8 hex digits '#' data (extended, or error frame when 0x20000000 set)
 //   <id>#R[<len>] | <id>##<flags nibble><data>. Data bytes may be separated by '.'.
