@@ -9,6 +9,7 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
+#include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/analysis/recorded_frequency.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
