@@ -5,20 +5,23 @@
 #include <string>
 #include <vector>
 
+#include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page.hpp"
+#include "page_pointer.hpp"
 #include "page_script.hpp"
 #include "report_data.hpp"
 
 namespace hrgbench::report::internal {
 
 using nlohmann::json;
+namespace keys = session::keys;
 
 void Page::Head() {
   out_ +=
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>HRG session "
       "report " +
-      Text("/unit/serial") +
+      TextOrMissing(record_.unit_serial) +
       "</title>\n<style>\n"
       "body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1000px;color:#222}\n"
       "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
@@ -37,52 +40,56 @@ void Page::Head() {
 }
 
 void Page::Meta() {
-  out_ +=
-      "<h1>HRG session report: unit " + Text("/unit/serial") + "</h1>\n<table class=\"meta\">\n";
+  out_ += "<h1>HRG session report: unit " + TextOrMissing(record_.unit_serial) +
+          "</h1>\n<table class=\"meta\">\n";
   const auto row = [&](const char* name, const std::string& value) {
     out_ += std::string("<tr><th>") + name + "</th><td>" + value + "</td></tr>\n";
   };
-  row("unit serial", Text("/unit/serial"));
-  row("station", Has("/station/name") ? Text("/station/name") : kMissing);
-  row("software version",
-      Has("/software/version") ? Text("/software/version") : Text("/software_version"));
-  if (Has("/config_sha256")) {
-    for (const char* key : {"station", "sequence", "limits"})
-      row((std::string("config sha256: ") + key).c_str(),
-          Text(std::string("/config_sha256/") + key));
-  } else if (Has("/spec_sha256")) {
-    row("spec sha256", Text("/spec_sha256"));
+  row("unit serial", TextOrMissing(record_.unit_serial));
+  row("station", TextOrMissing(record_.station_name));
+  row("software version", TextOrMissing(record_.software_version));
+  const session::ConfigHashesRecord& hashes = record_.config_sha256;
+  if (hashes.recorded) {
+    row("config sha256: station", TextOrMissing(hashes.station_sha256));
+    row("config sha256: sequence", TextOrMissing(hashes.sequence_sha256));
+    row("config sha256: limits", TextOrMissing(hashes.limits_sha256));
+  } else if (!record_.spec_sha256.empty()) {
+    row("spec sha256", HtmlEscape(record_.spec_sha256));
   } else {
     row("config hashes", kMissing);
   }
-  row("started (UTC)", Text("/started/utc"));
-  row("ended (UTC)", Text("/ended/utc"));
-  row("state", Text("/state"));
-  if (Has("/description")) row("description", Text("/description"));
+  row("started (UTC)", TextOrMissing(record_.started ? record_.started->utc : std::string()));
+  row("ended (UTC)", TextOrMissing(record_.ended ? record_.ended->utc : std::string()));
+  row("state", TextOrMissing(record_.state));
+  if (!record_.description.empty()) row("description", HtmlEscape(record_.description));
   row("session directory", HtmlEscape(in_.session_dir.string()));
   out_ += "</table>\n";
 }
 
 void Page::Outcome() {
-  if (!Has("/outcome")) {
+  if (!record_.outcome) {
     out_ +=
         "<div id=\"outcome\" data-kind=\"NOT RECORDED\">NOT RECORDED<span class=\"reason\">"
         "session.json has no outcome (a session from hrg-sim, an older format, or one that did "
         "not close); the estimate below is the report's own</span></div>\n";
     return;
   }
-  const json* kind = At(doc_, "/outcome/kind");
-  const std::string k = kind != nullptr && kind->is_string() ? kind->get<std::string>() : "UNKNOWN";
+  const session::OutcomeRecord& outcome = *record_.outcome;
+  const std::string k(bench::ToString(outcome.kind));
   out_ += "<div id=\"outcome\" data-kind=\"" + Attr(k) + "\">" + HtmlEscape(k) +
-          "<span class=\"reason\">" + Text("/outcome/reason") + " (exit code " +
-          Src("/outcome/exit_code") + ")</span></div>\n";
-  const std::size_t failed = Size(doc_, "/outcome/failed_parameters");
-  if (failed > 0) {
+          "<span class=\"reason\">" + HtmlEscape(outcome.reason) + " (exit code " +
+          Src(Pointer(keys::kOutcome, keys::kExitCode),
+              outcome.exit_code ? *outcome.exit_code : session::kNotRecorded) +
+          ")</span></div>\n";
+  if (!outcome.failed_parameters.empty()) {
     out_ += "<p>Out of limits:</p><ul>";
-    for (std::size_t i = 0; i < failed; ++i) {
-      const std::string p = "/outcome/failed_parameters/" + std::to_string(i);
-      out_ += "<li>" + Text(p + "/name") + " = " + Src(p + "/value") + " (limits " +
-              Src(p + "/min") + " … " + Src(p + "/max") + ")</li>";
+    for (std::size_t i = 0; i < outcome.failed_parameters.size(); ++i) {
+      const bench::FailedParameter& f = outcome.failed_parameters[i];
+      const auto p = [&](const char* key) {
+        return Pointer(keys::kOutcome, keys::kFailedParameters, i, key);
+      };
+      out_ += "<li>" + HtmlEscape(f.name) + " = " + Src(p(keys::kValue), f.value) + " (limits " +
+              Src(p(keys::kMin), f.min) + " … " + Src(p(keys::kMax), f.max) + ")</li>";
     }
     out_ += "</ul>\n";
   }
@@ -99,25 +106,42 @@ void Page::Warnings(int run) {
 }
 
 void Page::Estimate() {
-  const bool recorded = Has("/outcome/estimate/delta");
-  const std::string base = recorded ? "/outcome/estimate/" : "/derived/estimate/";
-  const auto value = [&](const std::string& pointer) {
-    return recorded ? Src(pointer) : Der(pointer);
+  const session::EstimateRecord* of_record =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
+  const bool recorded = of_record != nullptr && of_record->delta_recorded;
+  // The recorded estimate (outcome.estimate) or the report's own (/derived/estimate in the
+  // report-data block).
+  const auto pointer = [&](const char* key, auto... index) {
+    return recorded ? EstimatePointer(key, index...)
+                    : Pointer("derived", keys::kEstimate, key, index...);
+  };
+  const auto value = [&](const char* key, double recorded_value) {
+    return recorded ? Src(pointer(key), recorded_value) : Der(pointer(key));
   };
   out_ += "<h2>Model parameters δ and ξ</h2>\n<p>";
   out_ += recorded ? "As recorded by the bench (outcome.estimate, method " +
-                         Text("/outcome/estimate/method") + ")."
+                         TextOrMissing(of_record->method) + ")."
                    : std::string("Not recorded in session.json: estimated by the report (ml).");
   out_ += " The Cramér–Rao bound is of the session's own design (derived by the report).</p>\n";
-  std::string truth_base;
-  if (Has("/outcome/estimate/truth/delta"))
-    truth_base = "/outcome/estimate/truth/";
-  else if (Has("/simulation/delta"))
-    truth_base = "/simulation/";
+  // The simulated truth: the estimate's copy, else the simulator's section.
+  const std::array<double, 6>* truth_delta = nullptr;
+  const std::array<double, 4>* truth_xi = nullptr;
+  std::array<double, 4> no_xi;
+  no_xi.fill(session::kNotRecorded);
+  std::string truth_pointer;  // "" when there is no truth
+  if (of_record != nullptr && of_record->truth_delta) {
+    truth_delta = &*of_record->truth_delta;
+    truth_xi = of_record->truth_xi ? &*of_record->truth_xi : &no_xi;
+    truth_pointer = EstimatePointer(keys::kTruth);
+  } else if (record_.simulation_delta) {
+    truth_delta = &*record_.simulation_delta;
+    truth_xi = record_.simulation_xi ? &*record_.simulation_xi : &no_xi;
+    truth_pointer = Pointer(keys::kSimulation);
+  }
   out_ +=
       "<table class=\"parameters\"><tr><th>parameter</th><th>meaning</th><th>estimate</th>"
       "<th>± std</th>";
-  if (!truth_base.empty()) out_ += "<th>truth (simulated)</th><th>(estimate − truth)/std</th>";
+  if (truth_delta != nullptr) out_ += "<th>truth (simulated)</th><th>(estimate − truth)/std</th>";
   out_ += "<th>Cramér–Rao std</th></tr>\n";
   static const char* kMeaning[10] = {"damping δ1 [1/s]",
                                      "angular gain δ2",
@@ -129,53 +153,67 @@ void Page::Estimate() {
                                      "phase mismatch ξ2",
                                      "cross-talk ξ3",
                                      "electrode misplacement ξ4"};
-  for (int p = 0; p < 10; ++p) {
+  for (std::size_t p = 0; p < 10; ++p) {
     const bool is_delta = p < 6;
-    const std::string i = std::to_string(is_delta ? p : p - 6);
-    const std::string key = is_delta ? "delta" : "xi";
-    const auto [estimate, std_dev] =
-        WithStd(!recorded, base + key + "/" + i, base + key + "_std/" + i);
-    out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") +
-            std::to_string((is_delta ? p : p - 6) + 1) + "</td><td>" + kMeaning[p] + "</td><td>" +
-            estimate + "</td><td>" + std_dev + "</td>";
-    const double std_value = NumberAt(recorded ? doc_ : data_, base + key + "_std/" + i);
-    if (!truth_base.empty()) {
-      // The truth to the estimate's precision, so the two columns read side by side.
-      const std::string truth = truth_base + key + "/" + i;
-      const std::string z = "/derived/truth_deviation/" + key + "/" + i;
-      out_ += "<td>" + Num(false, truth, Metrological(NumberAt(doc_, truth), std_value).value) +
-              "</td><td>" + Num(true, z, Fixed(NumberAt(data_, z), 2)) + "</td>";
+    const std::size_t i = is_delta ? p : p - 6;
+    const char* key = is_delta ? keys::kDelta : keys::kXi;
+    const char* std_key = is_delta ? keys::kDeltaStd : keys::kXiStd;
+    double recorded_value = session::kNotRecorded, recorded_std = session::kNotRecorded;
+    if (recorded) {
+      recorded_value = is_delta ? of_record->delta[i] : of_record->xi[i];
+      recorded_std = is_delta ? of_record->delta_std[i] : of_record->xi_std[i];
     }
-    const std::string bound = "/derived/crlb/" + key + "_std/" + i;
-    out_ += "<td>" + Num(true, bound, TwoSignificant(NumberAt(data_, bound))) + "</td></tr>\n";
+    const auto [estimate, std_dev] =
+        recorded ? SrcWithStd(pointer(key, i), recorded_value, pointer(std_key, i), recorded_std)
+                 : DerWithStd(pointer(key, i), pointer(std_key, i));
+    out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") + std::to_string(i + 1) + "</td><td>" +
+            kMeaning[p] + "</td><td>" + estimate + "</td><td>" + std_dev + "</td>";
+    const double std_value = recorded ? recorded_std : NumberAt(data_, pointer(std_key, i));
+    if (truth_delta != nullptr) {
+      // The truth to the estimate's precision, so the two columns read side by side.
+      const double truth = is_delta ? (*truth_delta)[i] : (*truth_xi)[i];
+      const std::string z = Pointer("derived", "truth_deviation", key, i);
+      out_ += "<td>" +
+              Src(truth_pointer + Pointer(key, i), truth, Metrological(truth, std_value).value) +
+              "</td><td>" + Der(z, Fixed(NumberAt(data_, z), 2)) + "</td>";
+    }
+    const std::string bound = Pointer("derived", "crlb", std_key, i);
+    out_ += "<td>" + Der(bound, TwoSignificant(NumberAt(data_, bound))) + "</td></tr>\n";
   }
-  out_ += "</table>\n<p>Residual RMS " + value(base + "residual_rms") + ", noise σ̂ " +
-          value(base + "noise_sigma") + ", " + value(base + "samples_used") + " samples, " +
-          value(base + "iterations") + " iterations.</p>\n";
+  const auto count = [](auto n) { return static_cast<double>(n); };
+  out_ += "</table>\n<p>Residual RMS " +
+          value(keys::kResidualRms, recorded ? of_record->residual_rms : 0.0) + ", noise σ̂ " +
+          value(keys::kNoiseSigma, recorded ? of_record->noise_sigma : 0.0) + ", " +
+          value(keys::kSamplesUsed, recorded ? count(of_record->samples_used) : 0.0) +
+          " samples, " + value(keys::kIterations, recorded ? count(of_record->iterations) : 0.0) +
+          " iterations.</p>\n";
 }
 
 // One table of every quantity's uncertainty budget (GUM: components with their sources, the
 // combined standard uncertainty and the coverage factor), largest component first as recorded.
-void Page::EngineeringBudgets(const std::string& base) {
-  const std::size_t n = Size(doc_, base + "/quantities");
+void Page::EngineeringBudgets(const session::EstimateRecord& estimate) {
+  const auto pointer = [](auto... parts) { return EstimatePointer(keys::kEngineering, parts...); };
   std::string rows;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::string q = base + "/quantities/" + std::to_string(i);
-    const std::size_t components = Size(doc_, q + "/budget");
-    if (components == 0) continue;
-    const std::string unit = Has(q + "/unit") ? Text(q + "/unit") : std::string();
-    rows += "<tr class=\"budget-total\"><td rowspan=\"" + std::to_string(components + 1) + "\">" +
-            (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) +
-            "</td><td>combined u<sub>c</sub></td><td></td><td>" + Src(q + "/std") + " " + unit +
+  for (std::size_t i = 0; i < estimate.engineering.size(); ++i) {
+    const session::EngineeringQuantityRecord& q = estimate.engineering[i];
+    if (q.budget.empty()) continue;
+    const std::string unit = HtmlEscape(q.unit);
+    rows += "<tr class=\"budget-total\"><td rowspan=\"" + std::to_string(q.budget.size() + 1) +
+            "\">" + (q.label.empty() ? TextOrMissing(q.name) : HtmlEscape(q.label)) +
+            "</td><td>combined u<sub>c</sub></td><td></td><td>" +
+            Src(pointer(keys::kQuantities, i, keys::kStd), q.std) + " " + unit +
             "</td><td></td></tr>\n";
-    for (std::size_t c = 0; c < components; ++c) {
-      const std::string b = q + "/budget/" + std::to_string(c);
-      const bool evaluated = NumberAt(doc_, b + "/standard_uncertainty") ==
-                             NumberAt(doc_, b + "/standard_uncertainty");  // not NaN/null
-      rows += "<tr><td>" + Text(b + "/source") + "</td><td>" + Text(b + "/type") + "</td><td>" +
-              (evaluated ? Src(b + "/standard_uncertainty") + " " + unit
-                         : std::string("<span class=\"na\">not evaluated</span>")) +
-              "</td><td>" + Text(b + "/note") + "</td></tr>\n";
+    for (std::size_t c = 0; c < q.budget.size(); ++c) {
+      const session::UncertaintyComponentRecord& b = q.budget[c];
+      const bool evaluated = !std::isnan(b.standard_uncertainty);
+      rows +=
+          "<tr><td>" + HtmlEscape(b.source) + "</td><td>" + HtmlEscape(b.type) + "</td><td>" +
+          (evaluated
+               ? Src(pointer(keys::kQuantities, i, keys::kBudget, c, keys::kStandardUncertainty),
+                     b.standard_uncertainty) +
+                     " " + unit
+               : std::string("<span class=\"na\">not evaluated</span>")) +
+          "</td><td>" + HtmlEscape(b.note) + "</td></tr>\n";
     }
   }
   if (rows.empty()) return;
@@ -183,48 +221,52 @@ void Page::EngineeringBudgets(const std::string& base) {
       "<h3>Uncertainty budgets</h3>\n<p>Each quantity's components (type A: from this "
       "session's data; type B: from a model or a declaration), largest first. The verdict "
       "judges u<sub>c</sub>; the expanded uncertainty is U = " +
-      Src(base + "/coverage_factor") +
+      Src(pointer(keys::kCoverageFactor), estimate.engineering_coverage_factor) +
       "·u<sub>c</sub>.</p>\n<table class=\"budget\"><tr><th>quantity</th><th>component</th>"
       "<th>type</th><th>standard uncertainty</th><th>how</th></tr>\n" +
       rows + "</table>\n";
-  const std::size_t notes = Size(doc_, base + "/limitations");
-  for (std::size_t i = 0; i < notes; ++i)
-    out_ += "<p class=\"note\">" + Text(base + "/limitations/" + std::to_string(i)) + "</p>\n";
+  for (const std::string& limitation : estimate.engineering_limitations)
+    out_ += "<p class=\"note\">" + HtmlEscape(limitation) + "</p>\n";
 }
 
 void Page::Engineering() {
   out_ += "<h2>The resonator in its own units</h2>\n";
-  const std::string base = "/outcome/estimate/engineering";
-  if (!Has(base)) {
+  const session::EstimateRecord* estimate =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
+  const bool recorded = estimate != nullptr && estimate->engineering_recorded;
+  if (!recorded) {
     out_ += "<p>Engineering quantities: " + std::string(kMissing) +
             " (session.json has no outcome.estimate.engineering).</p>\n";
   } else {
-    out_ += "<p>Carrier frequency " + Src(base + "/frequency_hz") + " Hz (" +
-            Text(base + "/frequency_source") +
+    const auto pointer = [](auto... parts) {
+      return EstimatePointer(keys::kEngineering, parts...);
+    };
+    out_ += "<p>Carrier frequency " +
+            Src(pointer(keys::kFrequencyHz), estimate->engineering_frequency_hz) + " Hz (" +
+            TextOrMissing(estimate->engineering_frequency_source) +
             ").</p>\n<table class=\"engineering\"><tr><th>"
             "quantity</th><th>value</th><th>± u<sub>c</sub></th><th>unit</th><th>note</th></tr>\n";
-    const std::size_t n = Size(doc_, base + "/quantities");
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::string q = base + "/quantities/" + std::to_string(i);
-      const json* determined = At(doc_, q + "/determined");
-      const bool ok = determined == nullptr || !determined->is_boolean() || determined->get<bool>();
-      out_ += "<tr><td>" + (Has(q + "/label") ? Text(q + "/label") : Text(q + "/name")) + "</td>";
-      if (ok) {
-        const auto [value, std_dev] = WithStd(false, q + "/value", q + "/std");
+    for (std::size_t i = 0; i < estimate->engineering.size(); ++i) {
+      const session::EngineeringQuantityRecord& q = estimate->engineering[i];
+      out_ +=
+          "<tr><td>" + (q.label.empty() ? TextOrMissing(q.name) : HtmlEscape(q.label)) + "</td>";
+      if (q.determined) {
+        const auto [value, std_dev] =
+            SrcWithStd(pointer(keys::kQuantities, i, keys::kValue), q.value,
+                       pointer(keys::kQuantities, i, keys::kStd), q.std);
         out_ += "<td>" + value + "</td><td>" + std_dev + "</td>";
       } else {
         out_ += "<td colspan=\"2\" class=\"na\">undetermined</td>";
       }
-      out_ += "<td>" + (Has(q + "/unit") ? Text(q + "/unit") : std::string()) + "</td><td>" +
-              (Has(q + "/note") ? Text(q + "/note") : std::string()) + "</td></tr>\n";
+      out_ += "<td>" + HtmlEscape(q.unit) + "</td><td>" + HtmlEscape(q.note) + "</td></tr>\n";
     }
     out_ += "</table>\n";
-    EngineeringBudgets(base);
+    EngineeringBudgets(*estimate);
   }
   // The report's own anisotropy only when the record has none (the table above is the record's,
   // and says which axes are determined).
   const json* a = At(data_, "/derived/anisotropy");
-  if (!Has(base) && a != nullptr && a->is_object()) {
+  if (!recorded && a != nullptr && a->is_object()) {
     out_ += "<p>Anisotropy from δ (" + HtmlEscape(a->value("delta_source", "")) +
             ", derived by the report): frequency split " +
             Der("/derived/anisotropy/frequency_split_hz") + " Hz, its high-frequency axis at " +
@@ -239,42 +281,40 @@ void Page::Engineering() {
 
 void Page::Verdict() {
   out_ += "<h2>Limits</h2>\n";
-  const std::string base = "/outcome/verdict";
-  if (!Has(base)) {
+  if (!record_.outcome || !record_.outcome->verdict) {
     out_ += "<p>Verdict: " + std::string(kMissing) +
             " (session.json has no outcome.verdict).</p>\n<h2>Fit checks</h2>\n<p>" + kMissing +
             "</p>\n";
     return;
   }
-  out_ += "<p>Overall " + Text(base + "/overall") +
-          "; the fit within its model: " + Text(base + "/fit_acceptable") + ".</p>\n";
-  const std::size_t n = Size(doc_, base + "/limits");
+  const session::VerdictRecord& verdict = *record_.outcome->verdict;
+  const auto pointer = [](auto... parts) {
+    return Pointer(keys::kOutcome, keys::kVerdict, parts...);
+  };
+  out_ += "<p>Overall " + TextOrMissing(verdict.overall) +
+          "; the fit within its model: " + YesNo(verdict.fit_acceptable) + ".</p>\n";
   out_ +=
       "<table class=\"limits\"><tr><th>quantity</th><th>value</th><th>± std</th><th>min</th>"
       "<th>max</th><th>status</th><th>message</th></tr>\n";
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::string l = base + "/limits/" + std::to_string(i);
-    const json* status = At(doc_, l + "/status");
-    const std::string s =
-        status != nullptr && status->is_string() ? status->get<std::string>() : "";
-    out_ += "<tr><td>" + Text(l + "/quantity") + "</td><td>" + Src(l + "/value") + "</td><td>" +
-            Src(l + "/std") + "</td><td>" + Src(l + "/min") + "</td><td>" + Src(l + "/max") +
-            "</td><td class=\"status-" + Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" +
-            Text(l + "/message") + "</td></tr>\n";
+  for (std::size_t i = 0; i < verdict.limits.size(); ++i) {
+    const session::LimitRowRecord& l = verdict.limits[i];
+    const auto at = [&](const char* key) { return pointer(keys::kLimits, i, key); };
+    out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + Src(at(keys::kValue), l.value) +
+            "</td><td>" + Src(at(keys::kStd), l.std) + "</td><td>" + Src(at(keys::kMin), l.min) +
+            "</td><td>" + Src(at(keys::kMax), l.max) + "</td><td class=\"status-" + Attr(l.status) +
+            "\">" + HtmlEscape(l.status) + "</td><td>" + HtmlEscape(l.message) + "</td></tr>\n";
   }
   out_ += "</table>\n<h2>Fit checks</h2>\n";
-  const std::size_t m = Size(doc_, base + "/fit_checks");
   out_ +=
       "<table class=\"fit-checks\"><tr><th>run</th><th>check</th><th>value</th><th>max</th>"
       "<th>status</th><th>message</th></tr>\n";
-  for (std::size_t i = 0; i < m; ++i) {
-    const std::string c = base + "/fit_checks/" + std::to_string(i);
-    const json* status = At(doc_, c + "/status");
-    const std::string s =
-        status != nullptr && status->is_string() ? status->get<std::string>() : "";
-    out_ += "<tr><td>" + Text(c + "/run") + "</td><td>" + Text(c + "/name") + "</td><td>" +
-            Src(c + "/value") + "</td><td>" + Src(c + "/max") + "</td><td class=\"status-" +
-            Attr(s) + "\">" + HtmlEscape(s) + "</td><td>" + Text(c + "/message") + "</td></tr>\n";
+  for (std::size_t i = 0; i < verdict.fit_checks.size(); ++i) {
+    const session::FitCheckRecord& c = verdict.fit_checks[i];
+    const auto at = [&](const char* key) { return pointer(keys::kFitChecks, i, key); };
+    out_ += "<tr><td>" + Src(at(keys::kRun), c.run) + "</td><td>" + HtmlEscape(c.name) +
+            "</td><td>" + Src(at(keys::kValue), c.value) + "</td><td>" +
+            Src(at(keys::kMax), c.max) + "</td><td class=\"status-" + Attr(c.status) + "\">" +
+            HtmlEscape(c.status) + "</td><td>" + HtmlEscape(c.message) + "</td></tr>\n";
   }
   out_ += "</table>\n";
 }
@@ -300,7 +340,7 @@ void Page::UnitHistory() {
             HtmlEscape(unavailable) + ").</p>\n</section>\n";
     return;
   }
-  const std::size_t shown = Size(data_, "/derived/unit_history/sessions");
+  const std::size_t shown = DerivedSize("/derived/unit_history/sessions");
   const std::size_t count = history->value("count", std::size_t{0});
   if (count == 0) {
     out_ += "<p>None in " + HtmlEscape(store) +
@@ -327,20 +367,21 @@ void Page::UnitHistory() {
     out_ += "</tr>\n";
   }
   // This session, from its own record.
-  const json* recorded_kind = At(doc_, "/outcome/kind");
-  const std::string kind = recorded_kind != nullptr && recorded_kind->is_string()
-                               ? recorded_kind->get<std::string>()
-                               : "";
-  out_ += "<tr class=\"this-session\"><td>" + Text("/started/utc") + "</td><td>" +
-          Text("/station/name") + "</td><td class=\"status-" + Attr(kind) + "\">" +
+  const std::string kind =
+      record_.outcome ? std::string(bench::ToString(record_.outcome->kind)) : std::string();
+  out_ += "<tr class=\"this-session\"><td>" +
+          TextOrMissing(record_.started ? record_.started->utc : std::string()) + "</td><td>" +
+          TextOrMissing(record_.station_name) + "</td><td class=\"status-" + Attr(kind) + "\">" +
           HtmlEscape(kind) + " (this session)</td>";
-  const std::string quantities = "/outcome/estimate/engineering/quantities";
+  const session::EstimateRecord* estimate =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
   for (const auto& [name, label] : kHistoryColumns) {
     std::string cell = kNone;
-    for (std::size_t q = 0; q < Size(doc_, quantities); ++q) {
-      const std::string p = quantities + "/" + std::to_string(q);
-      const json* n = At(doc_, p + "/name");
-      if (n != nullptr && n->is_string() && *n == name) cell = Src(p + "/value");
+    for (std::size_t q = 0; estimate != nullptr && q < estimate->engineering.size(); ++q) {
+      const session::EngineeringQuantityRecord& quantity = estimate->engineering[q];
+      if (quantity.name == name)
+        cell = Src(EstimatePointer(keys::kEngineering, keys::kQuantities, q, keys::kValue),
+                   quantity.value);
     }
     out_ += "<td>" + cell + "</td>";
   }

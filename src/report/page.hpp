@@ -1,6 +1,7 @@
 #pragma once
-// The page under construction: the helpers that turn a JSON pointer into a table cell (the
-// contract's data-source / data-derived elements) and the sections, one method each. Split over
+// The page under construction: the helpers that turn a value of the typed record (with its JSON
+// pointer, page_pointer.hpp) or of the report-data block into a table cell (the contract's
+// data-source / data-derived elements) and the sections, one method each. Split over
 // html_page.cpp (header, outcome, parameters, engineering, verdict, assembly) and
 // page_run_section.cpp (one run's section). Internal to src/report; not thread-safe (one page,
 // one thread).
@@ -8,11 +9,14 @@
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "hrgbench/session/session_record.hpp"
 #include "html_text.hpp"
+#include "page_pointer.hpp"
 #include "report_data.hpp"
 #include "report_inputs.hpp"
 
@@ -49,48 +53,45 @@ class Page {
   using json = nlohmann::json;
 
  public:
-  Page(const ReportInputs& in, const json& data) : in_(in), doc_(in.document), data_(data) {}
+  Page(const ReportInputs& in, const json& data) : in_(in), record_(in.record), data_(data) {}
 
-  // A number of session.json: <span data-source data-value>, or "—" when null/absent.
-  std::string Src(const std::string& pointer) const {
-    const double v = NumberAt(doc_, pointer);
-    if (!std::isfinite(v)) return kNone;
-    return "<span class=\"num\" data-source=\"" + Attr(pointer) + "\" data-value=\"" +
-           RoundTrip(v) + "\">" + HtmlEscape(Readable(v)) + "</span>";
+  // A number of session.json, taken from the typed record (`value`), with its pointer into
+  // session.json as data-source (page_pointer.hpp builds it from the key names): <span
+  // data-source data-value>, or "—" when not finite (null or absent). `text` empty: Readable.
+  std::string Src(const std::string& pointer, double value, const std::string& text = {}) const {
+    return Number("data-source", pointer, value, text);
   }
-  // A number the report derived: a pointer into the report-data block.
-  std::string Der(const std::string& pointer) const { return Num(true, pointer); }
-  // A number of session.json (derived = false) or of the report-data block (true) with the text
-  // `text` (empty: Readable); data-value is always the full-precision value.
-  std::string Num(bool derived, const std::string& pointer, const std::string& text = {}) const {
-    const double v = NumberAt(derived ? data_ : doc_, pointer);
-    if (!std::isfinite(v)) return kNone;
-    return "<span class=\"num\" " + std::string(derived ? "data-derived" : "data-source") + "=\"" +
-           Attr(pointer) + "\" data-value=\"" + RoundTrip(v) + "\">" +
-           HtmlEscape(text.empty() ? Readable(v) : text) + "</span>";
+  // A number the report derived: a pointer into the report-data block (its value is read there).
+  std::string Der(const std::string& pointer, const std::string& text = {}) const {
+    return Number("data-derived", pointer, NumberAt(data_, pointer), text);
   }
-  // A value and its std as two cells, written to the std's precision (Metrological).
-  std::pair<std::string, std::string> WithStd(bool derived, const std::string& value_pointer,
-                                              const std::string& std_pointer) const {
-    const json& d = derived ? data_ : doc_;
-    const ValueWithStd t = Metrological(NumberAt(d, value_pointer), NumberAt(d, std_pointer));
-    return {Num(derived, value_pointer, t.value), Num(derived, std_pointer, t.std)};
+  // A value and its std of session.json as two cells, written to the std's precision
+  // (Metrological).
+  std::pair<std::string, std::string> SrcWithStd(const std::string& value_pointer, double value,
+                                                 const std::string& std_pointer,
+                                                 double std_dev) const {
+    const ValueWithStd t = Metrological(value, std_dev);
+    return {Src(value_pointer, value, t.value), Src(std_pointer, std_dev, t.std)};
   }
-  std::string Text(const std::string& pointer) const {
-    const json* v = At(doc_, pointer);
-    if (v == nullptr || v->is_null()) return kMissing;
-    if (v->is_string()) return HtmlEscape(v->get<std::string>());
-    if (v->is_boolean()) return v->get<bool>() ? "yes" : "no";
-    if (v->is_number()) return Src(pointer);
-    return HtmlEscape(v->dump());
+  // The same for two numbers of the report-data block.
+  std::pair<std::string, std::string> DerWithStd(const std::string& value_pointer,
+                                                 const std::string& std_pointer) const {
+    const ValueWithStd t =
+        Metrological(NumberAt(data_, value_pointer), NumberAt(data_, std_pointer));
+    return {Der(value_pointer, t.value), Der(std_pointer, t.std)};
   }
-  bool Has(const std::string& pointer) const {
-    const json* v = At(doc_, pointer);
-    return v != nullptr && !v->is_null();
+  // A recorded text; "not recorded" when empty (the reader's absent or null).
+  static std::string TextOrMissing(const std::string& text) {
+    return text.empty() ? std::string(kMissing) : HtmlEscape(text);
   }
-  std::size_t Size(const json& d, const std::string& pointer) const {
-    const json* v = At(d, pointer);
+  // The length of an array of the report-data block (0 when not an array).
+  std::size_t DerivedSize(const std::string& pointer) const {
+    const json* v = At(data_, pointer);
     return v != nullptr && v->is_array() ? v->size() : 0;
+  }
+  static std::string YesNo(const std::optional<bool>& value) {
+    if (!value) return kMissing;
+    return *value ? "yes" : "no";
   }
 
   std::string Render(const std::string& chart_js);
@@ -102,14 +103,21 @@ class Page {
   void Warnings(int run);
   void Estimate();
   void Engineering();
-  void EngineeringBudgets(const std::string& base);
+  void EngineeringBudgets(const session::EstimateRecord& estimate);
   void Verdict();
   void UnitHistory();
   void Figure(const std::string& name, int width, int height);
   void Run(const RunView& run);
+  std::string Number(const char* attribute, const std::string& pointer, double value,
+                     const std::string& text) const {
+    if (!std::isfinite(value)) return kNone;
+    return "<span class=\"num\" " + std::string(attribute) + "=\"" + Attr(pointer) +
+           "\" data-value=\"" + RoundTrip(value) + "\">" +
+           HtmlEscape(text.empty() ? Readable(value) : text) + "</span>";
+  }
 
   const ReportInputs& in_;
-  const json& doc_;
+  const session::SessionRecord& record_;  // session.json as its one reader typed it
   const json& data_;
   std::map<std::string, std::string> captions_;  // figure name → caption
   std::map<int, std::vector<std::string>> warnings_by_run_;

@@ -2,15 +2,21 @@
 #include <cmath>
 #include <string>
 
+#include "hrgbench/session/session_record_keys.hpp"
 #include "page.hpp"
+#include "page_pointer.hpp"
 
 namespace hrgbench::report::internal {
 
+namespace keys = session::keys;
+
 void Page::Run(const RunView& run) {
   const std::string id = std::to_string(run.id);
-  const std::string r = "/runs/" + std::to_string(run.index);
+  // RunView::index is the run's position in session.json "runs", as in the record's list.
+  const session::RunRecord& recorded = record_.runs.at(run.index);
   out_ += "<section class=\"run\" id=\"run-" + id + "\" data-run=\"" + id + "\">\n<h2>Run " + id +
-          ": Ω " + Src(r + "/omega_rad_s") + " rad/s, status " + Text(r + "/status") + "</h2>\n";
+          ": Ω " + Src(RunPointer(run.index, keys::kOmegaRadS), recorded.omega_rad_s) +
+          " rad/s, status " + TextOrMissing(recorded.status) + "</h2>\n";
   Warnings(run.id);
   if (!run.loaded) out_ += "<p>Not drawn: " + HtmlEscape(run.not_loaded_reason) + ".</p>\n";
   out_ +=
@@ -20,22 +26,36 @@ void Page::Run(const RunView& run) {
     out_ += std::string("<tr><td>") + name + "</td><td>" + value + "</td></tr>\n";
   };
   const std::string d = "/derived/runs/" + id + "/";
-  if (!Has(r + "/end")) row("end of run", kMissing);
-  const std::pair<const char*, const char*> recorded[] = {
-      {"samples recorded", "/end/samples"},
-      {"sequence gaps", "/end/sequence_gaps"},
-      {"kernel drops", "/end/kernel_drops"},
-      {"bad frames", "/end/bad_frames"},
-      {"Ω [rad/s]", "/end/omega_rad_s"},
-      {"Ω standard error [rad/s]", "/end/omega_std_error_rad_s"},
-      {"table rate std error [rad/s]", "/end/omega_rate_std_error_rad_s"},
-      {"temperature at start [°C]", "/end/temperature_start_c"},
-      {"temperature at end [°C]", "/end/temperature_end_c"},
-      {"frequency at start [Hz]", "/end/frequency_start_hz"},
-      {"frequency at end [Hz]", "/end/frequency_end_hz"},
-      {"resonant frequency at release [Hz]", "/start/resonant_frequency_hz"}};
-  for (const auto& [name, key] : recorded)
-    if (Has(r + key)) row(name, Src(r + key));
+  if (!recorded.end) row("end of run", kMissing);
+  // What the recorder wrote of the run's end: the counts with the sample count (an end written
+  // by a recorder error has neither), a number only when measured (null is not shown).
+  if (recorded.end) {
+    const session::RunEndRecord& end = *recorded.end;
+    const bench::RunEnd& v = end.values;
+    const auto count = [&](const char* name, const char* key, double value) {
+      if (end.samples) row(name, Src(RunPointer(run.index, keys::kEnd, key), value));
+    };
+    const auto number = [&](const char* name, const char* key, double value) {
+      if (std::isfinite(value)) row(name, Src(RunPointer(run.index, keys::kEnd, key), value));
+    };
+    count("samples recorded", keys::kSamples, static_cast<double>(end.samples.value_or(0)));
+    count("sequence gaps", keys::kSequenceGaps, static_cast<double>(v.sequence_gaps));
+    count("kernel drops", keys::kKernelDrops, static_cast<double>(v.kernel_drops));
+    count("bad frames", keys::kBadFrames, static_cast<double>(v.bad_frames));
+    number("Ω [rad/s]", keys::kOmegaRadS, v.omega_rad_s);
+    number("Ω standard error [rad/s]", keys::kOmegaStdErrorRadS, v.omega_std_error_rad_s);
+    number("table rate std error [rad/s]", keys::kOmegaRateStdErrorRadS,
+           v.omega_rate_std_error_rad_s);
+    number("temperature at start [°C]", keys::kTemperatureStartC, v.temperature_start_c);
+    number("temperature at end [°C]", keys::kTemperatureEndC, v.temperature_end_c);
+    number("frequency at start [Hz]", keys::kFrequencyStartHz, v.frequency_start_hz);
+    number("frequency at end [Hz]", keys::kFrequencyEndHz, v.frequency_end_hz);
+  }
+  if (recorded.start && std::isfinite(recorded.start->values.resonant_frequency_hz)) {
+    row("resonant frequency at release [Hz]",
+        Src(RunPointer(run.index, keys::kStart, keys::kResonantFrequencyHz),
+            recorded.start->values.resonant_frequency_hz));
+  }
   if (run.loaded) {
     row("samples loaded", Der(d + "samples_loaded"));
     row("mean sample interval [s]", Der(d + "sample_interval_s"));
@@ -49,18 +69,24 @@ void Page::Run(const RunView& run) {
   }
   out_ += "</table>\n";
   // The fit of this run as recorded (outcome.estimate.fit.runs[k] with run == id).
-  const std::size_t fits = Size(doc_, "/outcome/estimate/fit/runs");
-  for (std::size_t k = 0; k < fits; ++k) {
-    const std::string f = "/outcome/estimate/fit/runs/" + std::to_string(k);
-    if (NumberAt(doc_, f + "/run") != run.id) continue;
+  const session::EstimateRecord* estimate =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
+  for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k) {
+    const session::FitRunRecord& fit = estimate->fit_runs[k];
+    if (fit.run != run.id) continue;
+    const auto src = [&](const char* key, double value) {
+      return Src(EstimatePointer(keys::kFit, keys::kRuns, k, key), value);
+    };
     out_ +=
         "<h3>Fit</h3>\n<table class=\"fit\"><tr><th>residual RMS</th><th>noise σ</th><th>"
         "ratio</th><th>whiteness z</th><th>outliers removed</th><th>Ω offset [std]</th></tr>"
         "<tr><td>" +
-        Src(f + "/residual_rms") + "</td><td>" + Src(f + "/noise_sigma") + "</td><td>" +
-        Src(f + "/residual_ratio") + "</td><td>" + Src(f + "/whiteness_z") + "</td><td>" +
-        Src(f + "/outliers_removed") + "</td><td>" + Src(f + "/omega_offset_in_std") +
-        "</td></tr></table>\n";
+        src(keys::kResidualRms, fit.residual_rms) + "</td><td>" +
+        src(keys::kNoiseSigma, fit.noise_sigma) + "</td><td>" +
+        src(keys::kResidualRatio, fit.residual_ratio) + "</td><td>" +
+        src(keys::kWhitenessZ, fit.whiteness_z) + "</td><td>" +
+        src(keys::kOutliersRemoved, fit.outliers_removed) + "</td><td>" +
+        src(keys::kOmegaOffsetInStd, fit.omega_offset_in_std) + "</td></tr></table>\n";
   }
   if (run.loaded) {
     for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})

@@ -13,7 +13,9 @@
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/report/decimate.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
+#include "page_pointer.hpp"
 #include "parallel_runs.hpp"
 
 namespace hrgbench::report::internal {
@@ -270,11 +272,11 @@ std::string MetrologicalText(const session::EngineeringQuantityRecord& quantity)
 
 json Anisotropy(const ReportInputs& inputs, json* figures) {
   estimator::Delta delta;
-  std::string source = "/outcome/estimate/delta";
+  std::string source = EstimatePointer(session::keys::kDelta);
   if (!RecordedDelta(inputs.record, &delta)) {
     if (!inputs.summary || !inputs.summary->delta.allFinite()) return nullptr;
     delta = inputs.summary->delta;
-    source = "/derived/estimate/delta";
+    source = Pointer("derived", session::keys::kEstimate, session::keys::kDelta);
   }
   const double f0 = MeanResonantFrequency(inputs.record);
   const estimator::ResonatorParameters r =
@@ -475,16 +477,12 @@ json TruthDeviation(const ReportInputs& inputs) {
   std::array<double, 4> truth_xi;
   truth_delta.fill(kNaN);
   truth_xi.fill(kNaN);
-  // "simulation" is the simulator's own block (opaque to the record): its delta and xi arrays.
-  const json& simulation = inputs.record.simulation;
   if (of_record != nullptr && of_record->truth_delta) {
     truth_delta = *of_record->truth_delta;
     if (of_record->truth_xi) truth_xi = *of_record->truth_xi;
-  } else if (At(simulation, "/delta") != nullptr) {
-    for (std::size_t i = 0; i < 6; ++i)
-      truth_delta[i] = NumberAt(simulation, "/delta/" + std::to_string(i));
-    for (std::size_t i = 0; i < 4; ++i)
-      truth_xi[i] = NumberAt(simulation, "/xi/" + std::to_string(i));
+  } else if (inputs.record.simulation_delta) {  // the simulator's own section
+    truth_delta = *inputs.record.simulation_delta;
+    if (inputs.record.simulation_xi) truth_xi = *inputs.record.simulation_xi;
   } else {
     return nullptr;
   }

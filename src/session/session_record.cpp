@@ -287,6 +287,50 @@ void ReadRunDetails(Fields& f, const json& run, const std::string& path, RunReco
   }
 }
 
+// engineering.quantities[k].budget (absent: empty).
+std::vector<UncertaintyComponentRecord> ReadBudget(Fields& f, const json& quantity,
+                                                   const std::string& at) {
+  std::vector<UncertaintyComponentRecord> out;
+  const json* budget = f.Array(quantity, at, keys::kBudget);
+  if (budget == nullptr) return out;
+  for (std::size_t c = 0; c < budget->size() && f.ok(); ++c) {
+    const std::string b = Index(Join(at, keys::kBudget), c);
+    const json& item = (*budget)[c];
+    if (!item.is_object()) {
+      f.Fail(b, "expected an object, got " + Describe(item));
+      break;
+    }
+    out.push_back({f.String(item, b, keys::kSource), f.String(item, b, keys::kType),
+                   f.Number(item, b, keys::kStandardUncertainty), f.String(item, b, keys::kNote)});
+  }
+  return out;
+}
+
+// fit.runs (absent: empty).
+std::vector<FitRunRecord> ReadFitRuns(Fields& f, const json& fit, const std::string& at) {
+  std::vector<FitRunRecord> out;
+  const json* runs = f.Array(fit, at, keys::kRuns);
+  if (runs == nullptr) return out;
+  for (std::size_t k = 0; k < runs->size() && f.ok(); ++k) {
+    const std::string r = Index(Join(at, keys::kRuns), k);
+    const json& item = (*runs)[k];
+    if (!item.is_object()) {
+      f.Fail(r, "expected an object, got " + Describe(item));
+      break;
+    }
+    FitRunRecord run;
+    run.run = f.Int(item, r, keys::kRun).value_or(0);
+    run.residual_rms = f.Number(item, r, keys::kResidualRms);
+    run.noise_sigma = f.Number(item, r, keys::kNoiseSigma);
+    run.residual_ratio = f.Number(item, r, keys::kResidualRatio);
+    run.whiteness_z = f.Number(item, r, keys::kWhitenessZ);
+    run.outliers_removed = f.Number(item, r, keys::kOutliersRemoved);
+    run.omega_offset_in_std = f.Number(item, r, keys::kOmegaOffsetInStd);
+    out.push_back(run);
+  }
+  return out;
+}
+
 EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& at) {
   EstimateRecord out;
   out.method = f.String(estimate, at, "method");
@@ -300,9 +344,14 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
   out.residual_rms = f.Number(estimate, at, "residual_rms");
   out.noise_sigma = f.Number(estimate, at, "noise_sigma");
   out.warnings = f.Strings(estimate, at, "warnings");
+  out.delta_recorded = f.Find(estimate, keys::kDelta) != nullptr;
   if (const json* engineering = f.Object(estimate, at, "engineering")) {
     const std::string e = Join(at, "engineering");
+    out.engineering_recorded = true;
     out.engineering_frequency_hz = f.Number(*engineering, e, "frequency_hz");
+    out.engineering_frequency_source = f.String(*engineering, e, keys::kFrequencySource);
+    out.engineering_coverage_factor = f.Number(*engineering, e, keys::kCoverageFactor);
+    out.engineering_limitations = f.Strings(*engineering, e, keys::kLimitations);
     if (const json* quantities = f.Array(*engineering, e, "quantities")) {
       for (std::size_t k = 0; k < quantities->size() && f.ok(); ++k) {
         const std::string q = Index(Join(e, "quantities"), k);
@@ -319,6 +368,7 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
         row.std = f.Number(item, q, "std");
         row.determined = f.Bool(item, q, "determined").value_or(false);
         row.note = f.String(item, q, "note");
+        row.budget = ReadBudget(f, item, q);
         out.engineering.push_back(std::move(row));
       }
     }
@@ -331,6 +381,7 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
       out.fit_whiteness_z_max = f.Number(*limits, l, "whiteness_z_max");
       out.fit_omega_offset_max_in_std = f.Number(*limits, l, "omega_offset_max_in_std");
     }
+    out.fit_runs = ReadFitRuns(f, *fit, Join(at, keys::kFit));
   }
   if (const json* fitted = f.Array(estimate, at, keys::kFittedRuns)) {
     out.fitted_runs_recorded = true;
@@ -478,10 +529,16 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
     record.station_name = f.String(*station, keys::kStation, keys::kName);
   if (const json* software = f.Object(doc, "", keys::kSoftware))
     record.software_version = f.String(*software, keys::kSoftware, keys::kVersion);
+  // hrg-sim's provenance (app/sim_session.cpp) is top-level.
+  if (record.software_version.empty())
+    record.software_version = f.String(doc, "", keys::kSoftwareVersion);
+  record.spec_sha256 = f.String(doc, "", keys::kSpecSha256);
+  record.description = f.String(doc, "", keys::kDescription);
   if (const json* hashes = f.Object(doc, "", keys::kConfigSha256)) {
-    record.config_sha256 = {f.String(*hashes, keys::kConfigSha256, keys::kStation),
-                            f.String(*hashes, keys::kConfigSha256, keys::kSequence),
-                            f.String(*hashes, keys::kConfigSha256, keys::kLimits)};
+    record.config_sha256.recorded = true;
+    record.config_sha256.station_sha256 = f.String(*hashes, keys::kConfigSha256, keys::kStation);
+    record.config_sha256.sequence_sha256 = f.String(*hashes, keys::kConfigSha256, keys::kSequence);
+    record.config_sha256.limits_sha256 = f.String(*hashes, keys::kConfigSha256, keys::kLimits);
   }
   record.started = ReadTimeStamp(f, doc, "", keys::kStarted);
   record.ended = ReadTimeStamp(f, doc, "", keys::kEnded);
@@ -496,6 +553,14 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
   }
   record.electronics = Member(doc, keys::kElectronics);
   record.simulation = Member(doc, keys::kSimulation);
+  // The rest of "simulation" stays opaque (a section that is not an object is not this reader's).
+  if (const json* simulation = f.Find(doc, keys::kSimulation);
+      simulation != nullptr && simulation->is_object()) {
+    if (f.Find(*simulation, keys::kDelta) != nullptr)
+      record.simulation_delta = f.Numbers<6>(*simulation, keys::kSimulation, keys::kDelta);
+    if (f.Find(*simulation, keys::kXi) != nullptr)
+      record.simulation_xi = f.Numbers<4>(*simulation, keys::kSimulation, keys::kXi);
+  }
   record.fixture = Member(doc, keys::kFixture);
   record.results = Member(doc, keys::kResults);
 

@@ -48,6 +48,7 @@ struct ConfigHashesRecord {
   std::string station_sha256;  // lower-case hex; "" when absent
   std::string sequence_sha256;
   std::string limits_sha256;  // "" when no limits file was given (null)
+  bool recorded = false;      // the config_sha256 object is there (hrg-sim writes spec_sha256)
 };
 
 // can_log: where the raw CAN traffic is and what it speaks.
@@ -93,6 +94,26 @@ struct RunRecord {
   std::vector<AttemptRecord> attempts;
 };
 
+// outcome.estimate.engineering.quantities[k].budget[c]: one component of the quantity's
+// uncertainty budget (GUM), as estimate_report_json.cpp writes it.
+struct UncertaintyComponentRecord {
+  std::string source;
+  std::string type;                            // "A" (from the data) or "B" (a model)
+  double standard_uncertainty = kNotRecorded;  // NaN: not evaluated (null)
+  std::string note;
+};
+
+// outcome.estimate.fit.runs[k]: one run's fit diagnostics (the numbers the report shows).
+struct FitRunRecord {
+  int run = 0;  // the run id
+  double residual_rms = kNotRecorded;
+  double noise_sigma = kNotRecorded;
+  double residual_ratio = kNotRecorded;
+  double whiteness_z = kNotRecorded;
+  double outliers_removed = kNotRecorded;  // a count; NaN when absent
+  double omega_offset_in_std = kNotRecorded;
+};
+
 // outcome.estimate.engineering.quantities[k]
 struct EngineeringQuantityRecord {
   std::string name;  // "tau_s", "q_factor", ...
@@ -102,6 +123,7 @@ struct EngineeringQuantityRecord {
   double std = kNotRecorded;
   bool determined = false;
   std::string note;
+  std::vector<UncertaintyComponentRecord> budget;  // largest first, as recorded; empty if none
 };
 
 // The per-run nuisance of the estimate of record (estimator::RunNuisanceEstimate): with δ and ξ it
@@ -131,6 +153,12 @@ struct EstimateRecord {
   // engineering.frequency_hz and the quantities in the estimator's order (empty when absent).
   double engineering_frequency_hz = kNotRecorded;
   std::vector<EngineeringQuantityRecord> engineering;
+  bool engineering_recorded = false;         // the engineering object is there (maybe {error})
+  std::string engineering_frequency_source;  // where f0 came from; "" when absent
+  double engineering_coverage_factor = kNotRecorded;  // k of U = k·u_c
+  std::vector<std::string> engineering_limitations;
+  bool delta_recorded = false;         // the delta key is there (its components may be null)
+  std::vector<FitRunRecord> fit_runs;  // fit.runs, in the recorded order
   // fit.limits, as the bench judged with (NaN when absent).
   double fit_residual_ratio_max = kNotRecorded;
   double fit_whiteness_z_max = kNotRecorded;
@@ -193,7 +221,10 @@ struct SessionRecord {
   std::string unit_serial;
   std::string operator_name;  // "operator" (a string or {name}); "" when not recorded
   std::string station_name;   // station.name; "" when absent
+  // software.version, or hrg-sim's top-level software_version; "" when neither
   std::string software_version;
+  std::string spec_sha256;  // hrg-sim's top-level spec_sha256 (instead of config_sha256); ""
+  std::string description;  // hrg-sim's top-level description; "" when absent
   ConfigHashesRecord config_sha256;
   std::optional<TimeStampRecord> started, ended;
   std::string realtime_status;
@@ -203,6 +234,9 @@ struct SessionRecord {
   // Opaque pass-through (owners elsewhere; null when absent): see the file comment.
   nlohmann::json electronics;
   nlohmann::json simulation;
+  // simulation.delta / simulation.xi: the simulator's truth (NaN where null), when recorded.
+  std::optional<std::array<double, 6>> simulation_delta;
+  std::optional<std::array<double, 4>> simulation_xi;
   nlohmann::json fixture;
   std::vector<RunRecord> runs;
   std::optional<OutcomeRecord> outcome;  // absent while running or after a crash

@@ -73,4 +73,61 @@ inline constexpr const char* kVerdict = "verdict";
 // The estimate of record's nuisance per run (what the report needs to draw the recorded fit).
 inline constexpr const char* kFittedRuns = "fitted_runs";
 
+// Inside the outcome, the estimate, the verdict and a run (the report's data-source pointers are
+// built from these: report/page_pointer.hpp).
+inline constexpr const char* kValue = "value";
+inline constexpr const char* kStd = "std";
+inline constexpr const char* kMin = "min";
+inline constexpr const char* kMax = "max";
+inline constexpr const char* kMessage = "message";
+inline constexpr const char* kNote = "note";
+inline constexpr const char* kMethod = "method";
+inline constexpr const char* kDelta = "delta";
+inline constexpr const char* kDeltaStd = "delta_std";
+inline constexpr const char* kXi = "xi";
+inline constexpr const char* kXiStd = "xi_std";
+inline constexpr const char* kResidualRms = "residual_rms";
+inline constexpr const char* kNoiseSigma = "noise_sigma";
+inline constexpr const char* kSamplesUsed = "samples_used";
+inline constexpr const char* kIterations = "iterations";
+inline constexpr const char* kTruth = "truth";
+inline constexpr const char* kFit = "fit";
+inline constexpr const char* kRun = "run";
+inline constexpr const char* kResidualRatio = "residual_ratio";
+inline constexpr const char* kWhitenessZ = "whiteness_z";
+inline constexpr const char* kOutliersRemoved = "outliers_removed";
+inline constexpr const char* kOmegaOffsetInStd = "omega_offset_in_std";
+inline constexpr const char* kEngineering = "engineering";
+inline constexpr const char* kFrequencyHz = "frequency_hz";
+inline constexpr const char* kFrequencySource = "frequency_source";
+inline constexpr const char* kCoverageFactor = "coverage_factor";
+inline constexpr const char* kLimitations = "limitations";
+inline constexpr const char* kQuantities = "quantities";
+inline constexpr const char* kLabel = "label";
+inline constexpr const char* kDetermined = "determined";
+inline constexpr const char* kBudget = "budget";
+inline constexpr const char* kSource = "source";
+inline constexpr const char* kStandardUncertainty = "standard_uncertainty";
+inline constexpr const char* kType = "type";
+inline constexpr const char* kOverall = "overall";
+inline constexpr const char* kFitAcceptable = "fit_acceptable";
+inline constexpr const char* kFitChecks = "fit_checks";
+inline constexpr const char* kQuantity = "quantity";
+// A run's end and start (bench::RunEnd / RunStart as the recorder writes them).
+inline constexpr const char* kSequenceGaps = "sequence_gaps";
+inline constexpr const char* kKernelDrops = "kernel_drops";
+inline constexpr const char* kBadFrames = "bad_frames";
+inline constexpr const char* kOmegaStdErrorRadS = "omega_std_error_rad_s";
+inline constexpr const char* kOmegaRateStdErrorRadS = "omega_rate_std_error_rad_s";
+inline constexpr const char* kTemperatureStartC = "temperature_start_c";
+inline constexpr const char* kTemperatureEndC = "temperature_end_c";
+inline constexpr const char* kFrequencyStartHz = "frequency_start_hz";
+inline constexpr const char* kFrequencyEndHz = "frequency_end_hz";
+inline constexpr const char* kResonantFrequencyHz = "resonant_frequency_hz";
+// hrg-sim's sessions (app/sim_session.cpp): top-level provenance instead of software /
+// config_sha256.
+inline constexpr const char* kSoftwareVersion = "software_version";
+inline constexpr const char* kSpecSha256 = "spec_sha256";
+inline constexpr const char* kDescription = "description";
+
 }  // namespace hrgbench::session::keys
