@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "hrgbench/session/electronics.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
+#include "hrgbench/session/electronics.hpp"
 
 namespace hrgbench::bench {
 
