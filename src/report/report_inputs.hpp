@@ -34,9 +34,9 @@ struct RunView {
 
 struct ReportInputs {
   std::filesystem::path session_dir;
-  session::SessionRecord record;  // session.json as read by its one reader
-  // session.json as recorded: the page's data-source pointers index it (session_report.hpp).
-  nlohmann::json document;
+  // session.json as read by its one reader: the page takes every recorded value from its fields,
+  // and builds each value's data-source pointer from the key names (page_pointer.hpp).
+  session::SessionRecord record;
   double sample_rate_hz = 0.0;  // the session's (session::Session::sample_rate_hz)
   std::vector<RunView> runs;
   // The estimate drawn: the estimate of record as a summary (δ, ξ, std, σ̂, each run's nuisance;

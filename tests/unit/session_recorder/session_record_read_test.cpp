@@ -244,5 +244,82 @@ TEST(SessionRecordRead, ARunningSessionHasNoOutcome) {
   EXPECT_FALSE(read->runs[0].end.has_value());
 }
 
+// What the report's page reads (html_page.cpp): the uncertainty budgets, the engineering
+// source, coverage factor and limitations, each run's fit diagnostics, the simulator's truth and
+// hrg-sim's top-level provenance; a damaged one is named by its field path and value.
+TEST(SessionRecordRead, ThePageFieldsAreTypedAndADamagedOneIsNamed) {
+  ScratchDir scratch("record_page_fields");
+  const fs::path dir = RecordSession(scratch);
+  json doc;
+  {
+    std::ifstream in(dir / "session.json");
+    doc = json::parse(in);
+  }
+  json& estimate = doc["outcome"]["estimate"];
+  json& engineering = estimate["engineering"];
+  engineering["frequency_source"] = "runs' start";
+  engineering["coverage_factor"] = 2.0;
+  engineering["limitations"] = {"one"};
+  engineering["quantities"][0]["budget"] = {
+      {{"source", "noise"}, {"type", "A"}, {"standard_uncertainty", 0.4}, {"note", ""}},
+      {{"source", "model"}, {"type", "B"}, {"standard_uncertainty", nullptr}, {"note", "n"}}};
+  estimate["fit"]["runs"] = {{{"run", 2},
+                              {"residual_rms", 1e-4},
+                              {"noise_sigma", 1e-4},
+                              {"residual_ratio", 1.01},
+                              {"whiteness_z", 0.3},
+                              {"outliers_removed", 0},
+                              {"omega_offset_in_std", nullptr}}};
+  doc["simulation"]["delta"] = {1, 2, 3, 4, 5, nullptr};
+  doc["spec_sha256"] = "ab12";
+  doc["description"] = "a spec";
+  auto read = session::ReadSessionRecord(doc, dir / "session.json");
+  ASSERT_TRUE(read.has_value()) << read.error().ToString();
+  EXPECT_TRUE(read->config_sha256.recorded);
+  EXPECT_EQ(read->spec_sha256, "ab12");
+  EXPECT_EQ(read->description, "a spec");
+  ASSERT_TRUE(read->simulation_delta.has_value());
+  EXPECT_EQ((*read->simulation_delta)[4], 5.0);
+  EXPECT_TRUE(std::isnan((*read->simulation_delta)[5]));
+  EXPECT_FALSE(read->simulation_xi.has_value());
+  const session::EstimateRecord& e = *read->outcome->estimate;
+  EXPECT_TRUE(e.delta_recorded);
+  EXPECT_TRUE(e.engineering_recorded);
+  EXPECT_EQ(e.engineering_frequency_source, "runs' start");
+  EXPECT_EQ(e.engineering_coverage_factor, 2.0);
+  EXPECT_EQ(e.engineering_limitations, (std::vector<std::string>{"one"}));
+  ASSERT_EQ(e.engineering[0].budget.size(), 2u);
+  EXPECT_EQ(e.engineering[0].budget[0].standard_uncertainty, 0.4);
+  EXPECT_TRUE(std::isnan(e.engineering[0].budget[1].standard_uncertainty));
+  EXPECT_EQ(e.engineering[0].budget[1].type, "B");
+  ASSERT_EQ(e.fit_runs.size(), 1u);
+  EXPECT_EQ(e.fit_runs[0].run, 2);
+  EXPECT_EQ(e.fit_runs[0].outliers_removed, 0.0);
+  EXPECT_TRUE(std::isnan(e.fit_runs[0].omega_offset_in_std));
+
+  // hrg-sim's session: no software object, its version top-level.
+  doc.erase("software");
+  doc.erase("config_sha256");
+  doc["software_version"] = "sim-1";
+  auto sim = session::ReadSessionRecord(doc, dir / "session.json");
+  ASSERT_TRUE(sim.has_value()) << sim.error().ToString();
+  EXPECT_EQ(sim->software_version, "sim-1");
+  EXPECT_FALSE(sim->config_sha256.recorded);
+
+  engineering["quantities"][0]["budget"][1]["standard_uncertainty"] = "large";
+  auto damaged = session::ReadSessionRecord(doc, dir / "session.json");
+  ASSERT_FALSE(damaged.has_value());
+  EXPECT_EQ(damaged.error().field,
+            "outcome.estimate.engineering.quantities[0].budget[1].standard_uncertainty");
+  EXPECT_NE(damaged.error().message.find("\"large\""), std::string::npos);
+
+  engineering["quantities"][0]["budget"][1]["standard_uncertainty"] = 0.1;
+  estimate["fit"]["runs"][0]["whiteness_z"] = true;
+  damaged = session::ReadSessionRecord(doc, dir / "session.json");
+  ASSERT_FALSE(damaged.has_value());
+  EXPECT_EQ(damaged.error().field, "outcome.estimate.fit.runs[0].whiteness_z");
+  EXPECT_NE(damaged.error().message.find("true"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace hrgbench::bench
