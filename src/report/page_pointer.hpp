@@ -2,8 +2,8 @@
 // The JSON pointers (RFC 6901) into session.json that the page writes as data-source (the HTML
 // contract, hrgbench/report/session_report.hpp), built from the record's key names
 // (session/session_record_keys.hpp) so a key is spelled once: Pointer(keys::kOutcome, keys::kKind)
-// is "/outcome/kind", RunPointer(2, keys::kEnd, keys::kSamples) "/runs/2/end/samples". The keys
-// hold no '~' or '/', so no escaping is needed. Internal to src/report; pure functions.
+// is the pointer /outcome/kind, RunPointer(2, keys::kEnd, keys::kSamples) is /runs/2/end/samples.
+// The keys hold no '~' or '/', so no escaping is needed. Internal to src/report; pure functions.
 
 #include <cstddef>
 #include <string>
