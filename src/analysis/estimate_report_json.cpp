@@ -25,9 +25,8 @@ nlohmann::json Stds(const Vector& v, const Mask& estimated) {
   return array;
 }
 
-nlohmann::json Truth(const nlohmann::json& document) {
-  if (!document.is_object() || !document.contains("simulation")) return nullptr;
-  const nlohmann::json& simulation = document["simulation"];
+// The simulator's truth (session_record.hpp: "simulation" is the simulator's, passed through).
+nlohmann::json Truth(const nlohmann::json& simulation) {
   if (!simulation.is_object()) return nullptr;
   nlohmann::json truth = nlohmann::json::object();
   for (const char* key : {"delta", "xi", "sigma", "seed"}) {
@@ -132,7 +131,7 @@ nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineeri
 nlohmann::json EstimateReportJson(std::string_view method,
                                   const estimator::EstimateSummary& summary,
                                   const std::vector<std::string>& warnings,
-                                  const nlohmann::json& session_document) {
+                                  const session::SessionRecord& record) {
   nlohmann::json all_warnings = nlohmann::json::array();
   for (const std::string& w : warnings) all_warnings.push_back(w);
   for (const std::string& w : summary.warnings) all_warnings.push_back(w);
@@ -167,14 +166,10 @@ nlohmann::json EstimateReportJson(std::string_view method,
                                    {"step_rad_s", estimator::kOmegaSensitivityStepRadS},
                                    {"runs", runs}};
   }
-  if (const auto engineering = ComputeEngineeringOfRecord(summary, session_document)) {
-    report["engineering"] = EngineeringJson(engineering->quantities, engineering->frequency_source);
-    for (const std::string& note : engineering->notes)
-      report["engineering"]["notes"].push_back(note);
-  } else {
-    report["engineering"] = {{"error", engineering.error()}};
-  }
-  if (nlohmann::json truth = Truth(session_document); !truth.is_null()) report["truth"] = truth;
+  const EngineeringOfRecord engineering = ComputeEngineeringOfRecord(summary, record);
+  report["engineering"] = EngineeringJson(engineering.quantities, engineering.frequency_source);
+  for (const std::string& note : engineering.notes) report["engineering"]["notes"].push_back(note);
+  if (nlohmann::json truth = Truth(record.simulation); !truth.is_null()) report["truth"] = truth;
   return report;
 }
 

@@ -10,26 +10,27 @@
 namespace hrgbench::bench {
 
 RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const session::SessionRecord& record,
                                          const estimator::FitQualityLimits& fit_quality) {
   RecordedEstimate out;
   MethodRequest request;
   request.fit_quality = fit_quality;  // the estimator warns as the verdict judges
-  auto noise_shape = RecordedNoiseShape(recorded.document, recorded.sample_rate_hz);
+  auto noise_shape = RecordedNoiseShape(record.electronics, recorded.sample_rate_hz);
   // The runs as every fit of a record takes them (recorded_runs.hpp).
-  auto prepared = PrepareRecordedRuns(recorded);
-  if (noise_shape && prepared) {
+  const PreparedRuns prepared = PrepareRecordedRuns(recorded, record.electronics);
+  if (noise_shape) {
     request.noise_shape = std::move(*noise_shape);
-    out.method = RunMethod(prepared->runs, request);
-    NameIqConventionContradiction(recorded.document, &out.method.summary);
+    out.method = RunMethod(prepared.runs, request);
+    NameIqConventionContradiction(record, &out.method.summary);
   } else {
     out.method.summary.termination = estimator::Termination::kInvalidInput;
-    out.method.summary.message = noise_shape ? prepared.error() : noise_shape.error();
+    out.method.summary.message = noise_shape.error();
   }
   out.warnings = recorded.warnings;
   out.warnings.insert(out.warnings.end(), out.method.selection_warnings.begin(),
                       out.method.selection_warnings.end());
-  out.report = EstimateReportJson("ml", out.method.summary, out.warnings, recorded.document);
-  if (prepared) out.report["preparation"] = prepared->Json();
+  out.report = EstimateReportJson("ml", out.method.summary, out.warnings, record);
+  out.report["preparation"] = prepared.Json();
   // What the report needs to draw this fit without re-running it (estimate_report_json.hpp).
   out.report[session::keys::kFittedRuns] = FittedRunsJson(out.method.summary);
   return out;

@@ -50,11 +50,10 @@ std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
   return skipped;
 }
 
-std::expected<PreparedRuns, std::string> PrepareRecordedRuns(const session::Session& recorded) {
+PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
+                                 const session::ElectronicsRecord& electronics) {
   PreparedRuns out;
-  const auto filter = RecordedOutputFilter(recorded.document);
-  if (!filter) return std::unexpected(filter.error());
-  out.output_filter = *filter;
+  out.output_filter = RecordedOutputFilter(electronics);
   out.iq_convention = recorded.iq_convention;
   out.runs = session::ToRunData(recorded);
   out.notes = recorded.notes;
@@ -77,30 +76,23 @@ std::expected<PreparedRuns, std::string> PrepareRecordedRuns(const session::Sess
 namespace {
 
 // runs[].plan's 2ab/(a² + b²) by run id, for the runs whose plan has a and b.
-std::map<int, double> PlannedQuadrature(const nlohmann::json& document) {
+std::map<int, double> PlannedQuadrature(const session::SessionRecord& record) {
   std::map<int, double> out;
-  if (!document.is_object()) return out;
-  const auto runs = document.find("runs");
-  if (runs == document.end() || !runs->is_array()) return out;
-  for (const nlohmann::json& run : *runs) {
-    if (!run.is_object() || !run.contains("id") || !run["id"].is_number_integer()) continue;
-    const auto plan = run.find("plan");
-    if (plan == run.end() || !plan->is_object()) continue;
-    const auto a = plan->find("a"), b = plan->find("b");
-    if (a == plan->end() || b == plan->end() || !a->is_number() || !b->is_number()) continue;
-    const double av = a->get<double>(), bv = b->get<double>();
-    const double s = av * av + bv * bv;
-    if (s > 0.0 && std::isfinite(s)) out[run["id"].get<int>()] = 2.0 * av * bv / s;
+  for (const session::RunRecord& run : record.runs) {
+    if (!run.plan) continue;
+    const double a = run.plan->a, b = run.plan->b;
+    const double s = a * a + b * b;
+    if (s > 0.0 && std::isfinite(s)) out[run.id] = 2.0 * a * b / s;
   }
   return out;
 }
 
 }  // namespace
 
-std::optional<std::string> IqConventionContradiction(const nlohmann::json& session_document,
+std::optional<std::string> IqConventionContradiction(const session::SessionRecord& record,
                                                      const estimator::EstimateSummary& summary) {
   if (!summary.IsUsable()) return std::nullopt;
-  const std::map<int, double> planned = PlannedQuadrature(session_document);
+  const std::map<int, double> planned = PlannedQuadrature(record);
   std::size_t taking_part = 0;
   std::string contradicting;
   for (std::size_t r = 0; r < summary.run_nuisance.size(); ++r) {
@@ -127,9 +119,9 @@ std::optional<std::string> IqConventionContradiction(const nlohmann::json& sessi
          "iq_convention";
 }
 
-void NameIqConventionContradiction(const nlohmann::json& session_document,
+void NameIqConventionContradiction(const session::SessionRecord& record,
                                    estimator::EstimateSummary* summary) {
-  if (auto problem = IqConventionContradiction(session_document, *summary)) {
+  if (auto problem = IqConventionContradiction(record, *summary)) {
     summary->diagnostics.problems.push_back(*problem);
     summary->warnings.push_back(*problem);
   }

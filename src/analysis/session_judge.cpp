@@ -76,11 +76,11 @@ SessionJudgement JudgeSession(const estimator::EstimateSummary& estimate,
 }
 
 SessionJudgement JudgeRecordedSession(const estimator::EstimateSummary& estimate,
-                                      const nlohmann::json& session_document,
+                                      const session::SessionRecord& record,
                                       const LimitsConfig& limits) {
-  // The record's electronics are read only for a usable estimate (step 2 follows step 1).
+  // The engineering of record is computed only for a usable estimate (step 2 follows step 1).
   if (!estimate.IsUsable()) return Error("estimate not usable: " + estimate.message);
-  return JudgeSession(estimate, ComputeEngineeringOfRecord(estimate, session_document), limits);
+  return JudgeSession(estimate, ComputeEngineeringOfRecord(estimate, record), limits);
 }
 
 int Severity(OutcomeKind kind) noexcept {

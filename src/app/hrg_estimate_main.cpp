@@ -15,6 +15,7 @@
 #include "hrgbench/analysis/recorded_frequency.hpp"
 #include "hrgbench/analysis/recorded_runs.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace {
 
@@ -50,20 +51,23 @@ int Run(const Arguments& args) {
     std::cerr << session.error().ToString() << '\n';
     return kExitBadInput;
   }
-  // In the model's I/Q convention, less the output filter's settling after release.
-  auto prepared = bench::PrepareRecordedRuns(*session);
-  if (!prepared) {
-    std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
-              << prepared.error() << '\n';
+  // The same document typed by the record's one reader: the electronics' declaration, the runs'
+  // plans and f0 (a malformed declaration is named here, by field and value).
+  const auto record = session::ReadSessionRecord(session->document,
+                                                 std::filesystem::path(args.dir) / "session.json");
+  if (!record) {
+    std::cerr << record.error().ToString() << '\n';
     return kExitBadInput;
   }
-  const std::vector<estimator::RunData>& runs = prepared->runs;
+  // In the model's I/Q convention, less the output filter's settling after release.
+  const bench::PreparedRuns prepared = bench::PrepareRecordedRuns(*session, record->electronics);
+  const std::vector<estimator::RunData>& runs = prepared.runs;
   if (runs.empty()) {
     std::cerr << args.dir << ": no complete run to estimate from\n";
     return kExitBadInput;
   }
   // The noise shape the station declared for this session's electronics (white when none).
-  auto noise_shape = bench::RecordedNoiseShape(session->document, session->sample_rate_hz);
+  auto noise_shape = bench::RecordedNoiseShape(record->electronics, session->sample_rate_hz);
   if (!noise_shape) {
     std::cerr << (std::filesystem::path(args.dir) / "session.json").string() << ": "
               << noise_shape.error() << '\n';
@@ -73,32 +77,29 @@ int Run(const Arguments& args) {
   spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
 
   bench::MethodResult result = bench::RunMethod(runs, request);
-  bench::NameIqConventionContradiction(session->document, &result.summary);
+  bench::NameIqConventionContradiction(*record, &result.summary);
   std::vector<std::string> warnings = result.selection_warnings;
   warnings.insert(warnings.end(), session->warnings.begin(), session->warnings.end());
 
   if (args.json) {
     nlohmann::json report =
-        bench::EstimateReportJson(args.method, result.summary, warnings, session->document);
-    report["preparation"] = prepared->Json();
+        bench::EstimateReportJson(args.method, result.summary, warnings, *record);
+    report["preparation"] = prepared.Json();
     std::cout << report.dump(1) << '\n';
   } else {
     std::cout << "session: " << args.dir << " (" << runs.size() << " runs)\n";
     for (const std::string& w : warnings) std::cout << "warning: " << w << '\n';
-    for (const std::string& n : prepared->notes) std::cout << "note: " << n << '\n';
+    for (const std::string& n : prepared.notes) std::cout << "note: " << n << '\n';
     std::cout << result.summary.Report();
     if (!result.summary.Report().ends_with('\n')) std::cout << '\n';
     if (result.summary.IsUsable()) {
-      const auto engineering = bench::ComputeEngineeringOfRecord(result.summary, session->document);
-      if (!engineering) {
-        spdlog::error("{}: {}", args.dir, engineering.error());
-        return kExitFail;
-      }
-      for (const std::string& n : engineering->notes) std::cout << "note: " << n << '\n';
-      std::cout << "in the field's units (f0: " << engineering->frequency_source
+      const bench::EngineeringOfRecord engineering =
+          bench::ComputeEngineeringOfRecord(result.summary, *record);
+      for (const std::string& n : engineering.notes) std::cout << "note: " << n << '\n';
+      std::cout << "in the field's units (f0: " << engineering.frequency_source
                 << "; angles on the shell):\n"
-                << engineering->quantities.Report() << "uncertainty budgets:\n"
-                << engineering->quantities.BudgetReport();
+                << engineering.quantities.Report() << "uncertainty budgets:\n"
+                << engineering.quantities.BudgetReport();
     }
     std::cout << "time: " << result.seconds << " s\n";
   }

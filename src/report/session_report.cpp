@@ -161,7 +161,7 @@ void Estimate(ReportInputs* in, const session::SessionRecord& record, std::set<s
   }
   bench::MethodRequest request;
   request.fit_quality = RecordedFitLimits(record);
-  if (auto shape = bench::RecordedNoiseShape(in->record.document, in->sample_rate_hz); shape) {
+  if (auto shape = bench::RecordedNoiseShape(record.electronics, in->sample_rate_hz); shape) {
     request.noise_shape = std::move(*shape);
   } else {
     AddWarning(&in->warnings, seen,
@@ -169,14 +169,13 @@ void Estimate(ReportInputs* in, const session::SessionRecord& record, std::set<s
                    "): the report's checks assume white noise");
   }
   // Less the output filter's settling after release, as the bench fits (recorded_runs.hpp).
-  if (auto filter = bench::RecordedOutputFilter(in->record.document); filter)
-    bench::SkipReleaseSettling(bench::ReleaseSettlingS(*filter), &runs);
+  bench::SkipReleaseSettling(
+      bench::ReleaseSettlingS(bench::RecordedOutputFilter(record.electronics)), &runs);
   bench::MethodResult estimated = bench::RunMethod(runs, request);
   std::vector<std::string> warnings = reader_warnings;
   warnings.insert(warnings.end(), estimated.selection_warnings.begin(),
                   estimated.selection_warnings.end());
-  in->estimate_json =
-      bench::EstimateReportJson("ml", estimated.summary, warnings, in->record.document);
+  in->estimate_json = bench::EstimateReportJson("ml", estimated.summary, warnings, record);
   for (const std::string& w : estimated.selection_warnings) AddWarning(&in->warnings, seen, w);
   for (const std::string& w : estimated.summary.warnings) AddWarning(&in->warnings, seen, w);
   if (!estimated.summary.IsUsable()) {

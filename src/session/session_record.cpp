@@ -8,7 +8,9 @@
 #include <cmath>
 #include <string_view>
 #include <system_error>
+#include <utility>
 
+#include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 #include "json_lines.hpp"
 #include "session_text.hpp"
@@ -500,6 +502,107 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
   return out;
 }
 
+// electronics.output_filter (the station's [gyro] output_filter, order, cutoff_hz).
+std::optional<bench::OutputFilter> ReadOutputFilter(Fields& f, const json& electronics,
+                                                    const std::string& path) {
+  const json* filter = f.Find(electronics, keys::kOutputFilter);
+  if (filter == nullptr || !f.ok()) return std::nullopt;
+  const std::string at = Join(path, keys::kOutputFilter);
+  const auto shown = [&](std::string_view key) {
+    const json* value = f.Find(*filter, key);
+    return value == nullptr ? std::string("nothing") : Describe(*value);
+  };
+  if (!filter->is_object()) {
+    f.Fail(at, "expected an object, got " + Describe(*filter));
+    return std::nullopt;
+  }
+  const json* kind = f.Find(*filter, keys::kKind);
+  if (kind == nullptr || !kind->is_string()) {
+    f.Fail(Join(at, keys::kKind), "missing or not a string, got " + shown(keys::kKind));
+    return std::nullopt;
+  }
+  if (*kind == keys::kFilterNone) return bench::OutputFilter{};
+  if (*kind != keys::kFilterButterworth) {
+    f.Fail(Join(at, keys::kKind), "'" + kind->get<std::string>() + "' is not none or butterworth");
+    return std::nullopt;
+  }
+  bench::OutputFilter declared;
+  declared.kind = bench::OutputFilterKind::kButterworth;
+  const json* order = f.Find(*filter, keys::kOrder);
+  if (order == nullptr || !order->is_number_integer() || *order < 1 ||
+      *order > estimator::kMaxButterworthOrder) {
+    f.Fail(Join(at, keys::kOrder), "missing or not an integer 1 ... " +
+                                       std::to_string(estimator::kMaxButterworthOrder) + ", got " +
+                                       shown(keys::kOrder));
+    return std::nullopt;
+  }
+  declared.order = order->get<std::int64_t>();
+  const json* cutoff = f.Find(*filter, keys::kCutoffHz);
+  if (cutoff == nullptr || !cutoff->is_number() || !(cutoff->get<double>() > 0.0) ||
+      !std::isfinite(cutoff->get<double>())) {
+    f.Fail(Join(at, keys::kCutoffHz),
+           "missing or not a positive number, got " + shown(keys::kCutoffHz));
+    return std::nullopt;
+  }
+  declared.cutoff_hz = cutoff->get<double>();
+  return declared;
+}
+
+// The stage's names as estimator::ToString(CrossTalkStage) writes them, spelled here because this
+// library uses the estimator's headers, not its library (the pick-off tests round-trip each one).
+std::optional<estimator::CrossTalkStage> ParseStage(const std::string& text) {
+  constexpr std::pair<const char*, estimator::CrossTalkStage> kStages[] = {
+      {"midway", estimator::CrossTalkStage::kMidway},
+      {"before_gain", estimator::CrossTalkStage::kBeforeGain},
+      {"after_gain", estimator::CrossTalkStage::kAfterGain}};
+  for (const auto& [name, stage] : kStages)
+    if (text == name) return stage;
+  return std::nullopt;
+}
+
+// electronics.pickoff (the station's [gyro] pickoff_cross_talk_stage, pickoff_coupling_bound_rad).
+std::optional<bench::PickoffDeclaration> ReadPickoff(Fields& f, const json& electronics,
+                                                     const std::string& path) {
+  const json* pickoff = f.Find(electronics, keys::kPickoff);
+  if (pickoff == nullptr || !f.ok()) return std::nullopt;
+  const std::string at = Join(path, keys::kPickoff);
+  if (!pickoff->is_object()) {
+    f.Fail(at, "expected an object, got " + pickoff->dump());
+    return std::nullopt;
+  }
+  bench::PickoffDeclaration declared;
+  if (const json* stage = f.Find(*pickoff, keys::kCrossTalkStage)) {
+    const auto parsed = stage->is_string() ? ParseStage(stage->get<std::string>()) : std::nullopt;
+    if (!parsed) {
+      f.Fail(Join(at, keys::kCrossTalkStage),
+             "expected \"midway\", \"before_gain\" or \"after_gain\", got " + stage->dump());
+      return std::nullopt;
+    }
+    declared.cross_talk_stage = *parsed;
+  }
+  if (const json* bound = f.Find(*pickoff, keys::kUnmodelledCouplingBoundRad)) {
+    const double value = bound->is_number() ? bound->get<double>() : kNotRecorded;
+    if (!(std::isfinite(value) && value >= 0.0 && value <= bench::kMaxCouplingBoundRad)) {
+      f.Fail(Join(at, keys::kUnmodelledCouplingBoundRad),
+             "expected a number in [0, " + json(bench::kMaxCouplingBoundRad).dump() + "], got " +
+                 bound->dump());
+      return std::nullopt;
+    }
+    declared.unmodelled_coupling_bound_rad = value;
+  }
+  return declared;
+}
+
+ElectronicsRecord ReadElectronics(Fields& f, const json& doc, estimator::IqConvention convention) {
+  ElectronicsRecord out;
+  out.iq_convention = convention;  // ReadSessionJson read and checked it
+  const json* electronics = f.Object(doc, "", keys::kElectronics);
+  if (electronics == nullptr) return out;
+  out.output_filter = ReadOutputFilter(f, *electronics, keys::kElectronics);
+  out.pickoff = ReadPickoff(f, *electronics, keys::kElectronics);
+  return out;
+}
+
 json Member(const json& doc, const char* key) {
   return doc.is_object() && doc.contains(key) ? doc.at(key) : json(nullptr);
 }
@@ -551,7 +654,7 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
     log.protocol = f.Int64(*can, keys::kCanLog, keys::kProtocol);
     record.can_log = std::move(log);
   }
-  record.electronics = Member(doc, keys::kElectronics);
+  record.electronics = ReadElectronics(f, doc, base.iq_convention);
   record.simulation = Member(doc, keys::kSimulation);
   // The rest of "simulation" stays opaque (a section that is not an object is not this reader's).
   if (const json* simulation = f.Find(doc, keys::kSimulation);

@@ -53,6 +53,7 @@
 
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -82,11 +83,12 @@ nlohmann::json EngineeringJson(const estimator::EngineeringQuantities& engineeri
                                std::string_view frequency_source);
 
 // `warnings` are the caller's (method selection, session reading), put before the estimator's.
-// `session_document` is the whole session.json; its "simulation" block, if any, gives "truth".
+// `record` is the session's record (session::ReadSessionRecord): it gives the engineering
+// quantities' f0 and pick-off declaration, and its "simulation" block, if any, "truth".
 nlohmann::json EstimateReportJson(std::string_view method,
                                   const estimator::EstimateSummary& summary,
                                   const std::vector<std::string>& warnings,
-                                  const nlohmann::json& session_document);
+                                  const session::SessionRecord& record);
 
 // A number, or null when not finite.
 nlohmann::json NumberOrNull(double value);

@@ -1,8 +1,9 @@
 #pragma once
 // What the gyro's electronics do to the pick-off noise before it reaches the bench: their output
 // low-pass filter, declared by the station ([gyro] output_filter, output_filter_order,
-// output_filter_cutoff_hz), recorded in session.json ("electronics": {"output_filter": ...}) and
-// turned into the noise shape the fit's checks assume (estimator/noise_shape.hpp).
+// output_filter_cutoff_hz), recorded in session.json (electronics.output_filter, typed and
+// validated by the session layer's one reader: session::ElectronicsRecord) and turned into the
+// noise shape the fit's checks assume (estimator/noise_shape.hpp).
 //
 // Why declared and not measured: the filter is a design constant of the electronics, and a shape
 // estimated from the data would also absorb colour that is a misfit (a drift, a wrong rate) or
@@ -20,6 +21,7 @@
 
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/session/electronics.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -32,11 +34,9 @@ nlohmann::json OutputFilterJson(const OutputFilter& filter);
 std::expected<estimator::NoiseShape, std::string> NoiseShapeOf(const OutputFilter& filter,
                                                                double sample_rate_hz);
 
-// The output filter a session's record declares ("electronics"."output_filter" of session.json):
-// kNone when the record has none (sessions before the declaration existed, hrg-sim sessions). An
-// error naming the field and value when it is malformed.
-std::expected<OutputFilter, std::string> RecordedOutputFilter(
-    const nlohmann::json& session_document);
+// The output filter a session's record declares (electronics.output_filter): kNone when the record
+// has none (sessions before the declaration existed, hrg-sim sessions).
+OutputFilter RecordedOutputFilter(const session::ElectronicsRecord& electronics);
 
 // How long after release the filter's output still carries the release: the time after which the
 // step response of the ANALOG Butterworth of that order and cutoff is, by a bound on the sum of
@@ -52,10 +52,11 @@ double ReleaseSettlingS(const OutputFilter& filter, double fraction = kReleaseSe
 // "4th-order Butterworth, 200 Hz" or "none".
 std::string OutputFilterName(const OutputFilter& filter);
 
-// The noise shape a session's record declares: "electronics"."output_filter" of session.json at
-// the session's sample rate; white when the record has none (sessions before the declaration
-// existed, hrg-sim sessions). An error naming the field and value when it is malformed.
+// The noise shape a session's record declares: electronics.output_filter at the session's sample
+// rate; white when the record has none (sessions before the declaration existed, hrg-sim
+// sessions). An error naming the values when there is no sample rate to sample the filter at, or
+// the filter's memory is too long (NoiseShapeOf).
 std::expected<estimator::NoiseShape, std::string> RecordedNoiseShape(
-    const nlohmann::json& session_document, double sample_rate_hz);
+    const session::ElectronicsRecord& electronics, double sample_rate_hz);
 
 }  // namespace hrgbench::bench

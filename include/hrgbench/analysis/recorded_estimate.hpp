@@ -11,6 +11,7 @@
 
 #include "hrgbench/analysis/estimate_method.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -24,8 +25,11 @@ struct RecordedEstimate {
   nlohmann::json report;  // EstimateReportJson("ml", ...): session.json outcome.estimate
 };
 
-// `recorded` must have its complete runs loaded (session::ReadSession with load_samples).
+// `recorded` must have its complete runs loaded (session::ReadSession with load_samples);
+// `record` is the same session.json typed (session::ReadSessionRecord(recorded.document, file)):
+// the electronics' declaration, the runs' plans and f0, the simulator's truth.
 RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const session::SessionRecord& record,
                                          const estimator::FitQualityLimits& fit_quality);
 
 }  // namespace hrgbench::bench

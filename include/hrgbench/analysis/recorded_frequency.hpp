@@ -3,15 +3,17 @@
 // estimate's decay time into Q (estimator/engineering_quantities.hpp). The estimator cannot give
 // it: f0 does not enter the slow model.
 //
-// From session.json: the mean of runs[].start.resonant_frequency_hz over the complete runs that
-// recorded a finite, positive value (the electronics' Status at each release). NaN, with the
-// source saying so, when no run did (sessions written by hrg-sim, older records).
+// From the record (session::SessionRecord, read by the session layer's one reader): the mean of
+// runs[].start.resonant_frequency_hz over the complete runs that recorded a finite, positive value
+// (the electronics' Status at each release). NaN, with the source saying so, when no run did
+// (sessions written by hrg-sim, older records).
 //
-// Pure function; never throws except std::bad_alloc (wrong types are treated as absent).
+// Pure function; never throws except std::bad_alloc.
 
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <string>
+
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -22,6 +24,6 @@ struct RecordedFrequency {
   std::string source;  // "electronics status at the release of 6 runs (spread 0.002 Hz)"
 };
 
-RecordedFrequency RecordedResonantFrequency(const nlohmann::json& session_document);
+RecordedFrequency RecordedResonantFrequency(const session::SessionRecord& record);
 
 }  // namespace hrgbench::bench

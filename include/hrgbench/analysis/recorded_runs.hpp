@@ -22,6 +22,7 @@
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -51,9 +52,10 @@ struct PreparedRuns {
 std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
                                              std::vector<estimator::RunData>* runs);
 
-// The loaded runs of `recorded` prepared as above; an error naming the field and value when the
-// record's output filter is malformed.
-std::expected<PreparedRuns, std::string> PrepareRecordedRuns(const session::Session& recorded);
+// The loaded runs of `recorded` prepared as above, with the output filter its record declares
+// (`electronics`: the same session.json as typed by session::ReadSessionRecord).
+PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
+                                 const session::ElectronicsRecord& electronics);
 
 // The declared I/Q convention against the data. Conjugated channels fit the model perfectly
 // (estimator/iq_convention.hpp), so the check needs a sign fixed outside the free run: the
@@ -65,12 +67,12 @@ std::expected<PreparedRuns, std::string> PrepareRecordedRuns(const session::Sess
 // plan's size. A problem (naming the runs and the likely cause) when every run taking part, at
 // least one, contradicts; nullopt otherwise (also when the record has no plans).
 inline constexpr double kQuadratureSignMinimum = 0.05;
-std::optional<std::string> IqConventionContradiction(const nlohmann::json& session_document,
+std::optional<std::string> IqConventionContradiction(const session::SessionRecord& record,
                                                      const estimator::EstimateSummary& summary);
 
 // Adds that problem, when there is one, to summary->diagnostics.problems and ->warnings (so the
 // fit is not acceptable and the record says why).
-void NameIqConventionContradiction(const nlohmann::json& session_document,
+void NameIqConventionContradiction(const session::SessionRecord& record,
                                    estimator::EstimateSummary* summary);
 
 }  // namespace hrgbench::bench

@@ -36,6 +36,7 @@
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/session/session_outcome.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace hrgbench::bench {
 
@@ -62,10 +63,11 @@ SessionJudgement JudgeSession(const estimator::EstimateSummary& estimate,
                               const std::expected<EngineeringOfRecord, std::string>& engineering,
                               const LimitsConfig& limits);
 
-// The same on a record: the engineering of record computed from `session_document` (session.json
-// as read back) only when the estimate is usable.
+// The same on a record: the engineering of record computed from `record` (session.json as read
+// back by session::ReadSessionRecord, which named a malformed declaration already) only when the
+// estimate is usable.
 SessionJudgement JudgeRecordedSession(const estimator::EstimateSummary& estimate,
-                                      const nlohmann::json& session_document,
+                                      const session::SessionRecord& record,
                                       const LimitsConfig& limits);
 
 // How bad an outcome is, for an aggregate: PASS < FAIL < ERROR < ABORTED (an operator's stop

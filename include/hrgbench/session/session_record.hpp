@@ -4,12 +4,12 @@
 // (STYLE rule 13); the key names live in session_record_keys.hpp, shared with the writers.
 //
 // What is typed: everything a reader of the record uses (report, results store, replay, panel,
-// resume, fixture, the estimate of record's inputs). What stays raw JSON: what another layer owns
-// and only passes through or interprets itself: "simulation" (the simulator's truth), "fixture",
-// the station's "electronics" declaration (its output filter and pick-off are read by the analysis
-// layer's own parsers, output_filter.hpp and engineering_of_record.hpp), and the estimate and
-// verdict objects as a whole (for pages that show every field the estimator wrote). `document` is
-// the whole file, unknown keys included, for the writer and for the results store's content hash.
+// resume, fixture, the estimate of record's inputs, and the station's electronics declaration:
+// its I/Q convention, output filter and pick-off, session/electronics.hpp). What stays raw JSON:
+// what another layer owns and only passes through or interprets itself: "simulation" (the
+// simulator's truth), "fixture", and the estimate and verdict objects as a whole (for pages that
+// show every field the estimator wrote). `document` is the whole file, unknown keys included, for
+// the writer and for the results store's content hash.
 //
 // Optional fields: std::optional when the key may be absent in a record of an older bench or a
 // session still running; numbers the bench writes as null (not measured) read as NaN. A key that
@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/iq_convention.hpp"
+#include "hrgbench/session/electronics.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_outcome.hpp"
 #include "hrgbench/session/session_record_types.hpp"
@@ -57,6 +58,24 @@ struct CanLogRecord {
   std::string interface_name;            // "can0", "vcan0", "sim0"; "" when absent
   std::optional<std::int64_t> node;      // the unit's node id; absent before protocol v2
   std::optional<std::int64_t> protocol;  // gyro CAN protocol version; absent: v1
+};
+
+// electronics: what the station declared of its gyro's electronics (session/electronics.hpp; the
+// analysis turns it into the noise shape, the release settling and the budget: output_filter.hpp,
+// engineering_of_record.hpp). Validated here: a declaration this reader does not know is an error
+// naming the field and the value (guessing would change the estimate silently).
+struct ElectronicsRecord {
+  // electronics.iq_convention ("minus-sine" | "plus-sine"); minus-sine when absent (a note says
+  // so).
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
+  // electronics.output_filter: {"kind": "none"} or {"kind": "butterworth", "order": 1 ...
+  // estimator::kMaxButterworthOrder, "cutoff_hz": > 0}. Absent: none declared (records before the
+  // declaration existed, hrg-sim sessions), which the analysis takes as no filter.
+  std::optional<bench::OutputFilter> output_filter;
+  // electronics.pickoff: {"cross_talk_stage": "midway" | "before_gain" | "after_gain",
+  // "unmodelled_coupling_bound_rad": 0 ... bench::kMaxCouplingBoundRad}; a member absent keeps the
+  // PickoffDeclaration default. Absent: recorded before the pick-off was declared.
+  std::optional<bench::PickoffDeclaration> pickoff;
 };
 
 // runs[i].start: the conditions at release (bench::RunStart) and when it was.
@@ -229,10 +248,10 @@ struct SessionRecord {
   std::optional<TimeStampRecord> started, ended;
   std::string realtime_status;
   double sample_rate_hz = 0.0;
-  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;
+  estimator::IqConvention iq_convention = estimator::IqConvention::kMinusSine;  // = electronics'
   std::optional<CanLogRecord> can_log;  // absent in records older than the CAN log
+  ElectronicsRecord electronics;
   // Opaque pass-through (owners elsewhere; null when absent): see the file comment.
-  nlohmann::json electronics;
   nlohmann::json simulation;
   // simulation.delta / simulation.xi: the simulator's truth (NaN where null), when recorded.
   std::optional<std::array<double, 6>> simulation_delta;

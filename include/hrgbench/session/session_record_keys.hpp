@@ -41,6 +41,15 @@ inline constexpr const char* kNode = "node";
 inline constexpr const char* kProtocol = "protocol";
 inline constexpr const char* kElectronics = "electronics";
 inline constexpr const char* kIqConvention = "iq_convention";
+// electronics (session/electronics.hpp: the station's declaration).
+inline constexpr const char* kOutputFilter = "output_filter";
+inline constexpr const char* kFilterNone = "none";
+inline constexpr const char* kFilterButterworth = "butterworth";
+inline constexpr const char* kOrder = "order";
+inline constexpr const char* kCutoffHz = "cutoff_hz";
+inline constexpr const char* kPickoff = "pickoff";
+inline constexpr const char* kCrossTalkStage = "cross_talk_stage";
+inline constexpr const char* kUnmodelledCouplingBoundRad = "unmodelled_coupling_bound_rad";
 inline constexpr const char* kSimulation = "simulation";
 inline constexpr const char* kFixture = "fixture";
 inline constexpr const char* kRuns = "runs";

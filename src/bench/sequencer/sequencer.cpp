@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <expected>
 #include <optional>
 #include <set>
 #include <thread>
@@ -15,6 +16,8 @@
 #include "hrgbench/analysis/session_judge.hpp"
 #include "hrgbench/bench/capture/realtime_setup.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::bench {
 namespace internal {
@@ -156,9 +159,13 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
   auto recorded = session::ReadSession(lane.dir, read);
-  if (!recorded) {
+  // The same document typed by the record's one reader (no second read of the file).
+  std::expected<session::SessionRecord, session::SessionError> record =
+      recorded ? session::ReadSessionRecord(recorded->document, lane.dir / "session.json")
+               : std::unexpected(recorded.error());
+  if (!record) {
     outcome.kind = OutcomeKind::kError;
-    outcome.reason = "the record cannot be read back: " + recorded.error().ToString();
+    outcome.reason = "the record cannot be read back: " + record.error().ToString();
   } else {
     result.complete_runs = static_cast<int>(recorded->loaded_samples.size());
     if (recorded->loaded_samples.empty()) {
@@ -166,14 +173,14 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
       outcome.reason = "no complete run to estimate from";
     } else {
       RecordedEstimate recorded_estimate =
-          EstimateRecordedSession(*recorded, ctx.configs->limits.fit);
+          EstimateRecordedSession(*recorded, *record, ctx.configs->limits.fit);
       MethodResult& estimated = recorded_estimate.method;
       std::vector<std::string> warnings = std::move(recorded_estimate.warnings);
       result.estimate_json = std::move(recorded_estimate.report);
       for (const std::string& w : estimated.summary.warnings) warnings.push_back(w);
       result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
       SessionJudgement judgement =
-          JudgeRecordedSession(estimated.summary, recorded->document, ctx.configs->limits);
+          JudgeRecordedSession(estimated.summary, *record, ctx.configs->limits);
       outcome = judgement.ToOutcome(result.estimate_json);
       result.verdict = std::move(judgement.verdict);
       result.engineering = std::move(judgement.engineering);
@@ -329,9 +336,9 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
     header.realtime_status = realtime_status;
     header.simulation = units[i].simulation;
     header.electronics = nlohmann::json{
-        {"output_filter", OutputFilterJson(configs.station.gyro.output_filter)},
-        {"pickoff", PickoffDeclarationJson(configs.station.gyro.pickoff)},
-        {"iq_convention",
+        {session::keys::kOutputFilter, OutputFilterJson(configs.station.gyro.output_filter)},
+        {session::keys::kPickoff, PickoffDeclarationJson(configs.station.gyro.pickoff)},
+        {session::keys::kIqConvention,
          std::string(estimator::IqConventionName(configs.station.gyro.iq_convention))}};
     header.can_interface = hw.units[i].can_interface;
     header.can_node = hw.units[i].can_node;

@@ -5,6 +5,7 @@
 #include <set>
 #include <string>
 
+#include "hand_made_record.hpp"
 #include "hrgbench/analysis/recorded_frequency.hpp"
 
 namespace hrgbench::bench {
@@ -12,6 +13,7 @@ namespace {
 
 using estimator::EstimateSummary;
 using estimator::kNaN;
+using testing::RecordOf;
 
 // What an ML fit with ξ1 only estimated returns.
 EstimateSummary Xi1Summary() {
@@ -53,8 +55,8 @@ void ExpectNumbers(const nlohmann::json& j, std::size_t n, const char* what) {
 }
 
 TEST(EstimateReportJson, HasExactlyTheDocumentedKeysAndTypes) {
-  const nlohmann::json j =
-      EstimateReportJson("ml", Xi1Summary(), {"selection warning"}, nlohmann::json::object());
+  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {"selection warning"},
+                                              RecordOf(nlohmann::json::object()));
   EXPECT_EQ(Keys(j), RequiredKeys());
   EXPECT_EQ(j["method"], "ml");
   ExpectNumbers(j["delta"], 6, "delta");
@@ -83,7 +85,7 @@ TEST(EstimateReportJson, HasExactlyTheDocumentedKeysAndTypes) {
 TEST(EstimateReportJson, HeldDeltaHasNullStd) {
   EstimateSummary s = Xi1Summary();
   s.delta_estimated[estimator::kScaleFactor] = false;
-  const nlohmann::json j = EstimateReportJson("ml", s, {}, nlohmann::json::object());
+  const nlohmann::json j = EstimateReportJson("ml", s, {}, RecordOf(nlohmann::json::object()));
   EXPECT_TRUE(j["delta_std"][1].is_null());
   EXPECT_TRUE(j["delta"][1].is_number());  // the held value is still reported
 }
@@ -91,7 +93,7 @@ TEST(EstimateReportJson, HeldDeltaHasNullStd) {
 TEST(EstimateReportJson, NonFiniteNumbersAreNull) {
   EstimateSummary s;  // "not called": everything NaN
   s.termination = estimator::Termination::kNumericalFailure;
-  const nlohmann::json j = EstimateReportJson("paper", s, {}, nlohmann::json::object());
+  const nlohmann::json j = EstimateReportJson("paper", s, {}, RecordOf(nlohmann::json::object()));
   EXPECT_EQ(Keys(j), RequiredKeys());
   EXPECT_TRUE(j["residual_rms"].is_null());
   EXPECT_TRUE(j["noise_sigma"].is_null());
@@ -111,7 +113,7 @@ TEST(EstimateReportJson, TruthFromTheSessionsSimulationBlock) {
                                      {"seed", 12345},
                                      {"generator", "test"},
                                      {"runs", nlohmann::json::array()}}}};
-  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {}, document);
+  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {}, RecordOf(document));
   std::set<std::string> expected = RequiredKeys();
   expected.insert("truth");
   EXPECT_EQ(Keys(j), expected);
@@ -127,12 +129,13 @@ TEST(EstimateReportJson, CarriesTheEngineeringQuantitiesWithTheRecordedFrequency
       {"id": 2, "status": "aborted", "start": {"resonant_frequency_hz": 4000.0}},
       {"id": 3, "status": "complete", "start": {"resonant_frequency_hz": null}},
       {"id": 4, "status": "complete", "start": {"resonant_frequency_hz": 5000.004}}]})");
-  const RecordedFrequency f0 = RecordedResonantFrequency(document);
+  const session::SessionRecord record = RecordOf(document);
+  const RecordedFrequency f0 = RecordedResonantFrequency(record);
   EXPECT_EQ(f0.runs, 2);
   EXPECT_DOUBLE_EQ(f0.hz, 5000.003);
   EXPECT_NEAR(f0.spread_hz, 0.002, 1e-9);
 
-  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {}, document);
+  const nlohmann::json j = EstimateReportJson("ml", Xi1Summary(), {}, record);
   const nlohmann::json& e = j["engineering"];
   EXPECT_DOUBLE_EQ(e["frequency_hz"].get<double>(), 5000.003);
   EXPECT_NE(e["frequency_source"].get<std::string>().find("2 runs"), std::string::npos);
@@ -150,7 +153,8 @@ TEST(EstimateReportJson, CarriesTheEngineeringQuantitiesWithTheRecordedFrequency
   EXPECT_EQ(cross_talk["determined"], false);
   EXPECT_TRUE(cross_talk["std"].is_null());
 
-  const nlohmann::json none = EstimateReportJson("ml", Xi1Summary(), {}, nlohmann::json::object());
+  const nlohmann::json none =
+      EstimateReportJson("ml", Xi1Summary(), {}, RecordOf(nlohmann::json::object()));
   EXPECT_TRUE(none["engineering"]["frequency_hz"].is_null());
   EXPECT_EQ(none["engineering"]["quantities"][2]["determined"], false);  // Q without f0
 }

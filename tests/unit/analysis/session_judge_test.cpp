@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hand_made_record.hpp"
 #include "hrgbench/analysis/run_acceptance.hpp"
 #include "hrgbench/session/exit_codes.hpp"
 
@@ -171,18 +172,26 @@ TEST(SessionJudge, TheOutcomeCarriesTheVerdictAndTheCallersEstimate) {
 }
 
 TEST(SessionJudge, ARecordsElectronicsAreReadOnlyForAUsableEstimate) {
-  const nlohmann::json bad_electronics = {{"electronics", {{"pickoff", "midway"}}}};
+  // A malformed declaration is named by the record's one reader, before any judge sees it (the
+  // sequencer then closes with ERROR "the record cannot be read back: ...").
+  const auto bad_electronics = session::ReadSessionRecord(
+      testing::CompleteSessionDocument({{"electronics", {{"pickoff", "midway"}}}}),
+      "test/session.json");
+  ASSERT_FALSE(bad_electronics.has_value());
+  EXPECT_EQ(bad_electronics.error().field, "electronics.pickoff");
   EstimateSummary unusable = InModelUnit();
   unusable.termination = Termination::kNumericalFailure;
   unusable.message = "diverged";
-  EXPECT_EQ(JudgeRecordedSession(unusable, bad_electronics, Limits()).reason,
+  const session::SessionRecord record = testing::RecordOf(nlohmann::json::object());
+  EXPECT_EQ(JudgeRecordedSession(unusable, record, Limits()).reason,
             "estimate not usable: diverged");
-  const SessionJudgement judgement = JudgeRecordedSession(InModelUnit(), bad_electronics, Limits());
+  // An engineering of record that could not be computed is the bench's ERROR.
+  const SessionJudgement judgement =
+      JudgeSession(InModelUnit(), std::unexpected("no electronics"), Limits());
   EXPECT_EQ(judgement.kind, OutcomeKind::kError);
   EXPECT_EQ(judgement.reason.rfind("the record's electronics: ", 0), 0u) << judgement.reason;
   // A record from before the pick-off was declared is judged (midway, with a note).
-  EXPECT_EQ(JudgeRecordedSession(InModelUnit(), nlohmann::json::object(), Limits()).kind,
-            OutcomeKind::kPass);
+  EXPECT_EQ(JudgeRecordedSession(InModelUnit(), record, Limits()).kind, OutcomeKind::kPass);
 }
 
 TEST(FixtureJudge, TheWorstUnitDecides) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "hand_made_record.hpp"
 #include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/config/sequence_config.hpp"
@@ -14,6 +15,8 @@
 
 namespace hrgbench::bench {
 namespace {
+
+using testing::RecordOf;
 
 std::string Station(const std::string& gyro_keys) {
   return "[station]\nname = \"x\"\nkind = \"simulated\"\n[site]\nlatitude_deg = 45.0\n"
@@ -46,7 +49,7 @@ TEST(StationOutputFilter, ButterworthIsLoadedWithItsOrderAndCutoff) {
   EXPECT_GT(shape->Rho(1), 0.3);
   // The record's form reads back to the same shape.
   nlohmann::json doc = {{"electronics", {{"output_filter", OutputFilterJson(filter)}}}};
-  auto recorded = RecordedNoiseShape(doc, 1000.0);
+  auto recorded = RecordedNoiseShape(RecordOf(doc).electronics, 1000.0);
   ASSERT_TRUE(recorded.has_value()) << recorded.error();
   EXPECT_EQ(recorded->autocorrelation, shape->autocorrelation);
 }
@@ -155,28 +158,38 @@ TEST(StationOutputFilter, ACutoffTooLowForTheRateIsNamed) {
   EXPECT_NE(ok.error().message.find("4096"), std::string::npos) << ok.error().message;
 }
 
-// What hrg-estimate and the sequencer read back: a damaged record names the field and its value.
+// What hrg-estimate and the sequencer read back (through the record's one reader): a damaged
+// record names the field and its value.
 TEST(StationOutputFilter, ADamagedRecordNamesTheFieldAndValue) {
   const nlohmann::json butterworth = {{"kind", "butterworth"}, {"order", 4}, {"cutoff_hz", 200.0}};
-  EXPECT_TRUE(RecordedNoiseShape({{"electronics", {{"output_filter", butterworth}}}}, 1000.0));
-  EXPECT_TRUE(RecordedNoiseShape(nlohmann::json::object(), 1000.0)->IsWhite());  // older records
+  EXPECT_TRUE(RecordedNoiseShape(
+      RecordOf({{"electronics", {{"output_filter", butterworth}}}}).electronics, 1000.0));
+  EXPECT_TRUE(RecordedNoiseShape(RecordOf(nlohmann::json::object()).electronics, 1000.0)
+                  ->IsWhite());  // older records
   struct Case {
     nlohmann::json filter;
-    std::string expected;
+    std::string field;
+    std::string value;  // as the message shows it
   };
   const Case cases[] = {
-      {"butterworth", "electronics.output_filter = \"butterworth\": not an object"},
-      {{{"kind", "bessel"}}, "electronics.output_filter.kind: 'bessel'"},
+      {"butterworth", "electronics.output_filter", "\"butterworth\""},
+      {{{"kind", "bessel"}}, "electronics.output_filter.kind", "'bessel'"},
       {{{"kind", "butterworth"}, {"order", 40}, {"cutoff_hz", 200.0}},
-       "electronics.output_filter.order = 40"},
+       "electronics.output_filter.order",
+       "40"},
       {{{"kind", "butterworth"}, {"order", 4}, {"cutoff_hz", -1.0}},
-       "electronics.output_filter.cutoff_hz = -1.0"},
-      {{{"kind", "butterworth"}, {"order", 4}}, "electronics.output_filter.cutoff_hz: missing"},
+       "electronics.output_filter.cutoff_hz",
+       "-1.0"},
+      {{{"kind", "butterworth"}, {"order", 4}}, "electronics.output_filter.cutoff_hz", "missing"},
   };
   for (const Case& c : cases) {
-    auto shape = RecordedNoiseShape({{"electronics", {{"output_filter", c.filter}}}}, 1000.0);
-    ASSERT_FALSE(shape.has_value()) << c.filter.dump();
-    EXPECT_NE(shape.error().find(c.expected), std::string::npos) << shape.error();
+    const auto record = session::ReadSessionRecord(
+        testing::CompleteSessionDocument({{"electronics", {{"output_filter", c.filter}}}}),
+        "test/session.json");
+    ASSERT_FALSE(record.has_value()) << c.filter.dump();
+    const std::string text = record.error().ToString();
+    EXPECT_EQ(record.error().field, c.field) << text;
+    EXPECT_NE(text.find(c.value), std::string::npos) << text;
   }
 }
 

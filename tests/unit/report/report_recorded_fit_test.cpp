@@ -19,8 +19,10 @@ using namespace testing_support;
 void CloseWithEstimateOfRecord(const fs::path& dir, bool keep_fitted_runs) {
   auto recorded = session::ReadSession(dir);
   ASSERT_TRUE(recorded.has_value()) << recorded.error().ToString();
+  const auto record = session::ReadSessionRecord(dir);
+  ASSERT_TRUE(record.has_value()) << record.error().ToString();
   bench::RecordedEstimate estimate =
-      bench::EstimateRecordedSession(*recorded, estimator::FitQualityLimits{});
+      bench::EstimateRecordedSession(*recorded, *record, estimator::FitQualityLimits{});
   ASSERT_TRUE(estimate.method.summary.IsUsable()) << estimate.method.summary.message;
   if (!keep_fitted_runs) estimate.report.erase("fitted_runs");
   recorded->document["state"] = "closed";

@@ -137,7 +137,9 @@ TEST(SessionRecordRead, ReadsBackWhatTheRecorderWrote) {
   ASSERT_TRUE(r.can_log.has_value());
   EXPECT_EQ(r.can_log->interface_name, "vcan0");
   EXPECT_EQ(r.simulation, (json{{"seed", 7}}));
-  EXPECT_EQ(r.electronics["output_filter"]["kind"], "none");
+  ASSERT_TRUE(r.electronics.output_filter.has_value());
+  EXPECT_EQ(r.electronics.output_filter->kind, hrgbench::bench::OutputFilterKind::kNone);
+  EXPECT_FALSE(r.electronics.pickoff.has_value());  // the header declared none
   ASSERT_EQ(r.runs.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
     const session::RunRecord& run = r.runs[i];

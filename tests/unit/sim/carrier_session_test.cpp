@@ -25,6 +25,7 @@
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/analysis/recorded_runs.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 #include "sim/butterworth_low_pass.hpp"
 #include "sim/carrier_simulation.hpp"
 
@@ -122,6 +123,18 @@ session::Session RecordedSession(const ScratchDir& dir, const CarrierOptions& op
   return read ? *read : session::Session{};
 }
 
+// The same session.json typed by the record's one reader, as the sequencer reads it back.
+session::SessionRecord RecordOf(const session::Session& recorded) {
+  auto record = session::ReadSessionRecord(recorded.document, "session.json");
+  EXPECT_TRUE(record) << record.error().ToString();
+  return record ? *std::move(record) : session::SessionRecord{};
+}
+
+// The estimate of record, as the sequencer makes it.
+bench::RecordedEstimate EstimateOf(const session::Session& recorded) {
+  return bench::EstimateRecordedSession(recorded, RecordOf(recorded), {});
+}
+
 Eigen::Matrix<double, 10, 1> Truth(const CarrierOptions& options) {
   const CarrierSimulation sim(options);
   Eigen::Matrix<double, 10, 1> truth;
@@ -163,7 +176,7 @@ TEST(CarrierSessionTest, PlusSineSessionDeclaredSoEstimatesTheTruth) {
   const session::Session recorded =
       RecordedSession(dir, options, 31, estimator::IqConvention::kPlusSine);
   EXPECT_TRUE(AnyContains(recorded.notes, "'plus-sine'"));
-  const bench::RecordedEstimate e = bench::EstimateRecordedSession(recorded, {});
+  const bench::RecordedEstimate e = EstimateOf(recorded);
   const estimator::EstimateSummary& s = e.method.summary;
   ASSERT_TRUE(s.IsUsable()) << s.message;
   EXPECT_TRUE(s.diagnostics.Acceptable())
@@ -183,7 +196,7 @@ TEST(CarrierSessionTest, PlusSineSessionDeclaredAsTheModelsIsNamed) {
   const ScratchDir dir;
   const session::Session recorded =
       RecordedSession(dir, options, 31, estimator::IqConvention::kMinusSine);
-  const bench::RecordedEstimate e = bench::EstimateRecordedSession(recorded, {});
+  const bench::RecordedEstimate e = EstimateOf(recorded);
   const estimator::EstimateSummary& s = e.method.summary;
   ASSERT_TRUE(s.IsUsable()) << s.message;
   const Eigen::Matrix<double, 10, 1> truth = Truth(options);
@@ -200,9 +213,8 @@ TEST(CarrierSessionTest, PlusSineSessionDeclaredAsTheModelsIsNamed) {
   EXPECT_FALSE(e.report["fit"]["acceptable"].get<bool>());
   // Declared right (the previous test), the same check is silent: the check is the declaration's.
   EXPECT_FALSE(bench::IqConventionContradiction(
-      recorded.document,
-      bench::EstimateRecordedSession(
-          RecordedSession(dir, options, 31, estimator::IqConvention::kPlusSine), {})
+      RecordOf(recorded),
+      EstimateOf(RecordedSession(dir, options, 31, estimator::IqConvention::kPlusSine))
           .method.summary));
 }
 
@@ -238,7 +250,7 @@ TEST(CarrierSessionTest, ReleaseTransientIsSkippedNotCountedAsOutliers) {
   const ScratchDir dir;
   const session::Session recorded =
       RecordedSession(dir, options, 41, estimator::IqConvention::kMinusSine);
-  const bench::RecordedEstimate e = bench::EstimateRecordedSession(recorded, {});
+  const bench::RecordedEstimate e = EstimateOf(recorded);
   const estimator::EstimateSummary& s = e.method.summary;
   ASSERT_TRUE(s.IsUsable()) << s.message;
   const double settle_s = bench::ReleaseSettlingS(ChainFilter());
@@ -258,7 +270,8 @@ TEST(CarrierSessionTest, ReleaseTransientIsSkippedNotCountedAsOutliers) {
 
   // The control: the same record fitted from release.
   bench::MethodRequest request;
-  request.noise_shape = *bench::RecordedNoiseShape(recorded.document, recorded.sample_rate_hz);
+  request.noise_shape =
+      *bench::RecordedNoiseShape(RecordOf(recorded).electronics, recorded.sample_rate_hz);
   const estimator::EstimateSummary control =
       bench::RunMethod(session::ToRunData(recorded), request).summary;
   ASSERT_TRUE(control.IsUsable()) << control.message;
@@ -275,7 +288,7 @@ TEST(CarrierSessionTest, RealSpikeLaterInARunIsStillRemovedAndSaid) {
   const ScratchDir dir;
   const session::Session recorded =
       RecordedSession(dir, Unit(), 41, estimator::IqConvention::kMinusSine, {3, 2.5, 5e-3});
-  const bench::RecordedEstimate e = bench::EstimateRecordedSession(recorded, {});
+  const bench::RecordedEstimate e = EstimateOf(recorded);
   const estimator::EstimateSummary& s = e.method.summary;
   ASSERT_TRUE(s.IsUsable()) << s.message;
   for (const estimator::RunFitDiagnostics& run : s.diagnostics.runs) {
