@@ -1,7 +1,7 @@
 // The judge of a recorded session (session_judge.hpp): each branch of the PASS/FAIL/ERROR policy,
 // a fixture's aggregate outcome and exit code, what a resume keeps; and whether a captured run is
 // accepted (run_acceptance.hpp). Synthetic estimates: a converged ML summary of two in-model runs
-// (δ, ξ and their std written by hand, no estimator run), as in verdict_test.cpp.
+// (tests/support/in_model_unit.hpp, shared with verdict_test.cpp).
 
 #include "hrgbench/analysis/session_judge.hpp"
 
@@ -14,6 +14,7 @@
 #include "hand_made_record.hpp"
 #include "hrgbench/analysis/run_acceptance.hpp"
 #include "hrgbench/session/exit_codes.hpp"
+#include "in_model_unit.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -21,41 +22,8 @@ namespace {
 using estimator::EstimateSummary;
 using estimator::Termination;
 
-EstimateSummary InModelUnit() {
-  EstimateSummary s;
-  s.method = "ml";
-  s.termination = Termination::kConverged;
-  s.message = "converged";
-  s.delta << -0.001, 0.3, 1e-7, -2e-7, 3e-7, 0.0;
-  s.delta_std = estimator::Delta::Constant(1e-6);
-  s.delta_estimated = {true, true, true, true, true, true};
-  s.xi << 0.01, 0.0, 0.0, 0.0;
-  s.xi_std = estimator::Xi::Constant(1e-5);
-  s.xi_estimated = estimator::kAllXi;
-  s.residual_rms = 1.0e-4;
-  s.noise_sigma = 1.0e-4;
-  for (int run = 1; run <= 2; ++run) {
-    estimator::RunFitDiagnostics d;
-    d.run_id = run;
-    d.samples = 100000;
-    d.noise_sigma = 1.0e-4;
-    d.residual_rms = 1.001e-4;
-    d.residual_ratio = 1.001;
-    d.whiteness_z = 0.4;
-    d.omega_offset_in_std = -0.7;
-    s.diagnostics.runs.push_back(d);
-  }
-  return s;
-}
-
-LimitsConfig Limits() {
-  auto limits = ParseLimitsConfig(
-      "[limits]\nname = \"t\"\ndelta1 = [-0.002, -0.0005]\ndelta2 = [0.29, 0.31]\n"
-      "xi1 = [-0.02, 0.02]\nresidual_rms = [0.0, 5e-4]\n",
-      "l.toml");
-  EXPECT_TRUE(limits.has_value());
-  return *limits;
-}
+using hrgbench::testing::InModelUnit;
+LimitsConfig Limits() { return hrgbench::testing::ExampleLimits(); }
 
 // The engineering of record without a record's f0 or pick-off declaration.
 std::expected<EngineeringOfRecord, std::string> Engineering(const EstimateSummary& s) {
