@@ -57,7 +57,7 @@ void Measure(const std::string& engine, const std::string& url, const std::vecto
              const fs::path& one) {
   auto store = results::ResultsStore::Open(url);
   if (!store) {
-    std::printf("| %s | %s | | | |\n", engine.c_str(), store.error().c_str());
+    std::printf("| %s | %s | | | |\n", engine.c_str(), store.error().message.c_str());
     return;
   }
   auto t0 = Clock::now();

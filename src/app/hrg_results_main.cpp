@@ -79,13 +79,30 @@ int Sync(results::ResultsStore& store, const fs::path& root) {
   return failed == 0 ? kExitOk : kExitFail;
 }
 
+// A database the command named but that cannot be used is the user's to fix (4); one that is down,
+// busy or failing is the station's problem, like any other I/O error (2): a line's script retries
+// the second and not the first.
+int StoreFailure(const results::StoreError& error) {
+  std::cerr << "hrg-results: " << error.message << '\n';
+  switch (error.kind) {
+    case results::StoreError::Kind::kBadUrl:
+    case results::StoreError::Kind::kSchemaMismatch:
+      return kExitBadInput;
+    case results::StoreError::Kind::kUnavailable:
+    case results::StoreError::Kind::kBusy:
+    case results::StoreError::Kind::kFailed:
+      return kExitError;
+  }
+  return kExitError;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App cli{
       "hrg-results: the results database of a bench station or a line (SQLite or PostgreSQL).\n"
-      "Here 1: a session could not be imported or synced; 4: bad command line, URL, station "
-      "file or database.\n" +
+      "Here 1: a session could not be imported or synced; 2: the database cannot be reached or "
+      "failed; 4: bad command line, URL, station file, or a database of another schema.\n" +
       std::string(hrgbench::kExitCodesHelp)};
   cli.require_subcommand(1);
   bool quiet = false;
@@ -162,40 +179,33 @@ int main(int argc, char** argv) {
       return kExitBadInput;
     }
     auto store = results::ResultsStore::Open(db_url);
-    if (!store) {
-      std::cerr << "hrg-results: " << store.error() << '\n';
-      return kExitBadInput;
-    }
+    if (!store) return StoreFailure(store.error());
     const app::OutputFormat format =
         json ? app::OutputFormat::kJson
              : (csv ? app::OutputFormat::kCsv : app::OutputFormat::kTable);
-    auto fail = [](const std::string& message) {
-      std::cerr << "hrg-results: " << message << '\n';
-      return kExitBadInput;
-    };
     if (*import) return Import(**store, import_dirs);
     if (*sync) return Sync(**store, sessions_root);
     if (*history) {
       filter.serial = serial;
       auto rows = (*store)->SessionsWithParameters(filter);
-      if (!rows) return fail(rows.error());
+      if (!rows) return StoreFailure(rows.error());
       app::PrintHistory(std::cout, serial, *rows, format);
       return kExitOk;
     }
     if (*sessions) {
       auto rows = (*store)->Sessions(filter);
-      if (!rows) return fail(rows.error());
+      if (!rows) return StoreFailure(rows.error());
       app::PrintSessions(std::cout, *rows, format);
       return kExitOk;
     }
     if (*stats) {
       auto samples = (*store)->ParameterValues(parameter, filter);
-      if (!samples) return fail(samples.error());
+      if (!samples) return StoreFailure(samples.error());
       app::PrintStats(std::cout, results::ComputeParameterStats(parameter, *samples), format);
       return kExitOk;
     }
     auto rows = (*store)->SessionsWithParameters(filter);
-    if (!rows) return fail(rows.error());
+    if (!rows) return StoreFailure(rows.error());
     app::PrintExport(std::cout, *rows);
     return kExitOk;
   } catch (const std::exception& error) {

@@ -25,12 +25,12 @@ std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
   const auto record = results::ReadSessionRow(session_dir);
   if (!record) return Unavailable(std::move(history), record.error());
   auto store = results::ResultsStore::OpenExisting(url);  // a report writes no database
-  if (!store) return Unavailable(std::move(history), store.error());
+  if (!store) return Unavailable(std::move(history), store.error().message);
   if (*store == nullptr) return history;  // nothing stored yet
   results::SessionFilter filter;
   filter.serial = record->serial;
   auto sessions = (*store)->SessionsWithParameters(filter);
-  if (!sessions) return Unavailable(std::move(history), sessions.error());
+  if (!sessions) return Unavailable(std::move(history), sessions.error().message);
   for (results::SessionWithParameters& s : *sessions) {
     if (s.session.id == record->id) continue;
     report::UnitHistoryEntry entry;

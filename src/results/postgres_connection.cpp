@@ -5,6 +5,7 @@
 #include <libpq-fe.h>
 
 #include <cstring>
+#include <string_view>
 
 #include "results/sql_connection.hpp"
 
@@ -16,6 +17,18 @@ bool Retryable(const char* sqlstate) {
   return sqlstate != nullptr &&
          (std::strcmp(sqlstate, "23505") == 0 || std::strcmp(sqlstate, "40001") == 0 ||
           std::strcmp(sqlstate, "40P01") == 0);
+}
+
+// Class 08 connection exception, 57P0x the server shutting down, 53xxx out of resources: the
+// same request may work later. 55P03 lock_not_available: another writer holds it.
+StoreError::Kind KindOf(const char* sqlstate, bool connection_bad) {
+  if (connection_bad) return StoreError::Kind::kUnavailable;
+  if (sqlstate == nullptr) return StoreError::Kind::kFailed;
+  const std::string_view state(sqlstate);
+  if (state.starts_with("08") || state.starts_with("57P0") || state.starts_with("53"))
+    return StoreError::Kind::kUnavailable;
+  if (state == "55P03") return StoreError::Kind::kBusy;
+  return StoreError::Kind::kFailed;
 }
 
 class PostgresConnection final : public SqlConnection {
@@ -41,8 +54,8 @@ class PostgresConnection final : public SqlConnection {
       while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
         message.pop_back();
       if (message.empty()) message = PQerrorMessage(conn_);
-      return std::unexpected(
-          SqlError{"postgresql '" + name_ + "': " + message, Retryable(sqlstate)});
+      return std::unexpected(SqlError{"postgresql '" + name_ + "': " + message, Retryable(sqlstate),
+                                      KindOf(sqlstate, PQstatus(conn_) == CONNECTION_BAD)});
     }
     std::vector<SqlRow> rows;
     const int n = PQntuples(result.get());
@@ -82,20 +95,23 @@ class PostgresConnection final : public SqlConnection {
 
 }  // namespace
 
-std::expected<std::unique_ptr<SqlConnection>, std::string> OpenPostgres(const ResultsUrl& url) {
+std::expected<std::unique_ptr<SqlConnection>, SqlError> OpenPostgres(const ResultsUrl& url) {
   // connect_timeout: a server that is down must not hold a station's session end for minutes.
   std::string conninfo = url.conninfo;
   if (conninfo.find("connect_timeout=") == std::string::npos)
     conninfo +=
         (conninfo.find('?') == std::string::npos ? "?" : "&") + std::string("connect_timeout=10");
   PGconn* conn = PQconnectdb(conninfo.c_str());
-  if (conn == nullptr) return std::unexpected("postgresql '" + url.text + "': out of memory");
+  if (conn == nullptr)
+    return std::unexpected(
+        SqlError{"postgresql '" + url.text + "': out of memory", false, StoreError::Kind::kFailed});
   if (PQstatus(conn) != CONNECTION_OK) {
     std::string message = PQerrorMessage(conn);
     while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
       message.pop_back();
     PQfinish(conn);
-    return std::unexpected("postgresql '" + url.text + "': cannot connect: " + message);
+    return std::unexpected(SqlError{"postgresql '" + url.text + "': cannot connect: " + message,
+                                    false, StoreError::Kind::kUnavailable});
   }
   // Quiet NOTICEs ("relation already exists, skipping") that libpq prints on stderr.
   PQsetNoticeProcessor(

@@ -56,7 +56,7 @@ SessionSummary ToSummary(const SqlRow& row) {
 
 }  // namespace
 
-std::expected<std::vector<SessionSummary>, std::string> ResultsStore::Sessions(
+std::expected<std::vector<SessionSummary>, StoreError> ResultsStore::Sessions(
     const SessionFilter& filter) {
   std::vector<SqlValue> params;
   const std::string selected =
@@ -68,14 +68,14 @@ std::expected<std::vector<SessionSummary>, std::string> ResultsStore::Sessions(
           : "SELECT * FROM (" + selected + " ORDER BY s.started_utc DESC, s.id DESC LIMIT " +
                 std::to_string(filter.newest) + ") newest ORDER BY started_utc, id";
   auto rows = db_->Query(sql, params);
-  if (!rows) return std::unexpected(rows.error().message);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
   std::vector<SessionSummary> out;
   out.reserve(rows->size());
   for (const SqlRow& row : *rows) out.push_back(ToSummary(row));
   return out;
 }
 
-std::expected<std::vector<ParameterSample>, std::string> ResultsStore::ParameterValues(
+std::expected<std::vector<ParameterSample>, StoreError> ResultsStore::ParameterValues(
     const std::string& name, const SessionFilter& filter) {
   std::vector<SqlValue> params{name};
   const std::string sql =
@@ -85,7 +85,7 @@ std::expected<std::vector<ParameterSample>, std::string> ResultsStore::Parameter
       Where(filter, params, "p.name = $1 AND p.value IS NOT NULL") +
       " ORDER BY s.started_utc, s.id";
   auto rows = db_->Query(sql, params);
-  if (!rows) return std::unexpected(rows.error().message);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
   std::vector<ParameterSample> out;
   out.reserve(rows->size());
   for (const SqlRow& row : *rows) {
@@ -105,7 +105,7 @@ std::expected<std::vector<ParameterSample>, std::string> ResultsStore::Parameter
   return out;
 }
 
-std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::SessionsWithParameters(
+std::expected<std::vector<SessionWithParameters>, StoreError> ResultsStore::SessionsWithParameters(
     const SessionFilter& filter) {
   std::vector<SqlValue> params;
   const std::string sql = std::string("SELECT ") + kSessionColumns +
@@ -113,7 +113,7 @@ std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::Ses
                           "= s.id" +
                           Where(filter, params) + " ORDER BY s.started_utc, s.id";
   auto rows = db_->Query(sql, params);
-  if (!rows) return std::unexpected(rows.error().message);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
   std::vector<SessionWithParameters> out;
   for (const SqlRow& row : *rows) {
     if (out.empty() || out.back().session.id != ToText(row[0])) out.push_back({ToSummary(row), {}});
@@ -123,11 +123,11 @@ std::expected<std::vector<SessionWithParameters>, std::string> ResultsStore::Ses
   return out;
 }
 
-std::expected<std::vector<std::string>, std::string> ResultsStore::Warnings(
+std::expected<std::vector<std::string>, StoreError> ResultsStore::Warnings(
     const std::string& session_id) {
   auto rows =
       db_->Query("SELECT text FROM warning WHERE session_id = $1 ORDER BY seq", {session_id});
-  if (!rows) return std::unexpected(rows.error().message);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
   std::vector<std::string> out;
   for (const SqlRow& row : *rows) out.push_back(ToText(row[0]));
   return out;

@@ -17,28 +17,47 @@ using internal::SqlConnection;
 using internal::SqlValue;
 
 // The version stored in the database; 0 for a database without the table (a new file).
-std::expected<int, std::string> StoredVersion(SqlConnection& db) {
+std::expected<int, StoreError> StoredVersion(SqlConnection& db) {
   const char* exists_sql =
       db.engine() == Engine::kSqlite
           ? "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'schema_version'"
           : "SELECT count(*) FROM pg_catalog.pg_tables WHERE tablename = 'schema_version' AND "
             "schemaname = current_schema()";
   auto exists = db.Query(exists_sql);
-  if (!exists) return std::unexpected(exists.error().message);
+  if (!exists) return std::unexpected(internal::ToStoreError(exists.error()));
   if (exists->empty() || internal::ToInteger((*exists)[0][0]) == 0) return 0;
   auto version = db.Query("SELECT max(version) FROM schema_version");
-  if (!version) return std::unexpected(version.error().message);
+  if (!version) return std::unexpected(internal::ToStoreError(version.error()));
   if (version->empty()) return 0;
   return static_cast<int>(internal::ToInteger((*version)[0][0]));
 }
 
-std::string NewerMessage(const std::string& url, int stored) {
-  return "results database '" + url + "' has schema version " + std::to_string(stored) +
-         ", newer than this program's " + std::to_string(kSchemaVersion) +
-         ": nothing written; upgrade hrg-bench/hrg-results to use it";
+StoreError Newer(const std::string& url, int stored) {
+  return {StoreError::Kind::kSchemaMismatch,
+          "results database '" + url + "' has schema version " + std::to_string(stored) +
+              ", newer than this program's " + std::to_string(kSchemaVersion) +
+              ": nothing written; upgrade hrg-bench/hrg-results to use it"};
 }
 
+StoreError BadUrl(std::string message) { return {StoreError::Kind::kBadUrl, std::move(message)}; }
+
 }  // namespace
+
+const char* ToString(StoreError::Kind kind) {
+  switch (kind) {
+    case StoreError::Kind::kBadUrl:
+      return "bad URL";
+    case StoreError::Kind::kUnavailable:
+      return "unavailable";
+    case StoreError::Kind::kSchemaMismatch:
+      return "schema mismatch";
+    case StoreError::Kind::kBusy:
+      return "busy";
+    case StoreError::Kind::kFailed:
+      return "failed";
+  }
+  return "?";
+}
 
 const char* ToString(ImportStatus status) {
   switch (status) {
@@ -58,17 +77,17 @@ ResultsStore::~ResultsStore() = default;
 
 Engine ResultsStore::engine() const { return db_->engine(); }
 
-std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
+std::expected<std::unique_ptr<ResultsStore>, StoreError> ResultsStore::Open(
     std::string_view url, const OpenOptions& options) {
   auto parsed = ParseResultsUrl(url);
-  if (!parsed) return std::unexpected(parsed.error());
+  if (!parsed) return std::unexpected(BadUrl(parsed.error()));
   return Open(*parsed, options);
 }
 
-std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::OpenExisting(
+std::expected<std::unique_ptr<ResultsStore>, StoreError> ResultsStore::OpenExisting(
     std::string_view url) {
   auto parsed = ParseResultsUrl(url);
-  if (!parsed) return std::unexpected(parsed.error());
+  if (!parsed) return std::unexpected(BadUrl(parsed.error()));
   std::error_code ec;
   if (parsed->engine == Engine::kSqlite && !std::filesystem::exists(parsed->sqlite_path, ec) && !ec)
     return nullptr;
@@ -78,73 +97,79 @@ std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::OpenExis
   return Open(*parsed, read_only);
 }
 
-std::expected<std::unique_ptr<ResultsStore>, std::string> ResultsStore::Open(
+std::expected<std::unique_ptr<ResultsStore>, StoreError> ResultsStore::Open(
     const ResultsUrl& url, const OpenOptions& options) {
   auto connection = url.engine == Engine::kSqlite
                         ? internal::OpenSqlite(url, options.sqlite_busy_timeout_ms, options.create)
                         : internal::OpenPostgres(url);
-  if (!connection) return std::unexpected(connection.error());
+  if (!connection) return std::unexpected(internal::ToStoreError(connection.error()));
   std::unique_ptr<ResultsStore> store(new ResultsStore(std::move(*connection), url.text));
   if (auto ok = store->Migrate(options); !ok) return std::unexpected(ok.error());
   return store;
 }
 
-std::expected<void, std::string> ResultsStore::Migrate(const OpenOptions& options) {
+std::expected<void, StoreError> ResultsStore::Migrate(const OpenOptions& options) {
   // Read first, without a write lock: the common case (current schema) writes nothing, and a
   // newer schema is refused before anything is written.
   auto stored = StoredVersion(*db_);
   if (!stored) return std::unexpected(stored.error());
-  if (*stored > kSchemaVersion) return std::unexpected(NewerMessage(url_, *stored));
+  if (*stored > kSchemaVersion) return std::unexpected(Newer(url_, *stored));
   if (*stored == kSchemaVersion) return {};
   if (!options.migrate) {
-    return std::unexpected("results database '" + url_ + "' has schema version " +
-                           std::to_string(*stored) + ", older than this program's " +
-                           std::to_string(kSchemaVersion) + " (open it once to migrate)");
+    return std::unexpected(StoreError{StoreError::Kind::kSchemaMismatch,
+                                      "results database '" + url_ + "' has schema version " +
+                                          std::to_string(*stored) + ", older than this program's " +
+                                          std::to_string(kSchemaVersion) +
+                                          " (open it once to migrate)"});
   }
-  if (auto begun = db_->BeginExclusive(); !begun) return std::unexpected(begun.error().message);
-  auto fail = [&](const std::string& message) -> std::expected<void, std::string> {
+  if (auto begun = db_->BeginExclusive(); !begun)
+    return std::unexpected(internal::ToStoreError(begun.error()));
+  auto fail = [&](const StoreError& error) -> std::expected<void, StoreError> {
     (void)db_->Query("ROLLBACK");
-    return std::unexpected("results database '" + url_ + "': migration failed: " + message);
+    return std::unexpected(StoreError{
+        error.kind, "results database '" + url_ + "': migration failed: " + error.message});
   };
   // Again under the lock: another station may have migrated meanwhile.
   auto locked = StoredVersion(*db_);
   if (!locked) return fail(locked.error());
   if (*locked > kSchemaVersion) {
     (void)db_->Query("ROLLBACK");
-    return std::unexpected(NewerMessage(url_, *locked));
+    return std::unexpected(Newer(url_, *locked));
   }
   if (*locked == 0) {
     if (auto ok = db_->Query("CREATE TABLE schema_version (version BIGINT PRIMARY KEY, "
                              "applied_utc TEXT NOT NULL)");
         !ok)
-      return fail(ok.error().message);
+      return fail(internal::ToStoreError(ok.error()));
   }
   const auto& migrations = internal::Migrations();
   for (int version = *locked + 1; version <= kSchemaVersion; ++version) {
     for (std::string_view statement : migrations[static_cast<std::size_t>(version - 1)]) {
-      if (auto ok = db_->Query(std::string(statement)); !ok) return fail(ok.error().message);
+      if (auto ok = db_->Query(std::string(statement)); !ok)
+        return fail(internal::ToStoreError(ok.error()));
     }
     const char* now_sql =
         db_->engine() == Engine::kSqlite
             ? "INSERT INTO schema_version VALUES ($1, strftime('%Y-%m-%dT%H:%M:%SZ','now'))"
             : "INSERT INTO schema_version VALUES ($1, to_char(now() AT TIME ZONE "
               "'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"'))";
-    if (auto ok = db_->Query(now_sql, {Integer(version)}); !ok) return fail(ok.error().message);
+    if (auto ok = db_->Query(now_sql, {Integer(version)}); !ok)
+      return fail(internal::ToStoreError(ok.error()));
   }
-  if (auto ok = db_->Query("COMMIT"); !ok) return fail(ok.error().message);
+  if (auto ok = db_->Query("COMMIT"); !ok) return fail(internal::ToStoreError(ok.error()));
   return {};
 }
 
-std::expected<std::optional<std::string>, std::string> ResultsStore::StoredContentHash(
+std::expected<std::optional<std::string>, StoreError> ResultsStore::StoredContentHash(
     const std::string& id) {
   auto rows = db_->Query("SELECT content_sha256 FROM session WHERE id = $1", {id});
-  if (!rows) return std::unexpected(rows.error().message);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
   if (rows->empty()) return std::optional<std::string>();
   return std::optional<std::string>(internal::ToText((*rows)[0][0]));
 }
 
-std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRow& record,
-                                                              const ImportProbe& probe) {
+std::expected<ImportStatus, StoreError> ResultsStore::Import(const SessionRow& record,
+                                                             const ImportProbe& probe) {
   // A duplicate key means another writer stored the same session between our check and our
   // insert; the second attempt then sees it (unchanged, or replaces it).
   constexpr int kAttempts = 3;
@@ -155,9 +180,9 @@ std::expected<ImportStatus, std::string> ResultsStore::Import(const SessionRow& 
   }
 }
 
-std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionRow& record,
-                                                                  const ImportProbe& probe,
-                                                                  bool* retry) {
+std::expected<ImportStatus, StoreError> ResultsStore::ImportOnce(const SessionRow& record,
+                                                                 const ImportProbe& probe,
+                                                                 bool* retry) {
   int statement = 0;
   auto run = [&](const std::string& sql,
                  const std::vector<SqlValue>& params) -> std::expected<void, internal::SqlError> {
@@ -166,11 +191,11 @@ std::expected<ImportStatus, std::string> ResultsStore::ImportOnce(const SessionR
     if (auto ok = db_->Query(sql, params); !ok) return std::unexpected(ok.error());
     return {};
   };
-  auto fail = [&](const internal::SqlError& error) -> std::expected<ImportStatus, std::string> {
+  auto fail = [&](const internal::SqlError& error) -> std::expected<ImportStatus, StoreError> {
     (void)db_->Query("ROLLBACK");  // a dead connection: the server rolled back already
     *retry = error.unique_violation;
-    return std::unexpected("session " + record.id + " (" + record.path +
-                           "): not stored: " + error.message);
+    return std::unexpected(StoreError{error.kind, "session " + record.id + " (" + record.path +
+                                                      "): not stored: " + error.message});
   };
   if (auto begun = db_->BeginWrite(); !begun) return fail(begun.error());
   auto stored = db_->Query("SELECT content_sha256 FROM session WHERE id = $1", {record.id});

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "hrgbench/config/results_url.hpp"
+#include "hrgbench/results/store_error.hpp"
 
 namespace hrgbench::results::internal {
 
@@ -23,7 +24,10 @@ using SqlRow = std::vector<SqlValue>;
 struct SqlError {
   std::string message;
   bool unique_violation = false;  // two writers inserted the same key: the caller may retry
+  StoreError::Kind kind = StoreError::Kind::kFailed;  // what the engine's code says it was
 };
+
+inline StoreError ToStoreError(const SqlError& error) { return {error.kind, error.message}; }
 
 class SqlConnection {
  public:
@@ -44,9 +48,9 @@ class SqlConnection {
 // is false: then a missing file is an error); waits up to `busy_timeout_ms` for another writer.
 // PostgreSQL: PQconnectdb with the URL, connect_timeout 10 s unless the URL says otherwise. Errors
 // name the URL (never a password: the URL has none).
-std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const ResultsUrl& url,
-                                                                      int busy_timeout_ms,
-                                                                      bool create = true);
-std::expected<std::unique_ptr<SqlConnection>, std::string> OpenPostgres(const ResultsUrl& url);
+std::expected<std::unique_ptr<SqlConnection>, SqlError> OpenSqlite(const ResultsUrl& url,
+                                                                   int busy_timeout_ms,
+                                                                   bool create = true);
+std::expected<std::unique_ptr<SqlConnection>, SqlError> OpenPostgres(const ResultsUrl& url);
 
 }  // namespace hrgbench::results::internal

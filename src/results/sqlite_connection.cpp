@@ -20,6 +20,21 @@ std::string ToSqlitePlaceholders(const std::string& sql) {
   return out;
 }
 
+// SQLite's primary result code, as the store's callers decide on it.
+StoreError::Kind KindOf(int code) {
+  switch (code & 0xff) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return StoreError::Kind::kBusy;
+    case SQLITE_CANTOPEN:
+    case SQLITE_PERM:
+    case SQLITE_AUTH:
+      return StoreError::Kind::kUnavailable;
+    default:
+      return StoreError::Kind::kFailed;  // FULL, IOERR, CORRUPT, NOTADB, CONSTRAINT...
+  }
+}
+
 class SqliteConnection final : public SqlConnection {
  public:
   SqliteConnection(sqlite3* db, std::string name) : db_(db), name_(std::move(name)) {}
@@ -78,7 +93,7 @@ class SqliteConnection final : public SqlConnection {
   SqlError Error() const {
     const int code = sqlite3_extended_errcode(db_);
     return {"sqlite '" + name_ + "': " + sqlite3_errmsg(db_),
-            code == SQLITE_CONSTRAINT_PRIMARYKEY || code == SQLITE_CONSTRAINT_UNIQUE};
+            code == SQLITE_CONSTRAINT_PRIMARYKEY || code == SQLITE_CONSTRAINT_UNIQUE, KindOf(code)};
   }
   sqlite3* db_;
   std::string name_;
@@ -86,9 +101,9 @@ class SqliteConnection final : public SqlConnection {
 
 }  // namespace
 
-std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const ResultsUrl& url,
-                                                                      int busy_timeout_ms,
-                                                                      bool create) {
+std::expected<std::unique_ptr<SqlConnection>, SqlError> OpenSqlite(const ResultsUrl& url,
+                                                                   int busy_timeout_ms,
+                                                                   bool create) {
   const std::filesystem::path file(url.sqlite_path);
   std::error_code ec;
   if (create && file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
@@ -101,7 +116,7 @@ std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const Resu
                           "': cannot open: " + (db ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
     if (ec) message += " (creating its directory: " + ec.message() + ")";
     sqlite3_close_v2(db);
-    return std::unexpected(message);
+    return std::unexpected(SqlError{std::move(message), false, StoreError::Kind::kUnavailable});
   }
   sqlite3_busy_timeout(db, busy_timeout_ms);
   sqlite3_extended_result_codes(db, 1);
@@ -109,8 +124,10 @@ std::expected<std::unique_ptr<SqlConnection>, std::string> OpenSqlite(const Resu
   // The first statement reads the header: a file that is not a database fails here, by name.
   for (const char* pragma :
        {"PRAGMA journal_mode=WAL", "PRAGMA foreign_keys=ON", "PRAGMA synchronous=NORMAL"}) {
-    if (auto ok = connection->Query(pragma, {}); !ok)
-      return std::unexpected(ok.error().message + " (" + pragma + ")");
+    if (auto ok = connection->Query(pragma, {}); !ok) {
+      ok.error().message += std::string(" (") + pragma + ")";
+      return std::unexpected(ok.error());
+    }
   }
   return connection;
 }

@@ -18,7 +18,7 @@ UploadOutcome UploadSession(ResultsStore& store, const fs::path& dir, const Impo
   }
   auto status = store.Import(*record, probe);
   if (!status) {
-    outcome.reason = status.error();
+    outcome.reason = status.error().message;
     return outcome;
   }
   outcome.uploaded = true;
@@ -28,7 +28,7 @@ UploadOutcome UploadSession(ResultsStore& store, const fs::path& dir, const Impo
 
 UploadOutcome UploadSession(const std::string& url, const fs::path& dir) {
   auto store = ResultsStore::Open(url);
-  if (!store) return UploadOutcome{false, ImportStatus::kUnchanged, store.error()};
+  if (!store) return UploadOutcome{false, ImportStatus::kUnchanged, store.error().message};
   return UploadSession(**store, dir);
 }
 

@@ -21,8 +21,8 @@
 //
 // Threads: one ResultsStore per thread. Several processes (stations) may write at once: SQLite
 // queues writers (busy timeout 30 s), PostgreSQL runs them concurrently; a duplicate-key race on
-// the same session is retried. Never throws (except std::bad_alloc); errors are values naming the
-// database and what failed.
+// the same session is retried. Never throws (except std::bad_alloc); errors are StoreError values
+// (store_error.hpp): a kind the caller decides on, a message naming the database and what failed.
 
 #include <cstddef>
 #include <cstdint>
@@ -36,6 +36,7 @@
 
 #include "hrgbench/config/results_url.hpp"
 #include "hrgbench/results/session_row.hpp"
+#include "hrgbench/results/store_error.hpp"
 
 namespace hrgbench::results {
 
@@ -95,15 +96,15 @@ using ImportProbe = std::function<void(int statement)>;
 
 class ResultsStore {
  public:
-  static std::expected<std::unique_ptr<ResultsStore>, std::string> Open(
+  static std::expected<std::unique_ptr<ResultsStore>, StoreError> Open(
       const ResultsUrl& url, const OpenOptions& options = {});
   // Parses `url` first (results_url.hpp).
-  static std::expected<std::unique_ptr<ResultsStore>, std::string> Open(
+  static std::expected<std::unique_ptr<ResultsStore>, StoreError> Open(
       std::string_view url, const OpenOptions& options = {});
   // For readers that must write nothing (the panel's recent sessions, a report's unit history):
   // no file, directory or schema is created or migrated. nullptr when `url` names a SQLite file
   // that does not exist yet: nothing is stored, an empty answer rather than an error.
-  static std::expected<std::unique_ptr<ResultsStore>, std::string> OpenExisting(
+  static std::expected<std::unique_ptr<ResultsStore>, StoreError> OpenExisting(
       std::string_view url);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;
@@ -113,27 +114,27 @@ class ResultsStore {
   const std::string& url() const { return url_; }
 
   // Writes `record` (see the contract above).
-  std::expected<ImportStatus, std::string> Import(const SessionRow& record,
-                                                  const ImportProbe& probe = {});
+  std::expected<ImportStatus, StoreError> Import(const SessionRow& record,
+                                                 const ImportProbe& probe = {});
   // The stored content hash of session `id`, nullopt when the session is not stored.
-  std::expected<std::optional<std::string>, std::string> StoredContentHash(const std::string& id);
+  std::expected<std::optional<std::string>, StoreError> StoredContentHash(const std::string& id);
 
   // Sessions matching `filter`, oldest first.
-  std::expected<std::vector<SessionSummary>, std::string> Sessions(const SessionFilter& filter);
+  std::expected<std::vector<SessionSummary>, StoreError> Sessions(const SessionFilter& filter);
   // Values of parameter `name` in the sessions matching `filter`, oldest first.
-  std::expected<std::vector<ParameterSample>, std::string> ParameterValues(
+  std::expected<std::vector<ParameterSample>, StoreError> ParameterValues(
       const std::string& name, const SessionFilter& filter);
   // Sessions matching `filter` with all their parameters, oldest first (history, export).
-  std::expected<std::vector<SessionWithParameters>, std::string> SessionsWithParameters(
+  std::expected<std::vector<SessionWithParameters>, StoreError> SessionsWithParameters(
       const SessionFilter& filter);
   // Warnings of one session, in recorded order.
-  std::expected<std::vector<std::string>, std::string> Warnings(const std::string& session_id);
+  std::expected<std::vector<std::string>, StoreError> Warnings(const std::string& session_id);
 
  private:
   ResultsStore(std::unique_ptr<internal::SqlConnection> connection, std::string url);
-  std::expected<void, std::string> Migrate(const OpenOptions& options);
-  std::expected<ImportStatus, std::string> ImportOnce(const SessionRow& record,
-                                                      const ImportProbe& probe, bool* retry);
+  std::expected<void, StoreError> Migrate(const OpenOptions& options);
+  std::expected<ImportStatus, StoreError> ImportOnce(const SessionRow& record,
+                                                     const ImportProbe& probe, bool* retry);
 
   std::unique_ptr<internal::SqlConnection> db_;
   std::string url_;

@@ -79,13 +79,13 @@ std::expected<nlohmann::json, std::string> RecentSessionsFromStore(const std::st
                                                                    const fs::path& sessions_dir,
                                                                    std::size_t count) {
   auto store = results::ResultsStore::OpenExisting(url);  // the panel writes no database
-  if (!store) return std::unexpected(store.error());
+  if (!store) return std::unexpected(store.error().message);
   if (*store == nullptr) return nlohmann::json::array();  // nothing stored yet
   results::SessionFilter filter;
   filter.station = station;
   filter.newest = count;
   auto rows = (*store)->Sessions(filter);
-  if (!rows) return std::unexpected(rows.error());
+  if (!rows) return std::unexpected(rows.error().message);
   std::error_code here_error;
   const fs::path here = fs::weakly_canonical(sessions_dir, here_error);
   nlohmann::json out = nlohmann::json::array();

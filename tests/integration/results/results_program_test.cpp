@@ -232,8 +232,14 @@ TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {
   EXPECT_NE(doc["results"]["reason"].get<std::string>().find("cannot connect"), std::string::npos)
       << doc["results"].dump();
 
-  ASSERT_TRUE(server.Resume()) << server.error();
   const std::string db = "--db '" + server.Url("line") + "'";
+  // A database that is down is the station's I/O failure (2), not a bad command (4): a line's
+  // script retries the one and fixes the other.
+  const Output down = Results(db + " sessions");
+  EXPECT_EQ(down.exit_code, 2) << down.out;
+  EXPECT_NE(down.out.find("cannot connect"), std::string::npos) << down.out;
+
+  ASSERT_TRUE(server.Resume()) << server.error();
   const Output sync = Results(db + " sync --sessions-root " + (dir_ / "sessions").string());
   EXPECT_EQ(sync.exit_code, 0) << sync.out;
   EXPECT_NE(sync.out.find("sync: 1 uploaded"), std::string::npos) << sync.out;

@@ -79,11 +79,15 @@ TEST_F(PostgresFaults, WrongCredentialsAndAMissingDatabaseAreClearErrors) {
   ASSERT_TRUE(server_.Psql("postgres", "ALTER SYSTEM SET password_encryption = 'scram-sha-256'"));
   auto missing = results::ResultsStore::Open(server_.Url("no_such_db"));
   ASSERT_FALSE(missing.has_value());
-  EXPECT_NE(missing.error().find("no_such_db"), std::string::npos) << missing.error();
-  EXPECT_NE(missing.error().find("cannot connect"), std::string::npos) << missing.error();
+  EXPECT_NE(missing.error().message.find("no_such_db"), std::string::npos) << missing.error();
+  EXPECT_NE(missing.error().message.find("cannot connect"), std::string::npos) << missing.error();
+  // The server answers, but this database is not there: nothing a retry alone would change, yet
+  // nothing the command's syntax got wrong either; the store reports what it met.
+  EXPECT_EQ(missing.error().kind, results::StoreError::Kind::kUnavailable);
   auto nobody = results::ResultsStore::Open(server_.Url("results", "nobody"));
   ASSERT_FALSE(nobody.has_value());
-  EXPECT_NE(nobody.error().find("nobody"), std::string::npos) << nobody.error();
+  EXPECT_NE(nobody.error().message.find("nobody"), std::string::npos) << nobody.error();
+  EXPECT_EQ(nobody.error().kind, results::StoreError::Kind::kUnavailable);
 }
 
 TEST_F(PostgresFaults, AStationRoleWithOnlyUploadRightsUploadsAndCannotAlterTheSchema) {
@@ -108,7 +112,8 @@ TEST_F(PostgresFaults, AStationRoleWithOnlyUploadRightsUploadsAndCannotAlterTheS
   // A migration needs CREATE, which the station role lacks: refused, by name.
   auto migrate = results::ResultsStore::Open(server_.Url("results", "station"));
   ASSERT_FALSE(migrate.has_value());
-  EXPECT_NE(migrate.error().find("migration failed"), std::string::npos) << migrate.error();
+  EXPECT_NE(migrate.error().message.find("migration failed"), std::string::npos) << migrate.error();
+  EXPECT_EQ(migrate.error().kind, results::StoreError::Kind::kFailed);
 }
 
 }  // namespace

@@ -308,9 +308,11 @@ TEST_P(ResultsStoreTest, ANewerSchemaIsRefusedAndNothingWritten) {
   ASSERT_TRUE(RawSql("INSERT INTO schema_version VALUES (99, 'future')"));
   auto refused = results::ResultsStore::Open(url_);
   ASSERT_FALSE(refused.has_value());
-  EXPECT_NE(refused.error().find("schema version 99, newer than this program's 1"),
+  EXPECT_NE(refused.error().message.find("schema version 99, newer than this program's 1"),
             std::string::npos)
       << refused.error();
+  EXPECT_EQ(refused.error().kind, results::StoreError::Kind::kSchemaMismatch);
+  EXPECT_FALSE(refused.error().Transient());
   const fs::path dir = Write("s1", FixtureSession{});
   auto upload = results::UploadSession(url_, dir);
   EXPECT_FALSE(upload.uploaded);

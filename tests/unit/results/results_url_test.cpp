@@ -47,14 +47,33 @@ TEST(ResultsUrl, TyposAndEmptyPathsAreClearErrors) {
   EXPECT_FALSE(ParseResultsUrl(std::string(2000, 'x')).has_value());
 }
 
+// The kind is what a program's exit code is decided on (hrg-results: 4 for the first two, 2 for the
+// third), so each has its case.
+TEST(ResultsUrl, StoreErrorsSayWhetherTheUrlTheSchemaOrTheDatabaseIsAtFault) {
+  auto typo = ResultsStore::Open("sqlit:///tmp/x");
+  ASSERT_FALSE(typo.has_value());
+  EXPECT_EQ(typo.error().kind, StoreError::Kind::kBadUrl) << typo.error();
+  std::random_device rd;
+  const fs::path dir = fs::temp_directory_path() / ("hrgbench-kind-" + std::to_string(rd()));
+  OpenOptions no_create;
+  no_create.create = false;
+  auto missing = ResultsStore::Open("sqlite://" + (dir / "none.db").string(), no_create);
+  ASSERT_FALSE(missing.has_value());
+  EXPECT_EQ(missing.error().kind, StoreError::Kind::kUnavailable) << missing.error();
+  EXPECT_TRUE(missing.error().Transient());
+}
+
 TEST(ResultsUrl, ACorruptSqliteFileIsNamedInTheError) {
   std::random_device rd;
   const fs::path file = fs::temp_directory_path() / ("hrgbench-corrupt-" + std::to_string(rd()));
   std::ofstream(file) << std::string(4096, 'x');
   auto store = ResultsStore::Open("sqlite://" + file.string());
   ASSERT_FALSE(store.has_value());
-  EXPECT_NE(store.error().find(file.string()), std::string::npos) << store.error();
-  EXPECT_NE(store.error().find("not a database"), std::string::npos) << store.error();
+  EXPECT_NE(store.error().message.find(file.string()), std::string::npos) << store.error();
+  EXPECT_NE(store.error().message.find("not a database"), std::string::npos) << store.error();
+  // A file that is there but not a database: a retry will not help, nor is the URL wrong.
+  EXPECT_EQ(store.error().kind, StoreError::Kind::kFailed);
+  EXPECT_FALSE(store.error().Transient());
   fs::remove(file);
 }
 
