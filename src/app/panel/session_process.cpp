@@ -48,7 +48,9 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   }
   if (pid == 0) {
     // The child: the event pipe on fd 3 (dup2 clears close-on-exec), stdin from nowhere, the
-    // default SIGINT disposition (hrg-bench installs its own).
+    // default SIGINT disposition (hrg-bench installs its own), with SIGINT and SIGTERM blocked
+    // across the exec: an Abort right after Start waits for hrg-bench's handlers (which unblock
+    // them) instead of killing the session by the default action before it has a record.
     // Its own process group: a Ctrl-C at the panel's terminal reaches the panel, which aborts the
     // session once; reaching both, the session would see two interrupts (exit without a safe stop).
     ::setpgid(0, 0);
@@ -56,6 +58,11 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     const int null = ::open("/dev/null", O_RDONLY);
     if (null >= 0) ::dup2(null, STDIN_FILENO);
     ::signal(SIGPIPE, SIG_DFL);
+    sigset_t interrupts;
+    sigemptyset(&interrupts);
+    sigaddset(&interrupts, SIGINT);
+    sigaddset(&interrupts, SIGTERM);
+    ::sigprocmask(SIG_BLOCK, &interrupts, nullptr);
     // Nothing of the panel's (its listening socket, the browsers' connections) in the session.
     for (int f = 4; f < 1024; ++f) ::close(f);
     ::execv(argv[0], argv.data());
