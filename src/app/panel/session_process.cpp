@@ -72,6 +72,7 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   pid_ = pid;
   running_ = true;
   aborting_ = false;
+  exit_ = "null";
   launch_ = launch;
   have_session_ = true;
   events_.clear();
@@ -138,6 +139,8 @@ void SessionProcess::ReadEvents(int fd, pid_t pid) {
   if (WIFSIGNALED(status)) exit_event["signal"] = WTERMSIG(status);
   const std::lock_guard lock(mutex_);
   Keep(exit_event.dump());
+  exit_event.erase("type");
+  exit_ = exit_event.dump();
   running_ = false;
   pid_ = -1;
   spdlog::info("panel: session {} ended ({})", launch_.session_name, exit_event.dump());
@@ -153,6 +156,7 @@ std::string SessionProcess::StatusJson() const {
   if (!have_session_) return "null";
   return nlohmann::json({{"running", running_},
                          {"aborting", aborting_},
+                         {"exit", running_ ? nlohmann::json() : nlohmann::json::parse(exit_)},
                          {"unit", launch_.serial},
                          {"sequence", launch_.sequence},
                          {"limits", launch_.limits},

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "panel_test_client.hpp"
+#include "panel_session_support.hpp"
 
 namespace hrgbench::app {
 namespace {
@@ -25,24 +25,8 @@ namespace fs = std::filesystem;
 using namespace hrgbench::testing::panel;
 using namespace std::chrono_literals;
 
-const fs::path kBench = fs::path(HRGBENCH_BIN_DIR) / "hrg-bench";
 constexpr int kHostileStreams = 40;
 constexpr int kHostileHeads = 40;
-
-// The simulated station at real time (its shipped file runs as fast as it can): a session lasts
-// minutes, so an Abort always finds it running.
-fs::path RealTimeStation(const fs::path& dir) {
-  std::ifstream in(kConfigs / "station-sim.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
-  const std::string fast = "faster_than_real_time = true";
-  toml.replace(toml.find(fast), fast.size(), "faster_than_real_time = false\ntime_scale = 1.0");
-  fs::create_directories(dir);
-  const fs::path path = dir / "station-real-time.toml";
-  std::ofstream(path) << toml;
-  return path;
-}
 
 // A client that asks for the event stream and never reads it (a small receive buffer, so that
 // it is full after a few events).
@@ -67,15 +51,6 @@ int SlowHead(int port) {
   const int sock = Connect(port);
   if (sock >= 0) SendAll(sock, "GET /api/state HTTP/1.1\r\nHost: 127.0.0.1:");
   return sock;
-}
-
-nlohmann::json Json(const std::string& text) { return nlohmann::json::parse(text, nullptr, false); }
-
-// The panel's session as /api/state says, or null when the panel did not answer.
-nlohmann::json SessionState(const Panel& panel) {
-  const Reply reply = Exchange(panel.port(), Get("/api/state", panel.port()));
-  const nlohmann::json state = Json(reply.body);
-  return reply.status == 200 && state.is_object() ? state["session"] : nlohmann::json();
 }
 
 TEST(PanelHostileClients, AnAbortGetsThroughStreamsThatDoNotReadAndSlowHeads) {
@@ -103,20 +78,14 @@ TEST(PanelHostileClients, AnAbortGetsThroughStreamsThatDoNotReadAndSlowHeads) {
     SendAll(sock, Post("/api/abort", panel.host(), panel.origin(), "{}"));
     const Reply abort = ReadReply(sock);
     ::close(sock);
-    EXPECT_EQ(abort.status, 200) << abort.head << abort.body;
+    ASSERT_EQ(abort.status, 200) << "no answer to the Abort: " << abort.head << abort.body;
     EXPECT_EQ(abort.body, R"({"aborting":true})");
 
     // The session stops safely and its record says why (hang guard: 60 s).
-    nlohmann::json session;
-    for (int i = 0; i < 600; ++i) {
-      session = SessionState(panel);
-      if (session.is_object() && !session.value("running", true)) break;
-      std::this_thread::sleep_for(100ms);
-    }
+    const nlohmann::json session = WaitForSessionEnd(panel, 60s);
     ASSERT_TRUE(session.is_object()) << "the panel's state did not answer";
     EXPECT_FALSE(session.value("running", true)) << session.dump();
-    std::ifstream in(dir / "sessions" / name / "session.json");
-    const nlohmann::json record = nlohmann::json::parse(in, nullptr, false);
+    const nlohmann::json record = ReadRecord(dir / "sessions" / name);
     ASSERT_TRUE(record.is_object()) << "no record in " << name;
     EXPECT_EQ(record["outcome"]["kind"], "ABORTED") << record["outcome"].dump();
     const std::string reason = record["outcome"].value("reason", "");
