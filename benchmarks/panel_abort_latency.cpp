@@ -35,8 +35,8 @@ constexpr int kHeads = 40;
 int StreamThatDoesNotRead(int port) {
   const int sock = Connect(port);
   if (sock >= 0)
-    SendAll(sock, "GET /api/events HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
-                      "\r\n\r\n");
+    SendAll(sock,
+            "GET /api/events HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n");
   return sock;
 }
 

@@ -134,8 +134,8 @@ void PanelGate::Serve() {
     return general;
   };
 
-  std::map<int, Conn> held;                 // no complete request yet: polled here
-  std::map<int, std::string> serving;       // on a worker: fd -> client address
+  std::map<int, Conn> held;            // no complete request yet: polled here
+  std::map<int, std::string> serving;  // on a worker: fd -> client address
   std::map<std::string, std::size_t> per_address;
   std::size_t open_streams = 0;
   std::uint64_t order = 0;
@@ -189,8 +189,8 @@ void PanelGate::Serve() {
     const std::string_view path = target.substr(0, target.find('?'));
     if (method != "GET" && method != "POST" && method != "HEAD") {
       Answer(fd, 405, "Method Not Allowed",
-             "the panel answers GET, POST and HEAD only (not " +
-                 std::string(method.substr(0, 16)) + ")",
+             "the panel answers GET, POST and HEAD only (not " + std::string(method.substr(0, 16)) +
+                 ")",
              "Allow: GET, POST, HEAD\r\n");
       drain(fd, conn);
       return;
@@ -215,12 +215,11 @@ void PanelGate::Serve() {
     }
     serving.emplace(fd, conn.address);
     const auto deadline = Clock::now() + limits_.head_timeout;
-    pool_of(lane).enqueue(
-        [this, fd, lane, deadline, buffered = std::move(conn.buffer)]() mutable {
-          Served served = server_.ServeOne(fd, std::move(buffered), deadline);
-          GiveBack({fd, served.next == Served::Next::kKeep, served.next == Served::Next::kDrain,
-                    std::move(served.unread), lane});
-        });
+    pool_of(lane).enqueue([this, fd, lane, deadline, buffered = std::move(conn.buffer)]() mutable {
+      Served served = server_.ServeOne(fd, std::move(buffered), deadline);
+      GiveBack({fd, served.next == Served::Next::kKeep, served.next == Served::Next::kDrain,
+                std::move(served.unread), lane});
+    });
     held.erase(it);
   };
 
@@ -230,8 +229,8 @@ void PanelGate::Serve() {
     conn.buffer = std::move(buffer);
     conn.state = state;
     conn.since = ++order;
-    conn.deadline = Clock::now() + (state == Held::kIdle ? limits_.idle_timeout
-                                                         : limits_.head_timeout);
+    conn.deadline =
+        Clock::now() + (state == Held::kIdle ? limits_.idle_timeout : limits_.head_timeout);
     return held.insert_or_assign(fd, std::move(conn)).first;
   };
 
@@ -344,11 +343,11 @@ void PanelGate::Serve() {
       fds.push_back({fd, POLLIN, 0});
       next_deadline = std::min(next_deadline, conn.deadline);
     }
-    const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_deadline -
-                                                                            Clock::now()) +
-                      std::chrono::milliseconds(1);
-    const int ready = ::poll(fds.data(), fds.size(), static_cast<int>(std::max<long long>(
-                                                         0, wait.count())));
+    const auto wait =
+        std::chrono::duration_cast<std::chrono::milliseconds>(next_deadline - Clock::now()) +
+        std::chrono::milliseconds(1);
+    const int ready =
+        ::poll(fds.data(), fds.size(), static_cast<int>(std::max<long long>(0, wait.count())));
     if (ready < 0 && errno != EINTR) break;
     if (stop_) break;
     if (fds[0].revents != 0) {

@@ -79,7 +79,7 @@ class PanelGate {
  private:
   struct Handback {  // a connection a worker is done with
     int fd;
-    bool keep;   // false: drain (refused) or close
+    bool keep;  // false: drain (refused) or close
     bool drain;
     std::string unread;  // keep-alive: what the client already sent of its next request
     Lane lane;

@@ -67,7 +67,8 @@ TEST(PanelHostileClients, AnAbortGetsThroughStreamsThatDoNotReadAndSlowHeads) {
 
     std::vector<int> streams;
     std::vector<int> heads;
-    for (int i = 0; i < kHostileStreams; ++i) streams.push_back(StreamThatDoesNotRead(panel.port()));
+    for (int i = 0; i < kHostileStreams; ++i)
+      streams.push_back(StreamThatDoesNotRead(panel.port()));
     for (int i = 0; i < kHostileHeads; ++i) heads.push_back(SlowHead(panel.port()));
     std::this_thread::sleep_for(200ms);  // every hostile request has reached the panel
 

@@ -31,7 +31,9 @@ inline fs::path RealTimeStation(const fs::path& dir) {
   return path;
 }
 
-inline nlohmann::json Json(const std::string& text) { return nlohmann::json::parse(text, nullptr, false); }
+inline nlohmann::json Json(const std::string& text) {
+  return nlohmann::json::parse(text, nullptr, false);
+}
 
 // The panel's session as /api/state says, or null when the panel did not answer.
 inline nlohmann::json SessionState(const Panel& panel) {

@@ -105,7 +105,7 @@ inline Reply Exchange(int port, std::string_view request) {
 }
 
 inline std::string Post(std::string_view path, std::string_view host, std::string_view origin,
-                 std::string_view body) {
+                        std::string_view body) {
   std::string request = "POST " + std::string(path) + " HTTP/1.1\r\nHost: " + std::string(host) +
                         "\r\nContent-Type: application/json\r\nConnection: close\r\n";
   if (!origin.empty()) request += "Origin: " + std::string(origin) + "\r\n";
@@ -127,8 +127,7 @@ class Panel {
                  const fs::path& station = kConfigs / "station-sim.toml")
       : port_(port) {
     fs::create_directories(dir / "configs");
-    fs::copy_file(station, dir / "configs" / "station.toml",
-                  fs::copy_options::overwrite_existing);
+    fs::copy_file(station, dir / "configs" / "station.toml", fs::copy_options::overwrite_existing);
     fs::copy_file(kConfigs / "sequence-production.toml", dir / "configs" / "sequence-a.toml",
                   fs::copy_options::overwrite_existing);
     options_.station = dir / "configs" / "station.toml";
