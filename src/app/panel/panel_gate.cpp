@@ -73,13 +73,18 @@ void Answer(int fd, int status, std::string_view reason, const std::string& mess
 
 char Lower(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }
 
+// Where the value of header `name` ("\r\nname:", lower case) starts in a head, or npos.
+std::size_t HeaderValue(std::string_view head, std::string_view name) {
+  const auto at = std::search(head.begin(), head.end(), name.begin(), name.end(),
+                              [](char a, char b) { return Lower(a) == b; });
+  return at == head.end() ? std::string_view::npos
+                          : static_cast<std::size_t>(at - head.begin()) + name.size();
+}
+
 // The Content-Length of a head (its lines after the request line), if it has one that parses.
 std::optional<std::size_t> ContentLength(std::string_view head) {
-  constexpr std::string_view kName = "\r\ncontent-length:";
-  const auto at = std::search(head.begin(), head.end(), kName.begin(), kName.end(),
-                              [](char a, char b) { return Lower(a) == b; });
-  if (at == head.end()) return std::nullopt;
-  std::size_t i = static_cast<std::size_t>(at - head.begin()) + kName.size();
+  std::size_t i = HeaderValue(head, "\r\ncontent-length:");
+  if (i == std::string_view::npos) return std::nullopt;
   while (i < head.size() && (head[i] == ' ' || head[i] == '\t')) ++i;
   std::size_t value = 0;
   const auto [end, ec] = std::from_chars(head.data() + i, head.data() + head.size(), value);
@@ -196,8 +201,11 @@ void PanelGate::Serve() {
       return;
     }
     // A small body is read here, so that no lane's thread waits for a client's bytes.
-    const auto length = ContentLength(text.substr(0, end + 2));
-    if (length && *length <= limits_.body_wait_bytes && conn.buffer.size() < end + 4 + *length)
+    // (Not when the client waits for "100 Continue" before it sends the body.)
+    const std::string_view head = text.substr(0, end + 2);
+    const auto length = ContentLength(head);
+    if (length && *length <= limits_.body_wait_bytes && conn.buffer.size() < end + 4 + *length &&
+        HeaderValue(head, "\r\nexpect:") == std::string_view::npos)
       return;
     const Lane lane = classify_(method, path);
     if (lane == Lane::kStream && open_streams >= limits_.max_streams) {
@@ -248,7 +256,8 @@ void PanelGate::Serve() {
       const std::string address = PeerAddress(addr);
       std::string over;
       auto victim = held.end();
-      if (per_address[address] >= limits_.max_per_address) {
+      const auto from = per_address.find(address);
+      if (from != per_address.end() && from->second >= limits_.max_per_address) {
         victim = oldest(address);
         over = "too many connections from " + address;
       } else if (held.size() + serving.size() >= limits_.max_connections) {
