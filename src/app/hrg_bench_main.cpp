@@ -64,12 +64,35 @@ extern "C" void OnInterrupt(int signal) {
   if (g_interrupts.fetch_add(1) >= 1) _exit(kExitAborted);
 }
 
+sigset_t InterruptSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
+// main blocks SIGINT and SIGTERM before anything else (and the panel starts a session with them
+// blocked, so from its exec on): an interrupt that comes before the handlers exist waits for them
+// instead of killing the process by the default action, which left no record (issue 25 row 12).
+void BlockInterrupts() {
+  const sigset_t set = InterruptSignals();
+  ::pthread_sigmask(SIG_BLOCK, &set, nullptr);
+}
+void UnblockInterrupts() {
+  const sigset_t set = InterruptSignals();
+  ::pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+}
+
+// Then unblocks: a pending interrupt is delivered to the handler at once, and the session sees
+// it at its first check (it stops safely and the record says so).
 void InstallSignalHandlers() {
   struct sigaction action {};
   action.sa_handler = OnInterrupt;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  UnblockInterrupts();
 }
 
 // A progress line on a terminal (rewritten in place), plain log lines otherwise.
@@ -229,7 +252,6 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
                                              dir, resume, HRGBENCH_SOFTWARE_VERSION);
     event_output->publisher().Attach(options);
   }
-  InstallSignalHandlers();
   const bench::SessionResult result =
       resume ? bench::ResumeSession(configs, (*station)->hardware(), dir, options)
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
@@ -294,7 +316,6 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   options.interrupt_signal = &g_interrupt_signal;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
-  InstallSignalHandlers();
   std::vector<bench::SessionResult> ran;
   if (!driven.empty()) {
     ran = resume ? bench::ResumeSessions(configs, hardware, driven, options)
@@ -656,6 +677,7 @@ CLI::App* AddServeCommand(CLI::App& cli, app::PanelOptions& panel) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  BlockInterrupts();  // first: see BlockInterrupts
   CLI::App cli{
       "hrg-bench: free-run sessions of a hemispherical resonator gyro on a rate table, recorded, "
       "estimated and judged.\n"
@@ -689,6 +711,13 @@ int main(int argc, char** argv) {
     std::cerr << "--events - and --json both write to stdout: send the events to a file\n";
     return kExitBadInput;
   }
+  // run and resume: the handlers before anything that takes time (configs, the station, the
+  // event pipe), so that an early interrupt is the session's first check and a second one exits.
+  // The other commands keep the default dispositions.
+  if (*run || *resume)
+    InstallSignalHandlers();
+  else if (!*serve)
+    UnblockInterrupts();
   try {
     if (*serve) return Serve(panel, argv[0]);
     if (*replay) return Replay(replay_args, json);

@@ -1,5 +1,6 @@
 #include "app/panel/panel_http.hpp"
 
+#include <fcntl.h>
 #include <netdb.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -18,14 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kReadBufferBytes = 4096;
-// After a refusal: what is drained at most, so the client reads the answer instead of a reset
-// (closing a socket with unread input makes the kernel reset the connection).
-constexpr std::size_t kDrainBytes = 1 << 20;
-constexpr auto kDrainTime = std::chrono::milliseconds(1000);
-// ... and the drain stops when the client pauses this long: a browser closes as soon as it sees
-// the end of the answer, and a client that neither sends nor closes must not hold a worker.
-constexpr auto kDrainGap = std::chrono::milliseconds(200);
-constexpr auto kStopPoll = std::chrono::milliseconds(100);  // how soon a stop ends an idle wait
 
 int ToMs(time_t sec, time_t usec) { return static_cast<int>(sec * 1000 + usec / 1000); }
 
@@ -50,28 +43,25 @@ void AddressOf(const sockaddr_storage& addr, socklen_t len, std::string& ip, int
 }
 
 // One connection's socket, counting what cpp-httplib reads of each request (see the header).
+// Starts with the bytes the gate has already read of the request (panel_gate.hpp).
 class BoundedStream final : public httplib::Stream {
  public:
-  BoundedStream(int sock, const RequestBounds& bounds, int read_timeout_ms, int write_timeout_ms)
+  BoundedStream(int sock, const RequestBounds& bounds, std::string buffered,
+                Clock::time_point read_deadline, int read_timeout_ms, int write_timeout_ms)
       : sock_(sock),
         bounds_(bounds),
+        buffer_(std::move(buffered)),
+        read_deadline_(read_deadline),
         read_timeout_ms_(read_timeout_ms),
         write_timeout_ms_(write_timeout_ms) {}
 
-  void NextRequest() {
-    in_head_ = true;
-    head_read_ = 0;
-    body_read_ = 0;
-    line_bytes_ = 0;
-    line_cr_ = false;
-    lines_ = 0;
-  }
-  bool Buffered() const { return off_ < len_; }
+  bool Buffered() const { return off_ < buffer_.size(); }
+  std::string Unread() const { return buffer_.substr(off_); }
   BoundHit Hit() const { return hit_; }
   void CloseAfterResponse() { close_ = true; }
   bool Closing() const { return close_ || hit_ != BoundHit::kNone; }
 
-  bool is_readable() const override { return Buffered() || Poll(sock_, POLLIN, read_timeout_ms_); }
+  bool is_readable() const override { return Buffered() || Poll(sock_, POLLIN, ReadWaitMs()); }
   bool is_writable() const override {
     return Poll(sock_, POLLOUT, write_timeout_ms_) && PeerStillThere();
   }
@@ -80,16 +70,19 @@ class BoundedStream final : public httplib::Stream {
     if (hit_ != BoundHit::kNone) return -1;
     if (size == 0) return 0;
     if (!Buffered()) {
-      if (!Poll(sock_, POLLIN, read_timeout_ms_)) return -1;
+      // A request's bytes must all arrive by its deadline: a client that drips its body holds
+      // a worker that long at most, whatever read timeout each byte meets.
+      if (!Poll(sock_, POLLIN, ReadWaitMs())) return -1;
+      buffer_.resize(kReadBufferBytes);
       ssize_t n = 0;
       do {
-        n = ::recv(sock_, buffer_.data(), buffer_.size(), 0);
+        n = ::recv(sock_, buffer_.data(), buffer_.size(), MSG_DONTWAIT);
       } while (n < 0 && errno == EINTR);
-      if (n <= 0) return n;
+      buffer_.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
       off_ = 0;
-      len_ = static_cast<std::size_t>(n);
+      if (n <= 0) return n;
     }
-    std::size_t n = std::min(size, len_ - off_);
+    std::size_t n = std::min(size, buffer_.size() - off_);
     if (in_head_) {
       n = HeadBytes(n);
       if (n == 0) return -1;
@@ -106,13 +99,20 @@ class BoundedStream final : public httplib::Stream {
     return static_cast<ssize_t>(n);
   }
 
+  // Never blocks longer than the write timeout in all: a client that stops reading (an event
+  // stream to a page that hangs) fails the write and frees its worker once its buffers are full.
   ssize_t write(const char* ptr, size_t size) override {
-    if (!Poll(sock_, POLLOUT, write_timeout_ms_)) return -1;
-    ssize_t n = 0;
-    do {
-      n = ::send(sock_, ptr, size, MSG_NOSIGNAL);
-    } while (n < 0 && errno == EINTR);
-    return n;
+    const auto end = Clock::now() + std::chrono::milliseconds(write_timeout_ms_);
+    for (;;) {
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now()).count();
+      if (left <= 0 || !Poll(sock_, POLLOUT, static_cast<int>(left))) return -1;
+      ssize_t n = 0;
+      do {
+        n = ::send(sock_, ptr, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+      } while (n < 0 && errno == EINTR);
+      if (n >= 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) return n;
+    }
   }
 
   void get_remote_ip_and_port(std::string& ip, int& port) const override {
@@ -130,6 +130,12 @@ class BoundedStream final : public httplib::Stream {
   socket_t socket() const override { return sock_; }
 
  private:
+  int ReadWaitMs() const {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(read_deadline_ - Clock::now());
+    return static_cast<int>(std::clamp<long long>(left.count(), 0, read_timeout_ms_));
+  }
+
   // How many of the next `n` buffered bytes belong to the head (up to and including the blank
   // line that ends it, as cpp-httplib reads it: "\r\n" alone); 0 when the head bound is passed.
   std::size_t HeadBytes(std::size_t n) {
@@ -167,11 +173,11 @@ class BoundedStream final : public httplib::Stream {
 
   int sock_;
   RequestBounds bounds_;
+  std::string buffer_;
+  std::size_t off_ = 0;
+  Clock::time_point read_deadline_;
   int read_timeout_ms_;
   int write_timeout_ms_;
-  std::array<char, kReadBufferBytes> buffer_{};
-  std::size_t off_ = 0;
-  std::size_t len_ = 0;
   bool in_head_ = true;
   std::size_t head_read_ = 0;
   std::size_t body_read_ = 0;
@@ -196,22 +202,6 @@ void WriteHeadRefusal(BoundedStream& stream, std::size_t head_bytes) {
   (void)stream.write(text.data(), text.size());
 }
 
-// Lets the client read the refusal: no more writes, then what it still sends is read and thrown
-// away, within a bound of bytes and time.
-void DrainBeforeClose(int sock) {
-  ::shutdown(sock, SHUT_WR);
-  std::array<char, kReadBufferBytes> sink{};
-  std::size_t drained = 0;
-  const auto end = Clock::now() + kDrainTime;
-  while (drained < kDrainBytes && Clock::now() < end) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now());
-    if (!Poll(sock, POLLIN, static_cast<int>(std::min(left, kDrainGap).count()) + 1)) break;
-    const ssize_t n = ::recv(sock, sink.data(), sink.size(), 0);
-    if (n <= 0) break;
-    drained += static_cast<std::size_t>(n);
-  }
-}
-
 }  // namespace
 
 BoundedServer::BoundedServer(RequestBounds bounds) : bounds_(bounds) {}
@@ -224,29 +214,42 @@ void BoundedServer::CloseConnectionAfterResponse() {
   if (current_stream != nullptr) current_stream->CloseAfterResponse();
 }
 
-bool BoundedServer::process_and_close_socket(socket_t sock) {
-  BoundedStream stream(sock, bounds_, ToMs(read_timeout_sec_, read_timeout_usec_),
+bool BoundedServer::Bind(const std::string& host, int port, int backlog) {
+  if (!bind_to_port(host, port)) return false;
+  // cpp-httplib listens with a backlog of 5 (compiled into Debian's library); listen() again on
+  // a listening socket changes only its backlog (Linux), so a burst of browsers and scripts is
+  // queued by the kernel rather than refused.
+  const int sock = svr_sock_;
+  ::listen(sock, backlog);
+  ::fcntl(sock, F_SETFL, ::fcntl(sock, F_GETFL) | O_NONBLOCK);  // the gate accepts in a loop
+  return true;
+}
+
+int BoundedServer::ListenSocket() const { return svr_sock_; }
+
+void BoundedServer::CloseListenSocket() {
+  const int sock = svr_sock_.exchange(INVALID_SOCKET);
+  if (sock != INVALID_SOCKET) ::close(sock);
+}
+
+Served BoundedServer::ServeOne(int sock, std::string buffered,
+                               std::chrono::steady_clock::time_point read_deadline) {
+  BoundedStream stream(sock, bounds_, std::move(buffered), read_deadline,
+                       ToMs(read_timeout_sec_, read_timeout_usec_),
                        ToMs(write_timeout_sec_, write_timeout_usec_));
-  bool ok = false;
-  for (std::size_t left = keep_alive_max_count_; left > 0 && svr_sock_ != INVALID_SOCKET; --left) {
-    // The next request: cpp-httplib's keep-alive wait, in slices so that a stop ends it.
-    const auto idle_end = Clock::now() + std::chrono::seconds(keep_alive_timeout_sec_);
-    bool arrived = stream.Buffered();
-    while (!arrived && svr_sock_ != INVALID_SOCKET && Clock::now() < idle_end)
-      arrived = Poll(sock, POLLIN, static_cast<int>(kStopPoll.count()));
-    if (!arrived) break;
-    stream.NextRequest();
-    bool closed = false;
-    current_stream = &stream;
-    ok = process_request(stream, left == 1, closed, nullptr);
-    current_stream = nullptr;
-    if (!ok && stream.Hit() == BoundHit::kHead) WriteHeadRefusal(stream, bounds_.head_bytes);
-    if (!ok || closed || stream.Closing()) break;
-  }
-  if (stream.Closing()) DrainBeforeClose(sock);
-  ::shutdown(sock, SHUT_RDWR);
-  ::close(sock);
-  return ok;
+  bool closed = false;
+  current_stream = &stream;
+  const bool ok = process_request(stream, svr_sock_ == INVALID_SOCKET, closed, nullptr);
+  current_stream = nullptr;
+  if (!ok && stream.Hit() == BoundHit::kHead) WriteHeadRefusal(stream, bounds_.head_bytes);
+  Served served;
+  if (stream.Closing())
+    served.next = Served::Next::kDrain;
+  else if (!ok || closed)
+    served.next = Served::Next::kClose;
+  else
+    served.unread = stream.Unread();
+  return served;
 }
 
 void ExclusiveListenSocket(socket_t sock) {

@@ -15,15 +15,21 @@
 // Any refusal (a status >= 400, see CloseConnectionAfterResponse) closes its connection too, so
 // that the unread rest of a refused request is never taken for the next one.
 //
-// Threads: each connection is served on one of the server's pool threads, from its first byte to
-// its close; the functions below that name "the current request" must be called on that thread
-// (from a handler, the pre-routing or the error handler).
+// Connections are accepted, admitted and read up to a complete request by the gate
+// (panel_gate.hpp), which hands each complete request to ServeOne on a worker and takes the
+// connection back after the response (keep-alive) or closes it.
+//
+// Threads: ServeOne serves one request on the calling (worker) thread; the functions below that
+// name "the current request" must be called on that thread (from a handler, the pre-routing or
+// the error handler).
 //
 // Last include of its users: <httplib.h> brings <resolv.h>, whose `_res` macro breaks Eigen.
 
 #include <httplib.h>  // NOLINT(llvm-include-order)
 
+#include <chrono>
 #include <cstddef>
+#include <string>
 
 namespace hrgbench::app {
 
@@ -37,9 +43,32 @@ struct RequestBounds {
 
 enum class BoundHit { kNone, kHead, kBody };
 
+// What becomes of a connection after ServeOne.
+struct Served {
+  enum class Next {
+    kKeep,   // keep-alive: back to the gate for its next request, with `unread` bytes of it
+    kClose,  // closed (the client asked, or the exchange failed)
+    kDrain,  // refused: no more writes, read and drop what the client still sends, then close
+  };
+  Next next = Next::kKeep;
+  std::string unread;
+};
+
 class BoundedServer : public httplib::Server {
  public:
   explicit BoundedServer(RequestBounds bounds);
+
+  // bind_to_port, then the backlog raised to `backlog` and the socket made non-blocking (the gate
+  // accepts until there is nothing left). False when the port cannot be bound.
+  bool Bind(const std::string& host, int port, int backlog);
+  int ListenSocket() const;
+  const RequestBounds& bounds() const { return bounds_; }
+  void CloseListenSocket();  // any thread; providers of a running response then stop
+
+  // Serves the one request whose first bytes (`buffered`, read by the gate) are given; the rest
+  // of it, if any, must arrive by `read_deadline`. Writes fail after the write timeout.
+  Served ServeOne(int sock, std::string buffered,
+                  std::chrono::steady_clock::time_point read_deadline);
 
   // Which bound the current request went past (kNone outside a request's thread).
   static BoundHit CurrentRequestHit();
@@ -47,10 +76,6 @@ class BoundedServer : public httplib::Server {
   static void CloseConnectionAfterResponse();
 
  private:
-  // Overrides cpp-httplib's (private virtual) per-connection loop: keep-alive as cpp-httplib's,
-  // through a BoundedStream.
-  bool process_and_close_socket(socket_t sock) override;
-
   RequestBounds bounds_;
 };
 

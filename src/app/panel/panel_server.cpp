@@ -16,6 +16,7 @@
 
 #include "app/panel/panel_assets.hpp"
 #include "app/panel/panel_catalog.hpp"
+#include "app/panel/panel_gate.hpp"
 #include "app/panel/panel_origin.hpp"
 #include "app/panel/session_process.hpp"
 #include "app/serial_check.hpp"
@@ -121,6 +122,15 @@ std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::u
   in.read(text.data(), static_cast<std::streamsize>(size));
   if (!in) return std::unexpected(file.string() + ": cannot read");
   return text;
+}
+
+// The gate's lanes (panel_gate.hpp): Abort on threads of its own, start and state on the control
+// threads, the event stream on the bounded stream threads.
+Lane ClassifyRequest(std::string_view method, std::string_view path) {
+  if (method == "POST" && path == "/api/abort") return Lane::kAbort;
+  if ((method == "POST" && path == "/api/start") || path == "/api/state") return Lane::kControl;
+  if (path == "/api/events") return Lane::kStream;
+  return Lane::kGeneral;
 }
 
 class Panel {
@@ -504,27 +514,28 @@ int RunPanel(const PanelOptions& options, const std::atomic<int>& stop) {
 
   Panel panel(options, *listen, std::move(*catalog), sessions, token, std::move(chart_js));
   BoundedServer server{RequestBounds{}};
-  server.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
   server.set_socket_options(ExclusiveListenSocket);  // one panel per port
   panel.Route(server);
-  if (!server.bind_to_port(listen->host, listen->port)) {
+  const GateLimits limits;
+  if (!server.Bind(listen->host, listen->port, limits.backlog)) {
     std::cerr << "--listen " << options.listen << ": cannot listen on port " << listen->port
               << " of " << listen->host
               << ": the port is in use (another panel or program on this station?) or the "
                  "address is not this machine's\n";
     return kExitError;
   }
+  PanelGate gate(server, limits, ClassifyRequest);
   std::thread watcher([&] {
     while (stop.load() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     panel.stopping = true;
     if (panel.process_.Running()) (void)panel.process_.Abort();
     while (panel.process_.Running()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    server.stop();
+    gate.Stop();
   });
   spdlog::info("panel: station '{}' on http://{}:{}/ (sessions in {})", options.station.string(),
                listen->host, listen->port, sessions.string());
   std::cout << "panel: http://" << listen->host << ":" << listen->port << "/" << std::endl;
-  server.listen_after_bind();
+  gate.Serve();
   watcher.join();
   return kExitOk;
 }

@@ -32,7 +32,11 @@
 // (panel_catalog.hpp); nothing the page sends becomes a path otherwise.
 //
 // Threads: RunPanel blocks the caller until `stop` becomes non-zero (the panel then aborts a
-// running session, waits for it, and returns); HTTP requests run on a pool of kHttpThreads.
+// running session, waits for it, and returns). Connections are admitted and read by the gate
+// (panel_gate.hpp: bounds per client address and in all, head and idle timeouts, 405 for other
+// methods) and each complete request is served on its lane's threads: Abort on its own, start and
+// state on the control threads, at most GateLimits::max_streams event streams, the rest on the
+// general pool; so no stream, report or slow client can make an Abort wait.
 
 #include <atomic>
 #include <filesystem>
@@ -47,8 +51,6 @@ struct PanelOptions {
   std::filesystem::path token_file;  // required when the host is not a loopback address
   std::filesystem::path program;     // hrg-bench itself (a session is `hrg-bench run`)
 };
-
-inline constexpr int kHttpThreads = 32;  // every open page holds one for its event stream
 
 // Exit code (exit_codes.hpp): kExitOk after a stop; kExitBadInput (4) when the options are refused
 // (message on stderr); kExitError (2) when the port cannot be bound (another panel or program holds

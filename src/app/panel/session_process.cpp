@@ -48,7 +48,9 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   }
   if (pid == 0) {
     // The child: the event pipe on fd 3 (dup2 clears close-on-exec), stdin from nowhere, the
-    // default SIGINT disposition (hrg-bench installs its own).
+    // default SIGINT disposition (hrg-bench installs its own), with SIGINT and SIGTERM blocked
+    // across the exec: an Abort right after Start waits for hrg-bench's handlers (which unblock
+    // them) instead of killing the session by the default action before it has a record.
     // Its own process group: a Ctrl-C at the panel's terminal reaches the panel, which aborts the
     // session once; reaching both, the session would see two interrupts (exit without a safe stop).
     ::setpgid(0, 0);
@@ -56,6 +58,11 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     const int null = ::open("/dev/null", O_RDONLY);
     if (null >= 0) ::dup2(null, STDIN_FILENO);
     ::signal(SIGPIPE, SIG_DFL);
+    sigset_t interrupts;
+    sigemptyset(&interrupts);
+    sigaddset(&interrupts, SIGINT);
+    sigaddset(&interrupts, SIGTERM);
+    ::sigprocmask(SIG_BLOCK, &interrupts, nullptr);
     // Nothing of the panel's (its listening socket, the browsers' connections) in the session.
     for (int f = 4; f < 1024; ++f) ::close(f);
     ::execv(argv[0], argv.data());
@@ -65,6 +72,7 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   pid_ = pid;
   running_ = true;
   aborting_ = false;
+  exit_ = "null";
   launch_ = launch;
   have_session_ = true;
   events_.clear();
@@ -131,6 +139,8 @@ void SessionProcess::ReadEvents(int fd, pid_t pid) {
   if (WIFSIGNALED(status)) exit_event["signal"] = WTERMSIG(status);
   const std::lock_guard lock(mutex_);
   Keep(exit_event.dump());
+  exit_event.erase("type");
+  exit_ = exit_event.dump();
   running_ = false;
   pid_ = -1;
   spdlog::info("panel: session {} ended ({})", launch_.session_name, exit_event.dump());
@@ -146,6 +156,7 @@ std::string SessionProcess::StatusJson() const {
   if (!have_session_) return "null";
   return nlohmann::json({{"running", running_},
                          {"aborting", aborting_},
+                         {"exit", running_ ? nlohmann::json() : nlohmann::json::parse(exit_)},
                          {"unit", launch_.serial},
                          {"sequence", launch_.sequence},
                          {"limits", launch_.limits},

@@ -61,7 +61,9 @@ class SessionProcess {
   std::optional<std::string> Abort();
 
   bool Running() const;
-  // The current (or last) session: {running, aborting, serial, sequence, limits, session} or null.
+  // The current (or last) session: {running, aborting, exit, serial, sequence, limits, session}
+  // or null; `exit` is null while it runs, then how the child ended: {"exit_code": n} or
+  // {"signal": n} (killed: its record may still say "running").
   std::string StatusJson() const;
   // Events with id > after, waiting up to `wait` for one; empty on timeout.
   std::vector<KeptEvent> WaitForEvents(std::uint64_t after, std::chrono::milliseconds wait) const;
@@ -78,6 +80,7 @@ class SessionProcess {
   bool running_ = false;
   bool aborting_ = false;
   SessionLaunch launch_;
+  std::string exit_ = "null";  // JSON
   bool have_session_ = false;
   std::vector<KeptEvent> events_;
   std::uint64_t next_id_ = 1;

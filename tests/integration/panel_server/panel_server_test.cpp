@@ -1,166 +1,32 @@
 // The panel's HTTP server under the attacks of issue 25 (rows 2, 3, 4, 7), on loopback: the panel
 // runs in this process (RunPanel on a free port), the client is a raw socket so that every header
 // is the test's. Sessions would run /bin/true: a test that reaches a session has already failed.
-#include "app/panel/panel_server.hpp"
-
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <linux/inet_diag.h>
+#include <linux/netlink.h>
+#include <linux/sock_diag.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <string>
-#include <string_view>
 #include <thread>
 
 #include "hrgbench/config/sha256.hpp"
+#include "panel_test_client.hpp"
 
 namespace hrgbench::app {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace hrgbench::testing::panel;
 using namespace std::chrono_literals;
-
-const fs::path kConfigs = fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
-
-fs::path FreshDir() {
-  std::random_device rd;
-  const fs::path dir = fs::temp_directory_path() / ("hrgbench-panel-" + std::to_string(rd()));
-  fs::create_directories(dir);
-  return dir;
-}
-
-int FreePort() {
-  const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof(addr));
-  socklen_t len = sizeof(addr);
-  ::getsockname(sock, reinterpret_cast<sockaddr*>(&addr), &len);
-  ::close(sock);
-  return ntohs(addr.sin_port);
-}
-
-int Connect(int port) {
-  const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
-  timeval timeout{10, 0};  // a panel that neither reads nor closes fails the test, not hangs it
-  ::setsockopt(sock, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof(timeout));
-  ::setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
-    ::close(sock);
-    return -1;
-  }
-  return sock;
-}
-
-// Sends all of `bytes` or stops where the peer stops taking them; returns how much was sent.
-std::size_t SendAll(int sock, std::string_view bytes) {
-  std::size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = ::send(sock, bytes.data() + sent,
-                             std::min<std::size_t>(bytes.size() - sent, 64 * 1024), MSG_NOSIGNAL);
-    if (n <= 0) break;
-    sent += static_cast<std::size_t>(n);
-  }
-  return sent;
-}
-
-struct Reply {
-  int status = 0;
-  std::string head;
-  std::string body;
-};
-
-// Reads the answer until the panel closes (every request here says Connection: close).
-Reply ReadReply(int sock) {
-  std::string text;
-  char buf[65536];
-  ssize_t n = 0;
-  while ((n = ::recv(sock, buf, sizeof(buf), 0)) > 0) text.append(buf, static_cast<size_t>(n));
-  Reply reply;
-  const std::size_t end = text.find("\r\n\r\n");
-  reply.head = text.substr(0, end);
-  if (end != std::string::npos) reply.body = text.substr(end + 4);
-  if (text.rfind("HTTP/1.1 ", 0) == 0) reply.status = std::atoi(text.c_str() + 9);
-  return reply;
-}
-
-Reply Exchange(int port, std::string_view request) {
-  const int sock = Connect(port);
-  if (sock < 0) return {};
-  SendAll(sock, request);
-  Reply reply = ReadReply(sock);
-  ::close(sock);
-  return reply;
-}
-
-std::string Post(std::string_view path, std::string_view host, std::string_view origin,
-                 std::string_view body) {
-  std::string request = "POST " + std::string(path) + " HTTP/1.1\r\nHost: " + std::string(host) +
-                        "\r\nContent-Type: application/json\r\nConnection: close\r\n";
-  if (!origin.empty()) request += "Origin: " + std::string(origin) + "\r\n";
-  return request + "Content-Length: " + std::to_string(body.size()) + "\r\n\r\n" +
-         std::string(body);
-}
-
-std::string Get(std::string_view path, int port) {
-  return "GET " + std::string(path) + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
-         "\r\nConnection: close\r\n\r\n";
-}
-
-// A panel on the simulated station's configs, on a free loopback port, stopped at the end.
-class Panel {
- public:
-  explicit Panel(const fs::path& dir, int port = FreePort()) : port_(port) {
-    fs::create_directories(dir / "configs");
-    fs::copy_file(kConfigs / "station-sim.toml", dir / "configs" / "station.toml",
-                  fs::copy_options::overwrite_existing);
-    fs::copy_file(kConfigs / "sequence-production.toml", dir / "configs" / "sequence-a.toml",
-                  fs::copy_options::overwrite_existing);
-    options_.station = dir / "configs" / "station.toml";
-    options_.listen = "127.0.0.1:" + std::to_string(port_);
-    options_.sessions = dir / "sessions";
-    options_.program = "/bin/true";
-    thread_ = std::thread([this] { exit_code_ = RunPanel(options_, stop_); });
-    for (int i = 0; i < 200 && !Ready(); ++i) std::this_thread::sleep_for(50ms);
-  }
-  ~Panel() {
-    stop_ = 1;
-    thread_.join();
-  }
-  bool Ready() const {
-    const int sock = Connect(port_);
-    if (sock >= 0) ::close(sock);
-    return sock >= 0;
-  }
-  int port() const { return port_; }
-  std::string host() const { return "127.0.0.1:" + std::to_string(port_); }
-  std::string origin() const { return "http://" + host(); }
-  const PanelOptions& options() const { return options_; }
-
- private:
-  int port_;
-  PanelOptions options_;
-  std::atomic<int> stop_{0};
-  std::atomic<int> exit_code_{-1};
-  std::thread thread_;
-};
-
-bool NoSessionFolder(const fs::path& sessions) {
-  return !fs::exists(sessions) || fs::is_empty(sessions);
-}
 
 // Row 2: a rebinding name that starts with "127." passed the old prefix check, and with its own
 // Origin it started and aborted sessions.
@@ -200,13 +66,13 @@ TEST(PanelServer, ASecondPanelOnTheSamePortFailsNamingThePort) {
     options.sessions = dir / "second-sessions";
     std::atomic<int> stop{0};
     std::atomic<int> code{-1};
-    testing::internal::CaptureStderr();
+    ::testing::internal::CaptureStderr();
     std::thread second([&] { code = RunPanel(options, stop); });
     for (int i = 0; i < 100 && code == -1; ++i) std::this_thread::sleep_for(50ms);
     const bool returned = code != -1;
     stop = 1;  // a second panel that did start is stopped, so the test ends
     second.join();
-    const std::string err = testing::internal::GetCapturedStderr();
+    const std::string err = ::testing::internal::GetCapturedStderr();
     EXPECT_TRUE(returned) << "the second panel started on the same port";
     EXPECT_EQ(code, 2);
     EXPECT_NE(err.find("port " + std::to_string(first.port())), std::string::npos) << err;
@@ -387,6 +253,85 @@ TEST(PanelServer, RefusesAReportLinkOutOfTheSessionsFolder) {
     const Reply folder = get("/sessions/SN2-20260101T000000Z/report/passwd");
     EXPECT_EQ(folder.status, 404) << folder.body.substr(0, 200);
     EXPECT_EQ(folder.body.find("root:"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+// Row 14: a PUT (or PATCH) with a Content-Length held a worker until its read timed out (5 s)
+// and was then answered 400; another method is refused 405 at once, naming the allowed ones.
+TEST(PanelServer, AnotherMethodIsRefused405AtOnce) {
+  const fs::path dir = FreshDir();
+  {
+    Panel panel(dir);
+    ASSERT_TRUE(panel.Ready());
+    for (const char* method : {"PUT", "PATCH", "DELETE", "OPTIONS"}) {
+      const Reply reply = Exchange(
+          panel.port(), std::string(method) + " /api/abort HTTP/1.1\r\nHost: " + panel.host() +
+                            "\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n");
+      EXPECT_EQ(reply.status, 405) << method << ": " << reply.head << reply.body;
+      EXPECT_NE(reply.head.find("Allow: GET, POST, HEAD"), std::string::npos) << reply.head;
+      EXPECT_NE(reply.head.find("Connection: close"), std::string::npos) << reply.head;
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// The listening socket's backlog as the kernel holds it (sock_diag: a listening socket's
+// idiag_wqueue is its backlog), or -1 when it cannot be read.
+int ListenBacklog(int port) {
+  const int nl = ::socket(AF_NETLINK, SOCK_DGRAM | SOCK_CLOEXEC, NETLINK_SOCK_DIAG);
+  if (nl < 0) return -1;
+  struct {
+    nlmsghdr header;
+    inet_diag_req_v2 request;
+  } message{};
+  message.header.nlmsg_len = sizeof message;
+  message.header.nlmsg_type = SOCK_DIAG_BY_FAMILY;
+  message.header.nlmsg_flags = NLM_F_REQUEST | NLM_F_DUMP;
+  message.request.sdiag_family = AF_INET;
+  message.request.sdiag_protocol = IPPROTO_TCP;
+  message.request.idiag_states = 1u << 10;  // TCP_LISTEN
+  sockaddr_nl kernel{};
+  kernel.nl_family = AF_NETLINK;
+  int backlog = -1;
+  if (::sendto(nl, &message, sizeof message, 0, reinterpret_cast<sockaddr*>(&kernel),
+               sizeof kernel) > 0) {
+    alignas(nlmsghdr) char buffer[32768];
+    bool done = false;
+    while (!done) {
+      const ssize_t n = ::recv(nl, buffer, sizeof buffer, 0);
+      if (n <= 0) break;
+      // The messages one after another, each at a 4-byte boundary (NLMSG_NEXT without its casts).
+      const auto size = static_cast<std::size_t>(n);
+      for (std::size_t at = 0; at + sizeof(nlmsghdr) <= size;) {
+        nlmsghdr h{};
+        std::memcpy(&h, buffer + at, sizeof h);
+        if (h.nlmsg_len < sizeof h || at + h.nlmsg_len > size) break;
+        if (h.nlmsg_type == NLMSG_DONE || h.nlmsg_type == NLMSG_ERROR) {
+          done = true;
+          break;
+        }
+        inet_diag_msg diag{};
+        std::memcpy(&diag, buffer + at + ((sizeof h + 3) & ~std::size_t{3}), sizeof diag);
+        if (ntohs(diag.id.idiag_sport) == port) backlog = static_cast<int>(diag.idiag_wqueue);
+        at += (h.nlmsg_len + 3) & ~std::uint32_t{3};
+      }
+    }
+  }
+  ::close(nl);
+  return backlog;
+}
+
+// Row 14: cpp-httplib listens with a backlog of 5 (compiled into Debian's library), so a burst
+// of connections beyond it waited for SYN retries.
+TEST(PanelServer, ListensWithABacklogAboveFive) {
+  const fs::path dir = FreshDir();
+  {
+    Panel panel(dir);
+    ASSERT_TRUE(panel.Ready());
+    const int backlog = ListenBacklog(panel.port());
+    ASSERT_GE(backlog, 0) << "sock_diag did not list the panel's socket";
+    EXPECT_GE(backlog, 128);
   }
   fs::remove_all(dir);
 }
