@@ -28,12 +28,9 @@ void SampleStreamDecoder::SetReleaseTime(std::int64_t t0_ns) noexcept {
   t0_known_ = true;
 }
 
-SampleStreamDecoder::Placement SampleStreamDecoder::Place(std::uint64_t expected,
-                                                          std::uint64_t wire_value,
-                                                          std::uint64_t modulo, std::uint64_t scale,
-                                                          std::uint64_t offset,
-                                                          std::int64_t stamp_ns,
-                                                          std::uint64_t* index) const noexcept {
+SampleStreamDecoder::Placement SampleStreamDecoder::Place(
+    std::uint64_t expected, std::uint64_t wire_value, std::uint64_t modulo, std::uint64_t scale,
+    std::uint64_t offset, std::int64_t stamp_ns, std::uint64_t* index) const noexcept {
   const std::uint64_t delta = (wire_value + modulo - expected % modulo) % modulo;
   *index = expected + delta;
   if (!t0_known_) return Placement::kPlaced;
@@ -45,9 +42,9 @@ SampleStreamDecoder::Placement SampleStreamDecoder::Place(std::uint64_t expected
   // quarter of a wrap) covers t0's own lateness and the electronics' crystal against the host's
   // clock (64 samples of the 8-bit counter: 100 ppm over 640 000 samples).
   const double elapsed_s = stamp_ns > t0_ns_ ? static_cast<double>(stamp_ns - t0_ns_) * 1e-9 : 0.0;
-  const double bound = elapsed_s * static_cast<double>(sample_rate_hz_) *
-                           static_cast<double>(scale) +
-                       static_cast<double>(offset) + static_cast<double>(modulo / 4);
+  const double bound =
+      elapsed_s * static_cast<double>(sample_rate_hz_) * static_cast<double>(scale) +
+      static_cast<double>(offset) + static_cast<double>(modulo / 4);
   if (static_cast<double>(*index) > bound) return Placement::kStale;
   if (static_cast<double>(*index + modulo) <= bound) return Placement::kAmbiguous;
   return Placement::kPlaced;

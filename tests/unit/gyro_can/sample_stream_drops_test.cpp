@@ -148,7 +148,8 @@ TEST(SampleStreamDrops, RunsOfLostFramesUpToBeyondTwoWrapsNeverMakeWrongSamples)
 std::vector<Arrival> FrozenSender(std::uint64_t samples, std::uint64_t from, std::int64_t stall_ms,
                                   std::size_t kept) {
   std::vector<Arrival> frames;
-  const std::int64_t wake = kT0Ns + static_cast<std::int64_t>(from) * kPeriodNs + stall_ms * 1'000'000;
+  const std::int64_t wake =
+      kT0Ns + static_cast<std::int64_t>(from) * kPeriodNs + stall_ms * 1'000'000;
   std::size_t in_burst = 0;
   for (std::uint64_t k = 0; k < samples; ++k) {
     const std::int64_t due = kT0Ns + static_cast<std::int64_t>(k) * kPeriodNs + 100'000;
