@@ -33,8 +33,8 @@ TEST(SqliteOpenBusy, OpeningAFreshFileWaitsForAnotherConnectionsLock) {
   sqlite3* holder = nullptr;
   ASSERT_EQ(sqlite3_open(file.c_str(), &holder), SQLITE_OK);
   // A fresh file in rollback-journal mode, locked exclusively as a first writer creating it is.
-  ASSERT_EQ(sqlite3_exec(holder, "BEGIN EXCLUSIVE; CREATE TABLE first_writer(x);", nullptr,
-                         nullptr, nullptr),
+  ASSERT_EQ(sqlite3_exec(holder, "BEGIN EXCLUSIVE; CREATE TABLE first_writer(x);", nullptr, nullptr,
+                         nullptr),
             SQLITE_OK);
   std::atomic<bool> released{false};
   std::thread release([&] {
