@@ -1,5 +1,6 @@
 #include "gyro_can/sample_stream_decoder.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hrgbench::drivers::gyro_can {
@@ -16,6 +17,7 @@ void SampleStreamDecoder::Start(FrameFormat format, std::uint32_t sample_rate_hz
   t0_ns_ = 0;
   next_frame_ = 0;
   next_sample_ = 0;
+  numbering_lost_ = false;
   pending_ = {};
   reports_seen_ = 0;
   newest_sample_ = 0;
@@ -26,29 +28,52 @@ void SampleStreamDecoder::SetReleaseTime(std::int64_t t0_ns) noexcept {
   t0_known_ = true;
 }
 
-std::uint64_t SampleStreamDecoder::Unwrap(std::uint64_t expected, std::uint64_t wire_value,
-                                          std::uint64_t modulo, std::uint64_t scale,
-                                          std::uint64_t offset,
-                                          std::int64_t stamp_ns) const noexcept {
+SampleStreamDecoder::Placement SampleStreamDecoder::Place(
+    std::uint64_t expected, std::uint64_t wire_value, std::uint64_t modulo, std::uint64_t scale,
+    std::uint64_t offset, std::int64_t stamp_ns, std::uint64_t* index) const noexcept {
   const std::uint64_t delta = (wire_value + modulo - expected % modulo) % modulo;
-  std::uint64_t candidate = expected + delta;
-  if (t0_known_ && stamp_ns > t0_ns_) {
-    // The frame of sample k is received shortly after k/fs: estimate its index from the stamp and
-    // add whole wraps when the counter alone would alias (a loss of ≥ one wrap of samples).
-    const double estimate = static_cast<double>(stamp_ns - t0_ns_) * 1e-9 *
-                                static_cast<double>(sample_rate_hz_) * static_cast<double>(scale) +
-                            static_cast<double>(offset);
-    const double wraps =
-        std::floor((estimate - static_cast<double>(candidate)) / static_cast<double>(modulo) + 0.5);
-    if (wraps > 0) candidate += static_cast<std::uint64_t>(wraps) * modulo;
-  }
-  return candidate;
+  *index = expected + delta;
+  if (!t0_known_) return Placement::kPlaced;
+  // The stamp bounds the index from above only: the electronics cannot send sample k before
+  // t0 + k/fs, but they may send it any time later (a starved sender catches up in a burst whose
+  // frames all carry late stamps). So the stamp can refuse an index from the future, and can say
+  // that a whole wrap may be missing, but never which: a guess here would shift every later
+  // sample by a wrap (0.5 s at 500 Hz) and pair the halves of different samples. The tolerance (a
+  // quarter of a wrap) covers t0's own lateness and the electronics' crystal against the host's
+  // clock (64 samples of the 8-bit counter: 100 ppm over 640 000 samples).
+  const double elapsed_s = stamp_ns > t0_ns_ ? static_cast<double>(stamp_ns - t0_ns_) * 1e-9 : 0.0;
+  const double bound =
+      elapsed_s * static_cast<double>(sample_rate_hz_) * static_cast<double>(scale) +
+      static_cast<double>(offset) + static_cast<double>(modulo / 4);
+  if (static_cast<double>(*index) > bound) return Placement::kStale;
+  if (static_cast<double>(*index + modulo) <= bound) return Placement::kAmbiguous;
+  return Placement::kPlaced;
+}
+
+void SampleStreamDecoder::LoseNumbering() noexcept {
+  if (!numbering_lost_) ++counters_.sequence_gaps;
+  numbering_lost_ = true;
+  pending_.valid = false;
 }
 
 void SampleStreamDecoder::OnSampleHalf(const SampleHalf& half, std::int64_t stamp_ns) noexcept {
-  const std::uint64_t wire = 2u * half.seq + half.half;
-  const std::uint64_t frame =
-      Unwrap(next_frame_, wire, 2u * kClassicSeqModulo, 2, half.half, stamp_ns);
+  if (numbering_lost_) {
+    if (half.half == 1) ++counters_.samples_lost;
+    return;
+  }
+  std::uint64_t frame = 0;
+  switch (Place(next_frame_, 2u * half.seq + half.half, 2u * kClassicSeqModulo, 2, half.half,
+                stamp_ns, &frame)) {
+    case Placement::kPlaced:
+      break;
+    case Placement::kStale:  // a frame CAN delivered twice, or one from before a loss
+      ++counters_.sequence_gaps;
+      return;
+    case Placement::kAmbiguous:  // at least the samples the counter says are missing are lost
+      LoseNumbering();
+      counters_.samples_lost += frame / 2 - std::min(frame / 2, next_sample_) + half.half;
+      return;
+  }
   if (frame != next_frame_) ++counters_.sequence_gaps;
   next_frame_ = frame + 1;
   const std::uint64_t sample = frame / 2;
@@ -59,12 +84,30 @@ void SampleStreamDecoder::OnSampleHalf(const SampleHalf& half, std::int64_t stam
   if (pending_.valid && pending_.sample == sample) {
     const std::int32_t y[4] = {pending_.y1, pending_.y2, half.y_raw[0], half.y_raw[1]};
     Emit(sample, y);
+  } else if (sample >= next_sample_) {  // a second half without its first: that sample is lost
+    counters_.samples_lost += sample + 1 - next_sample_;
+    next_sample_ = sample + 1;
   }
-  pending_.valid = false;  // a second half without its first: that sample is lost
+  pending_.valid = false;
 }
 
 void SampleStreamDecoder::OnSampleFd(const SampleFdBlock& block, std::int64_t stamp_ns) noexcept {
-  const std::uint64_t first = Unwrap(next_frame_, block.seq, kFdSeqModulo, 1, 0, stamp_ns);
+  if (numbering_lost_) {
+    counters_.samples_lost += block.count;
+    return;
+  }
+  std::uint64_t first = 0;
+  switch (Place(next_frame_, block.seq, kFdSeqModulo, 1, 0, stamp_ns, &first)) {
+    case Placement::kPlaced:
+      break;
+    case Placement::kStale:
+      ++counters_.sequence_gaps;
+      return;
+    case Placement::kAmbiguous:
+      LoseNumbering();
+      counters_.samples_lost += first - std::min(first, next_sample_) + block.count;
+      return;
+  }
   if (first != next_frame_) ++counters_.sequence_gaps;
   next_frame_ = first + block.count;
   for (std::size_t s = 0; s < block.count && s < kSamplesPerFdFrame; ++s) {
@@ -77,7 +120,12 @@ void SampleStreamDecoder::OnSampleFd(const SampleFdBlock& block, std::int64_t st
 void SampleStreamDecoder::OnReferencePhase(const ReferencePhaseReport& report,
                                            std::int64_t stamp_ns) noexcept {
   // A report precedes its sample's frames: its number is at or after the next sample expected.
-  const std::uint64_t sample = Unwrap(next_sample_, report.seq, kFdSeqModulo, 1, 0, stamp_ns);
+  // One that cannot be placed is dropped (the samples around it bridge to the next report).
+  std::uint64_t sample = 0;
+  if (numbering_lost_ || Place(next_sample_, report.seq, kFdSeqModulo, 1, 0, stamp_ns, &sample) !=
+                             Placement::kPlaced) {
+    return;
+  }
   if (reports_seen_ > 0 && sample <= reports_[1].sample) return;  // stale or repeated
   reports_[0] = reports_[1];
   reports_[1] = {sample, DequantiseReferencePhase(report.phase_raw)};

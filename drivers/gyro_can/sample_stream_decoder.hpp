@@ -67,11 +67,20 @@ class SampleStreamDecoder {
     std::int32_t y2 = 0;
     bool valid = false;
   };
-  // Extends a wrapped counter value to the full index nearest after `expected` (and after the
-  // receive-time estimate when t0 is known). `scale` converts samples to counter units.
-  std::uint64_t Unwrap(std::uint64_t expected, std::uint64_t wire_value, std::uint64_t modulo,
-                       std::uint64_t scale, std::uint64_t offset,
-                       std::int64_t stamp_ns) const noexcept;
+  // Where a wrapped counter value lies: the first index at or after `expected` with that value
+  // (kPlaced), unless the receive stamp says otherwise (t0 known): an index the sender cannot have
+  // produced yet by that stamp is a repeated or stale frame (kStale), and a stamp late enough to
+  // leave room for a whole further wrap of the counter makes the index unknowable (kAmbiguous: a
+  // sender that fell behind and a loss of a whole wrap look the same; see README "Sequence
+  // counter"). `scale` converts samples to counter units, `offset` is the frame's place within
+  // its sample.
+  enum class Placement { kPlaced, kStale, kAmbiguous };
+  Placement Place(std::uint64_t expected, std::uint64_t wire_value, std::uint64_t modulo,
+                  std::uint64_t scale, std::uint64_t offset, std::int64_t stamp_ns,
+                  std::uint64_t* index) const noexcept;
+  // The run's sample numbers cannot be known any more (an ambiguous gap): every later sample frame
+  // of the run is refused and counted lost, never delivered with a guessed number.
+  void LoseNumbering() noexcept;
   void Emit(std::uint64_t sample, const std::int32_t (&y_raw)[4]) noexcept;
   // χ at `sample` from the last two reports, NaN when the sample is not between them.
   double InterpolatedPhase(std::uint64_t sample) const noexcept;
@@ -89,6 +98,7 @@ class SampleStreamDecoder {
   bool t0_known_ = false;
   std::uint64_t next_frame_ = 0;   // classic: expected 2·sample + half; FD: expected sample
   std::uint64_t next_sample_ = 0;  // next sample number not yet delivered or counted lost
+  bool numbering_lost_ = false;    // LoseNumbering() was called in this run
   Pending pending_;
   // The last two reference-phase reports of the run (reports_seen_ of them, 0, 1 or 2) and the
   // newest sample number received.

@@ -24,7 +24,8 @@
 //
 // Time bounds: every transaction <= transaction_attempts x response_timeout_ms (+ reconnects,
 // each <= response_timeout_ms + reconnect_backoff_ms). SafeStop() <= safe_stop_budget_ms +
-// response_timeout_ms.
+// response_timeout_ms, and at most kSafeStopAttempts connections or writes, each failed one
+// followed by a pause doubling from 10 ms to reconnect_backoff_ms.
 
 #include <atomic>
 #include <cstdint>
@@ -52,6 +53,11 @@ struct ModbusTableCounters {
   std::uint64_t limit_rejections = 0;   // software limit refused a value (nothing sent)
   std::uint64_t heartbeats = 0;         // heartbeat writes that succeeded
 };
+
+// SafeStop's attempts (connects and writes together) within its budget: enough to ride out a
+// table's controller restarting its listener, few enough that a peer that accepts and closes at
+// once is not hammered.
+inline constexpr int kSafeStopAttempts = 8;
 
 class ModbusRateTable final : public hw::RateTable {
  public:

@@ -24,6 +24,7 @@
 #include "app/results_print.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/results/parameter_stats.hpp"
+#include "hrgbench/results/since_utc.hpp"
 #include "hrgbench/results/upload.hpp"
 
 namespace {
@@ -114,7 +115,10 @@ int main(int argc, char** argv) {
   results::SessionFilter filter;
   bool json = false, csv = false;
   auto add_filters = [&](CLI::App* sub, bool with_outcome) {
-    sub->add_option("--since", filter.since_utc, "sessions started at or after (UTC, ISO 8601)");
+    sub->add_option("--since", filter.since_utc, "sessions started at or after (UTC, ISO 8601)")
+        ->check(
+            [](const std::string& since) { return results::WhyNotSinceUtc(since).value_or(""); },
+            "UTC, ISO 8601");
     sub->add_option("--at-station", filter.station, "sessions of this station name");
     if (with_outcome) {
       sub->add_option("--outcome", filter.outcome, "PASS, FAIL, ERROR or ABORTED");

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "count_text.hpp"
 #include "hrgbench/estimator/identifiability.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
@@ -155,7 +156,7 @@ std::expected<void, ConfigError> CheckRuns(const BenchConfigs& configs) {
                       std::to_string(run.sample_rate_hz),
                       std::string(units > 1 ? "the bus " : "the gyro's bus (") + BusName(station) +
                           (units > 1 ? "" : ")") + " would be " + Percent(load.bus_share) +
-                          " busy (" + std::to_string(static_cast<long long>(load.frames_per_s)) +
+                          " busy (" + config_file::CountText(load.frames_per_s) +
                           " frames/s, worst-case stuffing), above the planned maximum of " +
                           Percent(hw::kMaxPlannedBusShare) + ": at most " + std::to_string(fits) +
                           " samples/s" + (units > 1 ? " per unit" : "") + " fit; " + more +

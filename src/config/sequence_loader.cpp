@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "count_text.hpp"
 #include "hrgbench/config/config_bounds.hpp"
 #include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/toml_reader.hpp"
@@ -128,8 +129,7 @@ std::expected<SequenceRun, ConfigError> ReadRun(TableReader& reader, const Defau
                                                                                  : reader;
     return std::unexpected(from.Error(
         *nodes[kFreeRun], "free_run_s",
-        "out of range: free_run_s * sample_rate_hz gives " +
-            std::to_string(static_cast<long long>(samples)) +
+        "out of range: free_run_s * sample_rate_hz gives " + config_file::CountText(samples) +
             " samples; a run needs at least 2 and at most 1e7 (a typo in a rate or a length?)"));
   }
   HRG_CHECK(reader.Unknown(kRunKeysText));

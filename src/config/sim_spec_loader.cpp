@@ -6,6 +6,7 @@
 #include <optional>
 #include <utility>
 
+#include "count_text.hpp"
 #include "hrgbench/config/config_bounds.hpp"
 #include "hrgbench/config/sim_spec.hpp"
 #include "hrgbench/config/toml_reader.hpp"
@@ -110,8 +111,7 @@ std::expected<RunPlan, ConfigError> ReadRun(const toml::table& table, std::size_
   if (samples > kMaxSamplesPerRun || samples < 2.0) {
     return std::unexpected(reader.Error(
         *duration_node, "duration_s",
-        "out of range: duration_s * sample_rate_hz gives " +
-            std::to_string(static_cast<long long>(samples)) +
+        "out of range: duration_s * sample_rate_hz gives " + config_file::CountText(samples) +
             " samples; a run needs at least 2 and at most 1e7 (a typo in a rate or a length?)"));
   }
   if (auto unknown = reader.Unknown(kRunKeysText)) return std::unexpected(*unknown);
@@ -219,10 +219,10 @@ std::expected<SimSpec, ConfigError> ReadSpec(const toml::table& root, const Sour
       }
       const std::string what = total_duration_s > kMaxTotalFreeRunS
                                    ? "runs[0.." + std::to_string(i) + "] last " +
-                                         std::to_string(static_cast<long long>(total_duration_s)) +
+                                         config_file::CountText(total_duration_s) +
                                          " s in total; a spec simulates at most 86400 s (a day)"
                                    : "runs[0.." + std::to_string(i) + "] have " +
-                                         std::to_string(static_cast<long long>(total_samples)) +
+                                         config_file::CountText(total_samples) +
                                          " samples in total; a spec simulates at most 1e8";
       return std::unexpected(from->Error(*node, "duration_s", "out of range: " + what));
     }

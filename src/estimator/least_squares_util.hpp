@@ -57,7 +57,7 @@ inline std::size_t CountSamples(const std::vector<RunData>& runs) {
 }
 
 // Checks what every estimator needs: at least one run; per run matching sizes, at least
-// `min_samples`, strictly increasing finite time, finite y and Ω.
+// `min_samples`, strictly increasing finite time, finite y (not all zero) and Ω.
 inline bool ValidateRunData(const std::vector<RunData>& runs, std::size_t min_samples,
                             std::string* why) {
   if (runs.empty()) {
@@ -84,6 +84,14 @@ inline bool ValidateRunData(const std::vector<RunData>& runs, std::size_t min_sa
     }
     if (!run.y.allFinite()) {
       *why = name + ": y holds a non-finite value";
+      return false;
+    }
+    // All zero carries neither a wave nor noise: every ratio of the fit would be 0/0 and its
+    // messages "-nan"; say what the data are instead.
+    if (run.y.size() > 0 && (run.y.array() == 0.0).all()) {
+      *why = name +
+             ": y is all zero (no wave and no noise on any channel): nothing to fit; is "
+             "the pick-off or its electronics connected?";
       return false;
     }
     for (std::size_t k = 0; k < run.t_s.size(); ++k) {

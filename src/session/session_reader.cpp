@@ -1,6 +1,7 @@
 // session.json reader. All keys are checked before any CSV is opened, so a bad session.json is
 // reported as such even when run files are missing too.
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <map>
@@ -8,6 +9,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "hrgbench/session/session.hpp"
 #include "json_depth.hpp"
@@ -140,8 +142,58 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                          " levels of arrays and objects (level " + std::to_string(excess->depth) +
                          " opens on this line); a session.json is under 10 deep"});
   }
+  // A key twice in one object: nlohmann keeps the last silently, so the file would say two things
+  // and be read as one. The parser's callback sees every key; the first repeat is refused by
+  // field (the keys of the objects it is in, dotted) and line.
+  struct DuplicateKey {
+    std::string field;
+    std::string key;
+    std::size_t occurrence;  // the repeat is this key name's n-th use as a key in the file
+  };
+  struct Level {
+    std::vector<std::string> keys;
+    std::string last;
+  };
+  std::vector<Level> levels;
+  std::map<std::string, std::size_t> uses;
+  const auto find_repeats = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) {
+      levels.emplace_back();
+    } else if (event == json::parse_event_t::object_end && !levels.empty()) {
+      levels.pop_back();
+    } else if (event == json::parse_event_t::key && !levels.empty()) {
+      const std::string key = parsed.get<std::string>();
+      const std::size_t use = ++uses[key];
+      Level& level = levels.back();
+      if (std::find(level.keys.begin(), level.keys.end(), key) != level.keys.end()) {
+        std::string field;
+        for (std::size_t i = 0; i + 1 < levels.size(); ++i) field += levels[i].last + ".";
+        throw DuplicateKey{field + key, key, use};
+      }
+      level.keys.push_back(key);
+      level.last = key;
+    }
+    return true;
+  };
   try {
-    session.document = json::parse(text);
+    session.document = json::parse(text, find_repeats);
+  } catch (const DuplicateKey& repeat) {
+    // The line of the key's n-th use ("key" followed by a colon).
+    std::size_t line = 0, seen = 0;
+    const std::string quoted = "\"" + repeat.key + "\"";
+    for (std::size_t at = text.find(quoted); at != std::string::npos;
+         at = text.find(quoted, at + 1)) {
+      const std::size_t after = text.find_first_not_of(" \t\r\n", at + quoted.size());
+      if (after == std::string::npos || text[after] != ':') continue;
+      if (++seen == repeat.occurrence) {
+        line = internal::LineOfOffset(text, at);
+        break;
+      }
+    }
+    return std::unexpected(
+        SessionError{file, line, repeat.field,
+                     "duplicate key '" + repeat.key +
+                         "': a key appears once in an object (which value is meant?)"});
   } catch (const json::parse_error& e) {
     // e.byte is 1-based and points at the character that broke the parse.
     std::string message = e.what();

@@ -248,6 +248,19 @@ TEST_F(ResultsProgram, PostgresqlDownDuringTheSessionThenSyncAfterRestart) {
   EXPECT_NE(sessions.out.find(",SN-RES-2,sim-ci,"), std::string::npos) << sessions.out;
 }
 
+// --since is compared with started_utc as text: "yesterday" once gave 0 rows and exit 0. Anything
+// but an ISO 8601 UTC time or a prefix of one is a usage error naming the value.
+TEST_F(ResultsProgram, ASinceThatIsNotATimeIsRefused) {
+  const std::string db = "--db sqlite://" + (dir_ / "r.sqlite").string();
+  for (const std::string since : {"yesterday", "2026-1", "23.11.2026", "2026-11-23 14:05"}) {
+    Output o = Results(db + " sessions --since '" + since + "'");
+    EXPECT_EQ(o.exit_code, 4) << since << ": " << o.out;
+    EXPECT_NE(o.out.find("'" + since + "' is not a UTC time"), std::string::npos) << o.out;
+  }
+  EXPECT_EQ(Results(db + " sessions --since 2026-11-23").exit_code, 0);
+  EXPECT_EQ(Results(db + " stats delta1 --since 2026-11-23T14:05:00Z").exit_code, 0);
+}
+
 TEST_F(ResultsProgram, BadDatabaseUrlsAreUsageErrors) {
   Output o = Results("--db 'postgresql://u:secret@localhost/x' sessions");
   EXPECT_EQ(o.exit_code, 4);

@@ -169,6 +169,18 @@ TEST(ConfigBounds, TotalFreeRunBeyondADayIsRefusedAtTheRunThatCrossesIt) {
               "runs[0..1] free-run 100000 s in total; a sequence free-runs at most 86400 s");
 }
 
+// free_run_s × sample_rate_hz beyond what a long long holds: the message quotes the product as the
+// double it is (it once cast it: undefined behaviour, "-9223372036854775808 samples").
+TEST(ConfigBounds, AnAstronomicalSampleCountIsQuotedAsItIs) {
+  std::string text = kSequenceHead + kRun;
+  text.replace(text.find("free_run_s = 10.0"), 17, "free_run_s = 1e300");
+  auto sequence = ParseSequenceConfig(text, kFile);
+  ASSERT_FALSE(sequence);
+  EXPECT_EQ(sequence.error().key, "defaults.free_run_s");
+  EXPECT_NE(sequence.error().message.find("gives 1e+302 samples"), std::string::npos)
+      << sequence.error().ToString();
+}
+
 TEST(ConfigBounds, OversizedTextIsRefused) {
   const std::string text = kLimits + "#" + std::string(kMaxConfigFileBytes, 'x') + "\n";
   auto limits = ParseLimitsConfig(text, kFile);

@@ -69,6 +69,27 @@ TEST(SimSpecBounds, TotalDurationBeyondADayIsRefused) {
       << spec.error().ToString();
 }
 
+// duration_s × sample_rate_hz beyond what a long long holds, and a total duration likewise: quoted
+// as the doubles they are (they were cast: undefined behaviour, "-9223372036854775808 samples").
+TEST(SimSpecBounds, AnAstronomicalSampleCountIsQuotedAsItIs) {
+  std::string text = kHead + kRun;
+  text.replace(text.find("duration_s = 10.0"), 17, "duration_s = 1e300");
+  auto spec = ParseSimSpec(text, kFile);
+  ASSERT_FALSE(spec);
+  EXPECT_NE(spec.error().message.find("gives 1e+300 samples"), std::string::npos)
+      << spec.error().ToString();
+}
+
+TEST(SimSpecBounds, AnAstronomicalTotalDurationIsQuotedAsItIs) {
+  std::string text = kHead + kRun;
+  text.replace(text.find("duration_s = 10.0"), 17, "duration_s = 1e300");
+  text.replace(text.find("sample_rate_hz = 1.0"), 20, "sample_rate_hz = 1e-299");
+  auto spec = ParseSimSpec(text, kFile);
+  ASSERT_FALSE(spec);
+  EXPECT_NE(spec.error().message.find("last 1e+300 s in total"), std::string::npos)
+      << spec.error().ToString();
+}
+
 TEST(SimSpecBounds, PathThatIsADirectorySaysSo) {
   const fs::path dir =
       fs::temp_directory_path() / ("hrgbench_sim_spec_dir_" + std::to_string(::getpid()));

@@ -60,6 +60,19 @@ class SessionErrorsTest : public ::testing::Test {
   TempDir dir_;
 };
 
+// A key twice in one object: the parser kept the last silently, so a session.json that says two
+// things was read as one (issue 25 row 14). Refused, naming the field and the repeat's line.
+TEST_F(SessionErrorsTest, ADuplicateKeyIsRefusedByFieldAndLine) {
+  ExpectError(ReadWith("\"version\": 1,", "\"version\": 1,\n  \"version\": 2,"), json_file(), 4,
+              "version", "duplicate key 'version'");
+  ExpectError(ReadWith("{\"serial\": \"SN-1\"}", "{\"serial\": \"SN-1\",\n \"serial\": \"SN-2\"}"),
+              json_file(), 5, "unit.serial", "duplicate key 'serial'");
+  // The same key in two objects is no repeat.
+  std::string text = kValidJson;
+  WriteText(json_file(), text);
+  EXPECT_TRUE(ReadSession(dir_.path())) << "two runs both have \"id\"";
+}
+
 TEST_F(SessionErrorsTest, TheValidSessionReads) {
   WriteText(json_file(), kValidJson);
   const auto session = ReadSession(dir_.path());
