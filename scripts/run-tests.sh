@@ -2,7 +2,9 @@
 # README command 2: install what is missing (Debian packages), build, run every test:
 #   1. every ctest test on the host (unit and loopback integration tests), then
 #   2. the tests that need a real Linux CAN stack, inside Debian's own kernel under QEMU
-#      (label "kernel"; this machine's kernel has no AF_CAN/vcan).
+#      (label "kernel"; this machine's kernel has no AF_CAN/vcan), then
+#   3. the readers of every input, built with AddressSanitizer and UndefinedBehaviorSanitizer
+#      (scripts/run-sanitized-tests.sh --fast, in build-sanitize/; once, whatever the repeat).
 # Nothing is skipped: the run is strict (HRGBENCH_STRICT=1), so a test whose tool is missing fails,
 # and a part that has no tests to run fails. It says what it runs and how many passed.
 #
@@ -50,14 +52,16 @@ fi
 for ((pass = 1; pass <= repeat; ++pass)); do
   [ "$repeat" -eq 1 ] || echo "run-tests: pass $pass of $repeat"
   status=0
-  echo "run-tests: part 1 of 2: $host_count host tests (unit, loopback integration)"
+  echo "run-tests: part 1 of 3: $host_count host tests (unit, loopback integration)"
   ctest --test-dir "$build" --output-on-failure -j "$(nproc)" --timeout 900 \
     "${host_selection[@]}" || status=$?
-  echo "run-tests: part 2 of 2: $kernel_count kernel tests (Debian's kernel under QEMU)"
+  echo "run-tests: part 2 of 3: $kernel_count kernel tests (Debian's kernel under QEMU)"
   ctest --test-dir "$build" --output-on-failure --timeout 900 "${kernel_selection[@]}" || status=$?
   if [ "$status" -ne 0 ]; then
     echo "run-tests: FAIL in pass $pass of $repeat" >&2
     exit "$status"
   fi
 done
-echo "run-tests: every test passed ($host_count host, $kernel_count kernel$([ "$repeat" -eq 1 ] || echo ", $repeat passes"))"
+echo "run-tests: part 3 of 3: the input readers, sanitized (AddressSanitizer, UndefinedBehaviorSanitizer)"
+bash "$root/scripts/run-sanitized-tests.sh" --fast
+echo "run-tests: every test passed ($host_count host, $kernel_count kernel$([ "$repeat" -eq 1 ] || echo ", $repeat passes"), the sanitized readers)"
