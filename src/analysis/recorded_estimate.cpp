@@ -36,4 +36,11 @@ RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
   return out;
 }
 
+RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const session::SessionRecord& record,
+                                         const estimator::FitQualityLimits& fit_quality) {
+  session::Session copy = recorded;
+  return EstimateRecordedSession(std::move(copy), record, fit_quality);
+}
+
 }  // namespace hrgbench::bench

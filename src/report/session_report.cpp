@@ -7,8 +7,8 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <utility>
 #include <sstream>
+#include <utility>
 
 #include "external_outputs.hpp"
 #include "hrgbench/analysis/estimate_method.hpp"
@@ -208,8 +208,7 @@ std::set<int> RunsWithFigures(const std::vector<int>& ids, const std::map<int, d
   return chosen;
 }
 
-void MarkRunsWithFigures(ReportInputs* in, const std::map<int, double>& residual,
-                         std::size_t max) {
+void MarkRunsWithFigures(ReportInputs* in, const std::map<int, double>& residual, std::size_t max) {
   std::vector<int> ids;
   for (const RunView& v : in->runs)
     if (v.status == bench::kRunComplete) ids.push_back(v.id);
@@ -379,9 +378,8 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
     if (in.summary && in.summary->IsUsable()) drawn = &*in.summary;
     std::map<int, double> residual;
     if (in.summary)
-      for (std::size_t r = 0; r < in.summary->run_nuisance.size() &&
-                              r < in.summary->residual_rms_per_run.size();
-           ++r)
+      for (std::size_t r = 0;
+           r < in.summary->run_nuisance.size() && r < in.summary->residual_rms_per_run.size(); ++r)
         residual[in.summary->run_nuisance[r].run_id] = in.summary->residual_rms_per_run[r];
     MarkRunsWithFigures(&in, residual, options.max_runs_with_figures);
     // The estimate took the samples: each run is read again to be drawn, one at a time.

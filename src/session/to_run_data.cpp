@@ -41,9 +41,7 @@ std::vector<estimator::RunData> Convert(SessionRef& session) {
 
 }  // namespace
 
-std::vector<estimator::RunData> ToRunData(const Session& session) {
-  return Convert(session);
-}
+std::vector<estimator::RunData> ToRunData(const Session& session) { return Convert(session); }
 
 std::vector<estimator::RunData> ToRunData(Session&& session) {
   std::vector<estimator::RunData> out = Convert(session);

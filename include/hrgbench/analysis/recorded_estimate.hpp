@@ -33,5 +33,9 @@ struct RecordedEstimate {
 RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
                                          const session::SessionRecord& record,
                                          const estimator::FitQualityLimits& fit_quality);
+// The same on a copy of the samples, for a caller that keeps them (tests): twice the memory.
+RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const session::SessionRecord& record,
+                                         const estimator::FitQualityLimits& fit_quality);
 
 }  // namespace hrgbench::bench

@@ -19,7 +19,9 @@
 // ## The HTML contract (the browser test, branch `browser`, relies on it; keep it exactly)
 //  - Every chart is a `<canvas data-figure="NAME">` inside a `<figure>` with a `<figcaption>`.
 //    Names: `channels-run-N`, `motion-run-N`, `residuals-run-N`, `orbit-run-N`, `forms-run-N`
-//    (N = the run id), `anisotropy`, `std-vs-bound`.
+//    (N = the run id; for every run when there are at most max_runs_with_figures, else for that
+//    many, and the page has a run list `<section id="run-list">` with one row per run),
+//    `anisotropy`, `std-vs-bound`.
 //  - When every chart has been drawn the page sets
 //    `document.documentElement.dataset.reportReady = "true"`.
 //  - Every number shown in a table is an element with `data-source="<JSON pointer into

@@ -1,16 +1,16 @@
-// The estimate's memory per sample of the session (docs/estimator/methods.md "Memory"): hrg-estimate
-// on two hrg-sim sessions of runs of the same length (10 000 samples each), 6 runs and 60 runs;
-// the difference of the two processes' peak RSS (the kernel's ru_maxrss of each child, a size, not
-// a time) divided by the 540 000 samples the second has more is what one more sample of the
-// session costs. main before this bound: 113 bytes per sample (the reader's copy, the runs' copy
-// and every run's residuals, 40 + 40 + 32); now the runs' t_s and y once, 40, plus the runs'
+// The estimate's memory per sample of the session (docs/estimator/methods.md "Memory"):
+// hrg-estimate on two hrg-sim sessions of runs of the same length (10 000 samples each), 6 runs and
+// 60 runs; the difference of the two processes' peak RSS (the kernel's ru_maxrss of each child, a
+// size, not a time) divided by the 540 000 samples the second has more is what one more sample of
+// the session costs. main before this bound: 113 bytes per sample (the reader's copy, the runs'
+// copy and every run's residuals, 40 + 40 + 32); now the runs' t_s and y once, 40, plus the runs'
 // small per-run state.
 //
 // Provenance: bench_configs/sim-ratetable.toml's station (1 kHz, σ = 1e-4, seed 12345, all four ξ),
 // its runs cycled over Ω = ±0.1, ±0.3, ±1 rad/s and θ = kπ/12, 10 s each.
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -50,8 +50,8 @@ std::string Spec(int runs) {
   spec.precision(17);
   spec << head;
   for (int k = 0; k < runs; ++k)
-    spec << "[[runs]]\nomega_rad_s = " << omegas[k % 6] << "\nb = 0.1\ntheta_rad = "
-         << std::numbers::pi * (k % 12) / 12 << "\n\n";
+    spec << "[[runs]]\nomega_rad_s = " << omegas[k % 6]
+         << "\nb = 0.1\ntheta_rad = " << std::numbers::pi * (k % 12) / 12 << "\n\n";
   return spec.str();
 }
 
