@@ -387,8 +387,12 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
       RunView& v = in.runs[r];
       if (!v.loaded) return;
       std::string why;
-      if (LoadRunSamples(session_dir, *record, min_samples, &v, &why))
+      if (LoadRunSamples(session_dir, *record, min_samples, &v, &why)) {
         parts[r] = FinishRun(&v, drawn, in, options.max_points_per_series);
+      } else {  // changed since it was estimated: said in its section, not drawn
+        v.loaded = false;
+        v.not_loaded_reason = why;
+      }
     });
   }
   result.estimate_s = Since(start);
