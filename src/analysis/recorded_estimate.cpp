@@ -9,15 +9,16 @@
 
 namespace hrgbench::bench {
 
-RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
                                          const session::SessionRecord& record,
                                          const estimator::FitQualityLimits& fit_quality) {
   RecordedEstimate out;
   MethodRequest request;
   request.fit_quality = fit_quality;  // the estimator warns as the verdict judges
   auto noise_shape = RecordedNoiseShape(record.electronics, recorded.sample_rate_hz);
+  out.warnings = recorded.warnings;
   // The runs as every fit of a record takes them (recorded_runs.hpp).
-  const PreparedRuns prepared = PrepareRecordedRuns(recorded, record.electronics);
+  const PreparedRuns prepared = PrepareRecordedRuns(std::move(recorded), record.electronics);
   if (noise_shape) {
     request.noise_shape = std::move(*noise_shape);
     out.method = RunMethod(prepared.runs, request);
@@ -26,7 +27,6 @@ RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
     out.method.summary.termination = estimator::Termination::kInvalidInput;
     out.method.summary.message = noise_shape.error();
   }
-  out.warnings = recorded.warnings;
   out.warnings.insert(out.warnings.end(), out.method.selection_warnings.begin(),
                       out.method.selection_warnings.end());
   out.report = EstimateReportJson("ml", out.method.summary, out.warnings, record);
@@ -34,6 +34,13 @@ RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
   // What the report needs to draw this fit without re-running it (estimate_report_json.hpp).
   out.report[session::keys::kFittedRuns] = FittedRunsJson(out.method.summary);
   return out;
+}
+
+RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
+                                         const session::SessionRecord& record,
+                                         const estimator::FitQualityLimits& fit_quality) {
+  session::Session copy = recorded;
+  return EstimateRecordedSession(std::move(copy), record, fit_quality);
 }
 
 }  // namespace hrgbench::bench

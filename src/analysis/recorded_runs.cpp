@@ -39,8 +39,12 @@ std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
     const auto needed = static_cast<std::size_t>(estimator::kMlMinimumSamples);
     if (size < needed + count) count = size > needed ? size - needed : 0;
     if (count > 0) {
+      // In place (a copy of the kept columns would be a second copy of the run): the columns move
+      // down, then the storage shrinks (conservativeResize keeping the leading columns).
       const auto kept = static_cast<Eigen::Index>(size - count);
-      run.y = run.y.rightCols(kept).eval();
+      const auto first_kept = static_cast<Eigen::Index>(count);
+      for (Eigen::Index k = 0; k < kept; ++k) run.y.col(k) = run.y.col(k + first_kept);
+      run.y.conservativeResize(Eigen::NoChange, kept);
       run.t_s.erase(run.t_s.begin(), run.t_s.begin() + static_cast<std::ptrdiff_t>(count));
     }
     skip.samples = count;
@@ -50,12 +54,14 @@ std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
   return skipped;
 }
 
-PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
-                                 const session::ElectronicsRecord& electronics) {
+namespace {
+
+PreparedRuns Prepare(const session::Session& recorded, std::vector<estimator::RunData> runs,
+                     const session::ElectronicsRecord& electronics) {
   PreparedRuns out;
   out.output_filter = RecordedOutputFilter(electronics);
   out.iq_convention = recorded.iq_convention;
-  out.runs = session::ToRunData(recorded);
+  out.runs = std::move(runs);
   out.notes = recorded.notes;
   out.settle_s = ReleaseSettlingS(out.output_filter);
   out.skipped = SkipReleaseSettling(out.settle_s, &out.runs);
@@ -71,6 +77,19 @@ PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
     out.notes.emplace_back(line);
   }
   return out;
+}
+
+}  // namespace
+
+PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
+                                 const session::ElectronicsRecord& electronics) {
+  return Prepare(recorded, session::ToRunData(recorded), electronics);
+}
+
+PreparedRuns PrepareRecordedRuns(session::Session&& recorded,
+                                 const session::ElectronicsRecord& electronics) {
+  std::vector<estimator::RunData> runs = session::ToRunData(std::move(recorded));
+  return Prepare(recorded, std::move(runs), electronics);
 }
 
 namespace {

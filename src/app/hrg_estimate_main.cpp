@@ -45,6 +45,7 @@ int Run(const Arguments& args) {
 
   session::ReadOptions read_options;
   read_options.min_samples_per_run = bench::MinimumSamples(request.method);
+  read_options.extra_columns = false;  // the estimate reads t_s and y only
   auto session = session::ReadSession(args.dir, read_options);
   if (!session) {
     // The message alone on stderr, unadorned, so scripts can match it (it names the file).
@@ -60,7 +61,9 @@ int Run(const Arguments& args) {
     return kExitBadInput;
   }
   // In the model's I/Q convention, less the output filter's settling after release.
-  const bench::PreparedRuns prepared = bench::PrepareRecordedRuns(*session, record->electronics);
+  // The samples move into the runs: one copy of the session's samples, not two.
+  const bench::PreparedRuns prepared =
+      bench::PrepareRecordedRuns(std::move(*session), record->electronics);
   const std::vector<estimator::RunData>& runs = prepared.runs;
   if (runs.empty()) {
     std::cerr << args.dir << ": no complete run to estimate from\n";

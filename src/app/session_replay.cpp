@@ -278,7 +278,8 @@ void CompareEstimate(
       for (int c = 0; c < 4; ++c) samples.y(c, static_cast<Eigen::Index>(k)) = rebuilt[k].y[c];
     }
   }
-  const bench::RecordedEstimate estimate = bench::EstimateRecordedSession(*recorded, record, fit);
+  const bench::RecordedEstimate estimate =
+      bench::EstimateRecordedSession(std::move(*recorded), record, fit);
   replay.estimate_compared = true;
   replay.estimate_difference = FirstJsonDifference(record.outcome->estimate_json, estimate.report);
   replay.estimate_identical = replay.estimate_difference.empty();

@@ -571,9 +571,13 @@ struct CleanedFit {
   FitState state;
   bool samples_removed = false;  // `cleaned` holds the runs in use (else the caller's runs)
   std::vector<RunData> cleaned;
-  std::vector<std::size_t> removed;         // per run: samples removed as outliers
-  std::vector<double> largest_removed;      // per run: the largest in robust sigma (NaN: none)
-  std::vector<Eigen::Matrix4Xd> residuals;  // of the latest fit, one matrix per run
+  std::vector<std::size_t> removed;     // per run: samples removed as outliers
+  std::vector<double> largest_removed;  // per run: the largest in robust sigma (NaN: none)
+  // The latest fit's residual statistics, one per run. The residuals themselves are not kept: a
+  // run's residual matrix (32 bytes per sample) lives only while that run is examined, so the fit
+  // holds the data plus one run's residuals per thread, not a second copy of the session's size
+  // (docs/estimator/methods.md "Memory").
+  std::vector<ResidualStatistics> residual_stats;
   bool residuals_current = false;
 
   const std::vector<RunData>& Used(const std::vector<RunData>& runs) const {
@@ -581,17 +585,56 @@ struct CleanedFit {
   }
 };
 
-// The latest fit's residuals, one matrix per run, computed in parallel (the outlier check and the
-// diagnostics share them); and the fit's cost at its final point when no linearisation evaluated
-// it (FitState::ne_one_step_behind).
-void ComputeResiduals(const std::vector<RunData>& runs_now, const MlOptions& options,
-                      const internal::NuisanceModel& model, CleanedFit* fit) {
+// Run r's samples whose worst channel's residual `e` is beyond outlier_threshold_sigma robust
+// sigma (ascending); none in noise-free data, and none where removing them would thin the run below
+// what the fit needs. Updates `largest_removed` with the worst found.
+std::vector<Eigen::Index> RunOutliers(const RunData& run, const Eigen::Matrix4Xd& e,
+                                      const MlOptions& options, double noise_sigma,
+                                      double* largest_removed) {
+  std::vector<Eigen::Index> out;
+  // Noise-free data (a simulation) have rounding for residuals: nothing there is an outlier.
+  const double signal_rms =
+      std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
+  if (!(noise_sigma > 1e-10 * signal_rms)) return out;
+  const double robust = RobustSigma(e);
+  const double limit = options.outlier_threshold_sigma * robust;
+  for (Eigen::Index k = 0; k < e.cols(); ++k) {
+    const double worst = e.col(k).cwiseAbs().maxCoeff();
+    if (worst > limit) {
+      out.push_back(k);
+      const double in_sigma = worst / robust;
+      if (!(in_sigma <= *largest_removed)) *largest_removed = in_sigma;
+    }
+  }
+  // Never thin a run below what the fit needs.
+  if (run.size() - static_cast<Eigen::Index>(out.size()) <
+      std::max<Eigen::Index>(kMlMinimumSamples, run.size() / 2))
+    out.clear();
+  return out;
+}
+
+// One pass over the latest fit's residuals, run by run in parallel, each run's residuals made and
+// dropped in turn: every run's statistics for the diagnostics (AnalyseResiduals), its outliers
+// when `outliers` is given, and the fit's cost at its final point when no linearisation evaluated
+// it (FitState::ne_one_step_behind). The same arithmetic as on kept residuals, so the same bits.
+void ExamineResiduals(const std::vector<RunData>& runs_now, const MlOptions& options,
+                      const internal::NuisanceModel& model, const WhitenessNull& whiteness_null,
+                      const std::vector<double>& noise_sigma,
+                      std::vector<std::vector<Eigen::Index>>* outliers, CleanedFit* fit) {
   FitState& state = fit->state;
   const internal::OutputErrorProblem problem(runs_now, state.indices, options.num_threads,
                                              options.min_samples_for_threads, model);
-  fit->residuals.assign(runs_now.size(), Eigen::Matrix4Xd());
+  fit->residual_stats.assign(runs_now.size(), ResidualStatistics());
+  std::vector<double> run_cost(runs_now.size(), 0.0);
+  if (outliers != nullptr) outliers->assign(runs_now.size(), {});
   internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
-    problem.RunResiduals(r, state.p, state.nuisance[r], &fit->residuals[r]);
+    Eigen::Matrix4Xd e;
+    problem.RunResiduals(r, state.p, state.nuisance[r], &e);
+    run_cost[r] = e.squaredNorm();
+    fit->residual_stats[r] = AnalyseResiduals(e, whiteness_null);
+    if (outliers != nullptr)
+      (*outliers)[r] =
+          RunOutliers(runs_now[r], e, options, noise_sigma[r], &fit->largest_removed[r]);
   });
   fit->residuals_current = true;
   if (state.ne_one_step_behind) {
@@ -599,7 +642,7 @@ void ComputeResiduals(const std::vector<RunData>& runs_now, const MlOptions& opt
     internal::NormalEquations& ne = state.ne;
     ne.cost = 0.0;
     for (std::size_t r = 0; r < runs_now.size(); ++r) {
-      ne.cost_per_run[r] = fit->residuals[r].squaredNorm();
+      ne.cost_per_run[r] = run_cost[r];
       ne.cost += ne.cost_per_run[r];
       if (model.OmegaFree(r)) {
         const double offset = state.nuisance[r][model.OmegaIndex()];
@@ -610,45 +653,13 @@ void ComputeResiduals(const std::vector<RunData>& runs_now, const MlOptions& opt
   }
 }
 
-// Per run, the samples whose worst channel's residual is beyond outlier_threshold_sigma robust
-// sigma (ascending); none in noise-free data, and none where removing them would thin the run
-// below what the fit needs. Updates `largest_removed` with the worst found.
-std::vector<std::vector<Eigen::Index>> FindOutliers(const std::vector<RunData>& in_use,
-                                                    const MlOptions& options,
-                                                    const std::vector<double>& noise_sigma,
-                                                    CleanedFit* fit) {
-  std::vector<std::vector<Eigen::Index>> out(in_use.size());
-  internal::ParallelFor(in_use.size(), fit->state.threads, [&](std::size_t r) {
-    const RunData& run = in_use[r];
-    // Noise-free data (a simulation) have rounding for residuals: nothing there is an outlier.
-    const double signal_rms =
-        std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
-    if (!(noise_sigma[r] > 1e-10 * signal_rms)) return;
-    const Eigen::Matrix4Xd& e = fit->residuals[r];
-    const double robust = RobustSigma(e);
-    const double limit = options.outlier_threshold_sigma * robust;
-    for (Eigen::Index k = 0; k < e.cols(); ++k) {
-      const double worst = e.col(k).cwiseAbs().maxCoeff();
-      if (worst > limit) {
-        out[r].push_back(k);
-        const double in_sigma = worst / robust;
-        if (!(in_sigma <= fit->largest_removed[r])) fit->largest_removed[r] = in_sigma;
-      }
-    }
-    // Never thin a run below what the fit needs.
-    if (run.size() - static_cast<Eigen::Index>(out[r].size()) <
-        std::max<Eigen::Index>(kMlMinimumSamples, run.size() / 2))
-      out[r].clear();
-  });
-  return out;
-}
-
 // Steps 1–3 of the header, then outliers removed and the fit repeated from where it ended, until
 // none is found or max_outlier_passes. False (`s` says why) when no estimate could be made.
 // `noise_sigma`: a run's entry becomes NaN when its samples change.
 bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& options,
-                        const internal::NuisanceModel& model, std::vector<double>* noise_sigma,
-                        FreeSet* free, CleanedFit* fit, EstimateSummary* s) {
+                        const internal::NuisanceModel& model, const WhitenessNull& whiteness_null,
+                        std::vector<double>* noise_sigma, FreeSet* free, CleanedFit* fit,
+                        EstimateSummary* s) {
   fit->removed.assign(runs.size(), 0);
   fit->largest_removed.assign(runs.size(), kNaN);
   FitState& state = fit->state;
@@ -666,16 +677,19 @@ bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& optio
       return false;
     *free = free_pass;
     if (pass >= options.max_outlier_passes || !(options.outlier_threshold_sigma > 0.0)) break;
-    ComputeResiduals(in_use, options, model, fit);
-    const std::vector<std::vector<Eigen::Index>> out =
-        FindOutliers(in_use, options, *noise_sigma, fit);
+    std::vector<std::vector<Eigen::Index>> out;
+    ExamineResiduals(in_use, options, model, whiteness_null, *noise_sigma, &out, fit);
     bool any = false;
     for (const auto& o : out) any = any || !o.empty();
     if (!any) break;
     std::vector<RunData> next;
     for (std::size_t r = 0; r < in_use.size(); ++r) {
       if (out[r].empty()) {
-        next.push_back(in_use[r]);
+        // A run already copied by an earlier pass moves on; the caller's runs are copied once.
+        if (fit->samples_removed)
+          next.push_back(std::move(fit->cleaned[r]));
+        else
+          next.push_back(in_use[r]);
         continue;
       }
       fit->removed[r] += out[r].size();
@@ -983,9 +997,11 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
 
   // Fit; remove outliers; fit again from there.
   CleanedFit fit;
-  if (!FitWithoutOutliers(runs, options, model, &noise_sigma, &free, &fit, &s)) return s;
+  if (!FitWithoutOutliers(runs, options, model, whiteness_null, &noise_sigma, &free, &fit, &s))
+    return s;
   const std::vector<RunData>& used = fit.Used(runs);
-  if (!fit.residuals_current) ComputeResiduals(used, options, model, &fit);
+  if (!fit.residuals_current)
+    ExamineResiduals(used, options, model, whiteness_null, noise_sigma, nullptr, &fit);
   const FitState& state = fit.state;
   const FullParameters& p = state.p;
   const internal::NormalEquations& ne = state.ne;
@@ -1020,13 +1036,11 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   bool coloured = false;
   info.have_inverse =
       info.have_information && internal::InvertScaledSpd(info.h_reduced, &info.h_reduced_inverse);
-  std::vector<ResidualStatistics> run_stats(used.size());
+  const std::vector<ResidualStatistics>& run_stats = fit.residual_stats;
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
-    run_stats[r] = AnalyseResiduals(fit.residuals[r], whiteness_null);
     if (!std::isfinite(noise_sigma[r]))
       noise_sigma[r] = DifferenceNoiseSigma(used[r].y, difference_noise);
   });
-  fit.residuals.clear();
   for (std::size_t r = 0; r < used.size(); ++r) {
     const RunEvidence evidence{&run_stats[r], noise_sigma[r], fit.removed[r],
                                fit.largest_removed[r]};

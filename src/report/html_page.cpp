@@ -417,6 +417,7 @@ std::string Page::Render(const std::string& chart_js) {
   Engineering();
   Verdict();
   UnitHistory();
+  RunList();
   for (const RunView& run : in_.runs) Run(run);
   out_ += "<script type=\"application/json\" id=\"report-data\">" +
           ScriptSafeJson(data_.dump(-1, ' ', false, json::error_handler_t::replace)) +

@@ -108,6 +108,8 @@ class Page {
   void UnitHistory();
   void Figure(const std::string& name, int width, int height);
   void Run(const RunView& run);
+  // When not every run has figures: one row per run (figures drawn or not) above the sections.
+  void RunList();
   std::string Number(const char* attribute, const std::string& pointer, double value,
                      const std::string& text) const {
     if (!std::isfinite(value)) return kNone;

@@ -88,11 +88,45 @@ void Page::Run(const RunView& run) {
         src(keys::kOutliersRemoved, fit.outliers_removed) + "</td><td>" +
         src(keys::kOmegaOffsetInStd, fit.omega_offset_in_std) + "</td></tr></table>\n";
   }
-  if (run.loaded) {
+  if (run.loaded && run.figures) {
     for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
       Figure(std::string(kind) + "-run-" + id, 960, 300);
+  } else if (run.loaded) {
+    out_ +=
+        "<p class=\"na\">Figures not drawn: the page draws the figures of a bounded number of runs "
+        "(the first, the last and those with the largest residual RMS; see the run list).</p>\n";
   }
   out_ += "</section>\n";
+}
+
+void Page::RunList() {
+  std::size_t without = 0;
+  for (const RunView& run : in_.runs) without += run.loaded && !run.figures ? 1 : 0;
+  if (without == 0) return;
+  const session::EstimateRecord* estimate =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
+  out_ += "<section id=\"run-list\"><h2>Runs</h2>\n<p>" + std::to_string(in_.runs.size()) +
+          " runs; figures are drawn for " + std::to_string(in_.runs.size() - without) +
+          " of them (the first, the last and the largest residual RMS), so that the page's size "
+          "does not grow with the number of runs beyond a few kB per run.</p>\n"
+          "<table class=\"runs\"><tr><th>run</th><th>Ω [rad/s]</th><th>status</th><th>samples "
+          "loaded</th><th>residual RMS</th><th>figures</th></tr>\n";
+  for (const RunView& run : in_.runs) {
+    const std::string id = std::to_string(run.id);
+    const session::RunRecord& recorded = record_.runs.at(run.index);
+    std::string rms = kNone;
+    for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k)
+      if (estimate->fit_runs[k].run == run.id)
+        rms = Src(EstimatePointer(keys::kFit, keys::kRuns, k, keys::kResidualRms),
+                  estimate->fit_runs[k].residual_rms);
+    out_ += "<tr><td><a href=\"#run-" + id + "\">" + id + "</a></td><td>" +
+            Src(RunPointer(run.index, keys::kOmegaRadS), recorded.omega_rad_s) + "</td><td>" +
+            TextOrMissing(recorded.status) + "</td><td>" +
+            (run.loaded ? Der("/derived/runs/" + id + "/samples_loaded") : std::string(kNone)) +
+            "</td><td>" + rms + "</td><td>" + (run.figures && run.loaded ? "yes" : "no") +
+            "</td></tr>\n";
+  }
+  out_ += "</table></section>\n";
 }
 
 }  // namespace hrgbench::report::internal

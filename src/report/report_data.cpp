@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <future>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -16,7 +15,6 @@
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page_pointer.hpp"
-#include "parallel_runs.hpp"
 
 namespace hrgbench::report::internal {
 namespace {
@@ -381,7 +379,7 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
   design.phase_degree = s.diagnostics.phase_degree;
   for (const RunView& run : inputs.runs) {
     if (!run.loaded) continue;
-    const std::size_t n = run.data.t_s.size();
+    const std::size_t n = run.samples;  // the samples themselves are gone by now
     const auto nuisance =
         std::find_if(s.run_nuisance.begin(), s.run_nuisance.end(),
                      [&](const estimator::RunNuisanceEstimate& e) { return e.run_id == run.id; });
@@ -393,7 +391,7 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
     plan.b = o.b;
     plan.theta_rad = o.theta_rad;
     plan.phi_rad = o.phi_rad;
-    const double span = run.data.t_s.back() - run.data.t_s.front();
+    const double span = run.last_t_s - run.first_t_s;
     plan.sample_rate_hz = static_cast<double>(n - 1) / span;
     plan.duration_s = static_cast<double>(n) / plan.sample_rate_hz;
     design.runs.push_back(plan);
@@ -530,33 +528,31 @@ double NumberAt(const json& doc, const std::string& pointer) {
   return v != nullptr && v->is_number() ? v->get<double>() : kNaN;
 }
 
-json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_series) {
+RunPart BuildRunPart(const RunView& run, const session::SessionRecord& record,
+                     const estimator::Xi& xi, std::size_t max_points_per_series) {
+  RunPart part;
+  if (!run.loaded) return part;
+  part.quality = CaptureQuality(run, record);
+  if (run.figures) RunFigures(run, xi, max_points_per_series, &part.figures);
+  return part;
+}
+
+json BuildReportData(const ReportInputs& inputs, std::vector<RunPart> run_parts) {
   json data{{"figures", json::array()}, {"derived", json::object()}};
   json& figures = data["figures"];
   json& derived = data["derived"];
   derived["estimate"] = inputs.estimate_json;
   derived["anisotropy"] = Anisotropy(inputs, &figures);
   derived["truth_deviation"] = TruthDeviation(inputs);
-  // The bound (a pass over the design) beside the runs' figures (a pass over each run).
   json crlb_figures = json::array();
-  auto crlb = std::async(std::launch::async, [&] { return CramerRao(inputs, &crlb_figures); });
-  const estimator::Xi xi = inputs.summary ? inputs.summary->xi : estimator::Xi::Zero();
-  std::vector<json> run_figures(inputs.runs.size(), json::array());
-  std::vector<json> quality(inputs.runs.size());
-  ParallelRuns(inputs.runs.size(), [&](std::size_t r) {
-    const RunView& run = inputs.runs[r];
-    if (!run.loaded) return;
-    quality[r] = CaptureQuality(run, inputs.record);
-    RunFigures(run, xi, max_points_per_series, &run_figures[r]);
-  });
-  derived["crlb"] = crlb.get();
+  derived["crlb"] = CramerRao(inputs, &crlb_figures);
   for (json& f : crlb_figures) figures.push_back(std::move(f));
   derived["unit_history"] = UnitHistoryJson(inputs.unit_history);
   derived["runs"] = json::object();
-  for (std::size_t r = 0; r < inputs.runs.size(); ++r) {
+  for (std::size_t r = 0; r < inputs.runs.size() && r < run_parts.size(); ++r) {
     if (!inputs.runs[r].loaded) continue;
-    derived["runs"][std::to_string(inputs.runs[r].id)] = std::move(quality[r]);
-    for (json& f : run_figures[r]) figures.push_back(std::move(f));
+    derived["runs"][std::to_string(inputs.runs[r].id)] = std::move(run_parts[r].quality);
+    for (json& f : run_parts[r].figures) figures.push_back(std::move(f));
   }
   return data;
 }

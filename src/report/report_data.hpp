@@ -10,16 +10,33 @@
 //             message}, anisotropy {...}, runs {"<id>": {...capture quality...}},
 //             unit_history {store, unavailable, count, sessions [...]} (null without a store)}
 //
-// Long runs are decimated min/max per bucket (decimate.hpp), values rounded to 6 digits.
+// Long runs are decimated min/max per bucket (decimate.hpp), values rounded to 6 digits; only the
+// runs whose RunView::figures is set have figures (ReportOptions::max_runs_with_figures).
+//
+// The runs' parts are made one run at a time (BuildRunPart), while that run's samples are in
+// memory, and the samples are dropped before the next run is read: the page's data block, not the
+// session's samples, is what the report keeps.
 
 #include <cstddef>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "report_inputs.hpp"
 
 namespace hrgbench::report::internal {
 
-nlohmann::json BuildReportData(const ReportInputs& inputs, std::size_t max_points_per_series);
+// One run's part of the data block: derived.runs["<id>"] (capture quality) and, when run.figures,
+// its five figures. Needs run.data (and run.fitted_* to draw the model).
+struct RunPart {
+  nlohmann::json quality;
+  nlohmann::json figures = nlohmann::json::array();
+};
+RunPart BuildRunPart(const RunView& run, const session::SessionRecord& record,
+                     const estimator::Xi& xi, std::size_t max_points_per_series);
+
+// The whole block from the inputs and each loaded run's part (`run_parts` parallel to
+// inputs.runs; a run not loaded has an empty part).
+nlohmann::json BuildReportData(const ReportInputs& inputs, std::vector<RunPart> run_parts);
 
 // A number at a JSON pointer of `doc`, NaN when absent, null or not a number.
 double NumberAt(const nlohmann::json& doc, const std::string& pointer);

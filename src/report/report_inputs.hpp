@@ -21,10 +21,15 @@ namespace hrgbench::report::internal {
 // One entry of session.json "runs", and what became of it.
 struct RunView {
   int id = 0;
-  std::size_t index = 0;          // position in session.json "runs" (for JSON pointers)
-  std::string status;             // runs[].status as recorded
-  std::string file;               // runs[].file
-  bool loaded = false;            // its samples are in `data`
+  std::size_t index = 0;    // position in session.json "runs" (for JSON pointers)
+  std::string status;       // runs[].status as recorded
+  std::string file;         // runs[].file
+  bool loaded = false;      // its samples could be read (they are in `data` only while its
+                            // part of the page is made: session_report.cpp)
+  std::size_t samples = 0;  // samples read (when loaded), and their first and last t_s
+  double first_t_s = 0.0, last_t_s = 0.0;
+  // Its five figures are drawn (ReportOptions::max_runs_with_figures chooses which runs).
+  bool figures = true;
   std::string not_loaded_reason;  // why not (status, missing file, empty, unreadable)
   estimator::RunData data;        // id, Ω, t_s, y (when loaded)
   // The fitted model at data.t_s (empty when the estimate has no entry for this run).

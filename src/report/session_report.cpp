@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "external_outputs.hpp"
 #include "hrgbench/analysis/estimate_method.hpp"
@@ -137,24 +139,90 @@ std::optional<estimator::EstimateSummary> RecordedSummary(const session::Session
   return s;
 }
 
-// x̂ once per run, ŷ = (I + C(ξ̂))·x̂ from it (what FittedOutput computes, in one pass).
-void DrawFits(ReportInputs* in, const estimator::EstimateSummary& summary) {
-  const Eigen::Matrix4d distortion =
-      Eigen::Matrix4d::Identity() + estimator::DistortionMatrix(summary.xi);
-  internal::ParallelRuns(in->runs.size(), [&](std::size_t r) {
-    RunView& v = in->runs[r];
-    if (!v.loaded) return;
-    v.fitted_x = estimator::FittedState(summary, v.data);
-    v.fitted_y = v.fitted_x * distortion.transpose();
+// Reads run `v`'s samples (t_s and y; the extra columns are not drawn) in the model's I/Q
+// convention, as the bench fits (recorded_runs.hpp). False, and `why` set, when it cannot be read.
+bool LoadRunSamples(const fs::path& session_dir, const session::SessionRecord& record,
+                    std::size_t min_samples, RunView* v, std::string* why) {
+  auto samples = session::ReadRunCsv(session_dir / v->file, min_samples, false);
+  if (!samples) {
+    std::error_code ec;
+    const bool exists = fs::exists(session_dir / v->file, ec);
+    *why = (exists ? "cannot be read: " : "its file is missing: ") + samples.error().ToString();
+    return false;
+  }
+  v->loaded = true;
+  v->samples = samples->t_s.size();
+  v->first_t_s = samples->t_s.empty() ? 0.0 : samples->t_s.front();
+  v->last_t_s = samples->t_s.empty() ? 0.0 : samples->t_s.back();
+  v->data.t_s = std::move(samples->t_s);
+  v->data.y = std::move(samples->y);
+  estimator::ToModelConvention(record.iq_convention, v->data.y);
+  return true;
+}
+
+// Run `v`'s part of the page while its samples are in memory: x̂ once, ŷ = (I + C(ξ̂))·x̂ from it
+// (what FittedOutput computes, in one pass) when `drawn` is given, the capture quality and the
+// figures; then the samples and the fitted model are dropped, so the report holds one run's
+// samples per thread, never the session's.
+internal::RunPart FinishRun(RunView* v, const estimator::EstimateSummary* drawn,
+                            const ReportInputs& in, std::size_t max_points) {
+  if (drawn != nullptr) {
+    const Eigen::Matrix4d distortion =
+        Eigen::Matrix4d::Identity() + estimator::DistortionMatrix(drawn->xi);
+    v->fitted_x = estimator::FittedState(*drawn, v->data);
+    v->fitted_y = v->fitted_x * distortion.transpose();
+  }
+  const estimator::Xi xi = in.summary ? in.summary->xi : estimator::Xi::Zero();
+  internal::RunPart part = internal::BuildRunPart(*v, in.record, xi, max_points);
+  v->data.t_s = std::vector<double>();
+  v->data.y.resize(4, 0);
+  v->fitted_x.resize(0, 4);
+  v->fitted_y.resize(0, 4);
+  return part;
+}
+
+// The runs drawn with figures: every run when there are at most `max`; else the first, the last
+// and the worst by residual RMS (the recorded fit's, or the re-run's) up to `max`, evenly spaced
+// ones where residuals are not known. `ids`: the complete runs, in record order.
+std::set<int> RunsWithFigures(const std::vector<int>& ids, const std::map<int, double>& residual,
+                              std::size_t max) {
+  std::set<int> chosen;
+  if (ids.size() <= max) return {ids.begin(), ids.end()};
+  if (max == 0) return chosen;
+  chosen.insert(ids.front());
+  if (max >= 2) chosen.insert(ids.back());
+  std::vector<std::pair<double, int>> ranked;
+  for (const int id : ids)
+    if (const auto it = residual.find(id); it != residual.end() && std::isfinite(it->second))
+      ranked.emplace_back(it->second, id);
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
   });
+  for (const auto& [rms, id] : ranked) {
+    if (chosen.size() >= max) break;
+    chosen.insert(id);
+  }
+  for (std::size_t k = 0; chosen.size() < max && k < max; ++k)
+    chosen.insert(ids[k * (ids.size() - 1) / (max - 1)]);
+  for (std::size_t k = 0; chosen.size() < max && k < ids.size(); ++k) chosen.insert(ids[k]);
+  return chosen;
+}
+
+void MarkRunsWithFigures(ReportInputs* in, const std::map<int, double>& residual, std::size_t max) {
+  std::vector<int> ids;
+  for (const RunView& v : in->runs)
+    if (v.status == bench::kRunComplete) ids.push_back(v.id);
+  const std::set<int> chosen = RunsWithFigures(ids, residual, max);
+  for (RunView& v : in->runs) v.figures = chosen.contains(v.id);
 }
 
 // Re-runs the estimate as the bench's EstimateAndClose does, and checks it against the record.
 void Estimate(ReportInputs* in, const session::SessionRecord& record, std::set<std::string>* seen,
               const std::vector<std::string>& reader_warnings) {
+  // The samples move into the fit (never a second copy); each run is read again to be drawn.
   std::vector<estimator::RunData> runs;
-  for (const RunView& v : in->runs)
-    if (v.loaded) runs.push_back(v.data);
+  for (RunView& v : in->runs)
+    if (v.loaded) runs.push_back(std::move(v.data));
   if (runs.empty()) {
     AddWarning(&in->warnings, seen, "no run could be loaded: nothing estimated or drawn");
     return;
@@ -183,7 +251,6 @@ void Estimate(ReportInputs* in, const session::SessionRecord& record, std::set<s
                "the report's estimate is not usable (" + estimated.summary.message +
                    "): no fitted model drawn");
   } else {
-    DrawFits(in, estimated.summary);
     // The model drawn is the re-run's: say so if it is not the one recorded.
     for (int p = 0; p < 10; ++p) {
       const bool is_delta = p < 6;
@@ -234,6 +301,11 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
     reader_warnings.push_back(w);
   }
   const std::size_t min_samples = bench::MinimumSamples(bench::Method::kMl);
+  // The recorded fit is drawn as recorded; the estimator runs only when asked or when the record
+  // keeps no fitted runs (it was recorded before they were kept, or has no estimate of record).
+  const session::EstimateRecord* of_record =
+      record->outcome && record->outcome->estimate ? &*record->outcome->estimate : nullptr;
+  const bool rerun = options.refit || of_record == nullptr || !of_record->fitted_runs_recorded;
   for (std::size_t i = 0; i < record->runs.size(); ++i) {
     const session::RunRecord& entry = record->runs[i];
     RunView v;
@@ -241,34 +313,44 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
     v.index = i;
     v.status = entry.status;
     v.file = entry.file;
-    if (entry.status != bench::kRunComplete) {
-      v.not_loaded_reason = "status '" + entry.status + "'";
-    } else {
-      auto samples = session::ReadRunCsv(session_dir / entry.file, min_samples);
-      if (!samples) {
-        std::error_code ec;
-        const bool exists = fs::exists(session_dir / entry.file, ec);
-        v.not_loaded_reason =
-            (exists ? "cannot be read: " : "its file is missing: ") + samples.error().ToString();
-        const std::string w = "run " + std::to_string(entry.id) +
-                              ": not estimated and not drawn, " + v.not_loaded_reason;
-        AddWarning(&in.warnings, &seen, w);
-        reader_warnings.push_back(w);
-      } else {
-        v.loaded = true;
-        v.data.id = entry.id;
-        v.data.omega_rad_s = entry.omega_rad_s;
-        // The standard error of Ω when the bench measured it (NaN: not measured, or a run ended
-        // by a recorder error).
-        v.data.omega_std_rad_s =
-            entry.end ? entry.end->values.omega_std_error_rad_s : session::kNotRecorded;
-        v.data.t_s = std::move(samples->t_s);
-        v.data.y = std::move(samples->y);
-        // Drawn and fitted in the model's I/Q convention, as the bench fits (recorded_runs.hpp).
-        estimator::ToModelConvention(record->iq_convention, v.data.y);
-      }
-    }
+    v.data.id = entry.id;
+    v.data.omega_rad_s = entry.omega_rad_s;
+    // The standard error of Ω when the bench measured it (NaN: not measured, or a run ended by a
+    // recorder error).
+    v.data.omega_std_rad_s =
+        entry.end ? entry.end->values.omega_std_error_rad_s : session::kNotRecorded;
+    if (entry.status != bench::kRunComplete) v.not_loaded_reason = "status '" + entry.status + "'";
     in.runs.push_back(std::move(v));
+  }
+  const estimator::EstimateSummary* drawn = nullptr;
+  if (!rerun) {
+    in.estimate_json = record->outcome->estimate_json;
+    in.summary = RecordedSummary(*record);
+    if (in.summary && in.summary->IsUsable()) drawn = &*in.summary;
+    std::map<int, double> residual;
+    for (const session::FitRunRecord& fit : of_record->fit_runs)
+      residual[fit.run] = fit.residual_rms;
+    MarkRunsWithFigures(&in, residual, options.max_runs_with_figures);
+  }
+  // Every complete run read, one run per thread at a time; drawn at once when the recorded fit is
+  // drawn, kept for the estimate otherwise.
+  std::vector<internal::RunPart> parts(in.runs.size());
+  std::vector<std::string> read_errors(in.runs.size());
+  internal::ParallelRuns(in.runs.size(), [&](std::size_t r) {
+    RunView& v = in.runs[r];
+    if (v.status != bench::kRunComplete) return;
+    if (!LoadRunSamples(session_dir, *record, min_samples, &v, &read_errors[r])) return;
+    if (!rerun) parts[r] = FinishRun(&v, drawn, in, options.max_points_per_series);
+  });
+  for (std::size_t r = 0; r < in.runs.size(); ++r) {
+    RunView& v = in.runs[r];
+    const std::string& why = read_errors[r];
+    if (why.empty()) continue;
+    v.not_loaded_reason = why;
+    const std::string w =
+        "run " + std::to_string(v.id) + ": not estimated and not drawn, " + v.not_loaded_reason;
+    AddWarning(&in.warnings, &seen, w);
+    reader_warnings.push_back(w);
   }
   if (!record->outcome)
     AddWarning(&in.warnings, &seen,
@@ -281,16 +363,8 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   result.read_s = Since(start);
 
   start = std::chrono::steady_clock::now();
-  // The recorded fit is drawn as recorded; the estimator runs only when asked or when the record
-  // keeps no fitted runs (it was recorded before they were kept, or has no estimate of record).
-  const session::EstimateRecord* of_record =
-      record->outcome && record->outcome->estimate ? &*record->outcome->estimate : nullptr;
-  if (!options.refit && of_record != nullptr && of_record->fitted_runs_recorded) {
-    in.estimate_json = record->outcome->estimate_json;
-    in.summary = RecordedSummary(*record);
-    if (in.summary && in.summary->IsUsable())
-      DrawFits(&in, *in.summary);
-    else
+  if (!rerun) {
+    if (drawn == nullptr)
       AddWarning(&in.warnings, &seen,
                  "the estimate of record is not usable: no fitted model drawn (hrg-report --refit "
                  "re-runs it)");
@@ -301,11 +375,30 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
                  "report re-runs the estimate to draw the fitted model");
     Estimate(&in, *record, &seen, reader_warnings);
     result.estimate_rerun = true;
+    if (in.summary && in.summary->IsUsable()) drawn = &*in.summary;
+    std::map<int, double> residual;
+    if (in.summary)
+      for (std::size_t r = 0;
+           r < in.summary->run_nuisance.size() && r < in.summary->residual_rms_per_run.size(); ++r)
+        residual[in.summary->run_nuisance[r].run_id] = in.summary->residual_rms_per_run[r];
+    MarkRunsWithFigures(&in, residual, options.max_runs_with_figures);
+    // The estimate took the samples: each run is read again to be drawn, one at a time.
+    internal::ParallelRuns(in.runs.size(), [&](std::size_t r) {
+      RunView& v = in.runs[r];
+      if (!v.loaded) return;
+      std::string why;
+      if (LoadRunSamples(session_dir, *record, min_samples, &v, &why)) {
+        parts[r] = FinishRun(&v, drawn, in, options.max_points_per_series);
+      } else {  // changed since it was estimated: said in its section, not drawn
+        v.loaded = false;
+        v.not_loaded_reason = why;
+      }
+    });
   }
   result.estimate_s = Since(start);
 
   start = std::chrono::steady_clock::now();
-  const json data = internal::BuildReportData(in, options.max_points_per_series);
+  const json data = internal::BuildReportData(in, std::move(parts));
   const fs::path html =
       options.output.empty() ? session_dir / "report" / "report.html" : options.output;
   const fs::path out_dir = html.parent_path().empty() ? fs::path(".") : html.parent_path();

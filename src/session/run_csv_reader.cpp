@@ -50,7 +50,8 @@ std::size_t CountFields(std::string_view line) {
 }
 
 std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const fs::path& file,
-                                                    std::size_t min_samples) {
+                                                    std::size_t min_samples,
+                                                    bool keep_extra_columns) {
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   if (text.empty()) return Fail(file, 1, "", "empty file: no header line");
 
@@ -121,11 +122,19 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
   samples.t_s.resize(storage);
   samples.y.resize(4, static_cast<Eigen::Index>(storage));
   std::vector<double*> extra_data;
+  // Not kept: each extra value is still parsed and checked, then written to one scratch slot (the
+  // estimate needs t_s and y only, and the extra columns would be 8 bytes per sample each).
+  double scratch = 0.0;
   for (const std::string_view name : extra_names) {
+    if (!keep_extra_columns) {
+      extra_data.push_back(&scratch);
+      continue;
+    }
     auto& column = samples.extra_columns[std::string(name)];
     column.resize(storage);
     extra_data.push_back(column.data());
   }
+  const std::size_t extra_step = keep_extra_columns ? 1 : 0;
   double* const t = samples.t_s.data();
   double* const y = samples.y.data();
 
@@ -180,7 +189,7 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
       } else if (code < kExtraBase) {
         y[4 * k + static_cast<std::size_t>(code - 1)] = value;
       } else {
-        extra_data[static_cast<std::size_t>(code - kExtraBase)][k] = value;
+        extra_data[static_cast<std::size_t>(code - kExtraBase)][k * extra_step] = value;
       }
       p = stop + 1;  // past the comma (or the line end, reset below)
     }
@@ -203,10 +212,11 @@ std::expected<RunSamples, SessionError> ParseRunCsv(std::string_view text, const
 }  // namespace
 
 std::expected<RunSamples, SessionError> ReadRunCsv(const fs::path& path,
-                                                   std::size_t min_samples_per_run) {
+                                                   std::size_t min_samples_per_run,
+                                                   bool keep_extra_columns) {
   auto text = internal::ReadWholeFile(path, kMaxRunCsvBytes);
   if (!text) return std::unexpected(text.error());
-  return ParseRunCsv(*text, path, min_samples_per_run);
+  return ParseRunCsv(*text, path, min_samples_per_run, keep_extra_columns);
 }
 
 }  // namespace hrgbench::session

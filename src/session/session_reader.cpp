@@ -352,7 +352,8 @@ std::expected<Session, SessionError> ReadSession(const fs::path& dir, const Read
     for (const RunEntry& entry : session->runs) {
       if (entry.status != "complete") continue;  // warned by ReadSessionJson
       if (!options.load_samples) continue;
-      auto samples = ReadRunCsv(dir / entry.file, options.min_samples_per_run);
+      auto samples =
+          ReadRunCsv(dir / entry.file, options.min_samples_per_run, options.extra_columns);
       if (!samples) return std::unexpected(samples.error());
       session->loaded_run_ids.push_back(entry.id);
       session->loaded_samples.push_back(std::move(*samples));

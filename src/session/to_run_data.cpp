@@ -1,10 +1,17 @@
 #include <map>
+#include <type_traits>
+#include <utility>
 
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::session {
 
-std::vector<estimator::RunData> ToRunData(const Session& session) {
+namespace {
+
+// A non-const `session` has its samples taken out, each run's as it is converted (so at no time
+// do two copies of a run exist); a const one is copied.
+template <typename SessionRef>
+std::vector<estimator::RunData> Convert(SessionRef& session) {
   std::map<int, const RunEntry*> entry_of_id;
   for (const RunEntry& run : session.runs) entry_of_id[run.id] = &run;
   std::vector<estimator::RunData> out;
@@ -17,11 +24,29 @@ std::vector<estimator::RunData> ToRunData(const Session& session) {
       run.omega_rad_s = entry->second->omega_rad_s;
       run.omega_std_rad_s = entry->second->omega_std_rad_s;
     }
-    run.t_s = session.loaded_samples[i].t_s;
-    run.y = session.loaded_samples[i].y;
+    auto& samples = session.loaded_samples[i];
+    if constexpr (std::is_const_v<SessionRef>) {
+      run.t_s = samples.t_s;
+      run.y = samples.y;
+    } else {
+      run.t_s = std::move(samples.t_s);
+      run.y = std::move(samples.y);
+      samples = RunSamples();  // its extra columns too
+    }
     estimator::ToModelConvention(session.iq_convention, run.y);
     out.push_back(std::move(run));
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<estimator::RunData> ToRunData(const Session& session) { return Convert(session); }
+
+std::vector<estimator::RunData> ToRunData(Session&& session) {
+  std::vector<estimator::RunData> out = Convert(session);
+  session.loaded_samples.clear();
+  session.loaded_run_ids.clear();
   return out;
 }
 

@@ -25,9 +25,15 @@ struct RecordedEstimate {
   nlohmann::json report;  // EstimateReportJson("ml", ...): session.json outcome.estimate
 };
 
-// `recorded` must have its complete runs loaded (session::ReadSession with load_samples);
+// `recorded` must have its complete runs loaded (session::ReadSession with load_samples; its
+// extra columns are not needed: ReadOptions::extra_columns = false); its samples are taken out
+// (they are moved into the fit, never copied: docs/estimator/methods.md "Memory");
 // `record` is the same session.json typed (session::ReadSessionRecord(recorded.document, file)):
 // the electronics' declaration, the runs' plans and f0, the simulator's truth.
+RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
+                                         const session::SessionRecord& record,
+                                         const estimator::FitQualityLimits& fit_quality);
+// The same on a copy of the samples, for a caller that keeps them (tests): twice the memory.
 RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
                                          const session::SessionRecord& record,
                                          const estimator::FitQualityLimits& fit_quality);

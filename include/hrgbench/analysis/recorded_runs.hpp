@@ -48,13 +48,18 @@ struct PreparedRuns {
   nlohmann::json Json() const;
 };
 
-// Skips the samples of `runs` with t_s < settle_s (never below estimator::kMlMinimumSamples left).
+// Skips the samples of `runs` with t_s < settle_s (never below estimator::kMlMinimumSamples left),
+// in place.
 std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
                                              std::vector<estimator::RunData>* runs);
 
 // The loaded runs of `recorded` prepared as above, with the output filter its record declares
 // (`electronics`: the same session.json as typed by session::ReadSessionRecord).
 PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
+                                 const session::ElectronicsRecord& electronics);
+// The same, taking the samples out of `recorded` (its loaded_samples are left empty; every other
+// field stays): the runs exist once, not twice (docs/estimator/methods.md "Memory").
+PreparedRuns PrepareRecordedRuns(session::Session&& recorded,
                                  const session::ElectronicsRecord& electronics);
 
 // The declared I/Q convention against the data. Conjugated channels fit the model perfectly

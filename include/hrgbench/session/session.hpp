@@ -122,6 +122,10 @@ struct ReadOptions {
   std::size_t min_samples_per_run = 2;
   // Load the CSV data (false: session.json only).
   bool load_samples = true;
+  // Keep the run CSVs' extra columns (RunSamples::extra_columns). false: only t_s and y1..y4 are
+  // kept (what the estimate needs; each extra column is 8 bytes per sample), the extra values
+  // still checked as the format requires.
+  bool extra_columns = true;
 };
 
 // Reads `dir`/session.json, validates every key this reader uses, then (options.load_samples) the
@@ -135,15 +139,21 @@ std::expected<Session, SessionError> ReadSession(const std::filesystem::path& di
 
 // Reads one run CSV (format above), the whole file at once with std::from_chars: 14-20 ms for
 // 100 000 lines of six columns (9 MB) on the development machine. Fewer than `min_samples_per_run`
-// samples is an error (line 0, field "t_s"). Never throws (except std::bad_alloc).
+// samples is an error (line 0, field "t_s"). `keep_extra_columns` as ReadOptions::extra_columns.
+// Memory: the file's text (≈ 85 bytes per sample of hrg-sim's runs) while it is parsed, then
+// 40 bytes per sample (t_s, y) plus 8 per extra column kept. Never throws (except std::bad_alloc).
 std::expected<RunSamples, SessionError> ReadRunCsv(const std::filesystem::path& path,
-                                                   std::size_t min_samples_per_run = 2);
+                                                   std::size_t min_samples_per_run = 2,
+                                                   bool keep_extra_columns = true);
 
 // The loaded runs as the estimator sees them (id, Ω from session.json, t_s, y), in load order.
 // Ω is looked up by id in `runs`; a loaded id missing there (only possible in a hand-built Session)
 // gets Ω = 0. y is in the model's I/Q convention: a session recorded in "plus-sine" has each
 // channel conjugated (y2, y4 negated; estimator::ToModelConvention), as the reader's note says.
 std::vector<estimator::RunData> ToRunData(const Session& session);
+// The same, moving the samples out of `session` (its loaded_samples are left empty): no second
+// copy of the session's samples, which is what an estimate of a long session cannot afford.
+std::vector<estimator::RunData> ToRunData(Session&& session);
 
 // Writes one run CSV atomically: header "t_s,y1,y2,y3,y4" followed by the extra columns in name
 // order, values in shortest round-trip form (see above). Creates the parent directories. Refuses

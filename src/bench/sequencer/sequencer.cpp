@@ -158,6 +158,7 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   SessionOutcome outcome;
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
+  read.extra_columns = false;  // the estimate reads t_s and y only
   auto recorded = session::ReadSession(lane.dir, read);
   // The same document typed by the record's one reader (no second read of the file).
   std::expected<session::SessionRecord, session::SessionError> record =
@@ -173,7 +174,7 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
       outcome.reason = "no complete run to estimate from";
     } else {
       RecordedEstimate recorded_estimate =
-          EstimateRecordedSession(*recorded, *record, ctx.configs->limits.fit);
+          EstimateRecordedSession(std::move(*recorded), *record, ctx.configs->limits.fit);
       MethodResult& estimated = recorded_estimate.method;
       std::vector<std::string> warnings = std::move(recorded_estimate.warnings);
       result.estimate_json = std::move(recorded_estimate.report);
