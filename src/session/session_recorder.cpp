@@ -6,6 +6,8 @@
 #include <system_error>
 
 #include "append_file.hpp"
+#include "hrgbench/session/kill_point.hpp"
+#include "hrgbench/session/session.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
 
@@ -72,6 +74,15 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   for (const fs::path& d : {dir, dir / "runs", dir / "can"}) {
     if (auto made = internal::MakeDirectoryDurably(d); !made) return std::unexpected(made.error());
   }
+  session::KillPoint("record.dirs");
+  // Before session.json: a folder with a session.json always has what resume needs beside it.
+  for (const auto& [relative, contents] : header.files_first) {
+    const fs::path file = dir / relative;
+    if (auto made = session::CreateDirectoriesDurably(file.parent_path()); !made)
+      return std::unexpected(internal::FromSessionError(made.error()));
+    if (auto written = session::WriteFileAtomic(file, contents); !written)
+      return std::unexpected(internal::FromSessionError(written.error()));
+  }
 
   auto impl = std::make_unique<Impl>();
   impl->dir = dir;
@@ -121,7 +132,9 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   auto log = CandumpLogWriter::Open(dir / "can" / "session.log", log_options);
   if (!log) return std::unexpected(log.error());
   impl->can_log = std::move(*log);
+  session::KillPoint("record.can_log");
   if (auto written = impl->WriteJson(); !written) return std::unexpected(written.error());
+  session::KillPoint("record.json");
   return SessionRecorder(std::move(impl));
 }
 
@@ -177,6 +190,7 @@ std::expected<void, RecordError> SessionRecorder::BeginRun(int run_id, const Run
     m.failed_runs.emplace_back(run_id, written.error().ToString());
     return written;
   }
+  session::KillPoint("run.begin");
   return {};
 }
 
@@ -227,6 +241,7 @@ std::expected<void, RecordError> SessionRecorder::EndRun(const RunEnd& end) {
   if (std::isfinite(end.omega_rad_s)) entry.omega_rad_s = end.omega_rad_s;
   m.RunObject(i)["end"] = internal::ToJson(end, samples);
   if (auto written = m.WriteJson(); !written) return written;
+  session::KillPoint("run.end");
   return log_synced;
 }
 
