@@ -699,8 +699,9 @@ TEST(BenchProgram, FixtureKilledAtAnyWritePointResumes) {
     const nlohmann::json record = ReadJson(fixture / "fixture.json");
     for (const auto& unit : record.at("units")) {
       EXPECT_TRUE(unit.at("outcome").is_object()) << unit.dump();
-      const nlohmann::json session =
-          ReadJson(fixture / unit.at("folder").get<std::string>() / "session.json");
+      const fs::path unit_record = fixture / unit.at("folder").get<std::string>() / "session.json";
+      ASSERT_TRUE(fs::exists(unit_record)) << unit_record << "\n" << resumed.out;
+      const nlohmann::json session = ReadJson(unit_record);
       EXPECT_EQ(session.at("state"), "closed") << unit.at("folder");
       for (const auto& r : session.at("runs")) EXPECT_EQ(r.at("status"), "complete") << r.dump();
       EXPECT_TRUE(fs::exists(fixture / unit.at("folder").get<std::string>() / "report" /
