@@ -2,6 +2,9 @@
 
 #include "hrgbench/session/session_recorder.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <system_error>
 
@@ -31,6 +34,24 @@ std::expected<void, RecordError> SessionRecorder::Impl::WriteJson() {
   auto written = session::WriteSessionJson(dir, session);
   if (!written) return std::unexpected(internal::FromSessionError(written.error()));
   return {};
+}
+
+namespace {
+// Several rewrites of session.json (each a temporary beside the old one) fit in it.
+constexpr off_t kReserveBytes = 512 * 1024;
+}  // namespace
+
+void SessionRecorder::Impl::Reserve() const {
+  const fs::path file = dir / ".reserve";
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return;
+  // fallocate reserves real blocks (a sparse file would reserve nothing); ignored where refused.
+  (void)::posix_fallocate(fd, 0, kReserveBytes);
+  ::close(fd);
+}
+
+bool SessionRecorder::Impl::ReleaseReserve() const {
+  return ::unlink((dir / ".reserve").c_str()) == 0;
 }
 
 RecordError SessionRecorder::Impl::WrongState(std::string message) const {
@@ -135,6 +156,7 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   session::KillPoint("record.can_log");
   if (auto written = impl->WriteJson(); !written) return std::unexpected(written.error());
   session::KillPoint("record.json");
+  impl->Reserve();
   return SessionRecorder(std::move(impl));
 }
 
@@ -288,7 +310,12 @@ std::expected<void, RecordError> SessionRecorder::Close(const SessionOutcome& ou
   doc["state"] = "closed";
   doc["ended"] = internal::TimeStampNow();
   doc["outcome"] = internal::ToJson(outcome);
-  keep(m.WriteJson());
+  auto written = m.WriteJson();
+  // A full disk: the reserve makes room for the record to say why the session ended.
+  if (!written && written.error().kind == RecordErrorKind::kIo && m.ReleaseReserve())
+    written = m.WriteJson();
+  keep(std::move(written));
+  m.ReleaseReserve();  // a closed record needs none
   return first_error;
 }
 

@@ -813,6 +813,38 @@ TEST(BenchProgram, AKilledReportLeavesNoChildAndTheNextReportRemovesItsTemporary
   fs::remove_all(work);
 }
 
+// Row 6 of issue 25: a disk that fills mid-session. The session runs on a tmpfs just larger than the
+// recorder's reserve (mounted in a user namespace: no root; skipped where the kernel refuses one);
+// the disk fills while it records, and the reserve given back lets session.json say why it ended
+// instead of staying "running".
+TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
+  if (std::system("unshare -rm true > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no user namespaces here (unshare -rm)";
+  const fs::path work = FreshDir("disk-full");
+  const fs::path mount = work / "mnt";
+  fs::create_directories(mount);
+  const std::string run = kBench + " run --station " +
+                          StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
+                          ShortSequence(work).string() + " --serial SN-DF -o " +
+                          (mount / "s").string();
+  // 512 KiB of reserve and 48 KiB for the record: the runs and the CAN log do not fit.
+  const std::string script = "mount -t tmpfs -o size=560k none " + mount.string() + " && " +
+                             kNoPdf + " " + run + " > " + (work / "run.log").string() +
+                             " 2>&1; cp -a " + (mount / "s").string() + " " +
+                             (work / "s").string();
+  const std::string command = "unshare -rm sh -c '" + script + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0) << ReadText(work / "run.log");
+  const nlohmann::json record = ReadJson(work / "s" / "session.json");
+  ASSERT_FALSE(record.is_discarded()) << ReadText(work / "run.log");
+  EXPECT_EQ(record.at("state"), "closed") << ReadText(work / "run.log");
+  ASSERT_TRUE(record.contains("outcome")) << record.dump(1);
+  EXPECT_EQ(record.at("outcome").at("kind"), "ERROR");
+  EXPECT_NE(record.at("outcome").at("reason").get<std::string>().find("No space left"),
+            std::string::npos)
+      << record.at("outcome").dump(1);
+  fs::remove_all(work);
+}
+
 // A folder that holds no record is refused with the reason and what to do.
 TEST(BenchProgram, ResumeOfAFolderWithoutARecordSaysNothingRan) {
   const fs::path work = FreshDir("no-record");
