@@ -23,8 +23,7 @@ std::expected<std::filesystem::path, std::string> NewSessionFolder(
 
 std::optional<std::string> NotStartedProblem(const std::filesystem::path& dir) {
   std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    return dir.string() + ": no such session folder";
+  if (!std::filesystem::is_directory(dir, ec)) return dir.string() + ": no such session folder";
   if (std::filesystem::exists(dir / "session.json", ec) ||
       std::filesystem::exists(dir / "fixture.json", ec))
     return std::nullopt;

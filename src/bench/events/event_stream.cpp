@@ -79,8 +79,7 @@ std::expected<int, std::string> OpenTarget(const std::string& target) {
     if (S_ISFIFO(st.st_mode)) {
       const int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
       if (fd < 0 && errno == ENXIO)
-        return std::unexpected(where +
-                               "a FIFO with no reader: start the reader first (e.g. `cat " +
+        return std::unexpected(where + "a FIFO with no reader: start the reader first (e.g. `cat " +
                                target + "`), then the session");
       if (fd < 0) return std::unexpected(where + "cannot open: " + std::strerror(errno));
       // The writer thread waits for a slow reader (the queue counts what it cannot hold).

@@ -317,10 +317,10 @@ std::optional<std::string> HardwareProblem(const BenchHardware& hw,
 
 // What unit i's session.json starts with, and the config copies written before it.
 std::expected<SessionHeader, std::string> UnitHeader(const BenchConfigs& configs,
-                                                    const BenchHardware& hw,
-                                                    const std::vector<UnitSession>& units,
-                                                    std::size_t i, const RunnerOptions& options,
-                                                    const std::string& realtime_status) {
+                                                     const BenchHardware& hw,
+                                                     const std::vector<UnitSession>& units,
+                                                     std::size_t i, const RunnerOptions& options,
+                                                     const std::string& realtime_status) {
   SessionHeader header;
   header.unit_serial = units[i].serial;
   header.station_name = configs.station.name;

@@ -6,10 +6,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <algorithm>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -608,8 +608,8 @@ constexpr int kKilled = 128 + SIGKILL;
 std::map<std::string, std::string> FinishedRuns(const fs::path& dir) {
   std::map<std::string, std::string> runs;
   std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator();
-       ++it) {
+  for (auto it = fs::recursive_directory_iterator(dir, ec);
+       it != fs::recursive_directory_iterator(); ++it) {
     const std::string name = it->path().filename().string();
     if (name.size() > 4 && name.rfind("run-", 0) == 0 && name.ends_with(".csv"))
       runs[fs::relative(it->path(), dir).string()] = ReadText(it->path());
@@ -704,8 +704,8 @@ TEST(BenchProgram, FixtureKilledAtAnyWritePointResumes) {
       const nlohmann::json session = ReadJson(unit_record);
       EXPECT_EQ(session.at("state"), "closed") << unit.at("folder");
       for (const auto& r : session.at("runs")) EXPECT_EQ(r.at("status"), "complete") << r.dump();
-      EXPECT_TRUE(fs::exists(fixture / unit.at("folder").get<std::string>() / "report" /
-                             "report.html"))
+      EXPECT_TRUE(
+          fs::exists(fixture / unit.at("folder").get<std::string>() / "report" / "report.html"))
           << unit.at("folder");
     }
     const std::map<std::string, std::string> after = FinishedRuns(fixture);
@@ -775,8 +775,9 @@ TEST(BenchProgram, AKilledReportLeavesNoChildAndTheNextReportRemovesItsTemporary
                           << ".tmp && mv " << (work / "child.pid").string() << ".tmp "
                           << (work / "child.pid").string() << "\nexec sleep 300\n";
   fs::permissions(chromium, fs::perms::owner_all);
-  const std::string run = "run --station " + StationWithoutStore(work, "station-sim.toml").string() +
-                          " --sequence " + ShortSequence(work).string() + " --serial SN-RK -o ";
+  const std::string run = "run --station " +
+                          StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
+                          ShortSequence(work).string() + " --serial SN-RK -o ";
   ::setenv("TMPDIR", tmp.c_str(), 1);
   ::setenv("HRGBENCH_CHROMIUM", chromium.c_str(), 1);
   std::vector<std::string> args;
@@ -807,16 +808,17 @@ TEST(BenchProgram, AKilledReportLeavesNoChildAndTheNextReportRemovesItsTemporary
     return n;
   };
   EXPECT_GE(stale(), 1);  // the killed report's Chromium profile
-  const Output next = RunBenchWith("TMPDIR=" + tmp.string() + " " + kNoPdf, run + (work / "s2").string());
+  const Output next =
+      RunBenchWith("TMPDIR=" + tmp.string() + " " + kNoPdf, run + (work / "s2").string());
   EXPECT_LE(next.exit_code, 2) << next.out;
   EXPECT_EQ(stale(), 0) << "the next report left the killed one's temporary folders";
   fs::remove_all(work);
 }
 
-// Row 6 of issue 25: a disk that fills mid-session. The session runs on a tmpfs just larger than the
-// recorder's reserve (mounted in a user namespace: no root; skipped where the kernel refuses one);
-// the disk fills while it records, and the reserve given back lets session.json say why it ended
-// instead of staying "running".
+// Row 6 of issue 25: a disk that fills mid-session. The session runs on a tmpfs just larger than
+// the recorder's reserve (mounted in a user namespace: no root; skipped where the kernel refuses
+// one); the disk fills while it records, and the reserve given back lets session.json say why it
+// ended instead of staying "running".
 TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   if (std::system("unshare -rm true > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "no user namespaces here (unshare -rm)";
@@ -830,8 +832,7 @@ TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   // 512 KiB of reserve and 48 KiB for the record: the runs and the CAN log do not fit.
   const std::string script = "mount -t tmpfs -o size=560k none " + mount.string() + " && " +
                              kNoPdf + " " + run + " > " + (work / "run.log").string() +
-                             " 2>&1; cp -a " + (mount / "s").string() + " " +
-                             (work / "s").string();
+                             " 2>&1; cp -a " + (mount / "s").string() + " " + (work / "s").string();
   const std::string command = "unshare -rm sh -c '" + script + "'";
   ASSERT_EQ(std::system(command.c_str()), 0) << ReadText(work / "run.log");
   const nlohmann::json record = ReadJson(work / "s" / "session.json");
