@@ -9,6 +9,7 @@
 
 #include "app/serial_check.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
+#include "hrgbench/session/kill_point.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
@@ -161,21 +162,36 @@ std::expected<void, std::string> WriteFixtureRecord(
     units.push_back(std::move(entry));
   }
   doc["units"] = std::move(units);
-  const std::filesystem::path temporary = dir / (std::string(kFixtureFile) + ".tmp");
-  {
-    std::ofstream out(temporary, std::ios::trunc);
-    out << doc.dump(1) << '\n';
-    out.flush();
-    if (!out) return std::unexpected(temporary.string() + ": cannot write");
-  }
-  std::filesystem::rename(temporary, dir / kFixtureFile, ec);
-  if (ec) return std::unexpected(FixtureFileName(dir) + ": cannot replace: " + ec.message());
+  if (!record.config_sha256.is_null()) doc["config_sha256"] = record.config_sha256;
+  // Durably (temporary, fsync, rename, fsync of the folder): a kill or power cut leaves the old
+  // record or the new one, never a torn one.
+  if (auto written = session::WriteFileAtomic(dir / kFixtureFile, doc.dump(1) + "\n"); !written)
+    return std::unexpected(written.error().ToString());
+  session::KillPoint("fixture.record");
   return {};
 }
 
 bool IsFixtureFolder(const std::filesystem::path& dir) {
   std::error_code ec;
   return std::filesystem::is_regular_file(dir / kFixtureFile, ec);
+}
+
+std::expected<bench::BenchConfigs, std::string> FixtureConfigs(const std::filesystem::path& dir,
+                                                               const FixtureRecord& record) {
+  if (record.config_sha256.is_object())
+    return bench::LoadSavedConfigs(dir, record.config_sha256, FixtureFileName(dir));
+  std::string tried;
+  for (const FixtureUnit& unit : record.units) {
+    auto configs = bench::LoadSavedConfigs(dir / unit.folder);
+    if (configs) return configs;
+    tried += "\n  " + configs.error();
+  }
+  return std::unexpected(FixtureFileName(dir) +
+                         ": no config copies beside it (a record from before they were kept "
+                         "there) and none in a unit's folder:" +
+                         tried +
+                         "\nThe fixture was stopped before any unit's record was written, so "
+                         "nothing was run: remove the folder and start the fixture again");
 }
 
 std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesystem::path& dir) {
@@ -189,6 +205,11 @@ std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesyste
   auto station = StringField(doc, "station", file + ": ");
   if (!station) return std::unexpected(station.error());
   record.station = *station;
+  if (doc.contains("config_sha256")) {
+    if (!doc.at("config_sha256").is_object())
+      return std::unexpected(file + ": config_sha256: not an object");
+    record.config_sha256 = doc.at("config_sha256");
+  }
   if (!doc.contains("units") || !doc.at("units").is_array() || doc.at("units").empty() ||
       doc.at("units").size() > bench::kMaxFixturePositions)
     return std::unexpected(file + ": units: expected 1 to " +

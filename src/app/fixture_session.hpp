@@ -2,8 +2,10 @@
 // A fixture session: several units on one table, sequenced together (bench::RunSessions), each
 // with its own session folder under the fixture's, and a record that ties them together:
 //
+//   <dir>/config/*.toml           the configs, copied before fixture.json is written
 //   <dir>/fixture.json            {"format": "hrgbench-fixture", "version": 1, "station",
-//                                  "software", "started", "units": [{"position", "serial",
+//                                  "software", "started", "config_sha256": {"station",
+//                                  "sequence", "limits"}, "units": [{"position", "serial",
 //                                  "folder", "can_interface", "inverted", "outcome": null until the
 //                                  unit's session closes, then {"kind", "exit_code", "reason"}}]}
 //   <dir>/<position>-<serial>/    each unit's session, in the one-unit format; its session.json
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/config/station_config.hpp"
 
 namespace hrgbench::app {
@@ -41,6 +44,9 @@ struct FixtureUnit {
 struct FixtureRecord {
   std::string station;
   std::vector<FixtureUnit> units;  // the fitted positions, in the station's order
+  // SHA-256 of the config copies in <dir>/config/ ({"station", "sequence", "limits"}), which are
+  // written before fixture.json; null in a record from before they were.
+  nlohmann::json config_sha256;
 };
 
 // Maps the operator's serials onto the station's fitted positions: either one serial per fitted
@@ -60,6 +66,12 @@ std::expected<void, std::string> WriteFixtureRecord(
     const std::vector<bench::SessionResult>& results, const std::string& software_version);
 
 bool IsFixtureFolder(const std::filesystem::path& dir);
+
+// The configs a fixture ran with, for its resume: <dir>/config/ checked against fixture.json's
+// config_sha256; for a record from before those were written, the first unit folder that holds
+// its copies. The error says why none can be used and what to do.
+std::expected<bench::BenchConfigs, std::string> FixtureConfigs(const std::filesystem::path& dir,
+                                                               const FixtureRecord& record);
 // Reads <dir>/fixture.json; errors name the file and the field.
 std::expected<FixtureRecord, std::string> ReadFixtureRecord(const std::filesystem::path& dir);
 

@@ -47,7 +47,9 @@
 #include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/report/session_report.hpp"
 #include "hrgbench/session/exit_codes.hpp"
+#include "hrgbench/session/kill_point.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace {
 
@@ -155,6 +157,7 @@ class ProgressPrinter {
 std::string WriteReport(const bench::SessionResult& result, const std::string& results_url) {
   std::error_code ec;
   if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
+  session::KillPoint("report");
   try {
     report::ReportOptions options;
     options.unit_history = app::ReadUnitHistory(results_url, result.dir);
@@ -268,6 +271,23 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
 }
 
+// What a kill during the report or the upload left undone for a session that closed with a
+// verdict: the report when it is missing, the upload when it is not marked. The record is final:
+// it is never re-opened or re-judged (the upload adds only its "results" mark). The report's
+// path, or empty when there is none.
+std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::SessionResult& result,
+                               const std::string& results_url) {
+  std::error_code ec;
+  std::string report_path = (dir / "report" / "report.html").string();
+  if (!std::filesystem::exists(report_path, ec)) report_path = WriteReport(result, results_url);
+  const auto recorded = session::ReadSessionRecord(dir);
+  const bool marked = recorded && recorded->results.is_object() &&
+                      recorded->results.value("uploaded", false) &&
+                      recorded->results.value("url", std::string()) == results_url;
+  if (!marked) app::UploadClosedSession(results_url, dir);
+  return report_path;
+}
+
 // Every unit on the table in one session (a station with several fitted positions): the units'
 // folders under `dir`, fixture.json beside them. `resume`: continues the units that did not close
 // with a verdict; the others keep theirs.
@@ -303,6 +323,13 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     driven_index.push_back(i);
   }
   if (!resume) {
+    // Everything resume needs before fixture.json, the record that makes the folder a fixture's:
+    // a kill at any point leaves a folder that is either resumable or plainly not started.
+    if (auto saved = bench::SaveConfigs(configs, dir); !saved) {
+      spdlog::error("{}", saved.error());
+      return kExitBadInput;
+    }
+    session::KillPoint("fixture.config");
     if (auto written = app::WriteFixtureRecord(dir, record, {}, HRGBENCH_SOFTWARE_VERSION);
         !written) {
       spdlog::error("{}", written.error());
@@ -338,6 +365,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
       results[i].outcome = kept[i]->pass ? bench::OutcomeKind::kPass : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
       results[i].reason = bench::KeptReason(kept[i]->reason);
+      reports[i] = FinishClosedFolder(results[i].dir, results[i], configs.station.results_url);
     }
   }
   if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);
@@ -516,6 +544,11 @@ int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, b
     std::cerr << record.error() << '\n';
     return kExitBadInput;
   }
+  record->config_sha256 = {
+      {"station", configs.station.sha256_hex},
+      {"sequence", configs.sequence.sha256_hex},
+      {"limits", configs.limits.sha256_hex.empty() ? nlohmann::json(nullptr)
+                                                   : nlohmann::json(configs.limits.sha256_hex)}};
   if (!events.target.empty()) {
     std::cerr << "--events: the event stream is one unit's; a fixture of " << record->units.size()
               << " units has none yet\n";
@@ -571,29 +604,63 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
   return RunOrResume(*configs, dir, serial, false, json, events);
 }
 
+// `hrg-bench resume DIR` of a session that closed as PASS or FAIL (killed during its report or
+// upload): the verdict stands and session.json is not rewritten; only the report and the upload
+// are finished.
+int FinishClosed(const std::filesystem::path& dir, bool json, const EventsRequest& events) {
+  const auto recorded = session::ReadSessionRecord(dir);
+  if (!recorded || !recorded->outcome) {
+    std::cerr << dir.string() << ": cannot read the closed record again\n";
+    return kExitBadInput;
+  }
+  if (!events.target.empty())
+    spdlog::info("--events: {} is closed; nothing runs, so no events are written", dir.string());
+  bench::SessionResult result;
+  result.dir = dir;
+  result.outcome = recorded->outcome->kind;
+  result.exit_code = bench::ExitCode(result.outcome);
+  result.reason = bench::KeptReason(recorded->outcome->reason);
+  result.estimate_json = recorded->outcome->estimate_json;
+  for (const session::RunRecord& run : recorded->runs)
+    result.complete_runs += run.status == bench::kRunComplete ? 1 : 0;
+  std::string results_url;
+  if (auto configs = bench::LoadSavedConfigs(dir))
+    results_url = configs->station.results_url;
+  else
+    spdlog::warn("{}; the session is not uploaded", configs.error());
+  spdlog::info("{}: closed as {}; its record is kept as it is", dir.string(),
+               bench::ToString(result.outcome));
+  const std::string report_path = FinishClosedFolder(dir, result, results_url);
+  return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
+}
+
 // `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a
 // verdict.
 int Resume(const std::string& resume_dir, bool json, const EventsRequest& events) {
-  if (app::IsFixtureFolder(resume_dir)) {
-    auto record = app::ReadFixtureRecord(resume_dir);
+  const std::filesystem::path dir = resume_dir;
+  if (app::IsFixtureFolder(dir)) {
+    auto record = app::ReadFixtureRecord(dir);
     if (!record) {
       std::cerr << record.error() << '\n';
-      return kExitBadInput;
-    }
-    // Every unit ran with the same configs (each folder holds a copy); the first's are used.
-    auto configs =
-        bench::LoadSavedConfigs(std::filesystem::path(resume_dir) / record->units.front().folder);
-    if (!configs) {
-      std::cerr << configs.error() << '\n';
       return kExitBadInput;
     }
     if (!events.target.empty()) {
       std::cerr << "--events: the event stream is one unit's; a fixture has none yet\n";
       return kExitBadInput;
     }
-    return RunFixture(*configs, resume_dir, *record, true, json);
+    auto configs = app::FixtureConfigs(dir, *record);
+    if (!configs) {
+      std::cerr << configs.error() << '\n';
+      return kExitBadInput;
+    }
+    return RunFixture(*configs, dir, *record, true, json);
   }
-  auto configs = bench::LoadSavedConfigs(resume_dir);
+  if (auto problem = app::NotStartedProblem(dir)) {
+    std::cerr << *problem << '\n';
+    return kExitBadInput;
+  }
+  if (app::ClosedVerdict(dir)) return FinishClosed(dir, json, events);
+  auto configs = bench::LoadSavedConfigs(dir);
   if (!configs) {
     std::cerr << configs.error() << '\n';
     return kExitBadInput;

@@ -21,4 +21,16 @@ std::expected<std::filesystem::path, std::string> NewSessionFolder(
                          sessions_dir.string() + " (" + name + " … -99 exist)");
 }
 
+std::optional<std::string> NotStartedProblem(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return dir.string() + ": no such session folder";
+  if (std::filesystem::exists(dir / "session.json", ec) ||
+      std::filesystem::exists(dir / "fixture.json", ec))
+    return std::nullopt;
+  return dir.string() +
+         ": holds neither session.json nor fixture.json: the session was stopped before its "
+         "record was written, so nothing was run and there is nothing to resume; remove the "
+         "folder and start the session again (hrg-bench run)";
+}
+
 }  // namespace hrgbench::app

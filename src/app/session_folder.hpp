@@ -6,6 +6,7 @@
 #include <ctime>
 #include <expected>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -16,5 +17,10 @@ namespace hrgbench::app {
 // Creates nothing.
 std::expected<std::filesystem::path, std::string> NewSessionFolder(
     const std::filesystem::path& sessions_dir, std::string_view serial, std::time_t now);
+
+// Why `dir` cannot be resumed because no session started in it: it does not exist, or holds
+// neither session.json nor fixture.json (a kill before the record was written: nothing was run).
+// The message says what to do. std::nullopt when it holds a record.
+std::optional<std::string> NotStartedProblem(const std::filesystem::path& dir);
 
 }  // namespace hrgbench::app

@@ -1,6 +1,6 @@
 #pragma once
 // Runs an external program (gnuplot, chromium) and waits for it, with a time limit. Internal to
-// src/report. POSIX (posix_spawnp); the estimator never sees this.
+// src/report. POSIX and Linux (fork, PR_SET_PDEATHSIG); the estimator never sees this.
 
 #include <string>
 #include <vector>
@@ -15,10 +15,13 @@ struct ChildResult {
   std::string Describe(const std::string& program) const;  // "gnuplot exited with 1: <output>"
 };
 
-// argv[0] is looked up on PATH. stdin is /dev/null. Kills the child (SIGKILL) after timeout_s.
+// argv[0] is looked up on PATH. stdin is /dev/null. Kills the child and its process group
+// (SIGKILL) after timeout_s. The child gets SIGKILL when this process dies (kill -9 included), so
+// no Chromium or gnuplot outlives a killed report.
 ChildResult RunChild(const std::vector<std::string>& argv, double timeout_s);
 
-// A fresh private directory under the system's temporary directory; empty on failure.
+// A fresh private directory under the system's temporary directory, "<prefix><pid>-XXXXXX";
+// empty on failure. Removes first the ones of this naming whose process is gone (a killed report).
 std::string MakeTemporaryDirectory(const std::string& prefix);
 
 }  // namespace hrgbench::report::internal

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hrgbench/session/kill_point.hpp"
 #include "hrgbench/session/session.hpp"
 
 namespace hrgbench::session {
@@ -93,6 +94,7 @@ std::expected<void, SessionError> WriteFileAtomic(const fs::path& path,
   if (result && ::fsync(fd) != 0) result = SystemError(path, "cannot fsync", errno);
   // close() can report a deferred write error (NFS); it counts.
   if (::close(fd) != 0 && result) result = SystemError(path, "cannot close", errno);
+  if (result) KillPoint("atomic.written");
   if (result && ::rename(temp.c_str(), path.c_str()) != 0) {
     result = SystemError(path, "cannot rename temporary into place", errno);
   }

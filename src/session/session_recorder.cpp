@@ -2,10 +2,15 @@
 
 #include "hrgbench/session/session_recorder.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <system_error>
 
 #include "append_file.hpp"
+#include "hrgbench/session/kill_point.hpp"
+#include "hrgbench/session/session.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
 
@@ -29,6 +34,24 @@ std::expected<void, RecordError> SessionRecorder::Impl::WriteJson() {
   auto written = session::WriteSessionJson(dir, session);
   if (!written) return std::unexpected(internal::FromSessionError(written.error()));
   return {};
+}
+
+namespace {
+// Several rewrites of session.json (each a temporary beside the old one) fit in it.
+constexpr off_t kReserveBytes = 512 * 1024;
+}  // namespace
+
+void SessionRecorder::Impl::Reserve() const {
+  const fs::path file = dir / ".reserve";
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return;
+  // fallocate reserves real blocks (a sparse file would reserve nothing); ignored where refused.
+  (void)::posix_fallocate(fd, 0, kReserveBytes);
+  ::close(fd);
+}
+
+bool SessionRecorder::Impl::ReleaseReserve() const {
+  return ::unlink((dir / ".reserve").c_str()) == 0;
 }
 
 RecordError SessionRecorder::Impl::WrongState(std::string message) const {
@@ -71,6 +94,15 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   }
   for (const fs::path& d : {dir, dir / "runs", dir / "can"}) {
     if (auto made = internal::MakeDirectoryDurably(d); !made) return std::unexpected(made.error());
+  }
+  session::KillPoint("record.dirs");
+  // Before session.json: a folder with a session.json always has what resume needs beside it.
+  for (const auto& [relative, contents] : header.files_first) {
+    const fs::path file = dir / relative;
+    if (auto made = session::CreateDirectoriesDurably(file.parent_path()); !made)
+      return std::unexpected(internal::FromSessionError(made.error()));
+    if (auto written = session::WriteFileAtomic(file, contents); !written)
+      return std::unexpected(internal::FromSessionError(written.error()));
   }
 
   auto impl = std::make_unique<Impl>();
@@ -121,7 +153,10 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   auto log = CandumpLogWriter::Open(dir / "can" / "session.log", log_options);
   if (!log) return std::unexpected(log.error());
   impl->can_log = std::move(*log);
+  session::KillPoint("record.can_log");
   if (auto written = impl->WriteJson(); !written) return std::unexpected(written.error());
+  session::KillPoint("record.json");
+  impl->Reserve();
   return SessionRecorder(std::move(impl));
 }
 
@@ -177,6 +212,7 @@ std::expected<void, RecordError> SessionRecorder::BeginRun(int run_id, const Run
     m.failed_runs.emplace_back(run_id, written.error().ToString());
     return written;
   }
+  session::KillPoint("run.begin");
   return {};
 }
 
@@ -227,6 +263,7 @@ std::expected<void, RecordError> SessionRecorder::EndRun(const RunEnd& end) {
   if (std::isfinite(end.omega_rad_s)) entry.omega_rad_s = end.omega_rad_s;
   m.RunObject(i)["end"] = internal::ToJson(end, samples);
   if (auto written = m.WriteJson(); !written) return written;
+  session::KillPoint("run.end");
   return log_synced;
 }
 
@@ -273,7 +310,12 @@ std::expected<void, RecordError> SessionRecorder::Close(const SessionOutcome& ou
   doc["state"] = "closed";
   doc["ended"] = internal::TimeStampNow();
   doc["outcome"] = internal::ToJson(outcome);
-  keep(m.WriteJson());
+  auto written = m.WriteJson();
+  // A full disk: the reserve makes room for the record to say why the session ended.
+  if (!written && written.error().kind == RecordErrorKind::kIo && m.ReleaseReserve())
+    written = m.WriteJson();
+  keep(std::move(written));
+  m.ReleaseReserve();  // a closed record needs none
   return first_error;
 }
 

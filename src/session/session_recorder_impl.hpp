@@ -34,6 +34,10 @@ class SessionRecorder::Impl {
   int IndexOf(int run_id) const;
   nlohmann::json& RunObject(std::size_t index);  // document["runs"][index]
   std::expected<void, RecordError> WriteJson();
+  // <dir>/.reserve: space set aside while the session runs, given back when session.json cannot
+  // be written (a full disk), so the record can still say how the session ended. Best effort.
+  void Reserve() const;
+  bool ReleaseReserve() const;  // true when there was a reserve to give back
   RecordError WrongState(std::string message) const;
   // Renames `from` to `to`, or `to`.2, `to`.3 ... if taken; returns the name relative to `dir`.
   std::expected<std::string, RecordError> MoveAside(const std::filesystem::path& from,

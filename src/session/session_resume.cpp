@@ -122,6 +122,7 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
   doc.erase("ended");
   doc["state"] = "running";
   if (auto written = impl->WriteJson(); !written) return std::unexpected(written.error());
+  impl->Reserve();
   return SessionRecorder(std::move(impl));
 }
 

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hrgbench::bench {
@@ -72,6 +73,9 @@ struct SessionHeader {
   int can_protocol = 0;
   // A unit of a fixture session: its position and the units beside it, recorded as "fixture".
   std::optional<nlohmann::json> fixture;
+  // Files written into the folder (path relative to it, contents) before session.json, so that a
+  // session.json never exists without them: the config copies `resume` loads (config/*.toml).
+  std::vector<std::pair<std::string, std::string>> files_first;
 };
 
 // Conditions at the release of a run (t = 0).

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -56,6 +57,47 @@ std::string Line(std::uint64_t seq, nlohmann::json event) {
   return line;
 }
 
+// Whether an existing regular file is an earlier event stream (or empty), which may be replaced:
+// every line this stream writes begins with {"v":. Anything else (another session's session.json,
+// a report) is not ours to truncate.
+bool IsEventStreamOrEmpty(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) return false;
+  char head[5] = {};
+  const ssize_t n = ::read(fd, head, sizeof head);
+  ::close(fd);
+  return n == 0 || (n == static_cast<ssize_t>(sizeof head) && std::memcmp(head, "{\"v\":", 5) == 0);
+}
+
+// --events FILE: a new file, an earlier event stream (replaced), a FIFO with a reader, or a device
+// (/dev/null). A FIFO is opened without blocking: with no reader yet the open fails at once
+// (ENXIO) and the session does not start, where a blocking open would wait forever before it.
+std::expected<int, std::string> OpenTarget(const std::string& target) {
+  const std::string where = "--events " + target + ": ";
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0) {
+    if (S_ISFIFO(st.st_mode)) {
+      const int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      if (fd < 0 && errno == ENXIO)
+        return std::unexpected(where + "a FIFO with no reader: start the reader first (e.g. `cat " +
+                               target + "`), then the session");
+      if (fd < 0) return std::unexpected(where + "cannot open: " + std::strerror(errno));
+      // The writer thread waits for a slow reader (the queue counts what it cannot hold).
+      const int flags = ::fcntl(fd, F_GETFL);
+      if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+      return fd;
+    }
+    if (S_ISDIR(st.st_mode)) return std::unexpected(where + "is a directory");
+    if (S_ISREG(st.st_mode) && !IsEventStreamOrEmpty(target))
+      return std::unexpected(where +
+                             "exists and is not an event stream: not overwritten; give a new "
+                             "file, - (stdout) or a FIFO");
+  }
+  const int fd = ::open(target.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return std::unexpected(where + "cannot open: " + std::strerror(errno));
+  return fd;
+}
+
 }  // namespace
 
 std::expected<std::unique_ptr<EventStream>, std::string> EventStream::Open(
@@ -67,9 +109,9 @@ std::expected<std::unique_ptr<EventStream>, std::string> EventStream::Open(
       return std::unexpected("--events -: cannot use standard output: " +
                              std::string(std::strerror(errno)));
   } else {
-    fd = ::open(target.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0)
-      return std::unexpected("--events " + target + ": cannot open: " + std::strerror(errno));
+    auto opened = OpenTarget(target);
+    if (!opened) return std::unexpected(opened.error());
+    fd = *opened;
   }
   return FromFd(fd, capacity);
 }

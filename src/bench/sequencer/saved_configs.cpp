@@ -20,19 +20,30 @@ std::expected<std::string, std::string> ReadAll(const std::filesystem::path& pat
 
 }  // namespace
 
-std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
-                                             const std::filesystem::path& dir) {
+std::expected<std::vector<std::pair<std::string, std::string>>, std::string> ConfigCopies(
+    const BenchConfigs& configs) {
   const std::pair<const std::filesystem::path*, const char*> files[] = {
       {&configs.station.file, "station.toml"},
       {&configs.sequence.file, "sequence.toml"},
       {&configs.limits.file, "limits.toml"}};
-  if (auto made = session::CreateDirectoriesDurably(dir / "config"); !made)
-    return std::unexpected(made.error().ToString());
+  std::vector<std::pair<std::string, std::string>> copies;
   for (const auto& [source, name] : files) {
     if (source->empty()) continue;  // no limits file
     auto text = ReadAll(*source);
     if (!text) return std::unexpected(text.error());
-    if (auto written = session::WriteFileAtomic(dir / "config" / name, *text); !written)
+    copies.emplace_back(std::string("config/") + name, std::move(*text));
+  }
+  return copies;
+}
+
+std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
+                                             const std::filesystem::path& dir) {
+  auto copies = ConfigCopies(configs);
+  if (!copies) return std::unexpected(copies.error());
+  if (auto made = session::CreateDirectoriesDurably(dir / "config"); !made)
+    return std::unexpected(made.error().ToString());
+  for (const auto& [relative, text] : *copies) {
+    if (auto written = session::WriteFileAtomic(dir / relative, text); !written)
       return std::unexpected(written.error().ToString());
   }
   return {};
@@ -42,33 +53,44 @@ std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
 
 namespace hrgbench::bench {
 
-std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir) {
+std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
+                                             const std::filesystem::path& dir) {
+  return internal::SaveConfigs(configs, dir);
+}
+
+std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir,
+                                                          const nlohmann::json& hashes,
+                                                          const std::string& recorded_in) {
   const std::filesystem::path config = dir / "config";
   const std::filesystem::path limits =
       std::filesystem::exists(config / "limits.toml") ? config / "limits.toml" : "";
   auto configs = LoadBenchConfigs(config / "station.toml", config / "sequence.toml", limits);
   if (!configs) return std::unexpected(configs.error().ToString());
   // The copies must be the files the session recorded (a hand-edited copy is not the same run).
-  session::ReadOptions options;
-  options.load_samples = false;
-  auto recorded = session::ReadSession(dir, options);
-  if (!recorded) return std::unexpected(recorded.error().ToString());
-  const nlohmann::json& hashes =
-      recorded->document.value("config_sha256", nlohmann::json::object());
   const std::pair<const char*, const std::string*> checks[] = {
       {"station", &configs->station.sha256_hex},
       {"sequence", &configs->sequence.sha256_hex},
       {"limits", &configs->limits.sha256_hex}};
   for (const auto& [key, actual] : checks) {
-    const nlohmann::json& expected = hashes.value(key, nlohmann::json());
+    const nlohmann::json expected =
+        hashes.is_object() ? hashes.value(key, nlohmann::json()) : nlohmann::json();
     const std::string want = expected.is_string() ? expected.get<std::string>() : "";
     if (want != *actual)
       return std::unexpected((config / (std::string(key) + ".toml")).string() + ": SHA-256 " +
                              (actual->empty() ? "(none)" : *actual) +
-                             " differs from the one recorded in session.json (" +
+                             " differs from the one recorded in " + recorded_in + " (" +
                              (want.empty() ? "(none)" : want) + ")");
   }
   return std::move(*configs);
+}
+
+std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir) {
+  session::ReadOptions options;
+  options.load_samples = false;
+  auto recorded = session::ReadSession(dir, options);
+  if (!recorded) return std::unexpected(recorded.error().ToString());
+  return LoadSavedConfigs(dir, recorded->document.value("config_sha256", nlohmann::json::object()),
+                          "session.json");
 }
 
 }  // namespace hrgbench::bench

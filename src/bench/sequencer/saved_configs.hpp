@@ -4,6 +4,8 @@
 #include <expected>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "hrgbench/config/bench_configs.hpp"
 
@@ -13,5 +15,9 @@ namespace hrgbench::bench::internal {
 // loaded from (limits only when there was a limits file).
 std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
                                              const std::filesystem::path& dir);
+
+// The same files as (path relative to a session folder, contents), for SessionHeader::files_first.
+std::expected<std::vector<std::pair<std::string, std::string>>, std::string> ConfigCopies(
+    const BenchConfigs& configs);
 
 }  // namespace hrgbench::bench::internal

@@ -316,6 +316,69 @@ std::optional<std::string> HardwareProblem(const BenchHardware& hw,
   return std::nullopt;
 }
 
+// What unit i's session.json starts with, and the config copies written before it.
+std::expected<SessionHeader, std::string> UnitHeader(const BenchConfigs& configs,
+                                                     const BenchHardware& hw,
+                                                     const std::vector<UnitSession>& units,
+                                                     std::size_t i, const RunnerOptions& options,
+                                                     const std::string& realtime_status) {
+  SessionHeader header;
+  header.unit_serial = units[i].serial;
+  header.station_name = configs.station.name;
+  header.software_version = options.software_version;
+  header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
+                          configs.limits.sha256_hex};
+  header.realtime_status = realtime_status;
+  header.simulation = units[i].simulation;
+  header.electronics = nlohmann::json{
+      {session::keys::kOutputFilter, OutputFilterJson(configs.station.gyro.output_filter)},
+      {session::keys::kPickoff, PickoffDeclarationJson(configs.station.gyro.pickoff)},
+      {session::keys::kIqConvention,
+       std::string(estimator::IqConventionName(configs.station.gyro.iq_convention))}};
+  header.can_interface = hw.units[i].can_interface;
+  header.can_node = hw.units[i].can_node;
+  header.can_protocol = hw.units[i].can_protocol;
+  header.fixture = units[i].fixture;
+  // The plan in the unit's own frame: an inverted unit is commanded −Ω.
+  const double sign = hw.units[i].axis_sign;
+  int id = 1;
+  for (const SequenceRun& run : configs.sequence.runs)
+    header.runs.push_back({id++, sign * run.omega_rad_s, run.a, run.b, run.theta_rad,
+                           run.free_run_s, static_cast<double>(run.sample_rate_hz)});
+  auto copies = internal::ConfigCopies(configs);
+  if (!copies) return std::unexpected(copies.error());
+  header.files_first = std::move(*copies);
+  return header;
+}
+
+// A unit folder a kill left before its session.json was written holds only what Create writes
+// first (empty runs/ and can/session.log, config/, session.json's temporary): nothing was run, so
+// it may start afresh.
+// Anything else in it is not ours to remove; the reason says what is there.
+std::optional<std::string> ClearUnstartedFolder(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return std::nullopt;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    // session.json's temporary (session::WriteFileAtomic) when the kill came before its rename.
+    const bool temporary = name.rfind(".session.json.tmp.", 0) == 0;
+    if (temporary) {
+      fs::remove(entry.path(), ec);
+      continue;
+    }
+    const bool create_made = name == "config" || name == "runs" || name == "can";
+    if (!create_made)
+      return entry.path().string() + ": not written by a session that had started; the folder " +
+             "has no session.json (remove what is not yours, then resume again)";
+    if (name == "runs" && !fs::is_empty(entry.path(), ec))
+      return entry.path().string() + ": holds run files but the folder has no session.json";
+  }
+  for (const char* made : {"config", "runs", "can"}) fs::remove_all(dir / made, ec);
+  if (ec) return dir.string() + ": cannot clear the unstarted folder: " + ec.message();
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchHardware& hw,
@@ -326,39 +389,15 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
   const std::string realtime_status = ProbeRealtime(configs.station.realtime);
   std::vector<SessionRecorder> recorders;
   recorders.reserve(units.size());
-  std::vector<SessionResult> refused;
   for (std::size_t i = 0; i < units.size(); ++i) {
-    SessionHeader header;
-    header.unit_serial = units[i].serial;
-    header.station_name = configs.station.name;
-    header.software_version = options.software_version;
-    header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
-                            configs.limits.sha256_hex};
-    header.realtime_status = realtime_status;
-    header.simulation = units[i].simulation;
-    header.electronics = nlohmann::json{
-        {session::keys::kOutputFilter, OutputFilterJson(configs.station.gyro.output_filter)},
-        {session::keys::kPickoff, PickoffDeclarationJson(configs.station.gyro.pickoff)},
-        {session::keys::kIqConvention,
-         std::string(estimator::IqConventionName(configs.station.gyro.iq_convention))}};
-    header.can_interface = hw.units[i].can_interface;
-    header.can_node = hw.units[i].can_node;
-    header.can_protocol = hw.units[i].can_protocol;
-    header.fixture = units[i].fixture;
-    // The plan in the unit's own frame: an inverted unit is commanded −Ω.
-    const double sign = hw.units[i].axis_sign;
-    int id = 1;
-    for (const SequenceRun& run : configs.sequence.runs)
-      header.runs.push_back({id++, sign * run.omega_rad_s, run.a, run.b, run.theta_rad,
-                             run.free_run_s, static_cast<double>(run.sample_rate_hz)});
-    auto recorder = SessionRecorder::Create(units[i].dir, header);
+    auto header = UnitHeader(configs, hw, units, i, options, realtime_status);
     std::string problem;
-    if (!recorder) {
+    if (!header) {
+      problem = "record: " + header.error();
+    } else if (auto recorder = SessionRecorder::Create(units[i].dir, *header); !recorder) {
       problem = "record: " + recorder.error().ToString();
-    } else if (auto saved = internal::SaveConfigs(configs, units[i].dir); !saved) {
-      problem = "record: " + saved.error();
-      SessionOutcome outcome{OutcomeKind::kError, problem, {}, std::nullopt, std::nullopt};
-      (void)recorder->Close(outcome);
+    } else {
+      recorders.push_back(std::move(*recorder));
     }
     // A unit whose record cannot be made runs nothing; nor, then, does the table: a session
     // starts with every record in place or not at all.
@@ -372,7 +411,6 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
       results[i].reason = problem;
       return results;
     }
-    recorders.push_back(std::move(*recorder));
   }
   SessionContext ctx;
   Begin(ctx, configs, hw, options);
@@ -397,7 +435,24 @@ std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs, const Ben
   const ClockAttachment attached(*hw.clock);
   std::vector<SessionRecorder> recorders;
   recorders.reserve(units.size());
-  for (const UnitSession& unit : units) {
+  std::optional<std::string> realtime_status;
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    const UnitSession& unit = units[i];
+    std::error_code ec;
+    if (!std::filesystem::exists(unit.dir / "session.json", ec)) {
+      // Killed before this unit's record was written (a fixture's other units may have started):
+      // nothing of it was run, so it starts afresh with every run to do.
+      if (!realtime_status) realtime_status = ProbeRealtime(configs.station.realtime);
+      auto header = UnitHeader(configs, hw, units, i, options, *realtime_status);
+      if (!header) return RefuseAll(hw, units, "record of " + unit.serial + ": " + header.error());
+      if (auto cleared = ClearUnstartedFolder(unit.dir))
+        return RefuseAll(hw, units, "record of " + unit.serial + ": " + *cleared);
+      auto created = SessionRecorder::Create(unit.dir, *header);
+      if (!created)
+        return RefuseAll(hw, units, "record of " + unit.serial + ": " + created.error().ToString());
+      recorders.push_back(std::move(*created));
+      continue;
+    }
     auto recorder = SessionRecorder::OpenForResume(unit.dir);
     if (!recorder) {
       // The others stay as they were (they read as interrupted, and resume again).

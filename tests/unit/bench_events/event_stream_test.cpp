@@ -6,9 +6,12 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -203,6 +206,90 @@ TEST_F(EventStreamTest, OpenNamesTheFileThatCannotBeOpened) {
   auto opened = EventStream::Open("/nonexistent-dir/events.jsonl", 4);
   ASSERT_FALSE(opened);
   EXPECT_NE(opened.error().find("/nonexistent-dir/events.jsonl"), std::string::npos);
+}
+
+// A fresh path in the test's temporary folder.
+std::string TempPath(const std::string& name) {
+  char dir[] = "/tmp/hrgbench-events-XXXXXX";
+  EXPECT_NE(::mkdtemp(dir), nullptr);
+  return std::string(dir) + "/" + name;
+}
+
+std::string FileText(const std::string& path) {
+  std::string text;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return text;
+  text = ReadAll(fd);
+  ::close(fd);
+  return text;
+}
+
+// Issue 25 row 9: a FIFO nobody reads yet is refused at once with what to do; it used to block
+// the open forever. The open runs in a child so a regression is a failure, not a hung suite.
+TEST_F(EventStreamTest, AFifoWithoutAReaderIsRefusedAtOnce) {
+  const std::string fifo = TempPath("events.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  Pipe report;
+  const pid_t child = ::fork();
+  if (child == 0) {
+    auto opened = EventStream::Open(fifo, 4);
+    const std::string text = opened ? "opened" : opened.error();
+    (void)!::write(report.write_fd, text.data(), text.size());
+    std::_Exit(0);
+  }
+  ::close(report.write_fd);
+  // A hang guard, not a timing assertion: the refusal is immediate.
+  int status = 0;
+  pid_t done = 0;
+  for (int i = 0; i < 300 && done == 0; ++i) {
+    done = ::waitpid(child, &status, WNOHANG);
+    if (done == 0) ::usleep(100'000);
+  }
+  if (done == 0) {
+    ::kill(child, SIGKILL);
+    ::waitpid(child, &status, 0);
+    FAIL() << "--events on a FIFO without a reader blocked for 30 s";
+  }
+  const std::string text = ReadAll(report.read_fd);
+  EXPECT_NE(text.find("no reader"), std::string::npos) << text;
+  EXPECT_NE(text.find(fifo), std::string::npos) << text;
+  // With a reader it opens, and the reader gets the stream.
+  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  ASSERT_GE(reader, 0);
+  auto opened = EventStream::Open(fifo, 4);
+  ASSERT_TRUE(opened) << opened.error();
+  (*opened)->Publish({{"type", "log"}, {"message", "x"}});
+  (*opened)->Close(30'000);
+  ::fcntl(reader, F_SETFL, 0);
+  EXPECT_EQ(Lines(ReadAll(reader)).size(), 2u);
+  ::close(reader);
+}
+
+// Issue 25 row 9: an existing file that is not an event stream (another session's session.json)
+// is refused and left as it was; an earlier event stream or an empty file is replaced.
+TEST_F(EventStreamTest, AnExistingFileThatIsNotAnEventStreamIsNeverTruncated) {
+  const std::string record = TempPath("session.json");
+  const std::string text = "{\n  \"state\": \"closed\"\n}\n";
+  {
+    const int fd = ::open(record.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+    ASSERT_EQ(::write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    ::close(fd);
+  }
+  auto refused = EventStream::Open(record, 4);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().find("not an event stream"), std::string::npos) << refused.error();
+  EXPECT_EQ(FileText(record), text);
+
+  const std::string earlier = TempPath("events.jsonl");
+  for (int round = 0; round < 2; ++round) {
+    auto opened = EventStream::Open(earlier, 4);
+    ASSERT_TRUE(opened) << opened.error();
+    (*opened)->Publish({{"type", "log"}, {"message", "round " + std::to_string(round)}});
+    (*opened)->Close(30'000);
+  }
+  const std::vector<nlohmann::json> lines = Lines(FileText(earlier));
+  ASSERT_EQ(lines.size(), 2u);  // the second stream replaced the first (its event, then "end")
+  EXPECT_EQ(lines[0].value("message", ""), "round 1") << lines[0].dump();
 }
 
 }  // namespace

@@ -52,8 +52,10 @@ class EventStream {
   static constexpr std::size_t kDefaultCapacity = 4096;  // events: minutes of progress at 5 Hz
   static constexpr int kPollPeriodMs = 50;
 
-  // "-" is standard output (a dup of it, so closing never closes fd 1); anything else a file,
-  // created or truncated. Fails with the path and the system's reason.
+  // "-" is standard output (a dup of it, so closing never closes fd 1); anything else a new file,
+  // an earlier event stream (replaced: its first line begins {"v":) or an empty file, a FIFO that
+  // has a reader (refused at once when it has none: never blocks), or a device. Any other existing
+  // file (a session.json) is refused, not truncated. Fails with the path and the reason.
   static std::expected<std::unique_ptr<EventStream>, std::string> Open(const std::string& target,
                                                                        std::size_t capacity);
   // Takes ownership of `fd` (closed by Close or the destructor). For tests and the panel's pipe.

@@ -172,5 +172,13 @@ SessionResult ResumeSession(const BenchConfigs& configs, const BenchHardware& ha
 // The configs a session was started with (<dir>/config/{station,sequence,limits}.toml), checked
 // against the SHA-256 recorded in session.json.
 std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir);
+// The same, checked against `hashes` ({"station", "sequence", "limits"}: hex or null) as recorded
+// in `recorded_in` (named in the error): a fixture's own copies, checked against fixture.json.
+std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem::path& dir,
+                                                          const nlohmann::json& hashes,
+                                                          const std::string& recorded_in);
+// Copies the files `configs` was loaded from into <dir>/config/ (atomically, each).
+std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
+                                             const std::filesystem::path& dir);
 
 }  // namespace hrgbench::bench
