@@ -204,6 +204,9 @@ async function loadState() {
   $("interrupted-box").hidden = !i || s.session?.running;
   if (i) text("interrupted-reason", "Session " + i.session + " (unit " + i.unit + ") was " +
               "interrupted: " + i.reason + ".");
+  // Its record has no outcome yet (not ERROR: the resume judges it).
+  if (i && !s.session?.running && state.session === i.session)
+    showOutcome("INTERRUPTED", "not closed: the record is open until it is resumed");
   $('recent-source').textContent = 'from ' + (s.recent_source ?? 'the sessions folder');
   const body = $("recent").tBodies[0];
   body.innerHTML = "";
