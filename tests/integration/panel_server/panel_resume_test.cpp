@@ -175,5 +175,54 @@ TEST(PanelSession, AKilledSessionIsShownInterruptedAndResumesToItsEndKeepingItsR
   fs::remove_all(dir);
 }
 
+// A panel restarted after its session's process died knows nothing of that session: it names no
+// interrupted session, and resumes the folder when asked for it by name (its record is open).
+TEST(PanelSession, ARestartedPanelResumesAnOpenRecordOfItsSessionsFolderByName) {
+  const fs::path dir = FreshDir();
+  const fs::path station = PacedStation(dir / "station", 20.0);
+  std::string name;
+  std::map<int, std::string> kept;
+  {
+    Panel panel(dir, FreePort(), kBench, station, kConfigs / "sequence-paper.toml");
+    ASSERT_TRUE(panel.Ready());
+    const Reply started =
+        Exchange(panel.port(), Post("/api/start", panel.host(), panel.origin(),
+                                    R"({"serial":"SN-RESTART","sequence":0,"limits":null})"));
+    ASSERT_EQ(started.status, 200) << started.body;
+    name = Json(started.body).value("session", "");
+    kept = WaitForCompleteRuns(dir / "sessions" / name, 1, 120s);
+    const pid_t child = SessionChild();
+    ASSERT_GT(child, 0) << "no `hrg-bench run` child of the panel";
+    ASSERT_EQ(::kill(child, SIGKILL), 0);
+    ASSERT_EQ(kept.size(), 1u) << "the session did not get through a run";
+    ASSERT_TRUE(WaitForSessionEnd(panel, 60s).is_object());
+  }
+  {
+    Panel panel(dir, FreePort(), kBench, station, kConfigs / "sequence-paper.toml");
+    ASSERT_TRUE(panel.Ready());
+    EXPECT_TRUE(FullState(panel)["interrupted"].is_null());
+    const Reply unnamed =
+        Exchange(panel.port(), Post("/api/resume", panel.host(), panel.origin(), "{}"));
+    EXPECT_EQ(unnamed.status, 409) << unnamed.body;
+    const Reply resumed = Exchange(panel.port(), Post("/api/resume", panel.host(), panel.origin(),
+                                                      R"({"session":")" + name + R"("})"));
+    ASSERT_EQ(resumed.status, 200) << resumed.body;
+    const nlohmann::json done = WaitForSessionEnd(panel, 300s);
+    ASSERT_TRUE(done.is_object()) << "the panel's state did not answer";
+    ASSERT_FALSE(done.value("running", true)) << "the resume did not end: " << done.dump();
+    EXPECT_EQ(done["exit"], nlohmann::json({{"exit_code", 0}})) << done.dump();
+    EXPECT_EQ(done.value("unit", ""), "SN-RESTART");  // from the record
+    const nlohmann::json record = ReadRecord(dir / "sessions" / name);
+    EXPECT_EQ(record["state"], "closed");
+    EXPECT_EQ(record["outcome"]["kind"], "PASS") << record["outcome"].dump();
+    const std::map<int, std::string> after = WaitForCompleteRuns(dir / "sessions" / name, 5, 1s);
+    for (const auto& [id, bytes] : kept) {
+      ASSERT_TRUE(after.contains(id)) << "run " << id;
+      EXPECT_TRUE(after.at(id) == bytes) << "run " << id << " changed";
+    }
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hrgbench::app
