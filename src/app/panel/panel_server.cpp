@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/panel/interrupted_session.hpp"
 #include "app/panel/panel_assets.hpp"
 #include "app/panel/panel_catalog.hpp"
 #include "app/panel/panel_gate.hpp"
@@ -113,6 +114,13 @@ std::string ContentType(const fs::path& file) {
   return "application/octet-stream";
 }
 
+// A string field of a JSON object, "" when absent or not a string (json::value with a string
+// default trips GCC 12's -Wnull-dereference).
+std::string StringField(const nlohmann::json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || !object[key].is_string()) return "";
+  return object[key].get<std::string>();
+}
+
 std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::uintmax_t max) {
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(file, ec);
@@ -128,7 +136,8 @@ std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::u
 // threads, the event stream on the bounded stream threads.
 Lane ClassifyRequest(std::string_view method, std::string_view path) {
   if (method == "POST" && path == "/api/abort") return Lane::kAbort;
-  if ((method == "POST" && path == "/api/start") || path == "/api/state") return Lane::kControl;
+  if ((method == "POST" && (path == "/api/start" || path == "/api/resume")) || path == "/api/state")
+    return Lane::kControl;
   if (path == "/api/events") return Lane::kStream;
   return Lane::kGeneral;
 }
@@ -174,6 +183,11 @@ class Panel {
                                      const httplib::ContentReader& reader) {
       const auto body = ReadBody(res, reader);
       if (body) Start(*body, res);
+    });
+    server.Post("/api/resume", [this](const httplib::Request&, httplib::Response& res,
+                                      const httplib::ContentReader& reader) {
+      const auto body = ReadBody(res, reader);
+      if (body) Resume(*body, res);
     });
     server.Post("/api/abort", [this](const httplib::Request&, httplib::Response& res,
                                      const httplib::ContentReader& reader) {
@@ -289,11 +303,17 @@ class Panel {
       recent = RecentSessions(sessions_, kRecentSessions);
       if (recent_source.empty()) recent_source = "the sessions folder";
     }
+    const nlohmann::json session = nlohmann::json::parse(process_.StatusJson());
+    const auto interrupted = Interrupted(session);
     return {{"station", catalog_.station.name},
             {"station_kind", std::string(bench::ToString(catalog_.station.kind))},
             {"sequences", sequences},
             {"limits", limits},
-            {"session", nlohmann::json::parse(process_.StatusJson())},
+            {"session", session},
+            {"interrupted", interrupted ? nlohmann::json({{"session", interrupted->session},
+                                                          {"unit", interrupted->serial},
+                                                          {"reason", interrupted->reason}})
+                                        : nlohmann::json()},
             {"recent", recent},
             {"recent_source", recent_source}};
   }
@@ -382,6 +402,72 @@ class Panel {
     launch.session_name = name;
     if (auto refused = process_.Start(launch)) return Error(res, 409, *refused);
     res.set_content(nlohmann::json({{"session", name}}).dump(), "application/json");
+  }
+
+  // The panel's last session when its process has ended and left the record open (`session` is
+  // SessionProcess::StatusJson parsed); nullopt while it runs, when it closed its record, or when
+  // the panel has run none.
+  std::optional<InterruptedSession> Interrupted(const nlohmann::json& session) const {
+    if (!session.is_object() || !session.contains("running") || session["running"] != false ||
+        !session.contains("exit") || session["exit"].is_null())
+      return std::nullopt;
+    return OpenSession(sessions_, StringField(session, "session"),
+                       ProcessEndReason(session["exit"]));
+  }
+
+  // `hrg-bench resume` of an interrupted session as the new child: {} resumes the panel's own
+  // (the one /api/state calls interrupted); {"session": NAME} one directly in the sessions folder
+  // whose record is open (a panel restarted after its session's process died). Nothing else:
+  // the name is checked as a folder of the sessions folder, links resolved, never used as a path.
+  void Resume(const std::string& text, httplib::Response& res) {
+    const nlohmann::json body = nlohmann::json::parse(text, nullptr, false);
+    if (body.is_discarded() || !body.is_object())
+      return Error(res, 400, "the request is not a JSON object");
+    for (const auto& [key, value] : body.items())
+      if (key != "session")
+        return Error(res, 400,
+                     "unknown field \"" + key.substr(0, 32) + "\": expected at most session");
+    if (body.contains("session") && !body["session"].is_string())
+      return Error(res, 400, "session: the name of a session folder (a string)");
+    if (process_.Running())
+      return Error(res, 409,
+                   "a session is already running on this station: one session at a time; wait "
+                   "for it to end or abort it");
+    const nlohmann::json last = nlohmann::json::parse(process_.StatusJson());
+    const auto own = Interrupted(last);
+    std::string name = StringField(body, "session");
+    if (name.empty()) {
+      if (!own)
+        return Error(res, 409,
+                     "no interrupted session to resume: the panel's last session closed its "
+                     "record, or the panel has run none");
+      name = own->session;
+    }
+    std::error_code ec;
+    const fs::path dir = fs::canonical(sessions_ / name, ec);
+    if (!IsSessionName(sessions_, name) || ec || dir.parent_path() != sessions_)
+      return Error(res, 404, "no session folder " + name.substr(0, 80) + " in the sessions folder");
+    const auto open =
+        own && own->session == name ? own : OpenSession(sessions_, name, std::string());
+    if (!open)
+      return Error(res, 409,
+                   "session " + name +
+                       " has nothing to resume: its record is closed, or it has "
+                       "no readable session.json");
+    SessionLaunch launch;
+    launch.program = options_.program.string();
+    launch.arguments = {"resume", dir.string(), "--events", "/dev/fd/3"};
+    launch.serial = open->serial;
+    // The names the page showed for it, when it was the panel's own; the record keeps the rest.
+    const bool same = StringField(last, "session") == name;
+    launch.sequence = same ? StringField(last, "sequence") : "";
+    launch.limits = same ? StringField(last, "limits") : "";
+    launch.session_name = name;
+    launch.resume = true;
+    if (auto refused = process_.Start(launch)) return Error(res, 409, *refused);
+    spdlog::info("panel: resuming {} ({})", name, open->reason);
+    res.set_content(nlohmann::json({{"session", name}, {"resume", true}}).dump(),
+                    "application/json");
   }
 
   void Events(const httplib::Request& req, httplib::Response& res) {

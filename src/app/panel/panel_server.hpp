@@ -6,15 +6,19 @@
 //   GET  /                     the page
 //   GET  /panel.js /panel.css /chart.js
 //   GET  /api/state            station, allowed sequences and limits, the current session, recent
-//                              sessions
+//                              sessions; "interrupted": {session, unit, reason} when the panel's
+//                              last session's process ended and left its record open, else null
 //   GET  /api/events           text/event-stream: the current session's events from its start (or
 //                              after Last-Event-ID), then live; ": keep-alive" every 5 s
 //   POST /api/start            {"serial", "sequence": id, "limits": id | null} -> {"session"}
+//   POST /api/resume           {} | {"session": NAME} -> {"session", "resume": true}: `hrg-bench
+//                              resume` of the interrupted session (or of NAME, a folder directly
+//                              in the sessions folder whose record is open) as the new session
 //   POST /api/abort            {} -> {"aborting": true}
 //   GET  /sessions/NAME/report/FILE   a session's report (only its report folder)
 // Every refusal is a JSON {"error": "..."} with 4xx: 400 bad input, 401 no or wrong token, 403
-// wrong Host/Origin, 404, 409 a session running (or none to abort), 413 too large, 415 not JSON,
-// 431 headers too large; a refused request's connection is closed.
+// wrong Host/Origin, 404, 409 a session running (or none to abort, nothing to resume), 413 too
+// large, 415 not JSON, 431 headers too large; a refused request's connection is closed.
 //
 // Security: listens on localhost by default; any other address needs an access token (a file of
 // at least 16 printable characters, --token-file), which every request but the page's own files
@@ -34,9 +38,9 @@
 // Threads: RunPanel blocks the caller until `stop` becomes non-zero (the panel then aborts a
 // running session, waits for it, and returns). Connections are admitted and read by the gate
 // (panel_gate.hpp: bounds per client address and in all, head and idle timeouts, 405 for other
-// methods) and each complete request is served on its lane's threads: Abort on its own, start and
-// state on the control threads, at most GateLimits::max_streams event streams, the rest on the
-// general pool; so no stream, report or slow client can make an Abort wait.
+// methods) and each complete request is served on its lane's threads: Abort on its own, start,
+// resume and state on the control threads, at most GateLimits::max_streams event streams, the rest
+// on the general pool; so no stream, report or slow client can make an Abort wait.
 
 #include <atomic>
 #include <filesystem>

@@ -80,10 +80,12 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
                        {"unit", launch.serial},
                        {"sequence", launch.sequence},
                        {"limits", launch.limits},
-                       {"session", launch.session_name}})
+                       {"session", launch.session_name},
+                       {"resume", launch.resume}})
            .dump());
   reader_ = std::thread([this, fd = fds[0], pid] { ReadEvents(fd, pid); });
-  spdlog::info("panel: session {} started (pid {})", launch.session_name, pid);
+  spdlog::info("panel: session {} {} (pid {})", launch.session_name,
+               launch.resume ? "resumed" : "started", pid);
   return std::nullopt;
 }
 
@@ -160,7 +162,8 @@ std::string SessionProcess::StatusJson() const {
                          {"unit", launch_.serial},
                          {"sequence", launch_.sequence},
                          {"limits", launch_.limits},
-                         {"session", launch_.session_name}})
+                         {"session", launch_.session_name},
+                         {"resume", launch_.resume}})
       .dump();
 }
 

@@ -10,9 +10,9 @@
 // Events: every line the child writes is kept (up to kMaxKeptEvents per session; beyond, progress
 // and samples events are not kept, the rest still are) with an id that grows across sessions, so a
 // browser that reloads gets the running session from its start and one that reconnects gets what it
-// missed. The panel adds its own events: "panel_session" (a session was started from the panel:
-// serial, sequence, limits, session folder name) first, "panel_exit" (the child ended: exit_code,
-// or signal) last.
+// missed. The panel adds its own events: "panel_session" (a session was started or resumed from
+// the panel: serial, sequence, limits, session folder name, resume) first, "panel_exit" (the child
+// ended: exit_code, or signal) last.
 //
 // Threads: every method may be called from any thread (one mutex); WaitForEvents blocks the calling
 // (HTTP) thread only.
@@ -37,6 +37,7 @@ struct SessionLaunch {
   std::string sequence;  // names, for the page
   std::string limits;
   std::string session_name;  // the folder's name in the sessions folder
+  bool resume = false;       // `hrg-bench resume` of an interrupted session (said in panel_session)
 };
 
 struct KeptEvent {
@@ -61,9 +62,9 @@ class SessionProcess {
   std::optional<std::string> Abort();
 
   bool Running() const;
-  // The current (or last) session: {running, aborting, exit, serial, sequence, limits, session}
-  // or null; `exit` is null while it runs, then how the child ended: {"exit_code": n} or
-  // {"signal": n} (killed: its record may still say "running").
+  // The current (or last) session: {running, aborting, exit, unit, sequence, limits, session,
+  // resume} or null; `exit` is null while it runs, then how the child ended: {"exit_code": n} or
+  // {"signal": n} (killed: its record may still say "running"; interrupted_session.hpp).
   std::string StatusJson() const;
   // Events with id > after, waiting up to `wait` for one; empty on timeout.
   std::vector<KeptEvent> WaitForEvents(std::uint64_t after, std::chrono::milliseconds wait) const;

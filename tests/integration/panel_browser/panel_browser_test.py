@@ -11,6 +11,9 @@ abort         a longer session aborted mid-capture from the page (confirm once):
               page and in session.json, the reason names the operator, the table commanded to zero.
 two-browsers  one browser starts; a second sees the same live session and cannot start another;
               the first reloads and picks the session up again.
+resume        a longer session whose process is killed (kill -9) after its first run: the page
+              says it was interrupted and why, Resume continues it to its outcome (as session.json
+              has it), run 1 kept as it was.
 hostile       a serial with ../, 10 kB of text, control characters (typed into the page and sent
               directly), forged requests (wrong Host, other Origin, not JSON, too large, unknown
               ids, a path out of the sessions folder), a non-local address without a token
@@ -397,6 +400,67 @@ def CaseAbort(args, tmp: Path, out: Path) -> None:
         panel.stop()
 
 
+def SessionChild(panel_pid: int) -> int:
+    """The panel's `hrg-bench run` child (its parent is the panel), or 0."""
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+            argv = (entry / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        ppid = int(stat[stat.rindex(")") + 1:].split()[1])
+        if ppid == panel_pid and len(argv) > 1 and argv[1] == b"run":
+            return int(entry.name)
+    return 0
+
+
+def CaseResume(args, tmp: Path, out: Path) -> None:
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        browser.wait(lambda: browser.js("return document.getElementById('interrupted-box').hidden"),
+                     "an interrupted session shown before any ran")
+        browser.start("SN-RESUME-1", "panel-long")
+        WaitCapture(browser, 2)  # run 1 complete
+        name = browser.text("session-name").split(" ")[0]
+        run1 = (sessions / name / "runs" / "run-001.csv").read_bytes()
+        child = SessionChild(panel.process.pid)
+        Check(child > 0, "no `hrg-bench run` child of the panel")
+        os.kill(child, signal.SIGKILL)
+        browser.wait(lambda: not browser.js(
+            "return document.getElementById('interrupted-box').hidden"),
+            "the page never said the session was interrupted")
+        reason = browser.text("interrupted-reason")
+        browser.shot("interrupted")
+        Check(name in reason and "killed by signal 9 (SIGKILL)" in reason,
+              "the page does not say which session and why: " + reason)
+        Check(SessionJson(sessions, name)["state"] == "running", "the record is not open")
+        browser.wait(lambda: browser.data("outcome", "kind") == "INTERRUPTED",
+                     "the page does not say the session is interrupted (not ERROR)")
+        browser.click("resume")
+        browser.wait(lambda: "resumed" in browser.text("session-name"),
+                     "the resumed session never showed")
+        kind = WaitOutcome(browser)
+        browser.shot("resumed")
+        record = SessionJson(sessions, name)
+        Check(record["state"] == "closed", "the record is not closed after the resume")
+        Check(kind == record["outcome"]["kind"],
+              f"the page says {kind}, session.json {record['outcome']['kind']}")
+        Check(len(record.get("resumed_at", [])) == 1, "resumed_at does not hold the one resume")
+        Check((sessions / name / "runs" / "run-001.csv").read_bytes() == run1,
+              "run 1 changed in the resume")
+        Check(browser.js("return document.getElementById('interrupted-box').hidden"),
+              "the page still offers a resume of a closed record")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
 def CaseTwoBrowsers(args, tmp: Path, out: Path) -> None:
     station = WriteConfigs(args.source_dir, tmp / "configs")
     sessions = tmp / "sessions"
@@ -536,7 +600,7 @@ def CaseHostile(args, tmp: Path, out: Path) -> None:
 
 
 CASES = {"flow": CaseFlow, "abort": CaseAbort, "two-browsers": CaseTwoBrowsers,
-         "hostile": CaseHostile}
+         "hostile": CaseHostile, "resume": CaseResume}
 
 
 def main() -> int:

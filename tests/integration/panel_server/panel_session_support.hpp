@@ -14,22 +14,26 @@ namespace hrgbench::testing::panel {
 
 inline const fs::path kBench = fs::path(HRGBENCH_BIN_DIR) / "hrg-bench";
 
-// The simulated station at real time (its shipped file runs as fast as it can): a session lasts
-// minutes, so an Abort always finds it running. Its results go to a store in `dir`.
-inline fs::path RealTimeStation(const fs::path& dir) {
+// The simulated station paced at `time_scale` simulated seconds per wall-clock second (its shipped
+// file runs as fast as it can). Its results go to a store in `dir`.
+inline fs::path PacedStation(const fs::path& dir, double time_scale) {
   std::ifstream in(kConfigs / "station-sim.toml");
   std::stringstream text;
   text << in.rdbuf();
   std::string toml = text.str();
   const std::string fast = "faster_than_real_time = true";
-  toml.replace(toml.find(fast), fast.size(), "faster_than_real_time = false\ntime_scale = 1.0");
+  toml.replace(toml.find(fast), fast.size(),
+               "faster_than_real_time = false\ntime_scale = " + std::to_string(time_scale));
   const std::string store = "sqlite://build/out/results.sqlite";
   toml.replace(toml.find(store), store.size(), "sqlite://" + (dir / "results.sqlite").string());
   fs::create_directories(dir);
-  const fs::path path = dir / "station-real-time.toml";
+  const fs::path path = dir / "station-paced.toml";
   std::ofstream(path) << toml;
   return path;
 }
+
+// At real time a session lasts minutes, so an Abort always finds it running.
+inline fs::path RealTimeStation(const fs::path& dir) { return PacedStation(dir, 1.0); }
 
 inline nlohmann::json Json(const std::string& text) {
   return nlohmann::json::parse(text, nullptr, false);

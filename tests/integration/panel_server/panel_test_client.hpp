@@ -122,13 +122,15 @@ inline std::string Get(std::string_view path, int port) {
 class Panel {
  public:
   // `program`: what a session runs (/bin/true: a test that reaches a session has already
-  // failed); `station`: the station file copied in (the simulated station by default).
+  // failed); `station`: the station file copied in (the simulated station by default); `sequence`:
+  // the one sequence offered (id 0).
   explicit Panel(const fs::path& dir, int port = FreePort(), const fs::path& program = "/bin/true",
-                 const fs::path& station = kConfigs / "station-sim.toml")
+                 const fs::path& station = kConfigs / "station-sim.toml",
+                 const fs::path& sequence = kConfigs / "sequence-production.toml")
       : port_(port) {
     fs::create_directories(dir / "configs");
     fs::copy_file(station, dir / "configs" / "station.toml", fs::copy_options::overwrite_existing);
-    fs::copy_file(kConfigs / "sequence-production.toml", dir / "configs" / "sequence-a.toml",
+    fs::copy_file(sequence, dir / "configs" / "sequence-a.toml",
                   fs::copy_options::overwrite_existing);
     options_.station = dir / "configs" / "station.toml";
     options_.listen = "127.0.0.1:" + std::to_string(port_);

@@ -59,7 +59,9 @@ function resetSession(e) {
   state.outcome = null;
   state.running = true;
   text("unit", e.unit);
-  text("session-name", e.session + " · " + e.sequence + (e.limits ? " · limits " + e.limits : ""));
+  text("session-name", e.session + (e.sequence ? " · " + e.sequence : "") +
+       (e.limits ? " · limits " + e.limits : "") + (e.resume ? " · resumed" : ""));
+  $("interrupted-box").hidden = true;
   $("outcome-box").hidden = true;
   $("outcome").dataset.kind = "";
   text("outcome", "—");
@@ -197,6 +199,14 @@ async function loadState() {
     fill($("limits"), s.limits, true);
     if (s.limits.length > 0) $("limits").value = "0";
   }
+  // A session whose process died with its record open: say why and offer to continue it.
+  const i = s.interrupted;
+  $("interrupted-box").hidden = !i || s.session?.running;
+  if (i) text("interrupted-reason", "Session " + i.session + " (unit " + i.unit + ") was " +
+              "interrupted: " + i.reason + ".");
+  // Its record has no outcome yet (not ERROR: the resume judges it).
+  if (i && !s.session?.running && state.session === i.session)
+    showOutcome("INTERRUPTED", "not closed: the record is open until it is resumed");
   $('recent-source').textContent = 'from ' + (s.recent_source ?? 'the sessions folder');
   const body = $("recent").tBodies[0];
   body.innerHTML = "";
@@ -243,6 +253,15 @@ $("start").addEventListener("click", async () => {
   }
 });
 $("serial").addEventListener("keydown", (ev) => { if (ev.key === "Enter") $("start").click(); });
+$("resume").addEventListener("click", async () => {
+  const r = await post("api/resume", {});
+  if (r.ok) {
+    message("resuming " + r.reply.session, "info");
+    $("interrupted-box").hidden = true;
+  } else {
+    message(r.reply.error || "refused (HTTP " + r.status + ")");
+  }
+});
 $("abort").addEventListener("click", async () => {
   if (!confirm("Abort the session? The table goes to zero rate and the gyro to its safe state; " +
                "the record says it was aborted by the operator.")) return;
