@@ -77,7 +77,7 @@ TEST(SqliteOpenBusy, EightConcurrentOpensOfFreshFilesAllSucceed) {
         if (!store) {
           ++failures;
           const std::lock_guard lock(first_mutex);
-          if (first_failure.empty()) first_failure = store.error();
+          if (first_failure.empty()) first_failure = store.error().message;
         }
       });
     }
