@@ -148,8 +148,11 @@ bool EventStream::WriteLine(const std::string& line) {
       // The deadline is read afresh: Close may set it while a line waits for a stopped reader.
       const std::lock_guard lock(mutex_);
       if (stop_) return false;
-      if (drain_deadline_ns_ != 0 && SteadyNs() >= drain_deadline_ns_) {
-        // Half a line on the descriptor: nothing after it could be parsed, so nothing follows.
+      // After the drain deadline no line is begun; one already begun gets the end's grace to be
+      // finished, because half a line on the descriptor would leave nothing after it parseable
+      // (a reader slower than the session's end got a torn last line and no "end").
+      const std::int64_t limit = done == 0 ? drain_deadline_ns_ : drain_deadline_ns_ + kEndGraceNs;
+      if (drain_deadline_ns_ != 0 && SteadyNs() >= limit) {
         if (done > 0 && stats_.write_error.empty()) stats_.write_error = "a line was cut short";
         return false;
       }

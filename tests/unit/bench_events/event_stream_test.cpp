@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include <cstdlib>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace hrgbench::bench {
@@ -149,6 +151,33 @@ TEST_F(EventStreamTest, AStoppedReaderCostsEventsNeverAWaitingProducer) {
   EXPECT_FALSE(stats.end_written);
   // Only the filler reached the pipe, and no partial line: the stream wrote nothing.
   EXPECT_EQ(ReadAll(pipe.read_fd).size(), filler);
+}
+
+// A reader slower than the session's end: the last event is half written when Close's drain time
+// is up. It is finished (the reader is reading), and "end" follows it, instead of the stream
+// stopping in the middle of a line with nothing after it parseable (issue 25 row 14).
+TEST_F(EventStreamTest, ALineBegunBeforeTheDrainDeadlineIsFinishedAndEndFollows) {
+  Pipe pipe;
+  ASSERT_GT(::fcntl(pipe.write_fd, F_SETPIPE_SZ, 4096), 0);
+  auto stream = EventStream::FromFd(pipe.write_fd, 8);
+  stream->Publish({{"type", "estimate"}, {"text", std::string(16 * 1024, 'y')}});
+  // Wait (hang guard: the test's timeout) until the writer has begun the line and filled the pipe.
+  for (int queued = 0; queued < 4096;) {
+    ASSERT_EQ(::ioctl(pipe.read_fd, FIONREAD, &queued), 0);
+    if (queued < 4096) ::usleep(1000);
+  }
+  // Close with no drain time: its deadline has passed before the reader takes the first byte.
+  EventStreamStats stats;
+  std::thread closer([&] { stats = stream->Close(0); });
+  const std::vector<nlohmann::json> lines = Lines(ReadAll(pipe.read_fd));
+  closer.join();
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["type"], "estimate");
+  EXPECT_EQ(lines[0]["text"].get<std::string>().size(), 16u * 1024);
+  EXPECT_EQ(lines[1]["type"], "end");
+  EXPECT_TRUE(stats.end_written);
+  EXPECT_EQ(stats.written, 1u);
+  EXPECT_TRUE(stats.write_error.empty()) << stats.write_error;
 }
 
 TEST_F(EventStreamTest, ASlowReaderSeesGapsInSeqAndTheCountAtTheEnd) {

@@ -19,9 +19,10 @@
 //
 // Close() ends the stream with a last event, type "end", carrying "events_published" and
 // "events_lost" (every event before it that did not reach the descriptor), after waiting up to
-// `drain_timeout_ms` for the queue to drain; the end event gets kEndGraceNs more at most.
-// A line the deadline cuts short is the last thing written (write_error says so): the descriptor
-// never holds a broken line followed by more. Threads: Publish from any thread;
+// `drain_timeout_ms` for the queue to drain; the end event gets kEndGraceNs more at most. No line
+// is begun after the deadline; a line begun before it gets kEndGraceNs to be finished. A line cut
+// short even so is the last thing written (write_error says so): the descriptor never holds a
+// broken line followed by more. Threads: Publish from any thread;
 // Open/Close from one owner thread.
 
 #include <condition_variable>
@@ -82,7 +83,8 @@ class EventStream {
   };
   EventStream(int fd, std::size_t capacity);
   void WriterLoop();
-  // Writes all of `line` before drain_deadline_ns_ (0: none). False when it did not.
+  // Writes all of `line` before drain_deadline_ns_ (0: none; a line begun, kEndGraceNs after it).
+  // False when it did not.
   bool WriteLine(const std::string& line);
   static constexpr std::int64_t kEndGraceNs = 500'000'000;
 
