@@ -259,17 +259,22 @@ TEST(GyroCanDeviceTest, LostFramesAreCountedAsSequenceGaps) {
   EXPECT_EQ(rig.device->Counters().sequence_gaps, 1u);
   EXPECT_EQ(rig.device->Counters().samples_lost, 2u);
   EXPECT_EQ(after.back().seq - before.back().seq, 102u);
-  // A burst longer than the 8-bit counter's wrap (300 samples = 600 frames) is counted exactly
-  // (unwrapped against the receive time).
-  rig.node->faults().drop_sample_frames = 600;
-  after = ReadN(*rig.device, 50, nullptr, 1'000'000'000);  // 0.3 s of silence: wait longer
-  EXPECT_EQ(rig.device->Counters().sequence_gaps, 2u);
-  EXPECT_EQ(rig.device->Counters().samples_lost, 302u);
   // Frames lost on the bus (not by the node) are found the same way.
   rig.bus->DropNext(1);
   after = ReadN(*rig.device, 50);
+  ASSERT_EQ(after.size(), 50u);
+  EXPECT_EQ(rig.device->Counters().sequence_gaps, 2u);
+  EXPECT_EQ(rig.device->Counters().samples_lost, 3u);
+  // A burst longer than the 8-bit counter's wrap (300 samples = 600 frames; a wrap is 256) cannot
+  // be numbered: from the counter and the receive stamp, a whole wrap lost and a sender that fell
+  // behind look the same, and a guess shifts the rest of the run by a wrap and pairs the halves of
+  // different samples (issue 25 row 15; README "Sequence counter"). The rest of the run is refused
+  // and counted lost, never delivered with a guessed number.
+  rig.node->faults().drop_sample_frames = 600;
+  after = ReadN(*rig.device, 50, nullptr, 1'000'000'000);
+  EXPECT_TRUE(after.empty()) << after.size() << " samples delivered with a guessed number";
   EXPECT_EQ(rig.device->Counters().sequence_gaps, 3u);
-  EXPECT_EQ(rig.device->Counters().samples_lost, 303u);
+  EXPECT_GE(rig.device->Counters().samples_lost, 3u + 300u);
 }
 
 TEST(GyroCanDeviceTest, CorruptFramesAreCountedAsBadFrames) {
