@@ -827,8 +827,8 @@ TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   fs::create_directories(mount);
   const std::string run = kBench + " run --station " +
                           StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
-                          ShortSequence(work).string() + " --serial SN-DF -o " +
-                          (mount / "s").string();
+                          ShortSequence(work).string() + " --serial SN-DF --events " +
+                          (work / "events.jsonl").string() + " -o " + (mount / "s").string();
   // 512 KiB of reserve and 48 KiB for the record: the runs and the CAN log do not fit.
   const std::string script = "mount -t tmpfs -o size=560k none " + mount.string() + " && " +
                              kNoPdf + " " + run + " > " + (work / "run.log").string() +
@@ -843,6 +843,16 @@ TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   EXPECT_NE(record.at("outcome").at("reason").get<std::string>().find("No space left"),
             std::string::npos)
       << record.at("outcome").dump(1);
+  // A second program (the panel) learns it from the event stream, which lives elsewhere.
+  nlohmann::json outcome;
+  for (const std::string& line : Lines(work / "events.jsonl")) {
+    const nlohmann::json event = nlohmann::json::parse(line, nullptr, false);
+    if (!event.is_discarded() && event.value("type", "") == "outcome") outcome = event;
+  }
+  ASSERT_FALSE(outcome.is_null()) << ReadText(work / "events.jsonl");
+  EXPECT_EQ(outcome.at("outcome"), "ERROR") << outcome.dump(1);
+  EXPECT_NE(outcome.at("reason").get<std::string>().find("No space left"), std::string::npos)
+      << outcome.dump(1);
   fs::remove_all(work);
 }
 
