@@ -15,6 +15,7 @@
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page_pointer.hpp"
+#include "sample_timing.hpp"
 
 namespace hrgbench::report::internal {
 namespace {
@@ -182,29 +183,12 @@ json CaptureQuality(const RunView& run, const session::SessionRecord& record) {
   json q = json::object();
   const std::vector<double>& t = run.data.t_s;
   q["samples_loaded"] = t.size();
-  const double rate_hz = record.sample_rate_hz;
   if (t.size() >= 2) {
-    std::vector<double> dt(t.size() - 1);
-    for (std::size_t k = 1; k < t.size(); ++k) dt[k - 1] = t[k] - t[k - 1];
-    std::vector<double> sorted = dt;
-    std::nth_element(sorted.begin(),
-                     sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    const double nominal = std::isfinite(rate_hz) && rate_hz > 0.0 ? 1.0 / rate_hz : median;
-    double sum = 0.0, sum2 = 0.0, worst = 0.0;
-    std::size_t long_steps = 0;
-    for (const double step : dt) {
-      sum += step;
-      sum2 += step * step;
-      worst = std::max(worst, std::abs(step - nominal));
-      if (step > 1.5 * nominal) ++long_steps;
-    }
-    const double mean = sum / static_cast<double>(dt.size());
-    q["sample_interval_s"] = bench::NumberOrNull(mean);
-    q["sample_time_jitter_std_s"] = bench::NumberOrNull(
-        std::sqrt(std::max(0.0, sum2 / static_cast<double>(dt.size()) - mean * mean)));
-    q["sample_time_jitter_max_s"] = bench::NumberOrNull(worst);
-    q["time_gaps"] = long_steps;  // steps longer than 1.5 nominal intervals
+    const SampleTiming timing = MeasureSampleTiming(t, record.sample_rate_hz);
+    q["sample_interval_s"] = bench::NumberOrNull(timing.interval_s);
+    q["sample_time_jitter_std_s"] = bench::NumberOrNull(timing.jitter_std_s);
+    q["sample_time_jitter_max_s"] = bench::NumberOrNull(timing.jitter_max_s);
+    q["time_gaps"] = timing.long_steps;  // steps longer than 1.5 nominal intervals
   }
   // NaN (not measured, or no end recorded) gives null.
   bench::RunEnd end;
