@@ -121,7 +121,7 @@ std::vector<bench::UnitSession> FixtureUnitSessions(const FixtureRecord& record,
     bench::UnitSession session;
     session.serial = unit.serial;
     session.dir = dir / unit.folder;
-    session.fixture = nlohmann::json{{"position", unit.position},
+    session.fixture = nlohmann::json{{session::keys::kFixturePosition, unit.position},
                                      {"inverted", unit.inverted},
                                      {"folder", dir.filename().string()},
                                      {"units", beside}};

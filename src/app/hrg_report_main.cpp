@@ -20,6 +20,7 @@ struct Arguments {
   std::string dir;
   std::string output;
   bool no_pdf = false;
+  std::string paper = "a4";
   bool no_figures = false;
   bool refit = false;
   std::string chart_js;
@@ -30,6 +31,7 @@ int Run(const Arguments& args) {
   report::ReportOptions options;
   options.output = args.output;
   options.pdf = !args.no_pdf;
+  options.paper = *report::ParsePaperSize(args.paper);  // CLI11 checked it
   options.figures = !args.no_figures;
   options.refit = args.refit;
   options.chart_js = args.chart_js;
@@ -67,6 +69,8 @@ int main(int argc, char** argv) {
   cli.add_option("-o,--output", args.output,
                  "the HTML file (default SESSION_DIR/report/report.html)");
   cli.add_flag("--no-pdf", args.no_pdf, "do not print the PDF");
+  cli.add_option("--paper", args.paper, "the PDF's sheet: a4 (default) or letter")
+      ->check(CLI::IsMember({"a4", "letter"}));
   cli.add_flag("--no-figures", args.no_figures, "do not draw the SVG figures");
   cli.add_flag("--refit", args.refit,
                "re-run the estimate (ml, as the bench does) and draw that fit instead of the "

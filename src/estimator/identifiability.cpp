@@ -52,7 +52,7 @@ IdentifiabilityReport CheckRatePlan(const std::vector<double>& omegas, const XiM
   if (!report.has_nonzero_omega) {
     report.delta_identifiable[kScaleFactor] = false;
     report.reasons.push_back(
-        "every run is at Ω = 0: the scale factor δ2 enters only through 2Ωδ2 and cannot be "
+        "every run is at Ω = 0: the angular gain δ2 enters only through 2Ωδ2 and cannot be "
         "determined; it is held at its given value");
   }
   const bool any_xi = std::any_of(requested.begin(), requested.end(), [](bool b) { return b; });

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page.hpp"
@@ -36,6 +37,9 @@ void Page::Head() {
       "canvas{max-width:100%}figcaption{font-size:.9em;color:#444}\n"
       "section.run{border-top:2px solid #888;margin-top:2em;page-break-before:always}\n"
       ".status-FAIL{color:#b3261e;font-weight:bold}.status-PASS{color:#1b7f3b}\n"
+      "@page{size:" +
+      std::string(in_.paper == PaperSize::kLetter ? "letter" : "A4") +
+      ";margin:12mm}\n"
       "</style>\n</head>\n<body>\n";
 }
 
@@ -47,6 +51,8 @@ void Page::Meta() {
   };
   row("unit serial", TextOrMissing(record_.unit_serial));
   row("station", TextOrMissing(record_.station_name));
+  if (!record_.fixture_position.empty())
+    row("fixture position", HtmlEscape(record_.fixture_position));
   row("software version", TextOrMissing(record_.software_version));
   const session::ConfigHashesRecord& hashes = record_.config_sha256;
   if (hashes.recorded) {
@@ -143,16 +149,6 @@ void Page::Estimate() {
       "<th>± std</th>";
   if (truth_delta != nullptr) out_ += "<th>truth (simulated)</th><th>(estimate − truth)/std</th>";
   out_ += "<th>Cramér–Rao std</th></tr>\n";
-  static const char* kMeaning[10] = {"damping δ1 [1/s]",
-                                     "angular gain δ2",
-                                     "damping anisotropy δ3 [1/s]",
-                                     "damping anisotropy δ4 [1/s]",
-                                     "frequency anisotropy δ5 [rad/s]",
-                                     "frequency anisotropy δ6 [rad/s]",
-                                     "gain mismatch ξ1",
-                                     "phase mismatch ξ2",
-                                     "cross-talk ξ3",
-                                     "electrode misplacement ξ4"};
   for (std::size_t p = 0; p < 10; ++p) {
     const bool is_delta = p < 6;
     const std::size_t i = is_delta ? p : p - 6;
@@ -167,7 +163,8 @@ void Page::Estimate() {
         recorded ? SrcWithStd(pointer(key, i), recorded_value, pointer(std_key, i), recorded_std)
                  : DerWithStd(pointer(key, i), pointer(std_key, i));
     out_ += "<tr><td>" + std::string(is_delta ? "δ" : "ξ") + std::to_string(i + 1) + "</td><td>" +
-            kMeaning[p] + "</td><td>" + estimate + "</td><td>" + std_dev + "</td>";
+            std::string(is_delta ? estimator::kDeltaMeanings[i] : estimator::kXiMeanings[i]) +
+            "</td><td>" + estimate + "</td><td>" + std_dev + "</td>";
     const double std_value = recorded ? recorded_std : NumberAt(data_, pointer(std_key, i));
     if (truth_delta != nullptr) {
       // The truth to the estimate's precision, so the two columns read side by side.

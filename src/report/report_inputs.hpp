@@ -54,6 +54,7 @@ struct ReportInputs {
   // re-run's, the report's own.
   std::vector<std::string> warnings;
   std::optional<UnitHistory> unit_history;  // ReportOptions::unit_history
+  PaperSize paper = PaperSize::kA4;         // ReportOptions::paper
 };
 
 }  // namespace hrgbench::report::internal

@@ -9,10 +9,10 @@
 namespace hrgbench::report {
 
 struct SampleTiming {
-  double interval_s;          // mean step, s (NaN with fewer than 2 samples)
-  double jitter_std_s;        // std of the steps about that mean, s
-  double jitter_max_s;        // largest |step − nominal|, s
-  std::size_t long_steps;     // steps longer than 1.5 nominal intervals (lost samples)
+  double interval_s;       // mean step, s (NaN with fewer than 2 samples)
+  double jitter_std_s;     // std of the steps about that mean, s
+  double jitter_max_s;     // largest |step − nominal|, s
+  std::size_t long_steps;  // steps longer than 1.5 nominal intervals (lost samples)
 };
 
 // `nominal_rate_hz` not finite or ≤ 0: the median step is the nominal one.

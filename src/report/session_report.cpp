@@ -27,6 +27,16 @@
 
 namespace hrgbench::report {
 
+std::string_view ToString(PaperSize paper) noexcept {
+  return paper == PaperSize::kLetter ? "letter" : "a4";
+}
+
+std::optional<PaperSize> ParsePaperSize(std::string_view text) noexcept {
+  if (text == "a4") return PaperSize::kA4;
+  if (text == "letter") return PaperSize::kLetter;
+  return std::nullopt;
+}
+
 std::string ReportError::ToString() const {
   std::string text = file.string();
   if (!field.empty()) text += ": field '" + field + "'";
@@ -294,6 +304,7 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   in.record = *record;
   in.sample_rate_hz = record->sample_rate_hz;
   in.unit_history = options.unit_history;
+  in.paper = options.paper;
   std::set<std::string> seen;
   std::vector<std::string> reader_warnings;
   for (const std::string& w : record->warnings) {

@@ -665,6 +665,11 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
       record.simulation_xi = f.Numbers<4>(*simulation, keys::kSimulation, keys::kXi);
   }
   record.fixture = Member(doc, keys::kFixture);
+  if (record.fixture.is_object()) {
+    const auto position = record.fixture.find(keys::kFixturePosition);
+    if (position != record.fixture.end() && position->is_string())
+      record.fixture_position = position->get<std::string>();
+  }
   record.results = Member(doc, keys::kResults);
 
   // ReadSessionJson checked runs is an array of objects parallel to base.runs.

@@ -2,7 +2,8 @@
 // Parameter vectors of the HRG free-run model (docs/estimator/model.md "Parameters").
 //
 // delta (δ, 6): mechanical parameters of the resonator.
-//   δ1 damping [1/s, negative], δ2 gyro scale factor (angular gain, dimensionless, ≈ 0.3),
+//   δ1 damping [1/s, negative], δ2 angular gain (the Bryan factor; MODEL.md's "gyro scale
+//   factor"; dimensionless, ≈ 0.3),
 //   δ3, δ4 damping anisotropy [1/s], δ5, δ6 frequency anisotropy [rad/s].
 // xi (ξ, 4): errors of the pick-off path, dimensionless and small (|ξ| ≪ 1).
 //   ξ1 gain mismatch, ξ2 phase-delay mismatch, ξ3 cross-talk, ξ4 pick-off angle error.
@@ -46,7 +47,7 @@ inline constexpr std::array<std::string_view, 6> kDeltaNames = {"delta1", "delta
                                                                 "delta4", "delta5", "delta6"};
 inline constexpr std::array<std::string_view, 6> kDeltaMeanings = {
     "damping [1/s]",
-    "scale factor [-]",
+    "angular gain (Bryan factor) [-]",
     "damping anisotropy cos [1/s]",
     "damping anisotropy sin [1/s]",
     "frequency anisotropy cos [rad/s]",

@@ -52,6 +52,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hrgbench::report {
@@ -75,10 +76,17 @@ struct UnitHistory {
 // The most earlier sessions the page lists (the newest ones; the count says how many there are).
 inline constexpr std::size_t kMaxUnitHistoryRows = 50;
 
+// The PDF's sheet. A4 (ISO 216) unless the station or the command says otherwise; US Letter for
+// lines that file on it.
+enum class PaperSize { kA4, kLetter };
+std::string_view ToString(PaperSize paper) noexcept;  // "a4", "letter"
+std::optional<PaperSize> ParsePaperSize(std::string_view text) noexcept;
+
 struct ReportOptions {
   // The HTML file; empty = <session>/report/report.html. Figures and the PDF go beside it.
   std::filesystem::path output;
-  bool pdf = true;      // print the page to report.pdf with headless Chromium
+  bool pdf = true;  // print the page to report.pdf with headless Chromium
+  PaperSize paper = PaperSize::kA4;
   bool figures = true;  // draw every figure as SVG with gnuplot
   // Chart.js UMD build to inline; empty = the first of kChartJsCandidates that exists.
   std::filesystem::path chart_js;

@@ -257,6 +257,8 @@ struct SessionRecord {
   std::optional<std::array<double, 6>> simulation_delta;
   std::optional<std::array<double, 4>> simulation_xi;
   nlohmann::json fixture;
+  // fixture.position: the fitted position the unit sat in; "" when it was not on a fixture.
+  std::string fixture_position;
   std::vector<RunRecord> runs;
   std::optional<OutcomeRecord> outcome;  // absent while running or after a crash
   nlohmann::json results;                // the upload mark; null when not uploaded

@@ -52,6 +52,7 @@ inline constexpr const char* kCrossTalkStage = "cross_talk_stage";
 inline constexpr const char* kUnmodelledCouplingBoundRad = "unmodelled_coupling_bound_rad";
 inline constexpr const char* kSimulation = "simulation";
 inline constexpr const char* kFixture = "fixture";
+inline constexpr const char* kFixturePosition = "position";  // in fixture
 inline constexpr const char* kRuns = "runs";
 inline constexpr const char* kOutcome = "outcome";
 inline constexpr const char* kResumedAt = "resumed_at";

@@ -2,6 +2,8 @@
 // empty, a run not complete, no run at all, session.json unreadable or of another format, Chart.js,
 // gnuplot or Chromium missing; and gnuplot and Chromium when present. Sessions:
 // report_test_session.hpp.
+#include <regex>
+
 #include "report_test_session.hpp"
 
 namespace hrgbench::report {
@@ -161,7 +163,35 @@ TEST(SessionReport, ChromiumPrintsThePdf) {
   const auto result = WriteSessionReport(dir.path(), o);
   ASSERT_TRUE(result) << result.error().ToString();
   ASSERT_EQ(result->pdf, dir.path() / "report" / "report.pdf");
-  EXPECT_EQ(Read(result->pdf).substr(0, 5), "%PDF-");
+  const std::string pdf = Read(result->pdf);
+  EXPECT_EQ(pdf.substr(0, 5), "%PDF-");
+  // The sheet: A4 by default (595 × 842 pt), US Letter on request (612 × 792 pt); the page's
+  // @page rule sets it, so Chromium's own default (Letter) never decides.
+  const auto sheet = [](const std::string& bytes) {
+    const std::regex box(R"(/MediaBox\s*\[\s*0\s+0\s+([0-9.]+)\s+([0-9.]+)\s*\])");
+    std::smatch m;
+    if (!std::regex_search(bytes, m, box)) return std::pair<double, double>{0.0, 0.0};
+    return std::pair<double, double>{std::stod(m[1]), std::stod(m[2])};
+  };
+  const auto [a4_w, a4_h] = sheet(pdf);
+  EXPECT_NEAR(a4_w, 595.3, 2.0);
+  EXPECT_NEAR(a4_h, 841.9, 2.0);
+  o.paper = PaperSize::kLetter;
+  const auto letter = WriteSessionReport(dir.path(), o);
+  ASSERT_TRUE(letter) << letter.error().ToString();
+  const auto [letter_w, letter_h] = sheet(Read(letter->pdf));
+  EXPECT_NEAR(letter_w, 612.0, 2.0);
+  EXPECT_NEAR(letter_h, 792.0, 2.0);
+}
+
+// The unit's fixture position heads the report (a unit's report must say where it sat).
+TEST(SessionReport, AFixtureUnitsReportNamesItsPosition) {
+  testing::ScratchDir dir("report_fixture");
+  WriteSession(dir.path(), {{"fixture", {{"position", "B"}, {"folder", "fixture-1"}}}});
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  EXPECT_NE(Read(result->html).find("<tr><th>fixture position</th><td>B</td></tr>"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -100,6 +100,12 @@ TEST(SessionReport, RecordedOutcomeVerdictAndEngineeringAreShown) {
   EXPECT_NE(Top(html).find("differs from the recorded one"), std::string::npos);
   // The anisotropy is from the recorded δ.
   EXPECT_EQ(ReportData(html)["derived"]["anisotropy"]["delta_source"], "/outcome/estimate/delta");
+  // One name per parameter: δ2 and ξ4 read as the terminal's summary names them (it once said
+  // "scale factor" where the report said "angular gain").
+  EXPECT_NE(html.find("<td>δ2</td><td>angular gain (Bryan factor) [-]</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>ξ4</td><td>pick-off angle error [-]</td>"), std::string::npos);
+  EXPECT_EQ(html.find("scale factor"), std::string::npos);
+  EXPECT_EQ(html.find("electrode misplacement"), std::string::npos);
 }
 
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
