@@ -392,12 +392,27 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
   for (int j = 0; j < 6; ++j) out["delta_std"].push_back(bench::NumberOrNull(bound.delta_std[j]));
   for (int k = 0; k < 4; ++k) out["xi_std"].push_back(bench::NumberOrNull(bound.xi_std[k]));
   if (!bound.valid) return out;
-  // The achieved std: recorded when the record has it, else the re-run's.
+  // The achieved std: recorded when the record has it, else the re-run's. The bound is for white
+  // noise of σ̂; a sandwich std (coloured residuals) is above it by the noise's colour, which says
+  // nothing of the estimator's efficiency, so the caption only claims efficiency for white noise.
+  const session::EstimateRecord* recorded = OfRecord(inputs.record);
+  const std::string covariance = recorded != nullptr && !recorded->covariance_kind.empty()
+                                     ? recorded->covariance_kind
+                                     : s.diagnostics.covariance_kind;
+  const bool white = covariance == "white";
+  out["covariance"] = covariance;
+  out["comparison"] = white ? "efficiency" : "noise colour";
   json figure{{"name", "std-vs-bound"},
               {"caption",
                "Achieved std of every estimated parameter against the Cramér–Rao bound of the "
-               "session's own design (its runs, fitted orbits, σ̂ = " +
-                   Readable(design.sigma) + "); a ratio near 1 is an efficient estimate"},
+               "session's own design (its runs, fitted orbits, white noise of σ̂ = " +
+                   Readable(design.sigma) + "); " +
+                   (white ? std::string("the std is the white-noise covariance's, so a ratio near "
+                                        "1 is an efficient estimate")
+                          : "the std is the " + covariance +
+                                " covariance's (the residuals are not white), so its ratio to "
+                                "the white-noise bound measures the noise's colour, not the "
+                                "estimator's efficiency")},
               {"type", "bar"},
               {"x_label", "parameter"},
               {"y_label", "std"},

@@ -377,6 +377,7 @@ EstimateRecord ReadEstimate(Fields& f, const json& estimate, const std::string& 
   }
   if (const json* fit = f.Object(estimate, at, "fit")) {
     out.phase_degree = f.Int(*fit, Join(at, "fit"), "phase_degree").value_or(0);
+    out.covariance_kind = f.String(*fit, Join(at, keys::kFit), keys::kCovariance);
     if (const json* limits = f.Object(*fit, Join(at, "fit"), "limits")) {
       const std::string l = Join(at, "fit.limits");
       out.fit_residual_ratio_max = f.Number(*limits, l, "residual_ratio_max");

@@ -161,7 +161,9 @@ struct EstimateRecord {
   std::string termination;  // estimator::ToString(Termination); "" when absent
   int iterations = 0;
   std::int64_t samples_used = 0;
-  int phase_degree = 0;         // fit.phase_degree: D of the common phase (0: none)
+  int phase_degree = 0;  // fit.phase_degree: D of the common phase (0: none)
+  // fit.covariance: "white" (σ̂²(JᵀJ)⁻¹) or "sandwich" (coloured residuals); "" when absent.
+  std::string covariance_kind;
   std::array<double, 6> delta;  // NaN where absent or null
   std::array<double, 6> delta_std;
   std::array<double, 4> xi;

@@ -102,6 +102,7 @@ inline constexpr const char* kSamplesUsed = "samples_used";
 inline constexpr const char* kIterations = "iterations";
 inline constexpr const char* kTruth = "truth";
 inline constexpr const char* kFit = "fit";
+inline constexpr const char* kCovariance = "covariance";  // in fit: "white" | "sandwich"
 inline constexpr const char* kRun = "run";
 inline constexpr const char* kResidualRatio = "residual_ratio";
 inline constexpr const char* kWhitenessZ = "whiteness_z";

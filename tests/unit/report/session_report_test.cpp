@@ -108,6 +108,27 @@ TEST(SessionReport, RecordedOutcomeVerdictAndEngineeringAreShown) {
   EXPECT_EQ(html.find("electrode misplacement"), std::string::npos);
 }
 
+// The Cramér–Rao bound is for white noise: a sandwich std (coloured residuals) above it measures
+// the noise's colour, and the page must not call the ratio an inefficiency. With white noise it
+// may.
+TEST(SessionReport, TheBoundIsAnEfficiencyOnlyForAWhiteNoiseStd) {
+  for (const std::string kind : {"white", "sandwich"}) {
+    testing::ScratchDir dir("report_crlb_" + kind);
+    json outcome = RecordedOutcome();
+    outcome["outcome"]["estimate"]["fit"] = {{"covariance", kind}};
+    WriteSession(dir.path(), outcome);
+    const auto result = WriteSessionReport(dir.path(), Fast());
+    ASSERT_TRUE(result) << result.error().ToString();
+    const std::string html = Read(result->html);
+    const json crlb = ReportData(html)["derived"]["crlb"];
+    ASSERT_TRUE(crlb.is_object()) << kind;
+    EXPECT_EQ(crlb["covariance"], kind);
+    EXPECT_EQ(crlb["comparison"], kind == "white" ? "efficiency" : "noise colour");
+    const bool claims_efficiency = html.find("1 is an efficient estimate") != std::string::npos;
+    EXPECT_EQ(claims_efficiency, kind == "white") << kind;
+  }
+}
+
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
   testing::ScratchDir dir("report_older");
   json outcome = RecordedOutcome();
