@@ -197,12 +197,9 @@ nlohmann::json ResultJson(const bench::SessionResult& result, const std::string&
 }
 
 // `out`: stdout, or stderr when the events go to stdout (--events -: stdout is JSON lines only).
-int Report(const bench::SessionResult& result, bool json, const std::string& report_path,
-           std::ostream& out_text) {
-  if (json) {
-    out_text << ResultJson(result, report_path).dump(1) << '\n';
-    return result.exit_code;
-  }
+// The text result without the report's line: printed as soon as the session closes, so the
+// operator reads the outcome while the report (and Chromium's PDF, seconds) is still being made.
+void PrintOutcome(const bench::SessionResult& result, std::ostream& out_text) {
   if (result.estimate) out_text << result.estimate->Report();
   if (result.engineering) {
     out_text << "in the field's units (f0 = " << result.engineering->frequency_hz
@@ -212,9 +209,16 @@ int Report(const bench::SessionResult& result, bool json, const std::string& rep
   if (result.verdict) out_text << result.verdict->Report();
   for (const std::string& w : result.warnings) out_text << "warning: " << w << '\n';
   out_text << bench::ToString(result.outcome) << ": " << result.reason << '\n'
-           << "session: " << result.dir.string() << '\n';
-  if (!report_path.empty()) out_text << "report: " << report_path << '\n';
-  return result.exit_code;
+           << "session: " << result.dir.string() << std::endl;
+}
+
+// What follows the outcome once the report is written: its line, or the whole result as JSON.
+void PrintReportLine(const bench::SessionResult& result, bool json, const std::string& report_path,
+                     std::ostream& out_text) {
+  if (json)
+    out_text << ResultJson(result, report_path).dump(1) << '\n';
+  else if (!report_path.empty())
+    out_text << "report: " << report_path << '\n';
 }
 
 // --events: where, and the queue's capacity (events).
@@ -260,6 +264,8 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
              : bench::RunSession(configs, (*station)->hardware(), dir, options);
   printer.EndLine();
   if (event_output) event_output->publisher().SessionFinished(result);
+  std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
+  if (!json) PrintOutcome(result, out_text);
   const std::string report_path = WriteReport(result, configs.station.results_url);
   if (event_output) {
     event_output->publisher().ReportWritten(report_path);
@@ -268,7 +274,8 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   // After the folder is complete (record closed, report written, events.json); never changes the
   // outcome.
   app::UploadClosedSession(configs.station.results_url, result.dir);
-  return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
+  PrintReportLine(result, json, report_path, out_text);
+  return result.exit_code;
 }
 
 // What a kill during the report or the upload left undone for a session that closed with a
@@ -630,8 +637,11 @@ int FinishClosed(const std::filesystem::path& dir, bool json, const EventsReques
     spdlog::warn("{}; the session is not uploaded", configs.error());
   spdlog::info("{}: closed as {}; its record is kept as it is", dir.string(),
                bench::ToString(result.outcome));
+  std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
+  if (!json) PrintOutcome(result, out_text);
   const std::string report_path = FinishClosedFolder(dir, result, results_url);
-  return Report(result, json, report_path, events.target == "-" ? std::cerr : std::cout);
+  PrintReportLine(result, json, report_path, out_text);
+  return result.exit_code;
 }
 
 // `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a

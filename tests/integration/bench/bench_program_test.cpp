@@ -738,6 +738,10 @@ TEST(BenchProgram, ResumeOfAClosedRecordFinishesTheReportAndRewritesNothing) {
   const std::string kind = closed.at("outcome").value("kind", std::string());
   ASSERT_TRUE(kind == "PASS" || kind == "FAIL") << closed.at("outcome").dump();
   ASSERT_FALSE(fs::exists(session_dir / "report" / "report.html"));
+  // The operator read the outcome before the report began (issue 26 §4: the PDF is off the
+  // critical path): it was printed when the kill came.
+  EXPECT_NE(killed.out.find(kind + ": "), std::string::npos) << killed.out;
+  EXPECT_NE(killed.out.find("session: " + session_dir.string()), std::string::npos) << killed.out;
   const std::string record = ReadText(session_dir / "session.json");
 
   ::setenv("HRGBENCH_CHROMIUM", "/bin/false", 1);  // as kNoPdf, for RunBenchJson
