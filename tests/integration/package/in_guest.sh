@@ -16,6 +16,13 @@ check() {  # check "what" command...: ok when the command succeeds
   shift
   if "$@" >>"$out/commands.log" 2>&1; then ok "$what"; else fail "$what (exit $?)"; fi
 }
+require() {  # as check, and the rest is pointless without it: stop here
+  check "$@"
+  if tail -1 "$checks" | grep -q '^FAIL'; then
+    echo "the rest depends on the failed check" >>"$checks"
+    exit 1
+  fi
+}
 # Generous hang guards, in steps: the guest's clock is the host's, nothing asserts a duration.
 wait_for() {  # wait_for seconds command...
   local tries=$(($1 * 5))
@@ -30,25 +37,37 @@ base=http://127.0.0.1:8080
 get() { curl --silent --show-error --max-time 20 "$@"; }
 json() { python3 -c "import json,sys; d=json.load(sys.stdin); print($1)"; }
 
-# What the machine holds before: every path of the root file system but the kernel's, the
-# volatile and the harness's own folders, and the account databases' lines.
+# What the machine holds before: every path of the system's trees (where a package can write;
+# not /home, /root or the folders of whoever else is at work on the host, which the overlay shows
+# live), less the volatile ones and those the guest's systemd itself writes as it runs.
 manifest() {
-  find / -xdev \( -path /proc -o -path /sys -o -path /dev -o -path /run -o -path /tmp \
-    -o -path /var/tmp -o -path /var/log -o -path /var/cache -o -path /out -o -path /pkg \
-    -o -path /var/lib/systemd/catalog -o -path /var/lib/systemd/random-seed \) -prune \
-    -o -printf '%p %u:%g %m\n' | LC_ALL=C sort
+  find /etc /usr /var /opt /srv /boot /bin /sbin /lib /lib64 -xdev \( -path /var/tmp \
+    -o -path /var/log -o -path /var/cache -o -path /var/lib/systemd/catalog \
+    -o -path /var/lib/systemd/random-seed -o -path /var/lib/systemd/linger \
+    -o -path /var/lib/systemd/timers \) -prune -o -printf '%p %u:%g %m\n' 2>/dev/null |
+    LC_ALL=C sort
 }
+# Whatever happens, the unit's status and journal for the artifacts.
+diagnose() {
+  systemctl status hrgbench.service --no-pager >"$out/status.txt" 2>&1
+  journalctl -u hrgbench.service --no-pager >"$out/journal.txt" 2>&1
+}
+trap diagnose EXIT
+# A container image's policy-rc.d (Docker's "exit 101") forbids maintainer scripts to start
+# services; a station's machine has none. Gone before the first list, so it is no difference.
+rm -f /usr/sbin/policy-rc.d
 manifest >"$out/before.txt"
 cat /etc/passwd /etc/group >"$out/accounts-before.txt"
 
 # 1. Install: the postinst creates the user, enables and starts the unit.
-check "dpkg -i installs the package" dpkg -i /pkg/hrgbench.deb
+require "dpkg -i installs the package" dpkg -i /pkg/hrgbench.deb
 check "the user hrgbench exists, a system user without a login shell" \
   sh -c 'getent passwd hrgbench | grep -q ":/var/lib/hrgbench:/usr/sbin/nologin$" &&
          [ "$(id -u hrgbench)" -lt 1000 ]'
 check "the unit is enabled" sh -c '[ "$(systemctl is-enabled hrgbench.service)" = enabled ]'
 check "the unit is active after the install" wait_for 60 systemctl is-active --quiet hrgbench.service
-check "the panel answers on 127.0.0.1:8080" wait_for 60 get -f -o /dev/null "$base/api/state"
+diagnose
+require "the panel answers on 127.0.0.1:8080" wait_for 60 get -f -o /dev/null "$base/api/state"
 systemd-analyze verify hrgbench.service >"$out/verify.txt" 2>&1
 verify_status=$?
 if [ "$verify_status" -eq 0 ] && [ ! -s "$out/verify.txt" ]; then
@@ -64,10 +83,16 @@ uid=$(awk '/^Uid:/ {print $2}' "/proc/$pid/status" 2>/dev/null)
 check "the panel runs as hrgbench (pid $pid)" [ "$uid" = "$(id -u hrgbench)" ]
 check "the panel runs with no_new_privs" grep -q '^NoNewPrivs:[[:space:]]*1' "/proc/$pid/status"
 check "the panel has no capabilities" grep -q '^CapEff:[[:space:]]*0000000000000000' "/proc/$pid/status"
-check "the panel's /usr and /etc are read-only, its state folder writable" \
-  nsenter -t "$pid" -m sh -c 'grep -qE " /usr [^ ]+ (ro|[^ ]*,ro)[, ]" /proc/self/mountinfo &&
-    grep -qE " /etc [^ ]+ (ro|[^ ]*,ro)[, ]" /proc/self/mountinfo &&
-    ! grep -qE " /var/lib/hrgbench [^ ]+ (ro|[^ ]*,ro)[, ]" /proc/self/mountinfo'
+# The options of the mount each path lies on, as the panel's mount namespace sees them.
+for path in /usr /etc /var/lib/hrgbench /home /tmp; do
+  echo "$path $(nsenter -t "$pid" -m findmnt --noheadings --output OPTIONS --target "$path")"
+done >"$out/panel-mounts.txt"
+check "the panel's /usr, /etc and /home are read-only, its state folder writable" sh -c "
+  grep -qE '^/usr ro(,|\$)' '$out/panel-mounts.txt' && grep -qE '^/etc ro(,|\$)' '$out/panel-mounts.txt' &&
+  grep -qE '^/home ro(,|\$)' '$out/panel-mounts.txt' &&
+  grep -qE '^/var/lib/hrgbench rw(,|\$)' '$out/panel-mounts.txt'"
+check "the panel has its own /tmp (PrivateTmp)" sh -c "
+  [ \"\$(nsenter -t $pid -m stat -c %d:%i /tmp)\" != \"\$(stat -c %d:%i /tmp)\" ]"
 check "the state folder belongs to hrgbench" \
   sh -c '[ "$(stat -c %U:%G:%a /var/lib/hrgbench)" = hrgbench:hrgbench:750 ]'
 
@@ -89,13 +114,13 @@ limits=$(python3 -c "import json; d=json.load(open('$out/state.json')); print(d[
 get -o "$out/start.json" -H 'Content-Type: application/json' -H "Origin: $base" \
   --data "{\"serial\": \"SIM-0001\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
 session=$(json 'd.get("session", "")' <"$out/start.json" 2>/dev/null)
-check "POST /api/start starts a session ($(cat "$out/start.json"))" [ -n "$session" ]
+require "POST /api/start starts a session ($(cat "$out/start.json"))" [ -n "$session" ]
 session_over() {
   get "$base/api/state" | python3 -c "
 import json, sys; s = json.load(sys.stdin)['session']
 sys.exit(0 if s and not s['running'] else 1)"
 }
-check "the session ends (hang guard 600 s)" wait_for 600 session_over
+require "the session ends (hang guard 600 s)" wait_for 600 session_over
 get "$base/api/state" >"$out/state-after.json"
 check "the session PASSed: exit code 0" python3 -c "
 import json; s = json.load(open('$out/state-after.json'))['session']

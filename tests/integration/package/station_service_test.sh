@@ -36,6 +36,7 @@ done
 
 rm -rf "$artifacts"
 mkdir -p "$artifacts/package" "$artifacts/out"
+artifacts=$(cd "$artifacts" && pwd)
 fail() {
   echo "package test: FAIL: $*" >&2
   exit 1
@@ -95,10 +96,16 @@ unshare --mount --propagation private bash -euo pipefail -c '
   mount -t overlay overlay \
     -o "lowerdir=$scratch/lower,upperdir=$scratch/upper,workdir=$scratch/work" "$scratch/root"
   cp "$out/../hrgbench-package-test.service" "$scratch/root/etc/systemd/system/"
+  # The source and build folders hidden under empty read-only tmpfs (nspawn'"'"'s --inaccessible
+  # needs a host systemd); the build first, as it may lie inside the source.
+  for dir in "$build" "$source_dir"; do
+    if [ -d "$scratch/root$dir" ]; then
+      mount -t tmpfs -o ro,mode=0000,size=4k hrgbench-hidden "$scratch/root$dir"
+    fi
+  done
   timeout --kill-after=30 1500 systemd-nspawn --quiet --directory="$scratch/root" \
     --register=no --keep-unit --link-journal=no --console=pipe --private-network \
     --bind="$out:/out" --bind-ro="$deb:/pkg/hrgbench.deb" --bind-ro="$here:/pkgtest" \
-    --inaccessible="$source_dir" --inaccessible="$build" \
     --boot systemd.unit=hrgbench-package-test.service </dev/null
 ' unshare-guest "$scratch" "$deb" "$here" "$artifacts/out" "$source_dir" "$build" \
   >"$artifacts/nspawn.log" 2>&1 || guest_status=$?
