@@ -87,9 +87,14 @@ StandardError=inherit
 TimeoutStartSec=1200
 ExecStopPost=/bin/systemctl poweroff --no-block
 EOF
+# On a machine whose PID 1 is systemd, nspawn gets its own scope from it (the usual way); without
+# one (CI's VMs) it stays in the caller's cgroup.
+scope_options=(--keep-unit)
+if [ -d /run/systemd/system ]; then scope_options=(); fi
 guest_status=0
 unshare --mount --propagation private bash -euo pipefail -c '
   scratch=$1 deb=$2 here=$3 out=$4 source_dir=$5 build=$6
+  shift 6
   mount -t tmpfs -o mode=0755 hrgbench-package-test "$scratch"
   mkdir "$scratch/lower" "$scratch/upper" "$scratch/work" "$scratch/root"
   mount --bind / "$scratch/lower"
@@ -104,10 +109,11 @@ unshare --mount --propagation private bash -euo pipefail -c '
     fi
   done
   timeout --kill-after=30 1500 systemd-nspawn --quiet --directory="$scratch/root" \
-    --register=no --keep-unit --link-journal=no --console=pipe --private-network \
+    --register=no "$@" --link-journal=no --console=pipe --private-network \
     --bind="$out:/out" --bind-ro="$deb:/pkg/hrgbench.deb" --bind-ro="$here:/pkgtest" \
     --boot systemd.unit=hrgbench-package-test.service </dev/null
 ' unshare-guest "$scratch" "$deb" "$here" "$artifacts/out" "$source_dir" "$build" \
+  "${scope_options[@]}" \
   >"$artifacts/nspawn.log" 2>&1 || guest_status=$?
 
 cat "$artifacts/out/checks.txt" 2>/dev/null || true
