@@ -44,7 +44,7 @@ manifest() {
   find /etc /usr /var /opt /srv /boot /bin /sbin /lib /lib64 -xdev \( -path /var/tmp \
     -o -path /var/log -o -path /var/cache -o -path /var/lib/systemd/catalog \
     -o -path /var/lib/systemd/random-seed -o -path /var/lib/systemd/linger \
-    -o -path /var/lib/systemd/timers \) -prune -o -printf '%p %u:%g %m\n' 2>/dev/null |
+    -o -path /var/lib/systemd/timers -o -path /var/backups \) -prune -o -printf '%p %u:%g %m\n' 2>/dev/null |
     LC_ALL=C sort
 }
 # Whatever happens, the unit's status and journal for the artifacts.
@@ -145,6 +145,28 @@ check "the unit is inactive, its result success, the panel's exit code 0" sh -c 
 check "no process of hrgbench is left after the stop" sh -c '! pgrep -u hrgbench'
 check "systemctl start" systemctl start hrgbench.service
 check "the panel answers again" wait_for 60 get -f -o /dev/null "$base/api/state"
+
+# 5b. Stop during a session: systemd signals the panel only (KillMode=mixed), the panel aborts its
+# session once (table to zero, gyro safe), the record says ABORTED, the panel exits 0. With the
+# child signalled too (KillMode=control-group) that would be its second interrupt: exit at once.
+get -o "$out/start2.json" -H 'Content-Type: application/json' -H "Origin: $base" \
+  --data "{\"serial\": \"SIM-0002\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
+session2=$(json 'd.get("session", "")' <"$out/start2.json" 2>/dev/null)
+require "a second session starts ($(cat "$out/start2.json"))" [ -n "$session2" ]
+dir2=/var/lib/hrgbench/sessions/$session2
+check "its record is open" wait_for 120 test -s "$dir2/session.json"
+check "systemctl stop during the session" systemctl stop hrgbench.service
+check "the unit stopped cleanly: result success, the panel's exit code 0" sh -c '
+  [ "$(systemctl show -p Result --value hrgbench.service)" = success ] &&
+  [ "$(systemctl show -p ExecMainStatus --value hrgbench.service)" = 0 ]'
+# The record names the panel's abort (SIGINT: "aborted by operator"); had systemd signalled the
+# child too, it would say "stopped by SIGTERM" (so it did with KillMode=control-group).
+check "the stopped session's record is closed as ABORTED by the panel's abort" python3 -c "
+import json; o = json.load(open('$dir2/session.json')).get('outcome') or {}
+assert o.get('kind') == 'ABORTED' and 'aborted by operator' in o.get('reason', ''), o"
+check "no process of hrgbench is left after the stop during a session" sh -c '! pgrep -u hrgbench'
+check "systemctl start after it" systemctl start hrgbench.service
+check "the panel answers after it" wait_for 60 get -f -o /dev/null "$base/api/state"
 
 # 6. An update (the same package again: dpkg's upgrade path): the station's edit of a conffile is
 # kept, the sessions and the store are kept, the panel is restarted.
