@@ -28,6 +28,9 @@ packages=(
   libcpp-httplib-dev       # hrg-bench serve: the operator panel's web server (cpp-httplib)
   clang-format             # the formatting check (scripts/check-format.sh, ctest format.*)
   python3                  # the layer check (tests/architecture) and the Python-driven tests
+  systemd-container        # the package test boots a systemd guest (systemd-nspawn)
+  lintian                  # the package test: Debian's checks of the station's .deb
+  curl                     # the package test: the panel's page and API inside the guest
 )
 
 missing=()
