@@ -46,8 +46,8 @@ std::string GuardBandBar(const session::LimitRowRecord& l) {
   const std::string zone = l.zone.empty() ? std::string("not_recorded") : l.zone;
   std::string title = l.quantity + " = " + Readable(l.value);
   if (has_interval)
-    title += " ± " + Readable(l.expanded_uncertainty) + " (k = " + Readable(l.coverage_factor) +
-             ")";
+    title +=
+        " ± " + Readable(l.expanded_uncertainty) + " (k = " + Readable(l.coverage_factor) + ")";
   title += " against [" + Readable(l.min) + ", " + Readable(l.max) + "]";
   const bool has_acceptance = std::isfinite(l.acceptance_min) && std::isfinite(l.acceptance_max);
   if (has_acceptance)
@@ -80,8 +80,8 @@ std::string GuardBandBar(const session::LimitRowRecord& l) {
            Px(x(l.interval_max)) + "\" y1=\"10\" y2=\"10\" stroke=\"" + colour +
            "\" stroke-width=\"2\"/>";
     for (const double end : {l.interval_min, l.interval_max})
-      svg += "<line x1=\"" + Px(x(end)) + "\" x2=\"" + Px(x(end)) + "\" y1=\"5\" y2=\"15\" stroke=\"" +
-             colour + "\" stroke-width=\"2\"/>";
+      svg += "<line x1=\"" + Px(x(end)) + "\" x2=\"" + Px(x(end)) +
+             "\" y1=\"5\" y2=\"15\" stroke=\"" + colour + "\" stroke-width=\"2\"/>";
   }
   svg += "<circle class=\"value\" cx=\"" + Px(x(l.value)) + "\" cy=\"10\" r=\"3.5\" fill=\"" +
          colour + "\"/></svg>";
