@@ -69,7 +69,7 @@ struct Tally {
   int accepted = 0, rejected = 0, retest = 0, not_judged = 0;
   int false_accept = 0, false_reject = 0;
   // After one retest (retest rule only): accepted, rejected and still undecided (then rejected).
-  int after_accepted = 0, after_rejected = 0, after_still_undecided = 0;
+  int after_accepted = 0, after_rejected = 0, after_still_undecided = 0, after_not_judged = 0;
   int after_false_accept = 0, after_false_reject = 0;
 };
 
@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
     bench::DecisionRule r;
     r.kind = bench::DecisionRuleKind::kSimpleAcceptance;
     r.max_uncertainty_ratio = 0.5;  // the bench's rule before [decision]
-    rules.push_back({"simple_acceptance, U/T <= 0.5 (the rule before)", r});
+    rules.push_back({"simple_acceptance, U/T <= 0.5 (≈ the rule before)", r});
     r.max_uncertainty_ratio = 0.25;
     rules.push_back({"simple_acceptance, U/T <= 0.25", r});
     r = {};
@@ -190,13 +190,16 @@ int main(int argc, char** argv) {
         if (rules[r].decision.kind != bench::DecisionRuleKind::kGuardedAcceptanceRetest) continue;
         // Final decision after one retest.
         bool final_pass = passed, final_reject = judged_out;
+        bool final_not_judged = result.status == bench::LimitStatus::kNotEvaluated;
         if (result.retest) {
           if (!second) second = measure(xi1);
           const bench::LimitResult again = bench::EvaluateLimits(limits, *second).results.at(0);
           final_pass = again.status == bench::LimitStatus::kPass;
-          final_reject = !final_pass;
+          final_not_judged = again.status == bench::LimitStatus::kNotEvaluated;
+          final_reject = !final_pass && !final_not_judged;
           if (again.retest) ++t.after_still_undecided;
         }
+        if (final_not_judged) ++t.after_not_judged;
         if (final_pass) ++t.after_accepted;
         if (final_reject) ++t.after_rejected;
         if (final_pass && !truly_conforming) ++t.after_false_accept;
@@ -205,15 +208,16 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("%d units per class, %s design, sigma = %g, seed %llu; xi1 limit [%g, %g] from %s; "
-              "mean reported std of xi1 %.4g; %d estimates not usable\n\n",
-              units, design.c_str(), sigma, static_cast<unsigned long long>(seed), lo, hi,
-              "bench_configs/limits-example.toml", std_count > 0 ? std_sum / std_count : NAN,
-              unusable);
+  std::printf(
+      "%d units per class, %s design, sigma = %g, seed %llu; xi1 limit [%g, %g] from %s; "
+      "mean reported std of xi1 %.4g; %d estimates not usable\n\n",
+      units, design.c_str(), sigma, static_cast<unsigned long long>(seed), lo, hi,
+      "bench_configs/limits-example.toml", std_count > 0 ? std_sum / std_count : NAN, unusable);
   std::printf("truly conforming: good %d, marginal %d, bad %d of %d each\n\n", conforming[0],
               conforming[1], conforming[2], units);
-  std::printf("| rule | class | accepted | rejected | retest | not judged | false accept | "
-              "false reject |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| rule | class | accepted | rejected | retest | not judged | false accept | "
+      "false reject |\n|---|---|---|---|---|---|---|---|\n");
   for (std::size_t r = 0; r < rules.size(); ++r) {
     for (int c = 0; c < 3; ++c) {
       const Tally& t = tally[r][static_cast<std::size_t>(c)];
@@ -232,17 +236,19 @@ int main(int argc, char** argv) {
                   rate(t.false_reject, good_units).c_str());
     }
   }
-  std::printf("\nAfter one retest (guarded_acceptance_retest, k = 2; still undecided: rejected)\n\n");
-  std::printf("| class | accepted | rejected | of them still undecided | false accept | "
-              "false reject |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "\nAfter one retest (guarded_acceptance_retest, k = 2; still undecided: rejected)\n\n");
+  std::printf(
+      "| class | accepted | rejected | of them still undecided | not judged (ERROR) | "
+      "false accept | false reject |\n|---|---|---|---|---|---|---|\n");
   for (std::size_t r = 0; r < rules.size(); ++r) {
     if (rules[r].decision.kind != bench::DecisionRuleKind::kGuardedAcceptanceRetest) continue;
     for (int c = 0; c < 3; ++c) {
       const Tally& t = tally[r][static_cast<std::size_t>(c)];
       const int bad_units = units - conforming[c], good_units = conforming[c];
-      std::printf("| %s | %d | %d | %d | %d of %d | %d of %d |\n", kClasses[c], t.after_accepted,
-                  t.after_rejected, t.after_still_undecided, t.after_false_accept, bad_units,
-                  t.after_false_reject, good_units);
+      std::printf("| %s | %d | %d | %d | %d | %d of %d | %d of %d |\n", kClasses[c],
+                  t.after_accepted, t.after_rejected, t.after_still_undecided, t.after_not_judged,
+                  t.after_false_accept, bad_units, t.after_false_reject, good_units);
     }
   }
   return 0;

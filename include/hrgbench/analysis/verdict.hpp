@@ -1,7 +1,8 @@
 #pragma once
-// The verdict: a LimitsConfig applied to an estimate. Each limit is PASS (value in [min, max]),
-// FAIL (outside: the unit's fault, STYLE rule 9; the message names the parameter, its value and the
-// limit) or NOT EVALUATED (the value does not exist: the estimate is unusable, the parameter was
+// The verdict: a LimitsConfig applied to an estimate. Each limit is PASS (conformance shown under
+// the file's decision rule, below), FAIL (non-conformance shown, or not accepted within the guard
+// band: the unit's, STYLE rule 9; the message names the parameter, its value and the limit) or
+// NOT EVALUATED (the value does not exist: the estimate is unusable, the parameter was
 // held fixed because the sequence cannot determine it, or it is not finite). NOT EVALUATED is not
 // a FAIL: the unit was not shown bad, the bench did not measure it; the app reports it as ERROR.
 //
