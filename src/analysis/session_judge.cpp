@@ -1,6 +1,7 @@
 #include "hrgbench/analysis/session_judge.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "hrgbench/analysis/verdict_json.hpp"
@@ -15,6 +16,12 @@ SessionJudgement Error(std::string reason) {
   return judgement;
 }
 
+std::string ShortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+
 // Policy step 3: the verdict decides.
 SessionJudgement JudgeVerdict(Verdict verdict, const estimator::EngineeringQuantities& engineering,
                               const LimitsConfig& limits) {
@@ -27,13 +34,24 @@ SessionJudgement JudgeVerdict(Verdict verdict, const estimator::EngineeringQuant
     if (r.status == LimitStatus::kNotEvaluated)
       not_judged += (not_judged.empty() ? "" : "; ") + r.message;
   }
-  std::string names;
-  for (const FailedParameter& f : judgement.failed_parameters)
-    names += (names.empty() ? "" : ", ") + f.name;
+  // Proven outside, and undecided within the guard band (decision_rule.hpp): the operator acts
+  // differently on each (scrap or rework; measure again), so the reason names them apart.
+  std::string names, undecided;
+  for (const LimitResult& r : verdict.results) {
+    if (r.status != LimitStatus::kFail) continue;
+    std::string& list = r.zone == DecisionZone::kUndecided ? undecided : names;
+    list += (list.empty() ? "" : ", ") + std::string(ToString(r.quantity));
+  }
   switch (verdict.overall) {
     case LimitStatus::kFail:
       judgement.kind = OutcomeKind::kFail;
-      judgement.reason = "out of limits: " + names;
+      judgement.reason = names.empty() ? std::string() : "out of limits: " + names;
+      if (!undecided.empty()) {
+        judgement.reason += (judgement.reason.empty() ? "" : "; ") +
+                            std::string("not accepted within the guard band (k = ") +
+                            ShortNumber(verdict.decision.coverage_factor) + "): " + undecided +
+                            (verdict.retest ? ", retest the unit" : "");
+      }
       if (!not_judged.empty()) judgement.reason += "; not judged: " + not_judged;
       break;
     case LimitStatus::kNotEvaluated:

@@ -39,10 +39,89 @@ Value ValueOf(const estimator::EstimateSummary& s,
   return {s.noise_sigma, estimator::kNaN, false};
 }
 
-LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSummary& estimate,
+// The decision of one finite value v with standard uncertainty u (NaN: none reported) against
+// its limit under `rule` (decision_rule.hpp); fills the result's status, zone, interval, message.
+void Decide(const ParameterLimit& limit, const DecisionRule& rule, double v, double u,
+            const std::string& shown, const std::string& range, LimitResult* result) {
+  const double k = rule.coverage_factor;
+  const bool has_u = std::isfinite(u) && u >= 0.0;
+  const double expanded = has_u ? k * u : 0.0;
+  // The low side is a tolerance only above the physical bound (a magnitude's 0 is not one).
+  const bool guard_min = limit.min > PhysicalMinimum(limit.quantity);
+  const bool guarded = rule.kind != DecisionRuleKind::kSimpleAcceptance;
+  if (has_u) {
+    result->expanded_uncertainty = expanded;
+    result->interval_min = v - expanded;
+    result->interval_max = v + expanded;
+  }
+  result->acceptance_min = guarded && guard_min ? limit.min + expanded : limit.min;
+  result->acceptance_max = guarded ? limit.max - expanded : limit.max;
+  const std::string with_k = has_u ? " (k = " + Number(k) + ", U = " + Number(expanded) + ")"
+                                   : std::string(" (no uncertainty reported: its value judged)");
+  // Non-conformance proven: the whole interval beyond a limit. A physical bound is never crossed
+  // by the truth, so only a guarded min can be proven violated from below.
+  const double beyond_max = (v - expanded) - limit.max;
+  const double below_min = limit.min - (v + expanded);
+  if (beyond_max > 0.0 || (below_min > 0.0 && (guard_min || !has_u))) {
+    result->zone = DecisionZone::kNonConforming;
+    result->status = LimitStatus::kFail;
+    result->message = shown + " outside " + range +
+                      (beyond_max > 0.0 ? " (" + Number(v - limit.max) + " above max"
+                                        : " (" + Number(limit.min - v) + " below min") +
+                      (has_u ? ", its whole interval ±" + Number(expanded) + " outside)" : ")") +
+                      with_k;
+    return;
+  }
+  if (!guarded) {
+    const double width = limit.max - limit.min;
+    if (has_u && expanded > rule.max_uncertainty_ratio * width) {
+      result->message = shown + ": not evaluated, too uncertain to judge against " + range +
+                        " (U = " + Number(expanded) + " at k = " + Number(k) + " is above " +
+                        Number(rule.max_uncertainty_ratio) +
+                        " of the limit's width: the sequence does not determine it well enough)";
+      return;
+    }
+    const bool inside = v >= limit.min && v <= limit.max;
+    result->zone = inside ? DecisionZone::kConforming : DecisionZone::kNonConforming;
+    result->status = inside ? LimitStatus::kPass : LimitStatus::kFail;
+    result->message = shown +
+                      (inside ? " in " + range
+                              : " outside " + range + " (" +
+                                    (v > limit.max ? Number(v - limit.max) + " above max"
+                                                   : Number(limit.min - v) + " below min") +
+                                    ")") +
+                      " by simple acceptance" + with_k;
+    return;
+  }
+  if (result->acceptance_min > result->acceptance_max) {
+    // 2·U is wider than the tolerance: no value, however central, proves conformance.
+    result->message = shown + ": not evaluated, its interval ±" + Number(expanded) +
+                      " at k = " + Number(k) + " is wider than " + range +
+                      " allows, so conformance cannot be proven (the sequence does not "
+                      "determine it well enough)";
+    return;
+  }
+  if (v >= result->acceptance_min && v <= result->acceptance_max) {
+    result->zone = DecisionZone::kConforming;
+    result->status = LimitStatus::kPass;
+    result->message = shown + " in " + range + with_k;
+    return;
+  }
+  result->zone = DecisionZone::kUndecided;
+  result->status = LimitStatus::kFail;
+  result->retest = rule.kind == DecisionRuleKind::kGuardedAcceptanceRetest;
+  result->message = shown + " not accepted: its interval [" + Number(v - expanded) + ", " +
+                    Number(v + expanded) + "] straddles " + range + with_k + ", " +
+                    (result->retest ? "retest the unit" : "rejected by guarded acceptance");
+}
+
+LimitResult Evaluate(const ParameterLimit& limit, const DecisionRule& rule,
+                     const estimator::EstimateSummary& estimate,
                      const estimator::EngineeringQuantities& engineering) {
   LimitResult result;
   result.quantity = limit.quantity;
+  result.rule = rule.kind;
+  result.coverage_factor = rule.coverage_factor;
   result.min = limit.min;
   result.max = limit.max;
   const std::string name(ToString(limit.quantity));
@@ -78,35 +157,7 @@ LimitResult Evaluate(const ParameterLimit& limit, const estimator::EstimateSumma
   }
   const std::string shown = name + " = " + Number(v.value) +
                             (std::isfinite(v.std) ? " ± " + Number(v.std) : std::string());
-  const double width = limit.max - limit.min;
-  if (std::isfinite(v.std) && v.std > kMaxStdPerLimitWidth * width) {
-    // The estimate does not resolve the limit: a PASS or FAIL would be the noise's.
-    const double outside = v.value < limit.min   ? limit.min - v.value
-                           : v.value > limit.max ? v.value - limit.max
-                                                 : 0.0;
-    if (outside > kConfidentlyOutsideInStd * v.std) {
-      result.status = LimitStatus::kFail;
-      result.message = shown + " outside " + range + " by " + Number(outside / v.std) +
-                       " std, even with its uncertainty";
-    } else {
-      result.message = shown + ": not evaluated, too uncertain to judge against " + range +
-                       " (its std is above " + Number(kMaxStdPerLimitWidth) +
-                       " of the limit's width: the sequence does not determine it well enough)";
-    }
-    return result;
-  }
-  if (v.value < limit.min) {
-    result.status = LimitStatus::kFail;
-    result.message =
-        shown + " outside " + range + " (" + Number(limit.min - v.value) + " below min)";
-  } else if (v.value > limit.max) {
-    result.status = LimitStatus::kFail;
-    result.message =
-        shown + " outside " + range + " (" + Number(v.value - limit.max) + " above max)";
-  } else {
-    result.status = LimitStatus::kPass;
-    result.message = shown + " in " + range;
-  }
+  Decide(limit, rule, v.value, v.std, shown, range, &result);
   return result;
 }
 
@@ -189,6 +240,20 @@ std::string_view ToString(LimitStatus status) noexcept {
   return "?";
 }
 
+std::string_view ToString(DecisionZone zone) noexcept {
+  switch (zone) {
+    case DecisionZone::kNotJudged:
+      return "not_judged";
+    case DecisionZone::kConforming:
+      return "conforming";
+    case DecisionZone::kNonConforming:
+      return "non_conforming";
+    case DecisionZone::kUndecided:
+      return "undecided";
+  }
+  return "?";
+}
+
 std::vector<std::string_view> Verdict::FailedNames() const {
   std::vector<std::string_view> names;
   for (const LimitResult& r : results)
@@ -226,6 +291,7 @@ std::string Verdict::Report() const {
       listed += (listed.empty() ? "" : ", ") + std::string(ToString(r.quantity));
   }
   if (!listed.empty()) text += " (" + listed + ")";
+  if (retest) text += "; undecided within the guard band: retest";
   return text + "\n";
 }
 
@@ -242,14 +308,19 @@ Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSumm
     verdict.fit_acceptable = verdict.fit_acceptable && c.status == LimitStatus::kPass;
   bool any_fail = false;
   bool any_not_evaluated = false;
+  verdict.decision = limits.decision;
+  bool any_proven_fail = false;
   for (const ParameterLimit& limit : limits.limits) {
-    LimitResult result = Evaluate(limit, estimate, engineering);
+    LimitResult result = Evaluate(limit, limits.decision, estimate, engineering);
     if (!verdict.fit_acceptable && result.status != LimitStatus::kNotEvaluated) {
       result.message = std::string(ToString(limit.quantity)) +
                        ": not judged, the fit is outside its model (would be " +
                        std::string(ToString(result.status)) + ": " + result.message + ")";
       result.status = LimitStatus::kNotEvaluated;
+      result.zone = DecisionZone::kNotJudged;
+      result.retest = false;
     }
+    any_proven_fail = any_proven_fail || (result.status == LimitStatus::kFail && !result.retest);
     any_fail = any_fail || result.status == LimitStatus::kFail;
     any_not_evaluated = any_not_evaluated || result.status == LimitStatus::kNotEvaluated;
     verdict.results.push_back(std::move(result));
@@ -258,6 +329,7 @@ Verdict EvaluateLimits(const LimitsConfig& limits, const estimator::EstimateSumm
                     : any_fail              ? LimitStatus::kFail
                     : any_not_evaluated     ? LimitStatus::kNotEvaluated
                                             : LimitStatus::kPass;
+  verdict.retest = verdict.overall == LimitStatus::kFail && !any_proven_fail;
   return verdict;
 }
 

@@ -1,5 +1,6 @@
 // Loader of limits files.
 
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -88,7 +89,32 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     limits.fit.omega_offset_max_in_std = *omega;
     HRG_CHECK(fit.Unknown("residual_ratio_max, whiteness_z_max, omega_offset_max_in_std"));
   }
-  HRG_CHECK(root.Unknown("[limits], [fit]"));
+  HRG_TRY(decision_table, SubTable(root, "decision", false));
+  if (*decision_table != nullptr) {
+    TableReader decision(**decision_table, "decision", source);
+    limits.decision.line = LineOf(**decision_table);
+    HRG_TRY(rule, Choice(decision, "rule",
+                         {kDecisionRuleNames[0], kDecisionRuleNames[1], kDecisionRuleNames[2]}, 0));
+    limits.decision.kind = static_cast<DecisionRuleKind>(*rule);
+    static constexpr Range kCoverage{kMinCoverageFactor, kMaxCoverageFactor, true, "in [1, 6]"};
+    HRG_TRY(
+        k, OptionalNumber(decision, "coverage_factor", kCoverage, limits.decision.coverage_factor));
+    limits.decision.coverage_factor = *k;
+    // The ratio belongs to simple acceptance alone: under a guarded rule it would be a number the
+    // verdict silently ignores.
+    if (const toml::node* ratio_node = decision.Find("max_uncertainty_ratio")) {
+      if (limits.decision.kind != DecisionRuleKind::kSimpleAcceptance) {
+        return std::unexpected(decision.Error(
+            *ratio_node, "max_uncertainty_ratio",
+            "only with rule = \"simple_acceptance\" (a guarded rule's guard is k·u itself)"));
+      }
+      static constexpr Range kRatio{0.0, 1.0, false, "in (0, 1]"};
+      HRG_TRY(ratio, NumberFrom(decision, *ratio_node, "max_uncertainty_ratio", kRatio));
+      limits.decision.max_uncertainty_ratio = *ratio;
+    }
+    HRG_CHECK(decision.Unknown("rule, coverage_factor, max_uncertainty_ratio"));
+  }
+  HRG_CHECK(root.Unknown("[limits], [fit], [decision]"));
   return limits;
 }
 
@@ -97,6 +123,32 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
 std::string_view ToString(LimitedQuantity quantity) noexcept {
   const auto index = static_cast<std::size_t>(quantity);
   return index < kLimitedQuantityCount ? kLimitedQuantityNames[index] : "?";
+}
+
+double PhysicalMinimum(LimitedQuantity quantity) noexcept {
+  switch (quantity) {
+    case LimitedQuantity::kResidualRms:
+    case LimitedQuantity::kNoiseSigma:
+      return 0.0;
+    default:
+      break;
+  }
+  const std::optional<estimator::EngineeringQuantity> e = EngineeringOf(quantity);
+  if (!e) return -std::numeric_limits<double>::infinity();
+  switch (*e) {
+    // Magnitudes and the decay times of a damped resonator (engineering_quantities.hpp): none
+    // is below 0, whatever the estimate's noise says.
+    case estimator::EngineeringQuantity::kResonantFrequency:
+    case estimator::EngineeringQuantity::kDecayTime:
+    case estimator::EngineeringQuantity::kQualityFactor:
+    case estimator::EngineeringQuantity::kSlowModeDecayTime:
+    case estimator::EngineeringQuantity::kFastModeDecayTime:
+    case estimator::EngineeringQuantity::kDampingSplit:
+    case estimator::EngineeringQuantity::kFrequencySplit:
+      return 0.0;
+    default:
+      return -std::numeric_limits<double>::infinity();
+  }
 }
 
 std::optional<estimator::EngineeringQuantity> EngineeringOf(LimitedQuantity quantity) noexcept {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "guard_band_bar.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
@@ -292,16 +293,26 @@ void Page::Verdict() {
           "; the fit within its model: " + YesNo(verdict.fit_acceptable) + ".</p>\n";
   out_ +=
       "<table class=\"limits\"><tr><th>quantity</th><th>value</th><th>± std</th><th>min</th>"
-      "<th>max</th><th>status</th><th>message</th></tr>\n";
+      "<th>max</th><th>status</th><th>value ± k·u against the limits</th><th>message</th>"
+      "</tr>\n";
   for (std::size_t i = 0; i < verdict.limits.size(); ++i) {
     const session::LimitRowRecord& l = verdict.limits[i];
     const auto at = [&](const char* key) { return pointer(keys::kLimits, i, key); };
     out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + Src(at(keys::kValue), l.value) +
             "</td><td>" + Src(at(keys::kStd), l.std) + "</td><td>" + Src(at(keys::kMin), l.min) +
             "</td><td>" + Src(at(keys::kMax), l.max) + "</td><td class=\"status-" + Attr(l.status) +
-            "\">" + HtmlEscape(l.status) + "</td><td>" + HtmlEscape(l.message) + "</td></tr>\n";
+            "\">" + HtmlEscape(l.status) + "</td><td>" + GuardBandBar(l) + "</td><td>" +
+            HtmlEscape(l.message) + "</td></tr>\n";
   }
-  out_ += "</table>\n<h2>Fit checks</h2>\n";
+  out_ += "</table>\n";
+  if (!verdict.decision_rule.empty())
+    out_ += "<p class=\"decision\">Decision rule " + HtmlEscape(verdict.decision_rule) +
+            ", k = " + Readable(verdict.decision_coverage_factor) +
+            " (the bar: the tolerance, its guard bands shaded, the value with v ± k·u; "
+            "docs/reference/config-keys.md)" +
+            (verdict.retest.value_or(false) ? "; undecided within the guard band: retest" : "") +
+            ".</p>\n";
+  out_ += "<h2>Fit checks</h2>\n";
   out_ +=
       "<table class=\"fit-checks\"><tr><th>run</th><th>check</th><th>value</th><th>max</th>"
       "<th>status</th><th>message</th></tr>\n";

@@ -449,9 +449,25 @@ VerdictRecord ReadVerdict(Fields& f, const json& verdict, const std::string& at)
       row.min = f.Number(item, l, "min");
       row.max = f.Number(item, l, "max");
       row.message = f.String(item, l, "message");
+      row.rule = f.String(item, l, keys::kRule);
+      row.zone = f.String(item, l, keys::kZone);
+      row.coverage_factor = f.Number(item, l, keys::kCoverageFactor);
+      row.expanded_uncertainty = f.Number(item, l, keys::kExpandedUncertainty);
+      row.interval_min = f.Number(item, l, keys::kIntervalMin);
+      row.interval_max = f.Number(item, l, keys::kIntervalMax);
+      row.acceptance_min = f.Number(item, l, keys::kAcceptanceMin);
+      row.acceptance_max = f.Number(item, l, keys::kAcceptanceMax);
+      row.retest = f.Bool(item, l, keys::kRetest);
       out.limits.push_back(std::move(row));
     }
   }
+  if (const json* decision = f.Object(verdict, at, keys::kDecision)) {
+    const std::string d = Join(at, keys::kDecision);
+    out.decision_rule = f.String(*decision, d, keys::kRule);
+    out.decision_coverage_factor = f.Number(*decision, d, keys::kCoverageFactor);
+    out.decision_max_uncertainty_ratio = f.Number(*decision, d, keys::kMaxUncertaintyRatio);
+  }
+  out.retest = f.Bool(verdict, at, keys::kRetest);
   return out;
 }
 

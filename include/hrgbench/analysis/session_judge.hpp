@@ -12,7 +12,10 @@
 //   2. the record's electronics cannot be read (engineering of record)   ERROR "the record's
 //                                                                         electronics: <why>"
 //   3. the verdict (EvaluateLimits with the engineering of record):
-//      a limit failed                                                    FAIL "out of limits: a, b"
+//      a limit failed (proven outside, or undecided in its guard band)   FAIL "out of limits: a, b"
+//                                                                         [+ "; not accepted within
+//                                                                         the guard band (k = 2):
+//                                                                         c, retest the unit"]
 //                                                                         [+ "; not judged: ..."]
 //      the fit is outside its model (no limit judged)                    ERROR "the fit is outside
 //                                                                         its model, no limit

@@ -9,6 +9,8 @@
 // The fit itself is always judged: [fit] (optional) sets how far outside the model a fit may be
 // before no limit is trusted (estimator::FitQualityLimits; its defaults when the table is absent).
 //
+// [decision] (optional) declares the decision rule and its coverage factor (decision_rule.hpp).
+//
 // Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
 // for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
 
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "hrgbench/config/config_error.hpp"
+#include "hrgbench/config/decision_rule.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/fit_diagnostics.hpp"
 
@@ -64,6 +67,11 @@ LimitedQuantity LimitOf(estimator::EngineeringQuantity quantity) noexcept;
 
 std::string_view ToString(LimitedQuantity quantity) noexcept;
 
+// The smallest value the quantity can physically take (a magnitude, a decay time, an RMS: 0), or
+// −∞ for a signed one. A limit's min at or below it is the physics' bound, not a tolerance, so
+// the decision rule does not guard it (decision_rule.hpp).
+double PhysicalMinimum(LimitedQuantity quantity) noexcept;
+
 struct ParameterLimit {
   LimitedQuantity quantity = LimitedQuantity::kDelta1;
   double min = 0.0;      // inclusive; same unit as the parameter (bench_configs/README.md)
@@ -82,6 +90,9 @@ struct LimitsConfig {
   // How far outside its model a fit may be ([fit]; the defaults when absent).
   estimator::FitQualityLimits fit;
   std::size_t fit_line = 0;  // where [fit] was written; 0 = not in the file (defaults)
+  // How a value with its uncertainty is accepted or rejected ([decision]; the defaults when
+  // absent: guarded acceptance with retest, k = 2).
+  DecisionRule decision;
 };
 
 std::expected<LimitsConfig, config_file::ConfigError> LoadLimitsConfig(

@@ -5,9 +5,11 @@
 // code for the outcome's kind (session_outcome.hpp: ExitCode); a reader goes by "kind".
 //
 //   0  kExitOk        PASS: every declared limit judged and met; for the other tools: done
-//   1  kExitFail      FAIL: the unit's fault (a parameter outside its declared limits); for the
-//                     other tools: ran, but the result is not usable (an estimate that did not
-//                     converge, a replay that differs, a session that could not be imported)
+//   1  kExitFail      FAIL: the unit's fault (a parameter outside its declared limits, or not
+//                     accepted within its guard band: the record's outcome.verdict.retest says
+//                     when the unit is to be measured again); for the other tools: ran, but the
+//                     result is not usable (an estimate that did not converge, a replay that
+//                     differs, a session that could not be imported)
 //   2  kExitError     ERROR: the bench's fault, saying nothing about the unit (timeout, bus-off,
 //                     Modbus failure, too many drops, disk full, a limit the bench could not
 //                     judge), or an unexpected failure of the program (only main catches

@@ -207,6 +207,14 @@ struct LimitRowRecord {
   double value = kNotRecorded, std = kNotRecorded;
   double min = kNotRecorded, max = kNotRecorded;  // NaN: no bound
   std::string message;
+  // The decision (analysis/verdict.hpp); ""/NaN/nullopt in records from before [decision].
+  std::string rule;  // "guarded_acceptance_retest" | "guarded_acceptance_reject" | ...
+  std::string zone;  // "conforming" | "non_conforming" | "undecided" | "not_judged"
+  double coverage_factor = kNotRecorded;
+  double expanded_uncertainty = kNotRecorded;                           // U = k·u
+  double interval_min = kNotRecorded, interval_max = kNotRecorded;      // v ∓ U
+  double acceptance_min = kNotRecorded, acceptance_max = kNotRecorded;  // the guarded limits
+  std::optional<bool> retest;
 };
 struct FitCheckRecord {
   int run = 0;
@@ -220,6 +228,12 @@ struct VerdictRecord {
   std::optional<bool> fit_acceptable;
   std::vector<FitCheckRecord> fit_checks;
   std::vector<LimitRowRecord> limits;
+  // decision.{rule, coverage_factor, max_uncertainty_ratio} and retest; ""/NaN/nullopt in records
+  // from before [decision].
+  std::string decision_rule;
+  double decision_coverage_factor = kNotRecorded;
+  double decision_max_uncertainty_ratio = kNotRecorded;  // simple acceptance only
+  std::optional<bool> retest;
 };
 
 struct OutcomeRecord {

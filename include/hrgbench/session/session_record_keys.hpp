@@ -11,7 +11,8 @@
 //   electronics {iq_convention, output_filter, pickoff, ...} (the station's declaration),
 //   simulation (the simulator's truth: opaque), fixture {position, ...} (opaque),
 //   runs[] {id, file, omega_rad_s, status, plan {...}, start {...}, end {...}, attempts [...]},
-//   outcome {kind, exit_code, reason, failed_parameters [...], estimate {...}, verdict {...}},
+//   outcome {kind, exit_code, reason, failed_parameters [...], estimate {...}, verdict {...,
+//   decision {...}, retest, limits [{..., rule, zone, interval_min, ...}]}},
 //   resumed_at [...], results (the upload mark).
 
 namespace hrgbench::session::keys {
@@ -124,6 +125,19 @@ inline constexpr const char* kOverall = "overall";
 inline constexpr const char* kFitAcceptable = "fit_acceptable";
 inline constexpr const char* kFitChecks = "fit_checks";
 inline constexpr const char* kQuantity = "quantity";
+// The decision rule (analysis/verdict.hpp, config/decision_rule.hpp): verdict.decision {rule,
+// coverage_factor, max_uncertainty_ratio}, verdict.retest, and per limit rule, zone,
+// coverage_factor, expanded_uncertainty, interval_min/max, acceptance_min/max, retest.
+inline constexpr const char* kDecision = "decision";
+inline constexpr const char* kRule = "rule";
+inline constexpr const char* kMaxUncertaintyRatio = "max_uncertainty_ratio";
+inline constexpr const char* kRetest = "retest";
+inline constexpr const char* kZone = "zone";
+inline constexpr const char* kExpandedUncertainty = "expanded_uncertainty";
+inline constexpr const char* kIntervalMin = "interval_min";
+inline constexpr const char* kIntervalMax = "interval_max";
+inline constexpr const char* kAcceptanceMin = "acceptance_min";
+inline constexpr const char* kAcceptanceMax = "acceptance_max";
 // A run's end and start (bench::RunEnd / RunStart as the recorder writes them).
 inline constexpr const char* kSequenceGaps = "sequence_gaps";
 inline constexpr const char* kKernelDrops = "kernel_drops";

@@ -324,6 +324,18 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
         Check(browser.text("outcome-reason") == record["outcome"]["reason"], "reason differs")
         Check(browser.js("return document.querySelectorAll('#runs tbody tr').length") == 3,
               "not three run rows")
+        # Issue 26: each judged limit drawn as value ± k·u against its guard bands, with the zone
+        # session.json records.
+        drawn = browser.js("return Array.from(document.querySelectorAll('#bands svg.guard-band'))"
+                           ".map((s) => [s.dataset.quantity, s.dataset.zone,"
+                           " s.querySelectorAll('line.interval').length])")
+        limits = [lim for lim in record["outcome"].get("verdict", {}).get("limits", [])
+                  if all(isinstance(lim.get(k), (int, float)) for k in ("value", "min", "max"))]
+        Check(len(limits) > 0, "no limit judged to draw")
+        expected = [[lim["quantity"], lim["zone"],
+                     1 if isinstance(lim.get("interval_min"), (int, float)) else 0]
+                    for lim in limits]
+        Check(drawn == expected, f"guard-band bars {drawn}, session.json {expected}")
         colour = browser.js("return getComputedStyle(document.getElementById('outcome'))"
                             ".backgroundColor")
         expected = {"PASS": "rgb(26, 138, 42)", "FAIL": "rgb(198, 40, 40)",

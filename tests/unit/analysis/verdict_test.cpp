@@ -58,29 +58,35 @@ TEST(Verdict, BelowMinAndResidualAreJudgedToo) {
 TEST(Verdict, BoundsAreInclusive) {
   EstimateSummary s = PaperUnit();
   s.delta(1) = 0.31;
+  s.delta_std(1) = 0.0;  // exact: the guard band is empty
   EXPECT_EQ(EvaluateLimits(Limits(), s).overall, LimitStatus::kPass);
 }
 
-// A limit is judged only when the estimate resolves it (std ≤ a quarter of the width): δ2's band
-// [0.29, 0.31] is 0.02 wide, so a std of 0.005 is judged and 0.0051 is not, in or out of the band;
-// 0.31 + 4·0.01 is still a FAIL with its std 0.01 (outside by 4 > 3 std).
-TEST(Verdict, ALimitTheEstimateDoesNotResolveIsNotJudgedUnlessConfidentlyOutside) {
+// Simple acceptance with max_uncertainty_ratio 0.5 at k = 2 is the bench's rule before
+// [decision] (std ≤ a quarter of the width): δ2's band [0.29, 0.31] is 0.02 wide, so a std of
+// 0.005 is judged and 0.0051 is not, in or out of the band; 0.35 ± 0.01 is a FAIL (its whole
+// interval [0.33, 0.37] outside).
+TEST(Verdict, SimpleAcceptanceJudgesOnlyWhatTheEstimateResolvesUnlessWhollyOutside) {
+  LimitsConfig limits = Limits();
+  limits.decision.kind = DecisionRuleKind::kSimpleAcceptance;
+  limits.decision.max_uncertainty_ratio = 0.5;
   EstimateSummary s = PaperUnit();
   s.delta_std(1) = 0.005;
-  EXPECT_EQ(EvaluateLimits(Limits(), s).results[1].status, LimitStatus::kPass);
+  EXPECT_EQ(EvaluateLimits(limits, s).results[1].status, LimitStatus::kPass);
   s.delta_std(1) = 0.0051;
-  Verdict vague = EvaluateLimits(Limits(), s);
+  Verdict vague = EvaluateLimits(limits, s);
   EXPECT_EQ(vague.results[1].status, LimitStatus::kNotEvaluated);
   EXPECT_NE(vague.results[1].message.find("too uncertain to judge"), std::string::npos)
       << vague.results[1].message;
   EXPECT_EQ(vague.overall, LimitStatus::kNotEvaluated);
   s.delta(1) = 0.32;  // outside by 0.01 = 2 std: could be noise
-  EXPECT_EQ(EvaluateLimits(Limits(), s).results[1].status, LimitStatus::kNotEvaluated);
+  EXPECT_EQ(EvaluateLimits(limits, s).results[1].status, LimitStatus::kNotEvaluated);
   s.delta_std(1) = 0.01;
-  s.delta(1) = 0.35;  // outside by 0.04 = 4 std
-  const Verdict out = EvaluateLimits(Limits(), s);
+  s.delta(1) = 0.35;
+  const Verdict out = EvaluateLimits(limits, s);
   EXPECT_EQ(out.results[1].status, LimitStatus::kFail);
-  EXPECT_NE(out.results[1].message.find("even with its uncertainty"), std::string::npos);
+  EXPECT_NE(out.results[1].message.find("whole interval"), std::string::npos)
+      << out.results[1].message;
   EXPECT_EQ(out.overall, LimitStatus::kFail);
 }
 

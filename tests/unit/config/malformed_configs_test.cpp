@@ -100,6 +100,13 @@ xi1 = [-0.02, 0.02]
 residual_rms = [0.0, 5e-4]
 )";
 
+// The same with a decision rule (config/decision_rule.hpp).
+const std::string kLimitsDecisionText = kLimitsText + R"(
+[decision]
+rule = "guarded_acceptance_retest"
+coverage_factor = 2.0
+)";
+
 enum class Kind { kStation, kSequence, kLimits };
 
 struct Case {
@@ -151,6 +158,7 @@ TEST(MalformedConfigs, BasesAreValid) {
   EXPECT_TRUE(Parse(Kind::kStation, kSimStationText, "s.toml").has_value());
   EXPECT_TRUE(Parse(Kind::kSequence, kSequenceText, "q.toml").has_value());
   EXPECT_TRUE(Parse(Kind::kLimits, kLimitsText, "l.toml").has_value());
+  EXPECT_TRUE(Parse(Kind::kLimits, kLimitsDecisionText, "l.toml").has_value());
 }
 
 const std::vector<Case>& Cases() {
@@ -217,6 +225,28 @@ const std::vector<Case>& Cases() {
        "transport = \"udp\"", "table.transport", "\"udp\"", "must be one of \"tcp\", \"rtu\""},
       {"SequenceBadDriftAction", Kind::kSequence, &kSequenceText, "action = \"flag\"",
        "action = \"warn\"", "drift.action", "\"warn\"", "must be one of \"flag\", \"reject\""},
+      // The decision rule.
+      {"LimitsBadDecisionRule", Kind::kLimits, &kLimitsDecisionText,
+       "rule = \"guarded_acceptance_retest\"", "rule = \"guarded\"", "decision.rule", "\"guarded\"",
+       "must be one of \"guarded_acceptance_retest\", \"guarded_acceptance_reject\", "
+       "\"simple_acceptance\""},
+      {"LimitsCoverageFactorBelowOne", Kind::kLimits, &kLimitsDecisionText, "coverage_factor = 2.0",
+       "coverage_factor = 0.5", "decision.coverage_factor", "0.5",
+       "out of range: must be in [1, 6]"},
+      {"LimitsCoverageFactorAboveSix", Kind::kLimits, &kLimitsDecisionText, "coverage_factor = 2.0",
+       "coverage_factor = 10", "decision.coverage_factor", "10", "in [1, 6]"},
+      {"LimitsCoverageFactorIsAString", Kind::kLimits, &kLimitsDecisionText,
+       "coverage_factor = 2.0", "coverage_factor = \"2\"", "decision.coverage_factor", "\"2\"",
+       "wrong type"},
+      {"LimitsRatioWithAGuardedRule", Kind::kLimits, &kLimitsDecisionText, "coverage_factor = 2.0",
+       "max_uncertainty_ratio = 0.25", "decision.max_uncertainty_ratio", "0.25",
+       "only with rule = \"simple_acceptance\""},
+      {"LimitsRatioOutOfRange", Kind::kLimits, &kLimitsDecisionText,
+       "rule = \"guarded_acceptance_retest\"",
+       "rule = \"simple_acceptance\"\nmax_uncertainty_ratio = 1.5",
+       "decision.max_uncertainty_ratio", "1.5", "in (0, 1]", 9},
+      {"LimitsDecisionUnknownKey", Kind::kLimits, &kLimitsDecisionText, "coverage_factor = 2.0",
+       "k = 2.0", "decision.k", "2.0", "unknown key"},
       // Keys that do not apply to the station's kind or transport.
       {"StationRtuKeyWithTcp", Kind::kStation, &kStationText, "port = 502", "baud = 9600",
        "table.baud", "9600", "only to transport = \"rtu\""},

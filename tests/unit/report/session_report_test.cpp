@@ -129,6 +129,50 @@ TEST(SessionReport, TheBoundIsAnEfficiencyOnlyForAWhiteNoiseStd) {
   }
 }
 
+// Issue 26: value ± k·u drawn against each limit with its guard bands (report/guard_band_bar.hpp).
+TEST(SessionReport, EachLimitIsDrawnWithItsIntervalAndGuardBands) {
+  json record = RecordedOutcome();
+  json& verdict = record["outcome"]["verdict"];
+  verdict["decision"] = {{"rule", "guarded_acceptance_retest"}, {"coverage_factor", 2.0}};
+  verdict["retest"] = true;
+  verdict["limits"] = json::parse(R"([
+    {"quantity": "xi1", "status": "FAIL", "value": 0.0244, "std": 0.0095, "min": -0.02,
+     "max": 0.02, "message": "not accepted", "rule": "guarded_acceptance_retest",
+     "zone": "undecided", "coverage_factor": 2.0, "expanded_uncertainty": 0.019,
+     "interval_min": 0.0054, "interval_max": 0.0434, "acceptance_min": -0.001,
+     "acceptance_max": 0.001, "retest": true},
+    {"quantity": "delta2", "status": "PASS", "value": 0.3, "std": 1e-4, "min": 0.28,
+     "max": 0.32, "message": "in", "rule": "guarded_acceptance_retest", "zone": "conforming",
+     "coverage_factor": 2.0, "expanded_uncertainty": 2e-4, "interval_min": 0.2998,
+     "interval_max": 0.3002, "acceptance_min": 0.2802, "acceptance_max": 0.3198, "retest": false},
+    {"quantity": "tau_s", "status": "FAIL", "value": 1000.0, "std": 2.5, "min": 2000.0,
+     "max": null, "message": "below its minimum"}])");
+  testing::ScratchDir dir("report_guard_band");
+  WriteSession(dir.path(), record);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  const std::size_t xi1 =
+      html.find("<svg class=\"guard-band\" data-quantity=\"xi1\" data-zone=\"undecided\"");
+  ASSERT_NE(xi1, std::string::npos);
+  const std::string bar = html.substr(xi1, html.find("</svg>", xi1) - xi1);
+  EXPECT_NE(bar.find("<title>xi1 = 0.0244 ± 0.019 (k = 2) against [-0.02, 0.02], accepted "
+                     "within [-0.001, 0.001]: undecided</title>"),
+            std::string::npos)
+      << bar;
+  EXPECT_NE(bar.find("class=\"interval\""), std::string::npos);
+  std::size_t guards = 0;
+  for (std::size_t at = bar.find("class=\"guard\""); at != std::string::npos;
+       at = bar.find("class=\"guard\"", at + 1))
+    ++guards;
+  EXPECT_EQ(guards, 2u);  // both sides of xi1's tolerance are guarded
+  EXPECT_NE(html.find("data-quantity=\"delta2\" data-zone=\"conforming\""), std::string::npos);
+  // A limit without a max (a hand-made row) has no bar; the table still reads.
+  EXPECT_EQ(html.find("data-quantity=\"tau_s\""), std::string::npos);
+  EXPECT_NE(html.find("Decision rule guarded_acceptance_retest, k = 2"), std::string::npos);
+  EXPECT_NE(html.find("undecided within the guard band: retest"), std::string::npos);
+}
+
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
   testing::ScratchDir dir("report_older");
   json outcome = RecordedOutcome();

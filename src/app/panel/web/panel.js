@@ -67,6 +67,7 @@ function resetSession(e) {
   text("outcome", "—");
   text("outcome-reason", "");
   $("failed").innerHTML = "";
+  $("bands").innerHTML = "";
   $("report-link").hidden = true;
   $("runs").tBodies[0].innerHTML = "";
   $("log").innerHTML = "";
@@ -99,6 +100,60 @@ function showProgress(e) {
       (e.samples_expected > 0 ? e.samples / e.samples_expected : 0)) / e.run_count : 0;
   $("progress-bar").style.width = (100 * Math.min(done, 1)).toFixed(1) + "%";
 }
+// One limit's decision as a small bar (the report draws the same: src/report/guard_band_bar.cpp):
+// the tolerance, its guard bands shaded, the value with v ± k·u coloured by the zone. From the
+// limit event, which is the record's outcome.verdict.limits[k]; null when there is nothing to draw.
+function guardBandBar(e) {
+  const fin = (v) => typeof v === "number" && isFinite(v);
+  if (!fin(e.value) || !fin(e.min) || !fin(e.max)) return null;
+  const hasInterval = fin(e.interval_min) && fin(e.interval_max);
+  let lo = Math.min(e.min, e.value), hi = Math.max(e.max, e.value);
+  if (hasInterval) { lo = Math.min(lo, e.interval_min); hi = Math.max(hi, e.interval_max); }
+  const span = hi > lo ? hi - lo : Math.max(Math.abs(hi), 1);
+  lo -= 0.05 * span; hi += 0.05 * span;
+  const W = 240, x = (v) => 6 + (v - lo) / (hi - lo) * (W - 12);
+  const colour = { conforming: "#1b7f3b", non_conforming: "#b3261e", undecided: "#c77700" }[e.zone]
+    || "#555";
+  const ns = "http://www.w3.org/2000/svg";
+  const svg = document.createElementNS(ns, "svg");
+  const add = (tag, attrs) => {
+    const el = document.createElementNS(ns, tag);
+    for (const [k, v] of Object.entries(attrs)) el.setAttribute(k, String(v));
+    svg.appendChild(el);
+    return el;
+  };
+  Object.entries({ class: "guard-band", width: W, height: 20, viewBox: "0 0 " + W + " 20" })
+    .forEach(([k, v]) => svg.setAttribute(k, String(v)));
+  svg.dataset.quantity = e.quantity;
+  svg.dataset.zone = e.zone || "not_recorded";
+  add("rect", { class: "tolerance", x: x(e.min), y: 4, width: Math.max(x(e.max) - x(e.min), 1),
+    height: 12, fill: "#e3f1e6", stroke: "#1b7f3b" });
+  if (fin(e.acceptance_min) && fin(e.acceptance_max)) {
+    const empty = e.acceptance_min > e.acceptance_max;
+    const a = empty ? e.max : Math.min(Math.max(e.acceptance_min, e.min), e.max);
+    const b = empty ? e.max : Math.min(Math.max(e.acceptance_max, e.min), e.max);
+    for (const [from, to] of [[e.min, a], [b, e.max]])
+      if (x(to) - x(from) >= 0.05)
+        add("rect", { class: "guard", x: x(from), y: 4, width: x(to) - x(from), height: 12,
+          fill: "#f6d9a8" });
+  }
+  if (hasInterval) {
+    add("line", { class: "interval", x1: x(e.interval_min), x2: x(e.interval_max), y1: 10, y2: 10,
+      stroke: colour, "stroke-width": 2 });
+    for (const end of [e.interval_min, e.interval_max])
+      add("line", { x1: x(end), x2: x(end), y1: 5, y2: 15, stroke: colour, "stroke-width": 2 });
+  }
+  add("circle", { class: "value", cx: x(e.value), cy: 10, r: 3.5, fill: colour });
+  const row = document.createElement("div");
+  const label = document.createElement("span");
+  label.textContent = e.quantity + " = " + Number(e.value).toPrecision(4) +
+    (hasInterval ? " ± " + Number(e.expanded_uncertainty).toPrecision(2) +
+      " (k = " + e.coverage_factor + ")" : "") +
+    (e.zone ? " · " + e.zone.replace("_", " ") : "");
+  row.append(label, svg);
+  return row;
+}
+
 function showOutcome(kind, reason) {
   state.outcome = kind;
   $("outcome-box").hidden = false;
@@ -133,6 +188,8 @@ const handlers = {
   },
   estimate: () => {},
   limit: (e) => {
+    const bar = guardBandBar(e);
+    if (bar) $("bands").appendChild(bar);
     if (e.status !== "FAIL") return;
     const li = document.createElement("li");
     li.textContent = e.message || e.quantity;
