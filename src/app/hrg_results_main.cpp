@@ -7,6 +7,7 @@
 //   hrg-results ... sessions [filters] [--json|--csv]
 //   hrg-results ... stats PARAM [filters] [--by sequence,limits,product] [--json|--csv]
 //   hrg-results ... export [filters]
+//   hrg-results ... serve [--port P] [--today YYYY-MM-DD]   (the read-only line view)
 //   filters: --since T --at-station N --sequence S --limits L --product P (sessions and export
 //   also --outcome O --serial-like P)
 //
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "app/cli_exit.hpp"
+#include "app/line_view.hpp"
 #include "app/logging.hpp"
 #include "app/results_print.hpp"
 #include "hrgbench/config/limits_config.hpp"
@@ -193,6 +195,19 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   CLI::App* migrate = cli.add_subcommand(
       "migrate", "bring the store to this program's schema (an upload does too)");
+  int serve_port = 8090;
+  std::string serve_day;
+  CLI::App* serve = cli.add_subcommand(
+      "serve", "the line view: every station's last session and today's yield, read-only page");
+  serve->add_option("--port", serve_port, "port on 127.0.0.1 (0: any free one)")
+      ->check(CLI::Range(0, 65535));
+  serve->add_option("--today", serve_day, "the day shown as today (UTC, YYYY-MM-DD)")
+      ->check(
+          [](const std::string& day) {
+            return day.size() == 10 && !results::WhyNotSinceUtc(day) ? std::string()
+                                                                     : "expected YYYY-MM-DD";
+          },
+          "YYYY-MM-DD");
   std::string serial;
   CLI::App* history = cli.add_subcommand("history", "every session of one unit");
   history->add_option("serial", serial, "unit serial")->required();
@@ -249,6 +264,7 @@ int main(int argc, char** argv) {
       std::cerr << "hrg-results: give --db URL or --station FILE (with a [results] url)\n";
       return kExitBadInput;
     }
+    if (*serve) return app::ServeLineView(db_url, serve_port, serve_day);
     const bool writer = *import || *sync || *migrate;
     auto store =
         writer ? results::ResultsStore::Open(db_url) : results::ResultsStore::OpenExisting(db_url);

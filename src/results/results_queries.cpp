@@ -203,6 +203,19 @@ std::expected<std::vector<SessionExport>, StoreError> ResultsStore::ExportRows(
   return out;
 }
 
+std::expected<std::vector<SessionSummary>, StoreError> ResultsStore::LatestPerStation() {
+  const std::string sql =
+      "SELECT " + SessionColumns(engine()) + kSessionFrom +
+      " WHERE NOT EXISTS (SELECT 1 FROM session e WHERE e.station = s.station AND (e.started_utc > "
+      "s.started_utc OR (e.started_utc = s.started_utc AND e.id > s.id))) ORDER BY s.station";
+  auto rows = db_->Query(sql);
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
+  std::vector<SessionSummary> out;
+  for (const SqlRow& row : *rows) out.push_back(ToSummary(row));
+  std::ranges::sort(out, {}, &SessionSummary::station);  // byte order, as ParameterNames
+  return out;
+}
+
 std::expected<std::vector<std::string>, StoreError> ResultsStore::ParameterNames() {
   auto rows = db_->Query("SELECT DISTINCT name FROM parameter ORDER BY name");
   if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));

@@ -149,6 +149,8 @@ class ResultsStore {
   // Sessions matching `filter` with all their parameters, oldest first (history, export).
   std::expected<std::vector<SessionWithParameters>, StoreError> SessionsWithParameters(
       const SessionFilter& filter);
+  // The newest session of every station (the line view), by station name.
+  std::expected<std::vector<SessionSummary>, StoreError> LatestPerStation();
   // Sessions matching `filter` with their parameter rows and verdicts, oldest first.
   std::expected<std::vector<SessionExport>, StoreError> ExportRows(const SessionFilter& filter);
   // Warnings of one session, in recorded order.
