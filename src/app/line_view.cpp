@@ -120,18 +120,20 @@ std::string LineViewHtml(const nlohmann::json& view, const std::string& store) {
           std::to_string(today["pass"].get<int>() + today["fail"].get<int>()) +
           " judged; first pass " + Percent(today["first_pass_yield"]) + "; " +
           std::to_string(today["sessions"].get<int>()) + " sessions)</p>\n";
-  html += "<table id=\"yield\"><tr><th>station</th><th>sessions</th><th>PASS</th><th>FAIL</th>"
-          "<th>other</th><th>yield</th><th>first-pass yield</th></tr>\n";
+  html +=
+      "<table id=\"yield\"><tr><th>station</th><th>sessions</th><th>PASS</th><th>FAIL</th>"
+      "<th>other</th><th>yield</th><th>first-pass yield</th></tr>\n";
   for (const auto& row : today["per_station"]) {
     html += "<tr data-station=\"" + Escape(Text(row["station"])) + "\"><td>" +
             Escape(Text(row["station"])) + "</td><td>" + Text(row["sessions"]) + "</td><td>" +
-            Text(row["pass"]) + "</td><td>" + Text(row["fail"]) + "</td><td>" +
-            Text(row["other"]) + "</td><td class=\"yield\">" + Percent(row["yield"]) +
-            "</td><td>" + Percent(row["first_pass_yield"]) + "</td></tr>\n";
+            Text(row["pass"]) + "</td><td>" + Text(row["fail"]) + "</td><td>" + Text(row["other"]) +
+            "</td><td class=\"yield\">" + Percent(row["yield"]) + "</td><td>" +
+            Percent(row["first_pass_yield"]) + "</td></tr>\n";
   }
-  html += "</table>\n<h2>Stations: last session</h2>\n<table id=\"stations\"><tr><th>station</th>"
-          "<th>serial</th><th>position</th><th>started (UTC)</th><th>sequence</th><th>pass</th>"
-          "<th>outcome</th><th>reason</th></tr>\n";
+  html +=
+      "</table>\n<h2>Stations: last session</h2>\n<table id=\"stations\"><tr><th>station</th>"
+      "<th>serial</th><th>position</th><th>started (UTC)</th><th>sequence</th><th>pass</th>"
+      "<th>outcome</th><th>reason</th></tr>\n";
   for (const auto& s : view["stations"]) {
     const std::string outcome = Escape(Text(s["outcome"]));
     html += "<tr data-station=\"" + Escape(Text(s["station"])) + "\"><td>" +
