@@ -19,7 +19,7 @@ for tool in hrg-bench hrg-sim hrg-compare; do
   fi
 done
 mkdir -p "$build/out"
-cd "$root"  # station-sim.toml's [results] url is relative: build/out/results.sqlite
+cd "$root"  # station-sim.toml's [results] url is its folder's ../build/out/results.sqlite
 
 session="$build/out/session-SIM-0001-$(date -u +%Y%m%dT%H%M%SZ)"
 echo "== bench session on the simulated station =="

@@ -2,26 +2,37 @@
 //
 //   hrg-results [--db URL | --station S.toml] import DIR...
 //   hrg-results ... sync --sessions-root DIR
+//   hrg-results ... migrate
 //   hrg-results ... history SERIAL [--json|--csv]
-//   hrg-results ... sessions [--since T] [--at-station N] [--outcome O] [--serial-like P]
-//                            [--json|--csv]
-//   hrg-results ... stats PARAM [--since T] [--at-station N] [--json|--csv]
-//   hrg-results ... export [--since T] [--at-station N] [--outcome O] [--serial-like P]
+//   hrg-results ... sessions [filters] [--json|--csv]
+//   hrg-results ... stats PARAM [filters] [--by sequence,limits,product] [--json|--csv]
+//   hrg-results ... export [filters]
+//   hrg-results ... serve [--port P] [--today YYYY-MM-DD]   (the read-only line view)
+//   filters: --since T --at-station N --sequence S --limits L --product P (sessions and export
+//   also --outcome O --serial-like P)
+//
+// Writers (import, sync, migrate) create and migrate the store; readers (history, sessions, stats,
+// export) never create one: a SQLite path with no file is "no results store at <path>".
 //
 // Exit codes (hrgbench/session/exit_codes.hpp): 0 done; 1 some session could not be imported or
-// synced (each is named); 4 bad command line, unusable URL or station file, or a database that
-// cannot be opened.
+// synced (each is named), or stats found no value of the parameter; 2 the database cannot be
+// reached or failed; 4 bad command line, unusable URL or station file, an unknown parameter, no
+// store at the path, or a database of another schema (an older one: `migrate` it).
 // GCC 12 at -O2 reports a "potential null pointer dereference" inside CLI11's detail::split
 // (std::vector<std::string> relocation) as inlined here: a false positive in library code.
 #pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "app/cli_exit.hpp"
+#include "app/line_view.hpp"
 #include "app/logging.hpp"
 #include "app/results_print.hpp"
+#include "hrgbench/config/limits_config.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/results/parameter_stats.hpp"
 #include "hrgbench/results/since_utc.hpp"
@@ -97,13 +108,57 @@ int StoreFailure(const results::StoreError& error) {
   return kExitError;
 }
 
+// The names stats accepts: every quantity a limits file may judge (the estimator's) and every
+// name the store holds (a name of an older or newer estimator included), sorted.
+std::vector<std::string> KnownParameters(const std::vector<std::string>& stored) {
+  std::set<std::string> names(stored.begin(), stored.end());
+  for (std::size_t q = 0; q < bench::kLimitedQuantityCount; ++q)
+    names.insert(std::string(bench::ToString(static_cast<bench::LimitedQuantity>(q))));
+  return {names.begin(), names.end()};
+}
+
+std::string Joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& name : names) out += (out.empty() ? "" : ", ") + name;
+  return out;
+}
+
+int Stats(results::ResultsStore& store, const std::string& parameter,
+          const results::SessionFilter& filter, const std::vector<results::GroupBy>& by,
+          app::OutputFormat format) {
+  auto stored = store.ParameterNames();
+  if (!stored) return StoreFailure(stored.error());
+  const std::vector<std::string> known = KnownParameters(*stored);
+  if (!std::ranges::binary_search(known, parameter)) {
+    std::cerr << "hrg-results: stats: unknown parameter '" << parameter
+              << "'; known: " << Joined(known) << '\n';
+    return kExitBadInput;
+  }
+  auto samples = store.ParameterValues(parameter, filter);
+  if (!samples) return StoreFailure(samples.error());
+  std::vector<app::GroupStats> groups;
+  for (const results::SampleGroup& g : results::GroupSamples(*samples, by))
+    groups.push_back({g.key, results::ComputeParameterStats(parameter, g.samples)});
+  if (groups.empty()) groups.push_back({{}, results::ComputeParameterStats(parameter, {})});
+  app::PrintStats(std::cout, by, groups, format);
+  if (samples->empty()) {
+    // A statistic of nothing is no answer: a script must not read "n = 0" as a line in spec.
+    std::cerr << "hrg-results: stats: no stored session matching the filters has a value of '"
+              << parameter << "'\n";
+    return kExitFail;
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App cli{
       "hrg-results: the results database of a bench station or a line (SQLite or PostgreSQL).\n"
-      "Here 1: a session could not be imported or synced; 2: the database cannot be reached or "
-      "failed; 4: bad command line, URL, station file, or a database of another schema.\n" +
+      "Here 1: a session could not be imported or synced, or stats found no value; 2: the "
+      "database cannot be reached or failed; 4: bad command line, URL, station file, unknown "
+      "parameter, no store at the path, or a database of another schema (migrate an older "
+      "one).\n" +
       std::string(hrgbench::kExitCodesHelp)};
   cli.require_subcommand(1);
   bool quiet = false;
@@ -120,6 +175,9 @@ int main(int argc, char** argv) {
             [](const std::string& since) { return results::WhyNotSinceUtc(since).value_or(""); },
             "UTC, ISO 8601");
     sub->add_option("--at-station", filter.station, "sessions of this station name");
+    sub->add_option("--sequence", filter.sequence, "sessions run with this sequence (its name)");
+    sub->add_option("--limits", filter.limits, "sessions judged with these limits (their name)");
+    sub->add_option("--product", filter.product, "sessions of this product (limits' product)");
     if (with_outcome) {
       sub->add_option("--outcome", filter.outcome, "PASS, FAIL, ERROR or ABORTED");
       sub->add_option("--serial-like", filter.serial_like, "serial LIKE pattern (% and _)");
@@ -135,6 +193,21 @@ int main(int argc, char** argv) {
   sync->add_option("--sessions-root", sessions_root, "folder holding session folders")
       ->required()
       ->check(CLI::ExistingDirectory);
+  CLI::App* migrate = cli.add_subcommand(
+      "migrate", "bring the store to this program's schema (an upload does too)");
+  int serve_port = 8090;
+  std::string serve_day;
+  CLI::App* serve = cli.add_subcommand(
+      "serve", "the line view: every station's last session and today's yield, read-only page");
+  serve->add_option("--port", serve_port, "port on 127.0.0.1 (0: any free one)")
+      ->check(CLI::Range(0, 65535));
+  serve->add_option("--today", serve_day, "the day shown as today (UTC, YYYY-MM-DD)")
+      ->check(
+          [](const std::string& day) {
+            return day.size() == 10 && !results::WhyNotSinceUtc(day) ? std::string()
+                                                                     : "expected YYYY-MM-DD";
+          },
+          "YYYY-MM-DD");
   std::string serial;
   CLI::App* history = cli.add_subcommand("history", "every session of one unit");
   history->add_option("serial", serial, "unit serial")->required();
@@ -147,6 +220,15 @@ int main(int argc, char** argv) {
   stats->add_option("param", parameter, "parameter name (delta1, xi2, tau_s, q_factor, ...)")
       ->required();
   add_filters(stats, false);
+  std::vector<std::string> group_by;
+  stats->add_option("--by", group_by, "one statistic per sequence, limits and/or product")
+      ->delimiter(',')
+      ->check(
+          [](const std::string& by) {
+            return results::ParseGroupBy(by) ? std::string()
+                                             : "'" + by + "': expected sequence, limits or product";
+          },
+          "sequence|limits|product");
   stats->add_flag("--json", json, "JSON")->excludes(stats->add_flag("--csv", csv, "CSV"));
   CLI::App* export_cmd =
       cli.add_subcommand("export", "CSV: one row per session, one column per quantity");
@@ -182,13 +264,35 @@ int main(int argc, char** argv) {
       std::cerr << "hrg-results: give --db URL or --station FILE (with a [results] url)\n";
       return kExitBadInput;
     }
-    auto store = results::ResultsStore::Open(db_url);
+    if (*serve) return app::ServeLineView(db_url, serve_port, serve_day);
+    const bool writer = *import || *sync || *migrate;
+    auto store =
+        writer ? results::ResultsStore::Open(db_url) : results::ResultsStore::OpenExisting(db_url);
     if (!store) return StoreFailure(store.error());
+    if (*store == nullptr) {
+      // A reader names the file it looked for, as the working directory made it.
+      const auto parsed = results::ParseResultsUrl(db_url);
+      std::error_code ec;
+      const fs::path path = fs::absolute(parsed ? parsed->sqlite_path : db_url, ec);
+      std::cerr << "hrg-results: no results store at " << path.lexically_normal().string()
+                << " (nothing created; `import` or `sync` makes one)\n";
+      return kExitBadInput;
+    }
     const app::OutputFormat format =
         json ? app::OutputFormat::kJson
              : (csv ? app::OutputFormat::kCsv : app::OutputFormat::kTable);
     if (*import) return Import(**store, import_dirs);
     if (*sync) return Sync(**store, sessions_root);
+    if (*migrate) {
+      const int found = (*store)->found_version();
+      if (found == results::kSchemaVersion) {
+        std::cout << "migrate: schema version " << found << " already\n";
+      } else {
+        std::cout << "migrate: schema version " << found << " -> " << results::kSchemaVersion
+                  << '\n';
+      }
+      return kExitOk;
+    }
     if (*history) {
       filter.serial = serial;
       auto rows = (*store)->SessionsWithParameters(filter);
@@ -203,12 +307,11 @@ int main(int argc, char** argv) {
       return kExitOk;
     }
     if (*stats) {
-      auto samples = (*store)->ParameterValues(parameter, filter);
-      if (!samples) return StoreFailure(samples.error());
-      app::PrintStats(std::cout, results::ComputeParameterStats(parameter, *samples), format);
-      return kExitOk;
+      std::vector<results::GroupBy> by;
+      for (const std::string& b : group_by) by.push_back(*results::ParseGroupBy(b));
+      return Stats(**store, parameter, filter, by, format);
     }
-    auto rows = (*store)->SessionsWithParameters(filter);
+    auto rows = (*store)->ExportRows(filter);
     if (!rows) return StoreFailure(rows.error());
     app::PrintExport(std::cout, *rows);
     return kExitOk;

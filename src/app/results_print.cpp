@@ -20,6 +20,14 @@ nlohmann::json SessionJson(const results::SessionSummary& s) {
           {"station", s.station},
           {"operator", s.operator_name},
           {"software_version", s.software_version},
+          {"sequence", s.sequence_name},
+          {"sequence_sha256", s.sequence_sha256},
+          {"limits", s.limits_name},
+          {"limits_sha256", s.limits_sha256},
+          {"product", s.product},
+          {"fixture_position", s.fixture_position},
+          {"attempt", s.attempt},
+          {"first_pass", s.attempt == 1},
           {"started_utc", s.started_utc},
           {"ended_utc", s.ended_utc},
           {"outcome", s.outcome},
@@ -28,6 +36,29 @@ nlohmann::json SessionJson(const results::SessionSummary& s) {
           {"complete_runs", s.complete_runs},
           {"path", s.path},
           {"content_sha256", s.content_sha256}};
+}
+
+// "first" or "retest N" (the N-th session of the unit with its sequence).
+std::string Pass(int attempt) {
+  return attempt <= 1 ? "first" : "retest " + std::to_string(attempt);
+}
+
+// Columns of a text table: each cell cut to its width (Cell), padded, separated by a space.
+std::string Row(const std::vector<std::pair<std::string, std::size_t>>& cells) {
+  std::string line;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const auto& [text, width] = cells[i];
+    std::string cell = Cell(text, width);
+    if (i + 1 < cells.size()) {
+      std::size_t shown = 0;
+      for (unsigned char c : cell) shown += (c & 0xC0) != 0x80 ? 1 : 0;
+      cell.append(width > shown ? width - shown : 0, ' ');
+      cell += ' ';
+    }
+    line += cell;
+  }
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  return line + '\n';
 }
 
 std::optional<double> Find(const std::map<std::string, double>& values, const std::string& name) {
@@ -42,7 +73,43 @@ std::string Short(std::optional<double> v) {
   return text;
 }
 
+constexpr const char* kSessionCsvHeader =
+    "id,serial,station,operator,software_version,sequence,sequence_sha256,limits,limits_sha256,"
+    "product,fixture_position,attempt,first_pass,started_utc,ended_utc,outcome,exit_code,"
+    "complete_runs";
+
 }  // namespace
+
+std::string SessionCsvHeader() { return kSessionCsvHeader; }
+
+std::string SessionCsvFields(const results::SessionSummary& s) {
+  return s.id + ',' + CsvField(s.serial) + ',' + CsvField(s.station) + ',' +
+         CsvField(s.operator_name) + ',' + CsvField(s.software_version) + ',' +
+         CsvField(s.sequence_name) + ',' + s.sequence_sha256 + ',' + CsvField(s.limits_name) + ',' +
+         s.limits_sha256 + ',' + CsvField(s.product) + ',' + CsvField(s.fixture_position) + ',' +
+         std::to_string(s.attempt) + ',' + (s.attempt == 1 ? "true" : "false") + ',' +
+         CsvField(s.started_utc) + ',' + CsvField(s.ended_utc) + ',' + s.outcome + ',' +
+         std::to_string(s.exit_code) + ',' + std::to_string(s.complete_runs);
+}
+
+std::string Cell(const std::string& text, std::size_t width) {
+  std::string flat;
+  for (char c : text) flat += c == '\n' || c == '\r' || c == '\t' ? ' ' : c;
+  // Code points, counted by their lead bytes; a cut never splits one.
+  std::size_t points = 0, cut = flat.size(), keep = std::string::npos;
+  for (std::size_t i = 0; i < flat.size(); ++i) {
+    if ((static_cast<unsigned char>(flat[i]) & 0xC0) == 0x80) continue;
+    if (points + 1 == width) keep = i;  // where "…" goes if the text is too long
+    if (points == width) {
+      cut = i;
+      break;
+    }
+    ++points;
+  }
+  if (cut == flat.size()) return flat;
+  if (width == 0) return "";
+  return flat.substr(0, keep) + "\u2026";
+}
 
 std::string CsvField(const std::string& text) {
   bool quote = text.find_first_of(",\"\r\n") != std::string::npos;
@@ -75,26 +142,31 @@ void PrintSessions(std::ostream& out, const std::vector<results::SessionSummary>
     return;
   }
   if (format == OutputFormat::kCsv) {
-    out << "id,serial,station,operator,software_version,started_utc,ended_utc,outcome,exit_code,"
-           "complete_runs,reason,path\n";
-    for (const auto& s : sessions) {
-      out << s.id << ',' << CsvField(s.serial) << ',' << CsvField(s.station) << ','
-          << CsvField(s.operator_name) << ',' << CsvField(s.software_version) << ','
-          << CsvField(s.started_utc) << ',' << CsvField(s.ended_utc) << ',' << s.outcome << ','
-          << s.exit_code << ',' << s.complete_runs << ',' << CsvField(s.reason) << ','
-          << CsvField(s.path) << '\n';
-    }
+    out << SessionCsvHeader() << ",reason,path\n";
+    for (const auto& s : sessions)
+      out << SessionCsvFields(s) << ',' << CsvField(s.reason) << ',' << CsvField(s.path) << '\n';
     return;
   }
-  char line[512];
-  std::snprintf(line, sizeof line, "%-27s %-16s %-12s %-8s %4s  %s\n", "started (UTC)", "serial",
-                "station", "outcome", "runs", "reason");
-  out << line;
+  // Every cell cut to its column (Cell): one session, one line, whatever its reason holds.
+  out << Row({{"started (UTC)", 27},
+              {"serial", 16},
+              {"station", 12},
+              {"sequence", 12},
+              {"pos", 3},
+              {"pass", 9},
+              {"outcome", 7},
+              {"runs", 4},
+              {"reason", 60}});
   for (const auto& s : sessions) {
-    std::snprintf(line, sizeof line, "%-27s %-16s %-12s %-8s %4d  %s\n", s.started_utc.c_str(),
-                  s.serial.c_str(), s.station.c_str(), s.outcome.c_str(), s.complete_runs,
-                  s.reason.c_str());
-    out << line;
+    out << Row({{s.started_utc, 27},
+                {s.serial, 16},
+                {s.station, 12},
+                {s.sequence_name, 12},
+                {s.fixture_position.empty() ? "-" : s.fixture_position, 3},
+                {Pass(s.attempt), 9},
+                {s.outcome, 7},
+                {std::to_string(s.complete_runs), 4},
+                {s.reason, 60}});
   }
   out << sessions.size() << " session(s)\n";
 }
@@ -125,95 +197,167 @@ void PrintHistory(std::ostream& out, const std::string& serial,
     return;
   }
   out << "unit " << serial << ": " << sessions.size() << " session(s)\n";
-  char line[512];
-  std::snprintf(line, sizeof line, "%-27s %-12s %-8s %12s %12s %14s %14s %12s\n", "started (UTC)",
-                "station", "outcome", "tau_s", "q_factor", "damp_split/s", "freq_split_mHz",
-                "angular_gain");
-  out << line;
+  out << Row({{"started (UTC)", 27},
+              {"station", 12},
+              {"pass", 9},
+              {"outcome", 8},
+              {"tau_s", 12},
+              {"q_factor", 12},
+              {"damp_split/s", 14},
+              {"freq_split_mHz", 14},
+              {"angular_gain", 12}});
   for (const auto& s : sessions) {
-    std::snprintf(line, sizeof line, "%-27s %-12s %-8s %12s %12s %14s %14s %12s\n",
-                  s.session.started_utc.c_str(), s.session.station.c_str(),
-                  s.session.outcome.c_str(), Short(Find(s.values, "tau_s")).c_str(),
-                  Short(Find(s.values, "q_factor")).c_str(),
-                  Short(Find(s.values, "damping_split_per_s")).c_str(),
-                  Short(Find(s.values, "frequency_split_mhz")).c_str(),
-                  Short(Find(s.values, "angular_gain")).c_str());
-    out << line;
+    out << Row({{s.session.started_utc, 27},
+                {s.session.station, 12},
+                {Pass(s.session.attempt), 9},
+                {s.session.outcome, 8},
+                {Short(Find(s.values, "tau_s")), 12},
+                {Short(Find(s.values, "q_factor")), 12},
+                {Short(Find(s.values, "damping_split_per_s")), 14},
+                {Short(Find(s.values, "frequency_split_mhz")), 14},
+                {Short(Find(s.values, "angular_gain")), 12}});
   }
 }
 
-void PrintStats(std::ostream& out, const results::ParameterStats& st, OutputFormat format) {
+void PrintStats(std::ostream& out, const std::vector<results::GroupBy>& by,
+                const std::vector<GroupStats>& groups, OutputFormat format) {
+  const auto value = [](std::optional<double> v) {
+    return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json();
+  };
   if (format == OutputFormat::kJson) {
-    // One object; a number that is not determined (no sessions, no limit, no verdict) is null.
-    const auto value = [&](std::optional<double> v) {
-      return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json();
-    };
-    const auto sample = [&](double v) { return st.n > 0 ? value(v) : nlohmann::json(); };
-    nlohmann::json weeks = nlohmann::json::array();
-    for (const auto& w : st.weeks)
-      weeks.push_back(
-          {{"week", w.week}, {"n", w.n}, {"mean", value(w.mean)}, {"std", value(w.std)}});
-    const nlohmann::json all = {{"name", st.name},
-                                {"unit", st.unit},
-                                {"n", st.n},
-                                {"mean", sample(st.mean)},
-                                {"std", sample(st.std)},
-                                {"min", sample(st.min)},
-                                {"max", sample(st.max)},
-                                {"limit_min", value(st.limit_min)},
-                                {"limit_max", value(st.limit_max)},
-                                {"judged", st.judged},
-                                {"passed", st.passed},
-                                {"yield", value(st.yield)},
-                                {"cp", value(st.cp)},
-                                {"cpk", value(st.cpk)},
-                                {"weeks", std::move(weeks)}};
-    out << all.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    // One object per group; a number that is not determined (no sessions, no limit, no verdict)
+    // is null. Without --by: the one group's object alone.
+    nlohmann::json all = nlohmann::json::array();
+    for (const GroupStats& g : groups) {
+      const results::ParameterStats& st = g.stats;
+      const auto sample = [&](double v) { return st.n > 0 ? value(v) : nlohmann::json(); };
+      nlohmann::json weeks = nlohmann::json::array();
+      for (const auto& w : st.weeks)
+        weeks.push_back(
+            {{"week", w.week}, {"n", w.n}, {"mean", value(w.mean)}, {"std", value(w.std)}});
+      nlohmann::json j = {{"name", st.name},
+                          {"unit", st.unit},
+                          {"n", st.n},
+                          {"mean", sample(st.mean)},
+                          {"std", sample(st.std)},
+                          {"min", sample(st.min)},
+                          {"max", sample(st.max)},
+                          {"limit_min", value(st.limit_min)},
+                          {"limit_max", value(st.limit_max)},
+                          {"judged", st.judged},
+                          {"passed", st.passed},
+                          {"yield", value(st.yield)},
+                          {"first_pass_judged", st.first_pass_judged},
+                          {"first_pass_passed", st.first_pass_passed},
+                          {"first_pass_yield", value(st.first_pass_yield)},
+                          {"capability", st.capability},
+                          {"cp", value(st.cp)},
+                          {"cpk", value(st.cpk)},
+                          {"cpu", value(st.cpu)},
+                          {"cpl", value(st.cpl)},
+                          {"weeks", std::move(weeks)}};
+      if (!by.empty()) {
+        nlohmann::json key = nlohmann::json::object();
+        for (std::size_t i = 0; i < by.size(); ++i) key[results::ToString(by[i])] = g.key[i];
+        j["group"] = std::move(key);
+      }
+      all.push_back(std::move(j));
+    }
+    const nlohmann::json& shown = by.empty() && all.size() == 1 ? all[0] : all;
+    out << shown.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     return;
   }
   if (format == OutputFormat::kCsv) {
-    out << "period,n,mean,std,min,max,limit_min,limit_max,yield,cp,cpk\n";
-    out << "all," << st.n << ',' << NumberText(st.mean) << ',' << NumberText(st.std) << ','
-        << NumberText(st.min) << ',' << NumberText(st.max) << ',' << NumberText(st.limit_min) << ','
-        << NumberText(st.limit_max) << ',' << NumberText(st.yield) << ',' << NumberText(st.cp)
-        << ',' << NumberText(st.cpk) << '\n';
-    for (const auto& w : st.weeks) {
-      out << w.week << ',' << w.n << ',' << NumberText(w.mean) << ',' << NumberText(w.std)
-          << ",,,,,,,\n";
+    for (results::GroupBy b : by) out << results::ToString(b) << ',';
+    out << "period,n,mean,std,min,max,unit,limit_min,limit_max,judged,passed,yield,"
+           "first_pass_judged,first_pass_passed,first_pass_yield,capability,cp,cpk,cpu,cpl\n";
+    for (const GroupStats& g : groups) {
+      const results::ParameterStats& st = g.stats;
+      std::string key;
+      for (const std::string& k : g.key) key += CsvField(k) + ',';
+      out << key << "all," << st.n << ',' << NumberText(st.mean) << ',' << NumberText(st.std) << ','
+          << NumberText(st.min) << ',' << NumberText(st.max) << ',' << CsvField(st.unit) << ','
+          << NumberText(st.limit_min) << ',' << NumberText(st.limit_max) << ',' << st.judged << ','
+          << st.passed << ',' << NumberText(st.yield) << ',' << st.first_pass_judged << ','
+          << st.first_pass_passed << ',' << NumberText(st.first_pass_yield) << ',' << st.capability
+          << ',' << NumberText(st.cp) << ',' << NumberText(st.cpk) << ',' << NumberText(st.cpu)
+          << ',' << NumberText(st.cpl) << '\n';
+      for (const auto& w : st.weeks) {
+        out << key << w.week << ',' << w.n << ',' << NumberText(w.mean) << ',' << NumberText(w.std)
+            << ",,,,,,,,,,,,,,,,\n";
+      }
     }
     return;
   }
-  out << st.name << (st.unit.empty() ? "" : " [" + st.unit + "]") << ": n = " << st.n << '\n';
-  if (st.n == 0) return;
-  out << "  mean " << Short(st.mean) << "  std " << Short(st.std) << "  min " << Short(st.min)
-      << "  max " << Short(st.max) << '\n';
-  out << "  limits in force [" << Short(st.limit_min) << ", " << Short(st.limit_max) << "]  yield "
-      << (st.yield ? Short(*st.yield * 100.0) + " % (" + std::to_string(st.passed) + "/" +
-                         std::to_string(st.judged) + ")"
-                   : std::string("- (not judged)"))
-      << "  Cp " << Short(st.cp) << "  Cpk " << Short(st.cpk) << '\n';
-  out << "  per week:\n";
-  for (const auto& w : st.weeks) {
-    out << "    " << w.week << "  n " << w.n << "  mean " << Short(w.mean) << "  std "
-        << Short(w.std) << '\n';
+  for (const GroupStats& g : groups) {
+    const results::ParameterStats& st = g.stats;
+    out << st.name << " [" << (st.unit.empty() ? "?" : st.unit) << "]";
+    for (std::size_t i = 0; i < by.size(); ++i) {
+      out << (i == 0 ? "  " : ", ") << results::ToString(by[i]) << " "
+          << (g.key[i].empty() ? "(none)" : "'" + Cell(g.key[i], 40) + "'");
+    }
+    out << ": n = " << st.n << '\n';
+    if (st.n == 0) continue;
+    out << "  mean " << Short(st.mean) << "  std " << Short(st.std) << "  min " << Short(st.min)
+        << "  max " << Short(st.max) << '\n';
+    const auto yield = [](std::optional<double> y, std::size_t passed, std::size_t judged) {
+      return y ? Short(*y * 100.0) + " % (" + std::to_string(passed) + "/" +
+                     std::to_string(judged) + ")"
+               : std::string("- (not judged)");
+    };
+    out << "  limits in force [" << Short(st.limit_min) << ", " << Short(st.limit_max)
+        << "]  yield " << yield(st.yield, st.passed, st.judged) << "  first-pass yield "
+        << yield(st.first_pass_yield, st.first_pass_passed, st.first_pass_judged) << '\n';
+    out << "  capability ";
+    if (st.capability == "Cpk") {
+      out << "Cp " << Short(st.cp) << "  Cpk " << Short(st.cpk) << " (two-sided)";
+    } else if (st.capability == "Cpu") {
+      out << "Cpu " << Short(st.cpu) << " (one-sided: upper limit only"
+          << (st.limit_min ? "; 0 is the magnitude's natural bound" : "") << ")";
+    } else if (st.capability == "Cpl") {
+      out << "Cpl " << Short(st.cpl) << " (one-sided: lower limit only)";
+    } else {
+      out << "- (" << (st.limit_min || st.limit_max ? "no spread" : "no limit in force") << ")";
+    }
+    out << '\n';
+    out << "  per week:\n";
+    for (const auto& w : st.weeks) {
+      out << "    " << w.week << "  n " << w.n << "  mean " << Short(w.mean) << "  std "
+          << Short(w.std) << '\n';
+    }
   }
 }
 
-void PrintExport(std::ostream& out, const std::vector<results::SessionWithParameters>& sessions) {
+void PrintExport(std::ostream& out, const std::vector<results::SessionExport>& sessions) {
   std::set<std::string> names;
-  for (const auto& s : sessions)
-    for (const auto& [name, value] : s.values) names.insert(name);
-  out << "id,serial,station,operator,software_version,started_utc,ended_utc,outcome,exit_code,"
-         "complete_runs,path";
-  for (const std::string& name : names) out << ',' << CsvField(name);
+  for (const auto& s : sessions) {
+    for (const auto& [name, row] : s.parameters) names.insert(name);
+    for (const auto& [name, row] : s.limits) names.insert(name);
+  }
+  out << SessionCsvHeader() << ",reason,path";
+  for (const std::string& name : names) {
+    const std::string n = CsvField(name);
+    out << ',' << n << ',' << n << "_std," << n << "_unit," << n << "_limit_min," << n
+        << "_limit_max," << n << "_status," << n << "_message";
+  }
   out << '\n';
   for (const auto& s : sessions) {
-    const auto& x = s.session;
-    out << x.id << ',' << CsvField(x.serial) << ',' << CsvField(x.station) << ','
-        << CsvField(x.operator_name) << ',' << CsvField(x.software_version) << ','
-        << CsvField(x.started_utc) << ',' << CsvField(x.ended_utc) << ',' << x.outcome << ','
-        << x.exit_code << ',' << x.complete_runs << ',' << CsvField(x.path);
-    for (const std::string& name : names) out << ',' << NumberText(Find(s.values, name));
+    out << SessionCsvFields(s.session) << ',' << CsvField(s.session.reason) << ','
+        << CsvField(s.session.path);
+    for (const std::string& name : names) {
+      const auto p = s.parameters.find(name);
+      const auto l = s.limits.find(name);
+      const bool has_p = p != s.parameters.end(), has_l = l != s.limits.end();
+      // The verdict's value when no parameter row holds one (a verdict on a quantity the
+      // estimate left undetermined).
+      out << ',' << NumberText(has_p ? p->second.value : (has_l ? l->second.value : std::nullopt))
+          << ',' << NumberText(has_p ? p->second.std : (has_l ? l->second.std : std::nullopt))
+          << ',' << (has_p ? CsvField(p->second.unit) : "") << ','
+          << NumberText(has_l ? l->second.min : std::nullopt) << ','
+          << NumberText(has_l ? l->second.max : std::nullopt) << ','
+          << (has_l ? CsvField(l->second.status) : "") << ','
+          << (has_l ? CsvField(l->second.message) : "");
+    }
     out << '\n';
   }
 }

@@ -57,6 +57,8 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
   limits.name = *name;
   HRG_TRY(description, OptionalString(reader, "description", "", false, StringKind::kDescription));
   limits.description = *description;
+  HRG_TRY(product, OptionalString(reader, "product", "", false));
+  limits.product = *product;
   for (std::size_t q = 0; q < kLimitedQuantityCount; ++q) {
     const auto quantity = static_cast<LimitedQuantity>(q);
     const toml::node* node = reader.Find(ToString(quantity));
@@ -65,7 +67,7 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     limits.limits.push_back(*limit);
   }
   HRG_CHECK(reader.Unknown(
-      "name, description, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma, "
+      "name, description, product, delta1 … delta6, xi1 … xi4, residual_rms, noise_sigma, "
       "resonant_frequency_hz, tau_s, q_factor, tau1_s, tau2_s, damping_split_per_s, "
       "damping_axis_deg, frequency_split_mhz, frequency_axis_deg, angular_gain, "
       "gain_mismatch_percent, phase_mismatch_deg, cross_talk_percent, electrode_angle_deg (each "

@@ -742,7 +742,18 @@ std::expected<StationConfig, ConfigError> ParseStationConfig(std::string_view to
 
 std::expected<StationConfig, ConfigError> LoadStationConfig(const std::filesystem::path& file) {
   HRG_TRY(document, LoadTomlFile(file));
-  return ReadStation(*document, file);
+  HRG_TRY(station, ReadStation(*document, file));
+  // A relative SQLite path is the station file's neighbour, not the working directory's: from
+  // the cwd, `hrg-results` run elsewhere read (and created) another, empty database.
+  if (const auto url = results::ParseResultsUrl(station->results_url);
+      url && url->engine == results::Engine::kSqlite &&
+      std::filesystem::path(url->sqlite_path).is_relative()) {
+    std::error_code ec;
+    const std::filesystem::path folder = std::filesystem::absolute(file, ec).parent_path();
+    station->results_url = "sqlite://" + (folder / url->sqlite_path).lexically_normal().string();
+    station->results_url_relative = true;
+  }
+  return station;
 }
 
 }  // namespace hrgbench::bench

@@ -60,6 +60,10 @@ ParameterStats ComputeParameterStats(const std::string& name,
     if (s.limit_status == "PASS" || s.limit_status == "FAIL") {
       ++stats.judged;
       if (s.limit_status == "PASS") ++stats.passed;
+      if (s.attempt == 1) {
+        ++stats.first_pass_judged;
+        if (s.limit_status == "PASS") ++stats.first_pass_passed;
+      }
       if (s.started_utc >= newest_judged) {
         newest_judged = s.started_utc;
         stats.limit_min = s.limit_min;
@@ -72,20 +76,66 @@ ParameterStats ComputeParameterStats(const std::string& name,
   stats.std = all.Std();
   if (stats.judged > 0)
     stats.yield = static_cast<double>(stats.passed) / static_cast<double>(stats.judged);
+  if (stats.first_pass_judged > 0) {
+    stats.first_pass_yield =
+        static_cast<double>(stats.first_pass_passed) / static_cast<double>(stats.first_pass_judged);
+  }
   if (stats.std > 0.0) {
     const double sigma = stats.std;
-    if (stats.limit_min && stats.limit_max) {
-      stats.cp = (*stats.limit_max - *stats.limit_min) / (6.0 * sigma);
-      stats.cpk =
-          std::min(*stats.limit_max - stats.mean, stats.mean - *stats.limit_min) / (3.0 * sigma);
-    } else if (stats.limit_max) {
-      stats.cpk = (*stats.limit_max - stats.mean) / (3.0 * sigma);
-    } else if (stats.limit_min) {
-      stats.cpk = (stats.mean - *stats.limit_min) / (3.0 * sigma);
+    // A lower limit at the natural zero of a magnitude is no specification limit (header).
+    const bool natural_zero = stats.limit_min && *stats.limit_min == 0.0 && stats.min >= 0.0;
+    const bool has_lower = stats.limit_min.has_value() && !natural_zero;
+    const double lower = has_lower ? *stats.limit_min : 0.0;
+    if (stats.limit_max) stats.cpu = (*stats.limit_max - stats.mean) / (3.0 * sigma);
+    if (has_lower) stats.cpl = (stats.mean - lower) / (3.0 * sigma);
+    if (stats.cpu && stats.cpl) {
+      stats.cp = (stats.limit_max.value_or(0.0) - lower) / (6.0 * sigma);
+      stats.cpk = std::min(*stats.cpu, *stats.cpl);
+      stats.capability = "Cpk";
+    } else if (stats.cpu) {
+      stats.capability = "Cpu";
+    } else if (stats.cpl) {
+      stats.capability = "Cpl";
     }
   }
   for (const auto& [week, r] : weeks) stats.weeks.push_back({week, r.n, r.mean, r.Std()});
   return stats;
+}
+
+std::optional<GroupBy> ParseGroupBy(std::string_view text) {
+  if (text == "sequence") return GroupBy::kSequence;
+  if (text == "limits") return GroupBy::kLimits;
+  if (text == "product") return GroupBy::kProduct;
+  return std::nullopt;
+}
+
+const char* ToString(GroupBy by) {
+  switch (by) {
+    case GroupBy::kSequence:
+      return "sequence";
+    case GroupBy::kLimits:
+      return "limits";
+    case GroupBy::kProduct:
+      return "product";
+  }
+  return "?";
+}
+
+std::vector<SampleGroup> GroupSamples(const std::vector<ParameterSample>& samples,
+                                      const std::vector<GroupBy>& by) {
+  std::map<std::vector<std::string>, std::vector<ParameterSample>> groups;
+  for (const ParameterSample& s : samples) {
+    std::vector<std::string> key;
+    for (GroupBy b : by) {
+      key.push_back(b == GroupBy::kSequence ? s.sequence_name
+                    : b == GroupBy::kLimits ? s.limits_name
+                                            : s.product);
+    }
+    groups[std::move(key)].push_back(s);
+  }
+  std::vector<SampleGroup> out;
+  for (auto& [key, members] : groups) out.push_back({key, std::move(members)});
+  return out;
 }
 
 }  // namespace hrgbench::results

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "hrgbench/results/utc_text.hpp"
 #include "results/schema.hpp"
 #include "results/sql_connection.hpp"
 #include "results/sql_values.hpp"
@@ -40,6 +41,41 @@ StoreError Newer(const std::string& url, int stored) {
 }
 
 StoreError BadUrl(std::string message) { return {StoreError::Kind::kBadUrl, std::move(message)}; }
+
+// SQLite, version 1 → 2: every stored time as the canonical text (utc_text.hpp), so that text
+// order is time order and both engines read back the same text. A time that is not one (a
+// hand-edited row) stops the migration, naming the row: guessing would misplace the session.
+std::expected<void, StoreError> CanonicalSqliteTimes(SqlConnection& db) {
+  struct Column {
+    const char* table;
+    const char* key;
+    const char* column;
+  };
+  for (const Column c :
+       {Column{"session", "id", "started_utc"}, Column{"session", "id", "ended_utc"},
+        Column{"unit", "serial", "first_seen_utc"}}) {
+    auto rows = db.Query(std::string("SELECT ") + c.key + ", " + c.column + " FROM " + c.table);
+    if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
+    for (const internal::SqlRow& row : *rows) {
+      const std::string text = internal::ToText(row[1]);
+      if (text.empty()) continue;
+      const auto canonical = CanonicalUtc(text);
+      if (!canonical) {
+        return std::unexpected(StoreError{StoreError::Kind::kFailed,
+                                          std::string(c.table) + " " + internal::ToText(row[0]) +
+                                              ": " + c.column + " '" + text +
+                                              "' is not an ISO 8601 time with a zone"});
+      }
+      if (*canonical == text) continue;
+      if (auto ok = db.Query(std::string("UPDATE ") + c.table + " SET " + c.column +
+                                 " = $1 WHERE " + c.key + " = $2",
+                             {*canonical, row[0]});
+          !ok)
+        return std::unexpected(internal::ToStoreError(ok.error()));
+    }
+  }
+  return {};
+}
 
 }  // namespace
 
@@ -113,14 +149,19 @@ std::expected<void, StoreError> ResultsStore::Migrate(const OpenOptions& options
   // newer schema is refused before anything is written.
   auto stored = StoredVersion(*db_);
   if (!stored) return std::unexpected(stored.error());
+  found_version_ = *stored;
   if (*stored > kSchemaVersion) return std::unexpected(Newer(url_, *stored));
   if (*stored == kSchemaVersion) return {};
   if (!options.migrate) {
-    return std::unexpected(StoreError{StoreError::Kind::kSchemaMismatch,
-                                      "results database '" + url_ + "' has schema version " +
-                                          std::to_string(*stored) + ", older than this program's " +
-                                          std::to_string(kSchemaVersion) +
-                                          " (open it once to migrate)"});
+    // A reader never answers from an older schema: its columns would be missing or read wrong.
+    return std::unexpected(StoreError{
+        StoreError::Kind::kSchemaMismatch,
+        *stored == 0
+            ? "results database '" + url_ + "' holds no results store (no schema)"
+            : "results database '" + url_ + "' has schema version " + std::to_string(*stored) +
+                  ", older than this program's " + std::to_string(kSchemaVersion) +
+                  ": nothing read; migrate it with `hrg-results --db URL migrate` (the "
+                  "next upload of a session migrates it too)"});
   }
   if (auto begun = db_->BeginExclusive(); !begun)
     return std::unexpected(internal::ToStoreError(begun.error()));
@@ -143,9 +184,21 @@ std::expected<void, StoreError> ResultsStore::Migrate(const OpenOptions& options
       return fail(internal::ToStoreError(ok.error()));
   }
   const auto& migrations = internal::Migrations();
+  using Kind = internal::MigrationStep::Kind;
+  const bool sqlite = db_->engine() == Engine::kSqlite;
   for (int version = *locked + 1; version <= kSchemaVersion; ++version) {
-    for (std::string_view statement : migrations[static_cast<std::size_t>(version - 1)]) {
-      if (auto ok = db_->Query(std::string(statement)); !ok)
+    for (const internal::MigrationStep& step : migrations[static_cast<std::size_t>(version - 1)]) {
+      if ((step.kind == Kind::kSqliteOnly || step.kind == Kind::kSqliteTimes) && !sqlite) continue;
+      if (step.kind == Kind::kPostgresOnly && sqlite) continue;
+      if (step.kind == Kind::kSqliteTimes) {
+        if (auto ok = CanonicalSqliteTimes(*db_); !ok) return fail(ok.error());
+        continue;
+      }
+      if (step.kind == Kind::kFillFromFolders) {
+        if (auto ok = FillFromFolders(); !ok) return fail(ok.error());
+        continue;
+      }
+      if (auto ok = db_->Query(std::string(step.sql)); !ok)
         return fail(internal::ToStoreError(ok.error()));
     }
     const char* now_sql =
@@ -157,6 +210,31 @@ std::expected<void, StoreError> ResultsStore::Migrate(const OpenOptions& options
       return fail(internal::ToStoreError(ok.error()));
   }
   if (auto ok = db_->Query("COMMIT"); !ok) return fail(internal::ToStoreError(ok.error()));
+  return {};
+}
+
+// Version 2's new session columns for the sessions version 1 stored: read again from each
+// session's folder where it is still there (a line's sessions usually are); a folder that is gone
+// or unreadable leaves them empty, as the record it came from would have (the hashes remain).
+std::expected<void, StoreError> ResultsStore::FillFromFolders() {
+  auto rows = db_->Query("SELECT id, path FROM session");
+  if (!rows) return std::unexpected(internal::ToStoreError(rows.error()));
+  for (const internal::SqlRow& row : *rows) {
+    const std::string path = internal::ToText(row[1]);
+    std::error_code ec;
+    if (path.empty() ||
+        !std::filesystem::is_regular_file(std::filesystem::path(path) / "session.json", ec))
+      continue;
+    auto record = ReadSessionRow(path);
+    if (!record || record->id != internal::ToText(row[0])) continue;
+    if (auto ok =
+            db_->Query("UPDATE session SET sequence_name = $1, limits_name = $2, product = $3, "
+                       "fixture_position = $4 WHERE id = $5",
+                       {record->sequence_name, record->limits_name, record->product,
+                        record->fixture_position, row[0]});
+        !ok)
+      return std::unexpected(internal::ToStoreError(ok.error()));
+  }
   return {};
 }
 
@@ -221,15 +299,37 @@ std::expected<ImportStatus, StoreError> ResultsStore::ImportOnce(const SessionRo
                     {record.serial, record.started_utc});
       !ok)
     return fail(ok.error());
+  // No end time: NULL in PostgreSQL (a timestamptz), "" in SQLite (whose column version 1 made
+  // NOT NULL); both read back as "".
+  const SqlValue ended = !record.ended_utc.empty() || db_->engine() == Engine::kSqlite
+                             ? SqlValue(record.ended_utc)
+                             : SqlValue();
   if (auto ok = run(
           "INSERT INTO session (id, serial, station, operator, software_version, "
           "station_sha256, sequence_sha256, limits_sha256, started_utc, ended_utc, "
-          "outcome, reason, exit_code, complete_runs, path, content_sha256) VALUES ($1, "
-          "$2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16)",
-          {record.id, record.serial, record.station, record.operator_name, record.software_version,
-           record.station_sha256, record.sequence_sha256, record.limits_sha256, record.started_utc,
-           record.ended_utc, record.outcome, record.reason, Integer(record.exit_code),
-           Integer(record.complete_runs), record.path, record.content_sha256});
+          "outcome, reason, exit_code, complete_runs, path, content_sha256, sequence_name, "
+          "limits_name, product, fixture_position) VALUES ($1, "
+          "$2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19, $20)",
+          {record.id,
+           record.serial,
+           record.station,
+           record.operator_name,
+           record.software_version,
+           record.station_sha256,
+           record.sequence_sha256,
+           record.limits_sha256,
+           record.started_utc,
+           ended,
+           record.outcome,
+           record.reason,
+           Integer(record.exit_code),
+           Integer(record.complete_runs),
+           record.path,
+           record.content_sha256,
+           record.sequence_name,
+           record.limits_name,
+           record.product,
+           record.fixture_position});
       !ok)
     return fail(ok.error());
   for (const RunRow& r : record.runs) {

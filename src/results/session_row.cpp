@@ -9,7 +9,10 @@
 #include <set>
 #include <string_view>
 
+#include "hrgbench/config/limits_config.hpp"
+#include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/sha256.hpp"
+#include "hrgbench/results/utc_text.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::results {
@@ -51,24 +54,46 @@ RunRow ToRunRow(const session::RunRecord& run) {
 void AddEstimate(const session::EstimateRecord& estimate, SessionRow& row) {
   static constexpr std::string_view kDelta[] = {"delta1", "delta2", "delta3",
                                                 "delta4", "delta5", "delta6"};
+  // The model's units (docs/reference/session-json.md): δ1, δ3, δ4 damping rates, δ2 a gain,
+  // δ5, δ6 frequency terms. "1" for a dimensionless quantity: an empty unit reads as "unknown".
+  static constexpr std::string_view kDeltaUnit[] = {"1/s", "1", "1/s", "1/s", "rad/s", "rad/s"};
   static constexpr std::string_view kXi[] = {"xi1", "xi2", "xi3", "xi4"};
   for (std::size_t i = 0; i < 6; ++i) {
     if (!Value(estimate.delta[i])) continue;
-    row.parameters.push_back(
-        {std::string(kDelta[i]), Value(estimate.delta[i]), Value(estimate.delta_std[i]), ""});
+    row.parameters.push_back({std::string(kDelta[i]), Value(estimate.delta[i]),
+                              Value(estimate.delta_std[i]), std::string(kDeltaUnit[i])});
   }
   for (std::size_t i = 0; i < 4; ++i) {
     if (!Value(estimate.xi[i])) continue;
     row.parameters.push_back(
-        {std::string(kXi[i]), Value(estimate.xi[i]), Value(estimate.xi_std[i]), ""});
+        {std::string(kXi[i]), Value(estimate.xi[i]), Value(estimate.xi_std[i]), "1"});
   }
   if (const auto rms = Value(estimate.residual_rms))
-    row.parameters.push_back({"residual_rms", rms, std::nullopt, ""});
+    row.parameters.push_back({"residual_rms", rms, std::nullopt, "unit of y"});
   for (const session::EngineeringQuantityRecord& q : estimate.engineering) {
     if (q.name.empty()) continue;
-    row.parameters.push_back({q.name, Value(q.value), Value(q.std), q.unit});
+    row.parameters.push_back({q.name, Value(q.value), Value(q.std), q.unit.empty() ? "1" : q.unit});
   }
   row.warnings.insert(row.warnings.end(), estimate.warnings.begin(), estimate.warnings.end());
+}
+
+// The names of the configs the session ran with, from the copies the bench saved beside
+// session.json (the record holds only their hashes). A copy that is absent (a hand-made record)
+// or no longer loads (a key a later program dropped) leaves the name empty: the hash still says
+// which file it was.
+void AddConfigNames(const std::filesystem::path& dir, SessionRow& row) {
+  std::error_code ec;
+  const std::filesystem::path sequence = dir / "config" / "sequence.toml";
+  if (std::filesystem::is_regular_file(sequence, ec)) {
+    if (auto loaded = bench::LoadSequenceConfig(sequence)) row.sequence_name = loaded->name;
+  }
+  const std::filesystem::path limits = dir / "config" / "limits.toml";
+  if (!row.limits_sha256.empty() && std::filesystem::is_regular_file(limits, ec)) {
+    if (auto loaded = bench::LoadLimitsConfig(limits)) {
+      row.limits_name = loaded->name;
+      row.product = loaded->product;
+    }
+  }
 }
 
 }  // namespace
@@ -91,8 +116,27 @@ std::expected<SessionRow, std::string> ToSessionRow(const session::SessionRecord
   row.station_sha256 = record.config_sha256.station_sha256;
   row.sequence_sha256 = record.config_sha256.sequence_sha256;
   row.limits_sha256 = record.config_sha256.limits_sha256;
-  row.started_utc = record.started ? record.started->utc : "";
-  row.ended_utc = record.ended ? record.ended->utc : "";
+  // The store keeps one text form of a time (utc_text.hpp); the id below keeps the recorded one.
+  const std::string recorded_start = record.started ? record.started->utc : "";
+  const auto started = CanonicalUtc(recorded_start);
+  if (!started) {
+    return std::unexpected(file + ": field 'started.utc': '" + recorded_start +
+                           "' is not an ISO 8601 time with a zone (2026-11-23T14:05:00.123456Z)");
+  }
+  row.started_utc = *started;
+  if (record.ended && !record.ended->utc.empty()) {
+    const auto ended = CanonicalUtc(record.ended->utc);
+    if (!ended) {
+      return std::unexpected(file + ": field 'ended.utc': '" + record.ended->utc +
+                             "' is not an ISO 8601 time with a zone (2026-11-23T14:05:00.123456Z)");
+    }
+    row.ended_utc = *ended;
+  }
+  if (record.fixture.is_object()) {
+    const auto position = record.fixture.find("position");
+    if (position != record.fixture.end() && position->is_string())
+      row.fixture_position = position->get<std::string>();
+  }
   row.outcome = std::string(bench::ToString(outcome.kind));
   row.reason = outcome.reason;
   row.exit_code = outcome.exit_code.value_or(0);
@@ -105,9 +149,10 @@ std::expected<SessionRow, std::string> ToSessionRow(const session::SessionRecord
   std::string started_ns;
   if (record.started && record.started->monotonic_ns)
     started_ns = std::to_string(*record.started->monotonic_ns);
-  row.id = config_file::Sha256Hex(row.serial + "\n" + row.station + "\n" + row.started_utc + "\n" +
+  row.id = config_file::Sha256Hex(row.serial + "\n" + row.station + "\n" + recorded_start + "\n" +
                                   started_ns)
                .substr(0, 32);
+  AddConfigNames(dir, row);
 
   for (const session::RunRecord& run : record.runs) {
     row.runs.push_back(ToRunRow(run));

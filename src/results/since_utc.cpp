@@ -21,4 +21,11 @@ std::optional<std::string> WhyNotSinceUtc(std::string_view since) {
          "2026-11-23T14:05, 2026-11-23T14:05:00Z)";
 }
 
+std::string SinceLowerBound(std::string_view since) {
+  constexpr std::string_view kEarliest = "0000-01-01T00:00:00.000000Z";
+  const std::string_view given = since.ends_with('Z') ? since.substr(0, since.size() - 1) : since;
+  if (given.size() >= kEarliest.size()) return std::string(since);
+  return std::string(given) + std::string(kEarliest.substr(given.size()));
+}
+
 }  // namespace hrgbench::results

@@ -9,7 +9,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 
 namespace hrgbench::testing {
@@ -68,6 +70,27 @@ class PostgresServer {
   bool Psql(const std::string& db, const std::string& sql) {
     return std::system(("psql -X -q -v ON_ERROR_STOP=1 -h " + dir_.string() +
                         " -p 5432 -U postgres -d " + db + " -c \"" + sql + "\" > /dev/null 2>&1")
+                           .c_str()) == 0;
+  }
+  // Runs one SQL query with psql (unaligned, tuples only, '|' between columns) and returns what
+  // it printed; "" when psql fails.
+  std::string Query(const std::string& db, const std::string& sql) {
+    const std::filesystem::path out = dir_ / "query.out";
+    if (std::system(("psql -X -A -t -q -v ON_ERROR_STOP=1 -h " + dir_.string() +
+                     " -p 5432 -U postgres -d " + db + " -c \"" + sql + "\" > " + out.string() +
+                     " 2>&1")
+                        .c_str()) != 0)
+      return "";
+    std::ifstream in(out);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+  // Runs a file of SQL statements with psql (one transaction).
+  bool PsqlFile(const std::string& db, const std::filesystem::path& file) {
+    return std::system(("psql -X -q -1 -v ON_ERROR_STOP=1 -h " + dir_.string() +
+                        " -p 5432 -U postgres -d " + db + " -f " + file.string() +
+                        " > /dev/null 2>&1")
                            .c_str()) == 0;
   }
   std::string Url(const std::string& db, const std::string& user = "postgres") const {

@@ -23,6 +23,12 @@ struct FixtureSession {
   double delta1_min = -1.2e-3, delta1_max = -0.8e-3;
   std::string operator_name = "";
   int runs = 3;
+  std::string reason = "";            // "" : "fixture " + outcome
+  std::string fixture_position = "";  // a fixture's unit: fixture.position
+  // Config copies written beside session.json (config/sequence.toml, config/limits.toml), as the
+  // bench saves them; "" writes none.
+  std::string sequence_toml = "", limits_toml = "";
+  std::string sequence_sha256 = "bb";
 };
 
 inline nlohmann::json FixtureDocument(const FixtureSession& f) {
@@ -34,7 +40,8 @@ inline nlohmann::json FixtureDocument(const FixtureSession& f) {
   doc["station"] = {{"name", f.station}};
   if (!f.operator_name.empty()) doc["operator"] = {{"name", f.operator_name}};
   doc["software"] = {{"version", "fixture"}};
-  doc["config_sha256"] = {{"station", "aa"}, {"sequence", "bb"}, {"limits", "cc"}};
+  doc["config_sha256"] = {{"station", "aa"}, {"sequence", f.sequence_sha256}, {"limits", "cc"}};
+  if (!f.fixture_position.empty()) doc["fixture"] = {{"position", f.fixture_position}};
   doc["started"] = {{"utc", f.started_utc}, {"monotonic_ns", f.started_ns}};
   doc["ended"] = {{"utc", f.started_utc}, {"monotonic_ns", f.started_ns + 1000}};
   doc["sample_rate_hz"] = 100.0;
@@ -85,7 +92,7 @@ inline nlohmann::json FixtureDocument(const FixtureSession& f) {
                       {"message", "fixture"}});
   }
   doc["outcome"] = {{"kind", f.outcome},
-                    {"reason", "fixture " + f.outcome},
+                    {"reason", f.reason.empty() ? "fixture " + f.outcome : f.reason},
                     {"exit_code", f.outcome == "PASS" ? 0 : 1},
                     {"estimate", estimate},
                     {"verdict", {{"limits", limits}}}};
@@ -96,6 +103,10 @@ inline nlohmann::json FixtureDocument(const FixtureSession& f) {
 inline void WriteFixtureSession(const std::filesystem::path& dir, const FixtureSession& f) {
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "session.json") << FixtureDocument(f).dump(2) << '\n';
+  if (!f.sequence_toml.empty() || !f.limits_toml.empty())
+    std::filesystem::create_directories(dir / "config");
+  if (!f.sequence_toml.empty()) std::ofstream(dir / "config" / "sequence.toml") << f.sequence_toml;
+  if (!f.limits_toml.empty()) std::ofstream(dir / "config" / "limits.toml") << f.limits_toml;
 }
 
 }  // namespace hrgbench::testing

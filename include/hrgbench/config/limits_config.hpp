@@ -85,6 +85,10 @@ struct LimitsConfig {
 
   std::string name;  // [limits] name (required in a file)
   std::string description;
+  // [limits] product: the product these limits specify ("HRG-30 grade A"); "" when not said. The
+  // limits file is the product's specification, so it names the product (the results store's
+  // session.product, hrg-results stats --by product).
+  std::string product;
   std::vector<ParameterLimit>
       limits;  // in the order of LimitedQuantity; each quantity at most once
   // How far outside its model a fit may be ([fit]; the defaults when absent).

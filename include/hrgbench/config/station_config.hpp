@@ -213,6 +213,10 @@ struct StationConfig {
   // [results] url: where hrg-bench uploads each closed session (results/results_url.hpp:
   // "sqlite:///path" or "postgresql://host/db", never a password). Empty: no upload.
   std::string results_url;
+  // The file wrote a relative SQLite path ("sqlite://out/results.sqlite"): LoadStationConfig made
+  // it absolute from the station file's folder (as a reader of the file expects, wherever the
+  // program runs); ParseStationConfig (text, no folder) leaves it as written, from the cwd.
+  bool results_url_relative = false;
 };
 
 // The fitted positions, in the order declared.

@@ -38,7 +38,9 @@ struct RunRow {
   std::int64_t drops = 0;  // sequence gaps + kernel drops + bad frames
 };
 
-// δ1..δ6, ξ1..ξ4 (unit "") and the engineering quantities (τ, Q, splits, ... in their units).
+// δ1..δ6 (1/s, "1" for δ2, rad/s for δ5 and δ6), ξ1..ξ4 ("1"), residual_rms ("unit of y") and
+// the engineering quantities (τ, Q, splits, ... in their units; "1" where dimensionless): every
+// row has a unit, never "".
 // std is absent when the estimator did not give one; value is absent when not determined.
 struct ParameterRow {
   std::string name;
@@ -61,7 +63,11 @@ struct SessionRow {
   std::string operator_name;  // "operator" in session.json when recorded; empty otherwise
   std::string software_version;
   std::string station_sha256, sequence_sha256, limits_sha256;
-  std::string started_utc, ended_utc;  // ISO 8601, as recorded
+  // [sequence] name and [limits] name / product of the config copies in the folder
+  // (config/sequence.toml, config/limits.toml); "" when there is no copy or it does not load.
+  std::string sequence_name, limits_name, product;
+  std::string fixture_position;        // fixture.position of a fixture's unit; "" otherwise
+  std::string started_utc, ended_utc;  // canonical UTC text (utc_text.hpp); ended "" if absent
   std::string outcome;                 // PASS, FAIL, ERROR, ABORTED
   std::string reason;
   int exit_code = 0;
@@ -74,8 +80,9 @@ struct SessionRow {
   std::vector<std::string> warnings;
 };
 
-// The rows of a closed record. Error: the record is not closed (a session still running or
-// interrupted has no outcome yet: resume it first); the message names the file and the field.
+// The rows of a closed record. Errors (the message names the file and the field): the record is
+// not closed (a session still running or interrupted has no outcome yet: resume it first); its
+// started.utc or ended.utc is not an ISO 8601 time with a zone.
 std::expected<SessionRow, std::string> ToSessionRow(const session::SessionRecord& record);
 
 // session::ReadSessionRecord(dir) then ToSessionRow. Errors (the message names the file and the

@@ -14,4 +14,9 @@ namespace hrgbench::results {
 // Why `since` is not such a time ("'yesterday' is not a UTC time in ISO 8601 ..."), or none.
 std::optional<std::string> WhyNotSinceUtc(std::string_view since);
 
+// The first instant `since` (one WhyNotSinceUtc accepts) names, in the store's canonical text
+// (utc_text.hpp): "2026-11" → "2026-11-01T00:00:00.000000Z". PostgreSQL compares it as a
+// timestamptz, SQLite as text; both give the same sessions.
+std::string SinceLowerBound(std::string_view since);
+
 }  // namespace hrgbench::results

@@ -33,6 +33,10 @@ std::expected<std::vector<std::pair<std::string, std::string>>, std::string> Con
     if (!text) return std::unexpected(text.error());
     copies.emplace_back(std::string("config/") + name, std::move(*text));
   }
+  // A relative [results] url was resolved against the station file's folder, which the copy in
+  // config/ no longer sits in: the resolved URL goes beside it, for resume's upload.
+  if (configs.station.results_url_relative)
+    copies.emplace_back(kResultsUrlCopy, configs.station.results_url + "\n");
   return copies;
 }
 
@@ -66,6 +70,20 @@ std::expected<BenchConfigs, std::string> LoadSavedConfigs(const std::filesystem:
       std::filesystem::exists(config / "limits.toml") ? config / "limits.toml" : "";
   auto configs = LoadBenchConfigs(config / "station.toml", config / "sequence.toml", limits);
   if (!configs) return std::unexpected(configs.error().ToString());
+  if (configs->station.results_url_relative) {
+    // The URL as run (ConfigCopies); a session saved before that file existed keeps the old
+    // reading of the written path: from the working directory.
+    auto resolved = internal::ReadAll(dir / internal::kResultsUrlCopy);
+    if (resolved) {
+      while (!resolved->empty() && (resolved->back() == '\n' || resolved->back() == '\r'))
+        resolved->pop_back();
+      configs->station.results_url = *resolved;
+    } else if (auto written =
+                   ParseStationConfig(internal::ReadAll(config / "station.toml").value_or(""),
+                                      config / "station.toml")) {
+      configs->station.results_url = written->results_url;
+    }
+  }
   // The copies must be the files the session recorded (a hand-edited copy is not the same run).
   const std::pair<const char*, const std::string*> checks[] = {
       {"station", &configs->station.sha256_hex},

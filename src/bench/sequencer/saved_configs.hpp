@@ -11,6 +11,10 @@
 
 namespace hrgbench::bench::internal {
 
+// The [results] url the session ran with when the station file wrote a relative SQLite path
+// (resolved against that file's folder), relative to the session folder.
+inline constexpr const char* kResultsUrlCopy = "config/results-url.txt";
+
 // Writes <dir>/config/{station,sequence,limits}.toml atomically from the files the configs were
 // loaded from (limits only when there was a limits file).
 std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,

@@ -637,7 +637,7 @@ fs::path ShortSequence(const fs::path& work) {
 // A shipped station without its results store (nothing uploaded, session.json untouched by a mark).
 fs::path StationWithoutStore(const fs::path& work, const std::string& shipped) {
   std::string toml = ReadText(kConfigs / shipped);
-  const std::string store = "[results]\nurl = \"sqlite://build/out/results.sqlite\"\n";
+  const std::string store = "[results]\nurl = \"sqlite://../build/out/results.sqlite\"\n";
   const std::size_t at = toml.find(store);
   if (at != std::string::npos) toml.erase(at, store.size());
   const fs::path path = work / ("nostore-" + shipped);

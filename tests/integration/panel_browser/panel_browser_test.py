@@ -135,7 +135,7 @@ def WriteConfigs(source: Path, folder: Path) -> Path:
     station = station.replace("faster_than_real_time = true",
                               "faster_than_real_time = false\ntime_scale = 4.0")
     # The station's own results store, in the test's folder: the panel lists its recent sessions.
-    shipped_store = 'url = "sqlite://build/out/results.sqlite"'
+    shipped_store = 'url = "sqlite://../build/out/results.sqlite"'
     assert shipped_store in station, "station-sim.toml's [results] url changed"
     station = station.replace(shipped_store, f'url = "sqlite://{folder / "results.sqlite"}"')
     (folder / "station-panel.toml").write_text(station)

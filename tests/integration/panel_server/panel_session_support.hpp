@@ -24,7 +24,7 @@ inline fs::path PacedStation(const fs::path& dir, double time_scale) {
   const std::string fast = "faster_than_real_time = true";
   toml.replace(toml.find(fast), fast.size(),
                "faster_than_real_time = false\ntime_scale = " + std::to_string(time_scale));
-  const std::string store = "sqlite://build/out/results.sqlite";
+  const std::string store = "sqlite://../build/out/results.sqlite";
   toml.replace(toml.find(store), store.size(), "sqlite://" + (dir / "results.sqlite").string());
   fs::create_directories(dir);
   const fs::path path = dir / "station-paced.toml";

@@ -1,6 +1,9 @@
 // The station file's [results] table: where hrg-bench uploads closed sessions (issue 10).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "hrgbench/config/station_config.hpp"
@@ -27,7 +30,34 @@ TEST(StationResults, AbsentMeansNoUploadAndTheShippedSimStationUsesSqliteUnderBu
   auto shipped =
       LoadStationConfig(std::string(HRGBENCH_SOURCE_DIR) + "/bench_configs/station-sim.toml");
   ASSERT_TRUE(shipped.has_value()) << shipped.error().ToString();
-  EXPECT_EQ(shipped->results_url, "sqlite://build/out/results.sqlite");
+  // Relative to the station file's folder, not to the working directory (issue 26).
+  EXPECT_EQ(shipped->results_url,
+            "sqlite://" + (std::filesystem::path(HRGBENCH_SOURCE_DIR) / "build/out/results.sqlite")
+                              .lexically_normal()
+                              .string());
+  EXPECT_TRUE(shipped->results_url_relative);
+}
+
+// hrg-results --station run from another folder once read (and created) an empty database there.
+TEST(StationResults, ARelativeSqlitePathIsTakenFromTheStationFilesFolder) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() /
+                                       ("hrgbench-station-url-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder / "line");
+  const std::filesystem::path file = folder / "line" / "station.toml";
+  std::ofstream(file) << kBase << "\n[results]\nurl = \"sqlite://store/r.sqlite\"\n";
+  auto loaded = LoadStationConfig(file);
+  ASSERT_TRUE(loaded.has_value()) << loaded.error().ToString();
+  EXPECT_EQ(loaded->results_url, "sqlite://" + (folder / "line" / "store" / "r.sqlite").string());
+  // From text there is no folder: the path stays as written (the working directory's).
+  auto parsed =
+      ParseStationConfig(kBase + "\n[results]\nurl = \"sqlite://store/r.sqlite\"\n", file);
+  ASSERT_TRUE(parsed.has_value());
+  EXPECT_EQ(parsed->results_url, "sqlite://store/r.sqlite");
+  // An absolute path and a server are kept.
+  std::ofstream(file) << kBase << "\n[results]\nurl = \"sqlite:///srv/r.sqlite\"\n";
+  EXPECT_EQ(LoadStationConfig(file)->results_url, "sqlite:///srv/r.sqlite");
+  std::error_code ec;
+  std::filesystem::remove_all(folder, ec);
 }
 
 TEST(StationResults, PostgresqlUrlIsKept) {

@@ -14,11 +14,13 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "hrgbench/config/sha256.hpp"
 #include "hrgbench/results/parameter_stats.hpp"
 #include "hrgbench/results/upload.hpp"
+#include "hrgbench/results/utc_text.hpp"
 #include "postgres_server.hpp"
 #include "required_tool.hpp"
 #include "session_fixture.hpp"
@@ -76,10 +78,207 @@ class ResultsStoreTest : public ::testing::TestWithParam<std::string> {
     return server_->Psql("results", sql);
   }
 
+  // One query outside the store, as a line's engineer runs it (sqlite3 / psql): rows one a line,
+  // columns separated by '|'.
+  std::string RawQuery(const std::string& sql) {
+    if (GetParam() == "postgres") return server_->Query("results", sql);
+    const fs::path out = dir_ / "query.out";
+    if (std::system(("sqlite3 " + (dir_ / "results.sqlite").string() + " \"" + sql + "\" > " +
+                     out.string() + " 2>&1")
+                        .c_str()) != 0)
+      return "";
+    std::ifstream in(out);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+  // A store of schema version 1 as main's program wrote it (tests/data/results).
+  bool LoadVersion1Store() {
+    const fs::path dump =
+        fs::path(HRGBENCH_SOURCE_DIR) / "tests/data/results/store-v1-main-0e1c2c4.sql";
+    if (GetParam() == "postgres") return server_->PsqlFile("results", dump);
+    return std::system(
+               ("sqlite3 " + (dir_ / "results.sqlite").string() + " < " + dump.string()).c_str()) ==
+           0;
+  }
+
   fs::path dir_;
   std::string url_;
   std::unique_ptr<PostgresServer> server_;
 };
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// PostgreSQL keeps times as timestamptz and SQLite as one canonical text; both answer with the
+// same text, whatever zone or precision session.json wrote (issue 26: timestamps were text in
+// PostgreSQL, and "…:00Z" sorted before "…:00.5Z" in SQLite).
+TEST_P(ResultsStoreTest, TimesAreTimestamptzOrCanonicalTextAndReadBackTheSame) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  FixtureSession a;
+  a.serial = "SN-A";
+  a.started_utc = "2026-11-02T11:00:00.5+03:00";  // 08:00:00.5 UTC
+  FixtureSession b;
+  b.serial = "SN-B";
+  b.started_utc = "2026-11-02T08:00:00Z";
+  ASSERT_TRUE(results::UploadSession(*store, Write("a", a)).uploaded);
+  ASSERT_TRUE(results::UploadSession(*store, Write("b", b)).uploaded);
+  auto rows = store->Sessions({});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 2u);
+  EXPECT_EQ(rows->at(0).serial, "SN-B");  // time order, not text order
+  EXPECT_EQ(rows->at(0).started_utc, "2026-11-02T08:00:00.000000Z");
+  EXPECT_EQ(rows->at(1).started_utc, "2026-11-02T08:00:00.500000Z");
+  EXPECT_EQ(rows->at(1).ended_utc, "2026-11-02T08:00:00.500000Z");
+  auto later = store->Sessions({.since_utc = "2026-11-02T08:00:00Z"});
+  ASSERT_TRUE(later.has_value()) << later.error();
+  EXPECT_EQ(later->size(), 2u);
+  EXPECT_EQ(store->Sessions({.since_utc = "2026-11-02T08:00:01Z"})->size(), 0u);
+  EXPECT_EQ(store->Sessions({.since_utc = "2026-11"})->size(), 2u);
+  if (GetParam() == "postgres") {
+    EXPECT_EQ(RawQuery("SELECT DISTINCT pg_typeof(started_utc) FROM session"),
+              "timestamp with time zone\n");
+    EXPECT_EQ(RawQuery("SELECT pg_typeof(first_seen_utc) FROM unit LIMIT 1"),
+              "timestamp with time zone\n");
+    // A line's query needs no cast.
+    EXPECT_EQ(RawQuery("SELECT count(*) FROM session WHERE started_utc > "
+                       "'2026-11-02 08:00:00.25+00'"),
+              "1\n");
+  } else {
+    EXPECT_EQ(RawQuery("SELECT started_utc FROM session ORDER BY started_utc"),
+              "2026-11-02T08:00:00.000000Z\n2026-11-02T08:00:00.500000Z\n");
+  }
+}
+
+// Every parameter row has a unit ("1" when dimensionless); the sequence's and limits' names are
+// beside their hashes, with the product, the fixture position and the operator; a unit's second
+// session with the same sequence is a retest (issue 26).
+TEST_P(ResultsStoreTest, UnitsNamesProductPositionOperatorAndRetests) {
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  const std::string paper =
+      ReadText(fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs" / "sequence-paper.toml");
+  std::string other = paper;
+  other.replace(other.find("name = \"paper\""), 14, "name = \"other\"");
+  const std::string limits =
+      "[limits]\nname = \"line-a\"\nproduct = \"HRG-30 grade A\"\ndelta1 = [-0.0012, "
+      "-0.0008]\n";
+  // SN-1: paper, paper (retest; an edited copy of the file, same name), other (first with it);
+  // SN-2: paper.
+  const struct {
+    const char* serial;
+    const std::string* sequence;
+    const char* hash;
+  } plan[] = {{"SN-1", &paper, "s1"},
+              {"SN-1", &paper, "s2"},
+              {"SN-1", &other, "s3"},
+              {"SN-2", &paper, "s1"}};
+  for (int i = 3; i >= 0; --i) {
+    FixtureSession f;
+    f.serial = plan[i].serial;
+    f.started_utc = "2026-11-0" + std::to_string(2 + i) + "T08:00:00Z";
+    f.started_ns = i;
+    f.sequence_toml = *plan[i].sequence;
+    f.sequence_sha256 = plan[i].hash;
+    f.limits_toml = limits;
+    f.fixture_position = i == 3 ? "C" : "";
+    f.operator_name = "op-" + std::to_string(i);
+    // Imported newest first: the attempt counts time, not import order.
+    ASSERT_TRUE(results::UploadSession(*store, Write("s" + std::to_string(i), f)).uploaded);
+  }
+  auto rows = store->Sessions({});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 4u);
+  const int attempts[] = {1, 2, 1, 1};
+  for (int i = 0; i < 4; ++i) {
+    const auto& s = rows->at(static_cast<std::size_t>(i));
+    EXPECT_EQ(s.serial, plan[i].serial);
+    EXPECT_EQ(s.sequence_name, i == 2 ? "other" : "paper");
+    EXPECT_EQ(s.sequence_sha256, plan[i].hash);
+    EXPECT_EQ(s.limits_name, "line-a");
+    EXPECT_EQ(s.limits_sha256, "cc");
+    EXPECT_EQ(s.product, "HRG-30 grade A");
+    EXPECT_EQ(s.fixture_position, i == 3 ? "C" : "");
+    EXPECT_EQ(s.operator_name, "op-" + std::to_string(i));
+    EXPECT_EQ(s.attempt, attempts[i]) << i;
+  }
+  EXPECT_EQ(store->Sessions({.sequence = "other"})->size(), 1u);
+  EXPECT_EQ(store->Sessions({.product = "HRG-30 grade A"})->size(), 4u);
+  auto samples = store->ParameterValues("delta1", {});
+  ASSERT_TRUE(samples.has_value());
+  ASSERT_EQ(samples->size(), 4u);
+  EXPECT_EQ(samples->at(1).attempt, 2);
+  EXPECT_EQ(samples->at(1).unit, "1/s");
+  // Checked as a line's engineer would, in the engine's own client.
+  EXPECT_EQ(RawQuery("SELECT count(*) FROM parameter WHERE unit = ''"), "0\n");
+  EXPECT_EQ(
+      RawQuery("SELECT name || '=' || unit FROM parameter WHERE session_id = '" + rows->at(0).id +
+               "' AND name IN ('delta1', 'delta2', 'delta5', 'xi1', 'residual_rms', "
+               "'tau_s') ORDER BY name"),
+      "delta1=1/s\ndelta2=1\ndelta5=rad/s\nresidual_rms=unit of y\ntau_s=s\nxi1=1\n");
+  EXPECT_EQ(RawQuery("SELECT s.serial || '|' || s.sequence_name || '|' || a.attempt FROM session "
+                     "s JOIN session_attempt a ON a.session_id = s.id ORDER BY s.started_utc"),
+            "SN-1|paper|1\nSN-1|paper|2\nSN-1|other|1\nSN-2|paper|1\n");
+  auto exported = store->ExportRows({});
+  ASSERT_TRUE(exported.has_value()) << exported.error();
+  ASSERT_EQ(exported->size(), 4u);
+  const auto& first = exported->front();
+  EXPECT_EQ(first.parameters.at("delta1").std, 1e-9);
+  EXPECT_EQ(first.parameters.at("delta1").unit, "1/s");
+  EXPECT_EQ(first.limits.at("delta1").status, "PASS");
+  EXPECT_EQ(first.limits.at("delta1").min, -1.2e-3);
+}
+
+// A store made by main's program (schema 1): a reader refuses it, saying how to migrate, instead
+// of answering from columns it lacks; the first writer migrates it; times, units and retests are
+// then as a new store's (issue 26).
+TEST_P(ResultsStoreTest, AVersion1StoreIsRefusedByReadersAndMigratedByTheFirstWriter) {
+  ASSERT_TRUE(LoadVersion1Store());
+  auto reader = results::ResultsStore::OpenExisting(url_);
+  ASSERT_FALSE(reader.has_value());
+  EXPECT_EQ(reader.error().kind, results::StoreError::Kind::kSchemaMismatch);
+  EXPECT_NE(reader.error().message.find("schema version 1, older than this program's 2"),
+            std::string::npos)
+      << reader.error();
+  EXPECT_NE(reader.error().message.find("hrg-results --db URL migrate"), std::string::npos)
+      << reader.error();
+  EXPECT_EQ(RawQuery("SELECT max(version) FROM schema_version"), "1\n");  // nothing written
+
+  auto store = Open();
+  ASSERT_NE(store, nullptr);
+  EXPECT_EQ(store->found_version(), 1);
+  EXPECT_EQ(RawQuery("SELECT max(version) FROM schema_version"), "2\n");
+  auto rows = store->Sessions({});
+  ASSERT_TRUE(rows.has_value()) << rows.error();
+  ASSERT_EQ(rows->size(), 3u);
+  EXPECT_EQ(rows->at(0).serial, "SN-V1-A");
+  EXPECT_EQ(rows->at(0).started_utc, "2026-11-26T23:07:22.503225Z");
+  EXPECT_EQ(rows->at(0).ended_utc, "2026-11-26T23:07:23.059023Z");
+  EXPECT_EQ(rows->at(0).attempt, 1);
+  EXPECT_EQ(rows->at(1).attempt, 2);  // the same unit and sequence again
+  EXPECT_EQ(rows->at(2).attempt, 1);
+  EXPECT_EQ(rows->at(2).limits_sha256, "");
+  EXPECT_EQ(RawQuery("SELECT count(*) FROM parameter WHERE unit = ''"), "0\n");
+  EXPECT_EQ(RawQuery("SELECT unit FROM parameter WHERE name = 'delta1' LIMIT 1"), "1/s\n");
+  EXPECT_EQ(RawQuery("SELECT unit FROM parameter WHERE name = 'q_factor' LIMIT 1"), "1\n");
+  if (GetParam() == "postgres") {
+    EXPECT_EQ(RawQuery("SELECT DISTINCT pg_typeof(ended_utc) FROM session"),
+              "timestamp with time zone\n");
+  } else {
+    EXPECT_EQ(RawQuery("SELECT first_seen_utc FROM unit ORDER BY serial"),
+              "2026-11-26T23:07:22.503225Z\n2026-11-26T23:07:59.430723Z\n");
+  }
+  // A new session goes in beside the migrated ones, and the store reads as current.
+  ASSERT_TRUE(results::UploadSession(*store, Write("new", FixtureSession{})).uploaded);
+  auto again = results::ResultsStore::OpenExisting(url_);
+  ASSERT_TRUE(again.has_value()) << again.error();
+  EXPECT_EQ((*again)->Sessions({})->size(), 4u);
+}
 
 TEST_P(ResultsStoreTest, ImportTwiceChangesNothingAndRowsMatchTheFolder) {
   auto store = Open();
@@ -219,7 +418,9 @@ TEST_P(ResultsStoreTest, SessionsHistoryAndFiltersAnswerFromKnownSessions) {
   for (std::size_t k = 0; k < 3; ++k) {
     const int i = 1 + 4 * static_cast<int>(k);
     EXPECT_EQ(history->at(k).values.at("tau_s"), 1000.0 + i);
-    EXPECT_EQ(history->at(k).session.started_utc, Line::Session(i).started_utc);
+    // The store's one text form of a time (utc_text.hpp).
+    EXPECT_EQ(history->at(k).session.started_utc,
+              *results::CanonicalUtc(Line::Session(i).started_utc));
   }
 }
 
@@ -308,7 +509,7 @@ TEST_P(ResultsStoreTest, ANewerSchemaIsRefusedAndNothingWritten) {
   ASSERT_TRUE(RawSql("INSERT INTO schema_version VALUES (99, 'future')"));
   auto refused = results::ResultsStore::Open(url_);
   ASSERT_FALSE(refused.has_value());
-  EXPECT_NE(refused.error().message.find("schema version 99, newer than this program's 1"),
+  EXPECT_NE(refused.error().message.find("schema version 99, newer than this program's 2"),
             std::string::npos)
       << refused.error();
   EXPECT_EQ(refused.error().kind, results::StoreError::Kind::kSchemaMismatch);
