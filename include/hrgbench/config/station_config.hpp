@@ -24,6 +24,7 @@
 #include "hrgbench/config/config_error.hpp"
 #include "hrgbench/config/simulated_carrier.hpp"
 #include "hrgbench/config/site.hpp"
+#include "hrgbench/config/station_offers.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
@@ -213,6 +214,8 @@ struct StationConfig {
   // [results] url: where hrg-bench uploads each closed session (results/results_url.hpp:
   // "sqlite:///path" or "postgresql://host/db", never a password). Empty: no upload.
   std::string results_url;
+  // [offers]: what the panel lists and selects first (station_offers.hpp).
+  StationOffers offers;
 };
 
 // The fitted positions, in the order declared.
