@@ -295,10 +295,17 @@ const Station = (() => {
           byId("outcome-reason").textContent = "no limits were chosen: " + e.reason +
             "; nothing was judged against the unit's limits";
         }
-        for (const row of byId("plan").tBodies[0].rows)
-          if (row.dataset.status === "planned" || row.dataset.status === "running")
+        for (const row of byId("plan").tBodies[0].rows) {
+          if (row.dataset.status !== "planned" && row.dataset.status !== "running") continue;
+          // A fixture's estimate, limits and fit checks are each unit's: in its row and report.
+          const own = row.dataset.step === "estimate" || row.dataset.step.startsWith("limit") ||
+                      row.dataset.step.startsWith("fit");
+          if (session && session.fixture && own && e.outcome !== "ABORTED")
+            setStep(row.dataset.step, "per unit", "see each unit's outcome and report");
+          else
             setStep(row.dataset.step, row.dataset.step.startsWith("fit") ? "not checked" :
                     "not reached");
+        }
         break;
       case "panel_exit":
         if (session) session.live = false;
