@@ -67,6 +67,8 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
     return s.find('=') != std::string::npos;
   });
   std::vector<std::string> by_position(fitted.size());
+  // "POSITION=" (no serial): the operator left the position empty on purpose (no unit in it).
+  std::vector<bool> left_empty(fitted.size(), false);
   if (named) {
     for (const std::string& entry : serials) {
       const std::size_t eq = entry.find('=');
@@ -79,11 +81,13 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
       if (at == fitted.end())
         return std::unexpected("--serial " + entry + ": no fitted position '" + position +
                                "' on station '" + station.name + "'");
-      std::string& slot = by_position[static_cast<std::size_t>(at - fitted.begin())];
-      if (!slot.empty())
+      const auto index = static_cast<std::size_t>(at - fitted.begin());
+      std::string& slot = by_position[index];
+      if (!slot.empty() || left_empty[index])
         return std::unexpected("--serial " + entry + ": position '" + position +
                                "' is given twice");
       slot = entry.substr(eq + 1);
+      left_empty[index] = slot.empty();
     }
   } else {
     if (serials.size() != fitted.size()) {
@@ -99,8 +103,10 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
   std::set<std::string> seen;
   for (std::size_t i = 0; i < fitted.size(); ++i) {
     const std::string& serial = by_position[i];
+    if (left_empty[i]) continue;
     if (serial.empty())
-      return std::unexpected("--serial: no serial for position '" + fitted[i]->name + "'");
+      return std::unexpected("--serial: no serial for position '" + fitted[i]->name + "' (give " +
+                             fitted[i]->name + "= to leave it empty)");
     if (auto problem = SerialProblem(serial))
       return std::unexpected("--serial (position " + fitted[i]->name + "): " + *problem);
     if (!seen.insert(serial).second)
@@ -108,6 +114,8 @@ std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig
     record.units.push_back({fitted[i]->name, serial, fitted[i]->name + "-" + serial,
                             fitted[i]->can_interface, fitted[i]->inverted, fitted[i]->can_node});
   }
+  if (record.units.empty())
+    return std::unexpected("--serial: every position is left empty: no unit to run");
   return record;
 }
 

@@ -51,7 +51,8 @@ struct FixtureRecord {
 
 // Maps the operator's serials onto the station's fitted positions: either one serial per fitted
 // position, in their order ("SN1", "SN2", ...), or each as "POSITION=SERIAL" naming every fitted
-// position once. Errors name the serial, the position or the counts.
+// position once; "POSITION=" leaves that position empty on purpose (it is not in the record; at
+// least one unit is). Errors name the serial, the position or the counts.
 std::expected<FixtureRecord, std::string> PlanFixture(const bench::StationConfig& station,
                                                       const std::vector<std::string>& serials);
 

@@ -1,10 +1,10 @@
 // hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
 //
 //   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR]
-//                 [--json] [--events FILE|-]
+//                 [--operator ID] [--json] [--events FILE|-]
 //   hrg-bench run ... --serial SN1 --serial SN2 ...   a fixture: one serial per fitted position
 //                 (or POSITION=SN); exit code the worst unit's
-//   hrg-bench resume DIR [--json] [--events FILE|-]
+//   hrg-bench resume DIR [--operator ID] [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
 //   hrg-bench replay DIR [--unit POSITION|SERIAL] [--json] [--no-estimate] [--rebuild-into NEW_DIR]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
@@ -228,7 +228,8 @@ struct EventsRequest {
 };
 
 int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
-                const std::string& serial, bool resume, bool json, const EventsRequest& events) {
+                const std::string& serial, const std::string& operator_id, bool resume, bool json,
+                const EventsRequest& events) {
   std::unique_ptr<app::EventOutput> event_output;
   if (!events.target.empty()) {
     auto opened = app::EventOutput::Open(events.target, events.capacity);
@@ -248,6 +249,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   ProgressPrinter printer;
   bench::RunnerOptions options;
   options.unit_serial = serial;
+  options.operator_name = operator_id;
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
   options.simulation = (*station)->simulation();
   options.interrupts = &g_interrupts;
@@ -299,7 +301,18 @@ std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::Se
 // folders under `dir`, fixture.json beside them. `resume`: continues the units that did not close
 // with a verdict; the others keep theirs.
 int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& dir,
-               const app::FixtureRecord& record, bool resume, bool json) {
+               const app::FixtureRecord& record, const std::string& operator_id, bool resume,
+               bool json, const EventsRequest& events) {
+  std::unique_ptr<app::EventOutput> event_output;
+  if (!events.target.empty()) {
+    auto opened = app::EventOutput::Open(events.target, events.capacity);
+    if (!opened) {
+      spdlog::error("{}", opened.error());
+      return kExitBadInput;
+    }
+    ::signal(SIGPIPE, SIG_IGN);  // as RunOrResume: a reader that goes away costs events only
+    event_output = std::move(*opened);
+  }
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
@@ -346,10 +359,25 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   ProgressPrinter printer;
   bench::RunnerOptions options;
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
+  options.operator_name = operator_id;
   options.interrupts = &g_interrupts;
   options.interrupt_signal = &g_interrupt_signal;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
   options.on_log = [&](std::string_view line) { printer.Log(line); };
+  // The event stream's units: every unit of the record (a resume's kept ones too), by index.
+  nlohmann::json units = nlohmann::json::array();
+  for (const app::FixtureUnit& unit : record.units)
+    units.push_back(
+        {{"position", unit.position}, {"serial", unit.serial}, {"session", unit.folder}});
+  if (event_output) {
+    event_output->publisher().SessionStarted(configs, "fixture", dir.string(), resume,
+                                             HRGBENCH_SOFTWARE_VERSION);
+    event_output->publisher().FixtureStarted(units);
+    // The sequencer numbers the units it drives; the stream numbers the record's.
+    nlohmann::json driven_units = nlohmann::json::array();
+    for (const std::size_t i : driven_index) driven_units.push_back(units[i]);
+    event_output->publisher().AttachFixture(options, driven_units);
+  }
   std::vector<bench::SessionResult> ran;
   if (!driven.empty()) {
     ran = resume ? bench::ResumeSessions(configs, hardware, driven, options)
@@ -382,6 +410,18 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   std::vector<bench::OutcomeKind> outcomes;
   for (const bench::SessionResult& result : results) outcomes.push_back(result.outcome);
   const int code = bench::FixtureExitCode(outcomes);
+  if (event_output) {
+    std::string reason;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      event_output->publisher().UnitFinished(i, results[i], reports[i]);
+      reason += (reason.empty() ? "" : ", ") + record.units[i].position + " " +
+                std::string(bench::ToString(results[i].outcome));
+    }
+    event_output->publisher().FixtureFinished(bench::FixtureOutcome(outcomes), code,
+                                              std::to_string(results.size()) + " units: " + reason,
+                                              dir.string());
+    event_output->Close(dir);
+  }
   if (json) {
     nlohmann::json out;
     out["fixture"] = dir.string();
@@ -458,7 +498,7 @@ int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, boo
 
 // `hrg-bench run`'s command line.
 struct RunArgs {
-  std::string station, sequence, limits, out_dir;
+  std::string station, sequence, limits, out_dir, operator_id;
   std::vector<std::string> serials;
 };
 
@@ -556,11 +596,6 @@ int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, b
       {"sequence", configs.sequence.sha256_hex},
       {"limits", configs.limits.sha256_hex.empty() ? nlohmann::json(nullptr)
                                                    : nlohmann::json(configs.limits.sha256_hex)}};
-  if (!events.target.empty()) {
-    std::cerr << "--events: the event stream is one unit's; a fixture of " << record->units.size()
-              << " units has none yet\n";
-    return kExitBadInput;
-  }
   std::filesystem::path dir = args.out_dir;
   if (dir.empty()) {
     const auto folder = app::NewSessionFolder("sessions", "fixture", std::time(nullptr));
@@ -575,7 +610,7 @@ int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, b
     std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
     return kExitBadInput;
   }
-  return RunFixture(configs, dir, *record, false, json);
+  return RunFixture(configs, dir, *record, args.operator_id, false, json, events);
 }
 
 // `hrg-bench run`: a new session of one unit, or of a fixture's.
@@ -584,6 +619,12 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
   if (!configs) {
     std::cerr << configs.error().ToString() << '\n';
     return kExitBadInput;
+  }
+  if (!args.operator_id.empty()) {
+    if (auto problem = app::OperatorProblem(args.operator_id)) {
+      std::cerr << "--operator: " << *problem << '\n';
+      return kExitBadInput;
+    }
   }
   if (bench::FittedPositions(configs->station).size() > 1) {
     return RunFixtureCommand(*configs, args, json, events);
@@ -608,7 +649,7 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
     }
     dir = folder->string();
   }
-  return RunOrResume(*configs, dir, serial, false, json, events);
+  return RunOrResume(*configs, dir, serial, args.operator_id, false, json, events);
 }
 
 // `hrg-bench resume DIR` of a session that closed as PASS or FAIL (killed during its report or
@@ -646,16 +687,19 @@ int FinishClosed(const std::filesystem::path& dir, bool json, const EventsReques
 
 // `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a
 // verdict.
-int Resume(const std::string& resume_dir, bool json, const EventsRequest& events) {
+int Resume(const std::string& resume_dir, const std::string& operator_id, bool json,
+           const EventsRequest& events) {
   const std::filesystem::path dir = resume_dir;
+  if (!operator_id.empty()) {
+    if (auto problem = app::OperatorProblem(operator_id)) {
+      std::cerr << "--operator: " << *problem << '\n';
+      return kExitBadInput;
+    }
+  }
   if (app::IsFixtureFolder(dir)) {
     auto record = app::ReadFixtureRecord(dir);
     if (!record) {
       std::cerr << record.error() << '\n';
-      return kExitBadInput;
-    }
-    if (!events.target.empty()) {
-      std::cerr << "--events: the event stream is one unit's; a fixture has none yet\n";
       return kExitBadInput;
     }
     auto configs = app::FixtureConfigs(dir, *record);
@@ -663,7 +707,7 @@ int Resume(const std::string& resume_dir, bool json, const EventsRequest& events
       std::cerr << configs.error() << '\n';
       return kExitBadInput;
     }
-    return RunFixture(*configs, dir, *record, true, json);
+    return RunFixture(*configs, dir, *record, operator_id, true, json, events);
   }
   if (auto problem = app::NotStartedProblem(dir)) {
     std::cerr << *problem << '\n';
@@ -675,7 +719,7 @@ int Resume(const std::string& resume_dir, bool json, const EventsRequest& events
     std::cerr << configs.error() << '\n';
     return kExitBadInput;
   }
-  return RunOrResume(*configs, resume_dir, "", true, json, events);
+  return RunOrResume(*configs, resume_dir, "", operator_id, true, json, events);
 }
 
 // --events and --events-queue on `run` and `resume`.
@@ -701,14 +745,21 @@ CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest&
   run->add_option("-o,--output", args.out_dir,
                   "session directory (default sessions/SERIAL-UTC; a fixture's: "
                   "sessions/fixture-UTC)");
+  run->add_option("--operator", args.operator_id,
+                  "who runs the session (an operator id, typed or scanned): recorded as the "
+                  "session's operator");
   run->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(run, events);
   return run;
 }
 
-CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, bool& json, EventsRequest& events) {
+CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, std::string& operator_id, bool& json,
+                           EventsRequest& events) {
   CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
   resume->add_option("dir", dir, "session directory")->required();
+  resume->add_option("--operator", operator_id,
+                     "who resumes it: recorded in the record's resumed_at (and as its operator "
+                     "when the start recorded none)");
   resume->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(resume, events);
   return resume;
@@ -768,12 +819,13 @@ int main(int argc, char** argv) {
   app::AddCommonFlags(cli, &quiet);
   RunArgs run_args;
   std::string resume_dir;
+  std::string resume_operator;
   CheckArgs check_args;
   ReplayArgs replay_args;
   app::PanelOptions panel;
   EventsRequest events;
   CLI::App* run = AddRunCommand(cli, run_args, json, events);
-  CLI::App* resume = AddResumeCommand(cli, resume_dir, json, events);
+  CLI::App* resume = AddResumeCommand(cli, resume_dir, resume_operator, json, events);
   CLI::App* check = AddCheckCommand(cli, check_args);
   CLI::App* replay = AddReplayCommand(cli, replay_args, json);
   CLI::App* serve = AddServeCommand(cli, panel);
@@ -800,7 +852,7 @@ int main(int argc, char** argv) {
     if (*replay) return Replay(replay_args, json);
     if (*check) return Check(check_args);
     if (*run) return Run(run_args, json, events);
-    if (*resume) return Resume(resume_dir, json, events);
+    if (*resume) return Resume(resume_dir, resume_operator, json, events);
     return kExitBadInput;  // require_subcommand(1): not reached
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());

@@ -15,6 +15,7 @@
 #include "hrgbench/config/toml_reader.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "station_offers_reader.hpp"
 
 namespace hrgbench::bench {
 namespace {
@@ -674,8 +675,16 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     HRG_CHECK(reader.Unknown("url"));
   }
 
-  HRG_CHECK(root.Unknown(
-      "[station], [site], [gyro], [table], [simulated], [[fixture]], [realtime], [results]"));
+  HRG_TRY(offers_table, SubTable(root, "offers", false));
+  if (*offers_table != nullptr) {
+    TableReader reader(**offers_table, "offers", source);
+    HRG_TRY(offers, internal::ReadOffers(reader, station.kind));
+    station.offers = std::move(*offers);
+  }
+
+  HRG_CHECK(
+      root.Unknown("[station], [site], [gyro], [table], [simulated], [[fixture]], [realtime], "
+                   "[results], [offers]"));
   return station;
 }
 

@@ -11,6 +11,7 @@
 #include "append_file.hpp"
 #include "hrgbench/session/kill_point.hpp"
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
 
@@ -115,6 +116,7 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::Create(
   json doc = json::object();
   doc["state"] = "running";
   doc["station"] = {{"name", header.station_name}};
+  if (!header.operator_name.empty()) doc[session::keys::kOperator] = header.operator_name;
   doc["software"] = {{"version", header.software_version}};
   doc["realtime"] = header.realtime_status;
   doc["config_sha256"] = {{"station", header.config_sha256.station_sha256},

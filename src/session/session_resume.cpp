@@ -6,6 +6,7 @@
 
 #include "append_file.hpp"
 #include "hrgbench/session/session_record.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 #include "hrgbench/session/session_recorder.hpp"
 #include "session_document.hpp"
 #include "session_recorder_impl.hpp"
@@ -26,7 +27,7 @@ constexpr std::string_view kPartialSuffix = ".csv.partial";
 }  // namespace
 
 std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
-    const fs::path& dir, const RecorderOptions& options) {
+    const fs::path& dir, const RecorderOptions& options, const std::string& operator_name) {
   auto read = session::ReadSessionRecord(dir);
   if (!read) return BadSession(read.error().file, read.error().ToString());
   const session::SessionRecord& record = *read;
@@ -116,6 +117,10 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
 
   json resumed = internal::TimeStampNow();
   resumed["previous_state"] = record.state;
+  if (!operator_name.empty()) {
+    resumed[session::keys::kOperator] = operator_name;
+    if (record.operator_name.empty()) doc[session::keys::kOperator] = operator_name;
+  }
   if (doc.contains("outcome")) resumed["previous_outcome"] = doc["outcome"];
   doc["resumed_at"].push_back(std::move(resumed));
   doc.erase("outcome");

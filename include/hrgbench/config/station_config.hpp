@@ -24,6 +24,7 @@
 #include "hrgbench/config/config_error.hpp"
 #include "hrgbench/config/simulated_carrier.hpp"
 #include "hrgbench/config/site.hpp"
+#include "hrgbench/config/station_offers.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
@@ -217,6 +218,8 @@ struct StationConfig {
   // it absolute from the station file's folder (as a reader of the file expects, wherever the
   // program runs); ParseStationConfig (text, no folder) leaves it as written, from the cwd.
   bool results_url_relative = false;
+  // [offers]: what the panel lists and selects first (station_offers.hpp).
+  StationOffers offers;
 };
 
 // The fitted positions, in the order declared.

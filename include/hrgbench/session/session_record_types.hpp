@@ -52,8 +52,11 @@ struct ConfigHashes {
 };
 
 struct SessionHeader {
-  std::string unit_serial;       // required, non-empty
-  std::string station_name;      // required, non-empty
+  std::string unit_serial;   // required, non-empty
+  std::string station_name;  // required, non-empty
+  // Who ran it (`hrg-bench run --operator`, the panel's operator field), recorded as "operator";
+  // empty: not recorded (the key is left out, as in records from before it was written).
+  std::string operator_name;
   std::string software_version;  // git describe of the build (HRGBENCH_GIT_DESCRIBE)
   ConfigHashes config_sha256;
   // As the capture set it up, e.g. "SCHED_FIFO 80 granted, mlockall granted" or

@@ -89,9 +89,12 @@ class SessionRecorder {
   // attempt recorded in "attempts"); every runs/*.csv.partial is renamed to *.csv.interrupted; a
   // torn last line of the CAN log is cut; a "resumed_at" entry is appended (with the previous
   // state and outcome, which is removed), and "state" is "running" again. Then RemainingRunIds()
-  // are the runs still to do, in plan order. Blocks on fsync.
+  // are the runs still to do, in plan order. Blocks on fsync. `operator_name` (non-empty): who
+  // resumed it, recorded in its "resumed_at" entry, and as the record's "operator" when the start
+  // recorded none.
   static std::expected<SessionRecorder, RecordError> OpenForResume(
-      const std::filesystem::path& dir, const RecorderOptions& options = {});
+      const std::filesystem::path& dir, const RecorderOptions& options = {},
+      const std::string& operator_name = {});
 
   // Opens run `run_id` (a planned run that is not complete; kWrongState if a run is open, the
   // session is closed, or the run is complete): runs/run-NNN.csv.partial is created and

@@ -9,5 +9,7 @@ namespace hrgbench::app {
 extern const std::string_view kPanelHtml;  // web/panel.html
 extern const std::string_view kPanelJs;    // web/panel.js
 extern const std::string_view kPanelCss;   // web/panel.css
+// web/panel_station.js: the operator, a fixture's positions, the plan (issue 26 §1)
+extern const std::string_view kPanelStationJs;
 
 }  // namespace hrgbench::app

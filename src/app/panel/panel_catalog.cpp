@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "hrgbench/results/results_store.hpp"
 #include "hrgbench/session/session_record.hpp"
@@ -33,10 +34,36 @@ std::expected<PanelCatalog, std::string> LoadPanelCatalog(const fs::path& statio
   auto loaded = bench::LoadStationConfig(station);
   if (!loaded) return std::unexpected(loaded.error().ToString());
   catalog.station = *loaded;
+  const bench::StationOffers& offers = catalog.station.offers;
   const fs::path dir = station.parent_path().empty() ? fs::path(".") : station.parent_path();
-  for (const fs::path& file : Matching(dir, "sequence-")) {
+  // Every name [offers] gives must be a file beside the station (the loader checked the rest).
+  const auto missing = [&](const char* key, const std::string& name) -> std::optional<std::string> {
+    std::error_code ec;
+    if (name.empty() || fs::is_regular_file(dir / name, ec)) return std::nullopt;
+    return station.string() + ": [offers] " + key + " = \"" + name +
+           "\": no such file beside the station file (in " + dir.string() + ")";
+  };
+  for (const std::string& name : offers.sequences)
+    if (auto problem = missing("sequences", name)) return std::unexpected(*problem);
+  for (const std::string& name : offers.limits)
+    if (auto problem = missing("limits", name)) return std::unexpected(*problem);
+  if (auto problem = missing("default_sequence", offers.default_sequence))
+    return std::unexpected(*problem);
+  if (auto problem = missing("default_limits", offers.default_limits))
+    return std::unexpected(*problem);
+  // Declared offers must load (a station that names a file it cannot run is refused); the files
+  // merely found beside it are offered when they load.
+  const auto files = [&](const std::vector<std::string>& declared, std::string_view prefix) {
+    std::vector<fs::path> out;
+    for (const std::string& name : declared) out.push_back(dir / name);
+    return declared.empty() ? Matching(dir, prefix) : out;
+  };
+  for (const fs::path& file : files(offers.sequences, "sequence-")) {
     auto configs = bench::LoadBenchConfigs(station, file, {});
     if (!configs) {
+      if (!offers.sequences.empty())
+        return std::unexpected(station.string() +
+                               ": [offers] sequences: " + configs.error().ToString());
       spdlog::warn("panel: {} not offered: {}", file.string(), configs.error().ToString());
       continue;
     }
@@ -44,20 +71,54 @@ std::expected<PanelCatalog, std::string> LoadPanelCatalog(const fs::path& statio
     char text[160];
     std::snprintf(text, sizeof text, "%zu runs, %.0f s of free run", seq.runs.size(),
                   seq.TotalFreeRunS());
-    catalog.sequences.push_back({file, seq.name, text});
-  }
-  for (const fs::path& file : Matching(dir, "limits-")) {
-    if (catalog.sequences.empty()) break;
-    auto configs = bench::LoadBenchConfigs(station, catalog.sequences.front().file, file);
-    if (!configs) {
-      spdlog::warn("panel: {} not offered: {}", file.string(), configs.error().ToString());
-      continue;
-    }
-    catalog.limits.push_back({file, configs->limits.name, ""});
+    if (file.filename() == offers.default_sequence)
+      catalog.default_sequence = catalog.sequences.size();
+    nlohmann::json runs = nlohmann::json::array();
+    for (const bench::SequenceRun& run : seq.runs)
+      runs.push_back({{"omega_rad_s", run.omega_rad_s},
+                      {"a", run.a},
+                      {"b", run.b},
+                      {"theta_rad", run.theta_rad},
+                      {"free_run_s", run.free_run_s},
+                      {"sample_rate_hz", run.sample_rate_hz}});
+    const nlohmann::json plan = {{"warmup",
+                                  {{"min_s", seq.warmup.min_s},
+                                   {"window_s", seq.warmup.window_s},
+                                   {"max_drift_c", seq.warmup.max_drift_c},
+                                   {"timeout_s", seq.warmup.timeout_s}}},
+                                 {"runs", std::move(runs)}};
+    catalog.sequences.push_back({file, seq.name, text, plan});
   }
   if (catalog.sequences.empty())
     return std::unexpected("no sequence-*.toml beside " + station.string() +
                            " loads with it: the panel has nothing to offer");
+  for (const fs::path& file : files(offers.limits, "limits-")) {
+    auto configs = bench::LoadBenchConfigs(station, catalog.sequences.front().file, file);
+    if (!configs) {
+      if (!offers.limits.empty())
+        return std::unexpected(station.string() +
+                               ": [offers] limits: " + configs.error().ToString());
+      spdlog::warn("panel: {} not offered: {}", file.string(), configs.error().ToString());
+      continue;
+    }
+    if (file.filename() == offers.default_limits) catalog.default_limits = catalog.limits.size();
+    nlohmann::json limits = nlohmann::json::array();
+    for (const bench::ParameterLimit& limit : configs->limits.limits)
+      limits.push_back({{"quantity", std::string(bench::ToString(limit.quantity))},
+                        {"min", limit.min},
+                        {"max", limit.max}});
+    // The checks of each run's fit against the file's [fit] (analysis/verdict.hpp, FitCheck):
+    // the Ω offset only where Ω is fitted, so the page marks a check no result came for.
+    const nlohmann::json fit = {"residual_ratio", "whiteness_z", "omega_offset_in_std"};
+    catalog.limits.push_back(
+        {file, configs->limits.name, "", {{"limits", std::move(limits)}, {"fit_checks", fit}}});
+  }
+  const bool real = catalog.station.kind == bench::StationKind::kReal;
+  if (catalog.limits.empty() && real)
+    return std::unexpected(station.string() +
+                           ": a production station (kind = \"real\") offers at least one "
+                           "limits file: its sessions are judged");
+  catalog.no_limits = !real && (offers.no_limits || catalog.limits.empty());
   return catalog;
 }
 

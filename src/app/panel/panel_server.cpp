@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/fixture_session.hpp"
 #include "app/panel/interrupted_session.hpp"
 #include "app/panel/panel_assets.hpp"
 #include "app/panel/panel_catalog.hpp"
@@ -165,6 +166,9 @@ class Panel {
     server.Get("/panel.js", [](const httplib::Request&, httplib::Response& res) {
       res.set_content(std::string(kPanelJs), "text/javascript; charset=utf-8");
     });
+    server.Get("/panel_station.js", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(std::string(kPanelStationJs), "text/javascript; charset=utf-8");
+    });
     server.Get("/panel.css", [](const httplib::Request&, httplib::Response& res) {
       res.set_content(std::string(kPanelCss), "text/css; charset=utf-8");
     });
@@ -196,7 +200,14 @@ class Panel {
       res.set_content(R"({"aborting":true})", "application/json");
     });
     server.Get(R"(/sessions/([^/]+)/report/([^/]+))",
-               [this](const httplib::Request& req, httplib::Response& res) { Report(req, res); });
+               [this](const httplib::Request& req, httplib::Response& res) {
+                 Report(req.matches[1], "", req.matches[2], res);
+               });
+    // A fixture's unit: its folder in the fixture's folder.
+    server.Get(R"(/sessions/([^/]+)/([^/]+)/report/([^/]+))",
+               [this](const httplib::Request& req, httplib::Response& res) {
+                 Report(req.matches[1], req.matches[2], req.matches[3], res);
+               });
     server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       // A refused request's unread rest must not be taken for the next request.
       BoundedServer::CloseConnectionAfterResponse();
@@ -226,8 +237,8 @@ class Panel {
     // script can add the token. Everything else (state, events, start, abort, reports) needs it.
     const bool page_file =
         req.method == "GET" &&
-        (req.path == "/" || req.path == "/panel.js" || req.path == "/panel.css" ||
-         req.path == "/chart.js" || req.path == "/favicon.ico");
+        (req.path == "/" || req.path == "/panel.js" || req.path == "/panel_station.js" ||
+         req.path == "/panel.css" || req.path == "/chart.js" || req.path == "/favicon.ico");
     const std::string host = req.get_header_value("Host");
     bool with_token = false;
     if (!token_.empty()) {
@@ -281,10 +292,17 @@ class Panel {
     for (std::size_t i = 0; i < catalog_.sequences.size(); ++i)
       sequences.push_back({{"id", i},
                            {"name", catalog_.sequences[i].name},
-                           {"description", catalog_.sequences[i].description}});
+                           {"description", catalog_.sequences[i].description},
+                           {"plan", catalog_.sequences[i].plan}});
     nlohmann::json limits = nlohmann::json::array();
     for (std::size_t i = 0; i < catalog_.limits.size(); ++i)
-      limits.push_back({{"id", i}, {"name", catalog_.limits[i].name}});
+      limits.push_back(
+          {{"id", i}, {"name", catalog_.limits[i].name}, {"plan", catalog_.limits[i].plan}});
+    // A fixture's positions, in the station's order: the page shows one serial field each.
+    nlohmann::json positions = nlohmann::json::array();
+    const auto fitted = bench::FittedPositions(catalog_.station);
+    if (fitted.size() > 1)
+      for (const auto* position : fitted) positions.push_back(position->name);
     // The station's last sessions: from its results store when it has one, else this folder.
     nlohmann::json recent;
     std::string recent_source;
@@ -309,6 +327,11 @@ class Panel {
             {"station_kind", std::string(bench::ToString(catalog_.station.kind))},
             {"sequences", sequences},
             {"limits", limits},
+            {"default_sequence", catalog_.default_sequence},
+            {"default_limits",
+             catalog_.limits.empty() ? nlohmann::json() : nlohmann::json(catalog_.default_limits)},
+            {"no_limits", catalog_.no_limits},
+            {"positions", positions},
             {"session", session},
             {"interrupted", interrupted ? nlohmann::json({{"session", interrupted->session},
                                                           {"unit", interrupted->serial},
@@ -344,19 +367,53 @@ class Panel {
     return body;
   }
 
+  // {"serial" | "serials", "sequence", "limits", "operator"}: one unit ("serial"), or a fixture
+  // station's units by position ("serials": {POSITION: SERIAL}, every fitted position named, ""
+  // for one left empty on purpose). Everything the child would refuse is refused here first
+  // (PlanFixture, the serial and operator checks, the station's offers): a start the page is told
+  // succeeded does not end in a refusal only the server's log would show.
   void Start(const std::string& text, httplib::Response& res) {
     const nlohmann::json body = nlohmann::json::parse(text, nullptr, false);
     if (body.is_discarded() || !body.is_object())
       return Error(res, 400, "the request is not a JSON object");
     for (const auto& [key, value] : body.items())
-      if (key != "serial" && key != "sequence" && key != "limits")
+      if (key != "serial" && key != "serials" && key != "sequence" && key != "limits" &&
+          key != "operator")
+        return Error(res, 400,
+                     "unknown field \"" + key.substr(0, 32) +
+                         "\": expected serial (or serials), sequence, limits and operator");
+    const bool fixture = bench::FittedPositions(catalog_.station).size() > 1;
+    std::vector<std::string> serial_arguments;
+    std::vector<std::pair<std::string, std::string>> units;
+    std::string serial;
+    if (fixture) {
+      if (body.contains("serial"))
+        return Error(res, 400,
+                     "serials: station '" + catalog_.station.name +
+                         "' is a fixture: one serial per position ({POSITION: SERIAL})");
+      if (!body.contains("serials") || !body["serials"].is_object() ||
+          body["serials"].size() > bench::kMaxFixturePositions)
+        return Error(res, 400, "serials: an object {POSITION: SERIAL} is required");
+      for (const auto& [position, value] : body["serials"].items()) {
+        if (!value.is_string())
+          return Error(res, 400, "serials: position " + position.substr(0, 32) + ": a string");
+        serial_arguments.push_back(position + "=" + value.get<std::string>());
+      }
+      auto plan = PlanFixture(catalog_.station, serial_arguments);
+      if (!plan) return Error(res, 400, plan.error());
+      for (const FixtureUnit& unit : plan->units) units.emplace_back(unit.position, unit.serial);
+      serial = "fixture";
+    } else {
+      if (body.contains("serials"))
         return Error(
             res, 400,
-            "unknown field \"" + key.substr(0, 32) + "\": expected serial, sequence and limits");
-    if (!body.contains("serial") || !body["serial"].is_string())
-      return Error(res, 400, "serial: a string is required");
-    const std::string serial = body["serial"];
-    if (auto problem = SerialProblem(serial)) return Error(res, 400, *problem);
+            "serials: station '" + catalog_.station.name + "' has one position: give serial");
+      if (!body.contains("serial") || !body["serial"].is_string())
+        return Error(res, 400, "serial: a string is required");
+      serial = body["serial"];
+      if (auto problem = SerialProblem(serial)) return Error(res, 400, *problem);
+      serial_arguments.push_back(serial);
+    }
     if (!body.contains("sequence") || !body["sequence"].is_number_unsigned() ||
         body["sequence"].get<std::size_t>() >= catalog_.sequences.size())
       return Error(res, 400,
@@ -369,11 +426,20 @@ class Panel {
         return Error(res, 400, "limits: one of the station's allowed limits (by id) or null");
       limits = &catalog_.limits[body["limits"].get<std::size_t>()];
     }
+    if (limits == nullptr && !catalog_.no_limits)
+      return Error(res, 400,
+                   "limits: station '" + catalog_.station.name +
+                       "' judges every session: choose one of its limits (no session without)");
+    const std::string operator_id = StringField(body, "operator");
+    if (auto problem = OperatorProblem(operator_id))
+      return Error(res, 400,
+                   "operator: " + *problem + " (enter or scan your operator id once per shift)");
     if (process_.Running())
       return Error(res, 409,
                    "a session is already running on this station: one session at a time; wait "
                    "for it to end or abort it");
-    // The folder: the checked serial and a time stamp, directly in the sessions folder.
+    // The folder: the checked serial (a fixture: "fixture") and a time stamp, directly in the
+    // sessions folder.
     const auto folder = NewSessionFolder(sessions_, serial, std::time(nullptr));
     if (!folder || folder->parent_path() != sessions_)
       return Error(res, 409, "cannot choose a new session folder for " + serial);
@@ -381,17 +447,15 @@ class Panel {
     const std::string name = dir.filename().string();
     SessionLaunch launch;
     launch.program = options_.program.string();
-    launch.arguments = {"run",
-                        "--station",
-                        catalog_.station_file.string(),
-                        "--sequence",
-                        sequence.file.string(),
-                        "--serial",
-                        serial,
-                        "-o",
-                        dir.string(),
-                        "--events",
-                        "/dev/fd/3"};
+    launch.arguments = {"run", "--station", catalog_.station_file.string(), "--sequence",
+                        sequence.file.string()};
+    for (const std::string& s : serial_arguments) {
+      launch.arguments.push_back("--serial");
+      launch.arguments.push_back(s);
+    }
+    for (const char* a :
+         {"--operator", operator_id.c_str(), "-o", dir.c_str(), "--events", "/dev/fd/3"})
+      launch.arguments.emplace_back(a);
     if (limits != nullptr) {
       launch.arguments.push_back("--limits");
       launch.arguments.push_back(limits->file.string());
@@ -400,6 +464,8 @@ class Panel {
     launch.sequence = sequence.name;
     launch.limits = limits != nullptr ? limits->name : "";
     launch.session_name = name;
+    launch.operator_id = operator_id;
+    launch.units = std::move(units);
     if (auto refused = process_.Start(launch)) return Error(res, 409, *refused);
     res.set_content(nlohmann::json({{"session", name}}).dump(), "application/json");
   }
@@ -424,11 +490,16 @@ class Panel {
     if (body.is_discarded() || !body.is_object())
       return Error(res, 400, "the request is not a JSON object");
     for (const auto& [key, value] : body.items())
-      if (key != "session")
-        return Error(res, 400,
-                     "unknown field \"" + key.substr(0, 32) + "\": expected at most session");
+      if (key != "session" && key != "operator")
+        return Error(
+            res, 400,
+            "unknown field \"" + key.substr(0, 32) + "\": expected at most session and operator");
     if (body.contains("session") && !body["session"].is_string())
       return Error(res, 400, "session: the name of a session folder (a string)");
+    const std::string operator_id = StringField(body, "operator");
+    if (body.contains("operator"))
+      if (auto problem = OperatorProblem(operator_id))
+        return Error(res, 400, "operator: " + *problem);
     if (process_.Running())
       return Error(res, 409,
                    "a session is already running on this station: one session at a time; wait "
@@ -457,6 +528,11 @@ class Panel {
     SessionLaunch launch;
     launch.program = options_.program.string();
     launch.arguments = {"resume", dir.string(), "--events", "/dev/fd/3"};
+    if (!operator_id.empty()) {
+      launch.arguments.push_back("--operator");
+      launch.arguments.push_back(operator_id);
+    }
+    launch.operator_id = operator_id;
     launch.serial = open->serial;
     // The names the page showed for it, when it was the panel's own; the record keeps the rest.
     const bool same = StringField(last, "session") == name;
@@ -501,10 +577,12 @@ class Panel {
         });
   }
 
-  void Report(const httplib::Request& req, httplib::Response& res) {
-    const std::string name = req.matches[1];
-    const std::string file = req.matches[2];
-    if (!IsSessionName(sessions_, name) || file.empty() || file.front() == '.' ||
+  // `unit`: empty, or a fixture unit's folder inside the session folder `name`.
+  void Report(const std::string& name, const std::string& unit, const std::string& file,
+              httplib::Response& res) {
+    if (!IsSessionName(sessions_, name) ||
+        (!unit.empty() && !IsSessionName(sessions_ / name, unit)) || file.empty() ||
+        file.front() == '.' ||
         file.find_first_not_of(
             "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789._-") !=
             std::string::npos)
@@ -513,9 +591,10 @@ class Panel {
     // inside the sessions folder (a link to /etc/passwd, or a report folder that is a link to
     // elsewhere, is not found). What is opened is the resolved path, which has no links left.
     std::error_code ec;
-    const fs::path report_dir = fs::canonical(sessions_ / name / "report", ec);
+    const fs::path session_dir = unit.empty() ? sessions_ / name : sessions_ / name / unit;
+    const fs::path report_dir = fs::canonical(session_dir / "report", ec);
     if (ec || !IsInside(report_dir, sessions_)) return Error(res, 404, "no such session report");
-    const fs::path path = fs::canonical(sessions_ / name / "report" / file, ec);
+    const fs::path path = fs::canonical(session_dir / "report" / file, ec);
     if (ec || !IsInside(path, report_dir) || !fs::is_regular_file(path, ec))
       return Error(res, 404, "no such session report");
     auto stream = std::make_shared<ReportStream>();

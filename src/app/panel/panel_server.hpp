@@ -4,18 +4,26 @@
 // JSON API and the running session's events as Server-Sent Events.
 //
 //   GET  /                     the page
-//   GET  /panel.js /panel.css /chart.js
-//   GET  /api/state            station, allowed sequences and limits, the current session, recent
-//                              sessions; "interrupted": {session, unit, reason} when the panel's
-//                              last session's process ended and left its record open, else null
+//   GET  /panel.js /panel_station.js /panel.css /chart.js
+//   GET  /api/state            station, allowed sequences and limits with the station's defaults
+//                              (default_sequence, default_limits: ids; no_limits: whether a
+//                              session may run without), positions (a fixture's, else []), the
+//                              current session, recent sessions; "interrupted": {session, unit,
+//                              reason} when the panel's last session's process ended and left
+//                              its record open, else null
 //   GET  /api/events           text/event-stream: the current session's events from its start (or
 //                              after Last-Event-ID), then live; ": keep-alive" every 5 s
-//   POST /api/start            {"serial", "sequence": id, "limits": id | null} -> {"session"}
-//   POST /api/resume           {} | {"session": NAME} -> {"session", "resume": true}: `hrg-bench
+//   POST /api/start            {"serial", "sequence": id, "limits": id | null, "operator"} ->
+//                              {"session"}; a fixture: "serials": {POSITION: SERIAL} (every
+//                              fitted position, "" = left empty) instead of "serial". The operator
+//                              id is required; limits null only when the station offers it.
+//   POST /api/resume           {} | {"session": NAME} (+ "operator") -> {"session", "resume":
+//   true}: `hrg-bench
 //                              resume` of the interrupted session (or of NAME, a folder directly
 //                              in the sessions folder whose record is open) as the new session
 //   POST /api/abort            {} -> {"aborting": true}
 //   GET  /sessions/NAME/report/FILE   a session's report (only its report folder)
+//   GET  /sessions/NAME/UNIT/report/FILE   a fixture unit's report (UNIT: its folder in NAME)
 // Every refusal is a JSON {"error": "..."} with 4xx: 400 bad input, 401 no or wrong token, 403
 // wrong Host/Origin, 404, 409 a session running (or none to abort, nothing to resume), 413 too
 // large, 415 not JSON, 431 headers too large; a refused request's connection is closed.

@@ -1,6 +1,7 @@
 #include "app/panel/session_process.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
@@ -12,6 +13,16 @@
 #include <nlohmann/json.hpp>
 
 namespace hrgbench::app {
+namespace {
+
+nlohmann::json UnitsJson(const SessionLaunch& launch) {
+  nlohmann::json units = nlohmann::json::array();
+  for (const auto& [position, serial] : launch.units)
+    units.push_back({{"position", position}, {"serial", serial}});
+  return units;
+}
+
+}  // namespace
 
 SessionProcess::~SessionProcess() {
   {
@@ -35,6 +46,12 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     return std::string("cannot start: pipe: ") + std::strerror(errno);
+  int err[2];
+  if (::pipe2(err, O_CLOEXEC) != 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return std::string("cannot start: pipe: ") + std::strerror(errno);
+  }
   std::vector<std::string> args = launch.arguments;
   args.insert(args.begin(), launch.program);
   std::vector<char*> argv;
@@ -44,6 +61,8 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
   if (pid < 0) {
     ::close(fds[0]);
     ::close(fds[1]);
+    ::close(err[0]);
+    ::close(err[1]);
     return std::string("cannot start: fork: ") + std::strerror(errno);
   }
   if (pid == 0) {
@@ -55,6 +74,7 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     // session once; reaching both, the session would see two interrupts (exit without a safe stop).
     ::setpgid(0, 0);
     ::dup2(fds[1], 3);
+    ::dup2(err[1], STDERR_FILENO);
     const int null = ::open("/dev/null", O_RDONLY);
     if (null >= 0) ::dup2(null, STDIN_FILENO);
     ::signal(SIGPIPE, SIG_DFL);
@@ -69,6 +89,7 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     std::_Exit(127);
   }
   ::close(fds[1]);
+  ::close(err[1]);
   pid_ = pid;
   running_ = true;
   aborting_ = false;
@@ -81,9 +102,11 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
                        {"sequence", launch.sequence},
                        {"limits", launch.limits},
                        {"session", launch.session_name},
-                       {"resume", launch.resume}})
+                       {"resume", launch.resume},
+                       {"operator", launch.operator_id},
+                       {"units", UnitsJson(launch)}})
            .dump());
-  reader_ = std::thread([this, fd = fds[0], pid] { ReadEvents(fd, pid); });
+  reader_ = std::thread([this, fd = fds[0], err_fd = err[0], pid] { ReadEvents(fd, err_fd, pid); });
   spdlog::info("panel: session {} {} (pid {})", launch.session_name,
                launch.resume ? "resumed" : "started", pid);
   return std::nullopt;
@@ -112,13 +135,64 @@ void SessionProcess::Keep(std::string line) {
   changed_.notify_all();
 }
 
-void SessionProcess::ReadEvents(int fd, pid_t pid) {
+std::string SessionProcess::Tail(const std::string& text) {
+  std::string tail = text;
+  while (!tail.empty() && (tail.back() == '\n' || tail.back() == ' ')) tail.pop_back();
+  if (tail.size() <= kStderrTailBytes) return tail;
+  tail.erase(0, tail.size() - kStderrTailBytes);
+  const std::size_t line = tail.find('\n');
+  return line == std::string::npos ? tail : tail.substr(line + 1);
+}
+
+void SessionProcess::ReadEvents(int fd, int err_fd, pid_t pid) {
   std::string pending;
+  std::string stderr_tail;  // bounded: the last 2 x kStderrTailBytes
+  bool saw_outcome = false;
   char buffer[65536];
+  pollfd fds[2] = {{fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
+  const auto keep_stderr = [&](ssize_t n) {
+    // The panel's stderr, as before (its log), and the tail kept for the page.
+    const ssize_t written = ::write(STDERR_FILENO, buffer, static_cast<std::size_t>(n));
+    (void)written;
+    stderr_tail.append(buffer, static_cast<std::size_t>(n));
+    if (stderr_tail.size() > 2 * kStderrTailBytes)
+      stderr_tail.erase(0, stderr_tail.size() - 2 * kStderrTailBytes);
+  };
+  int status = 0;
+  bool exited = false;
   for (;;) {
+    const bool events_open = fds[0].fd >= 0;
+    if (!events_open) {
+      // The events are over and the child is finishing (its upload, its result): its stderr is
+      // read until it has exited, never longer, since a process it started (the report's
+      // Chromium) may hold the pipe open after it.
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
+        exited = true;
+        break;
+      }
+      if (fds[1].fd < 0) break;
+    }
+    if (::poll(fds, 2, events_open ? -1 : 50) < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    if (fds[1].fd >= 0 && fds[1].revents != 0) {
+      const ssize_t n = ::read(err_fd, buffer, sizeof buffer);
+      if (n > 0) {
+        keep_stderr(n);
+      } else if (n == 0 || errno != EINTR) {
+        ::close(err_fd);
+        fds[1].fd = -1;
+      }
+    }
+    if (fds[0].fd < 0 || fds[0].revents == 0) continue;
     const ssize_t n = ::read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
+    if (n <= 0) {
+      ::close(fd);
+      fds[0].fd = -1;
+      continue;
+    }
     pending.append(buffer, static_cast<std::size_t>(n));
     std::size_t start = 0;
     for (std::size_t end; (end = pending.find('\n', start)) != std::string::npos; start = end + 1) {
@@ -126,26 +200,39 @@ void SessionProcess::ReadEvents(int fd, pid_t pid) {
       // Only JSON objects go to the browsers: the child is ours, but a line is checked anyway.
       const nlohmann::json parsed = nlohmann::json::parse(line, nullptr, false);
       if (parsed.is_discarded() || !parsed.is_object()) continue;
+      if (parsed.contains("type") && parsed["type"] == "outcome") saw_outcome = true;
       const std::lock_guard lock(mutex_);
       Keep(std::move(line));
     }
     pending.erase(0, start);
     if (pending.size() > kMaxLineBytes) pending.clear();  // a runaway line: dropped whole
   }
-  ::close(fd);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  if (fds[1].fd >= 0) {
+    // What the child wrote last, without waiting for whoever else holds the pipe.
+    ::fcntl(err_fd, F_SETFL, ::fcntl(err_fd, F_GETFL) | O_NONBLOCK);
+    for (ssize_t n; (n = ::read(err_fd, buffer, sizeof buffer)) > 0;) keep_stderr(n);
+    ::close(err_fd);
+  }
+  if (fds[0].fd >= 0) ::close(fd);
+  while (!exited && ::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   nlohmann::json exit_event = {{"type", "panel_exit"}};
   if (WIFEXITED(status)) exit_event["exit_code"] = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) exit_event["signal"] = WTERMSIG(status);
+  // Ended without an outcome: what it said is the only account the page can give.
+  if (!saw_outcome) {
+    const std::string said = Tail(stderr_tail);
+    exit_event["error"] = said.empty() ? std::string("the session process wrote nothing") : said;
+  }
   const std::lock_guard lock(mutex_);
-  Keep(exit_event.dump());
+  Keep(exit_event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   exit_event.erase("type");
-  exit_ = exit_event.dump();
+  exit_event.erase("error");  // the state's "exit" says how it ended; the event says what it said
+  exit_ = exit_event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   running_ = false;
   pid_ = -1;
-  spdlog::info("panel: session {} ended ({})", launch_.session_name, exit_event.dump());
+  spdlog::info("panel: session {} ended ({})", launch_.session_name,
+               exit_.size() > 200 ? exit_.substr(0, 200) : exit_);
 }
 
 bool SessionProcess::Running() const {
@@ -163,7 +250,9 @@ std::string SessionProcess::StatusJson() const {
                          {"sequence", launch_.sequence},
                          {"limits", launch_.limits},
                          {"session", launch_.session_name},
-                         {"resume", launch_.resume}})
+                         {"resume", launch_.resume},
+                         {"operator", launch_.operator_id},
+                         {"units", UnitsJson(launch_)}})
       .dump();
 }
 

@@ -1,7 +1,10 @@
 #pragma once
 // The operator panel's one session at a time: `hrg-bench run` as a child process (the same program,
 // so a panel session is exactly a command-line session), its event stream read from a pipe on the
-// child's fd 3 (--events /dev/fd/3), kept for browsers that come (back) later.
+// child's fd 3 (--events /dev/fd/3), kept for browsers that come (back) later. The child's stderr
+// comes through the panel too (a pipe, copied to the panel's stderr as it comes): when the child
+// ends without an outcome (a refusal, exit code 4, or a crash) its last lines go to the page in
+// panel_exit's "error", so no start failure is said only in the server's log.
 //
 // Why a child process: Abort is then exactly what Ctrl-C does (SIGINT: table to zero, gyro safe,
 // record closed ABORTED), a crash of the session cannot take the panel down, and the panel never
@@ -11,8 +14,9 @@
 // and samples events are not kept, the rest still are) with an id that grows across sessions, so a
 // browser that reloads gets the running session from its start and one that reconnects gets what it
 // missed. The panel adds its own events: "panel_session" (a session was started or resumed from
-// the panel: serial, sequence, limits, session folder name, resume) first, "panel_exit" (the child
-// ended: exit_code, or signal) last.
+// the panel: serial, sequence, limits, session folder name, resume, operator, units of a fixture
+// [{position, serial}]) first, "panel_exit" (the child ended: exit_code, or signal; "error": the
+// last lines of its stderr when it wrote no outcome) last.
 //
 // Threads: every method may be called from any thread (one mutex); WaitForEvents blocks the calling
 // (HTTP) thread only.
@@ -38,6 +42,9 @@ struct SessionLaunch {
   std::string limits;
   std::string session_name;  // the folder's name in the sessions folder
   bool resume = false;       // `hrg-bench resume` of an interrupted session (said in panel_session)
+  std::string operator_id;   // who started it (the page's operator field)
+  // A fixture's units by position (position, serial); empty for a session of one unit.
+  std::vector<std::pair<std::string, std::string>> units;
 };
 
 struct KeptEvent {
@@ -49,6 +56,7 @@ class SessionProcess {
  public:
   static constexpr std::size_t kMaxKeptEvents = 50000;
   static constexpr std::size_t kMaxLineBytes = 4u << 20;  // a samples event is ~40 kB
+  static constexpr std::size_t kStderrTailBytes = 2048;   // what panel_exit's "error" may hold
 
   SessionProcess() = default;
   ~SessionProcess();  // a running child is interrupted (as Abort) and waited for
@@ -63,7 +71,8 @@ class SessionProcess {
 
   bool Running() const;
   // The current (or last) session: {running, aborting, exit, unit, sequence, limits, session,
-  // resume} or null; `exit` is null while it runs, then how the child ended: {"exit_code": n} or
+  // resume, operator, units} or null; `exit` is null while it runs, then how the child ended:
+  // {"exit_code": n} or
   // {"signal": n} (killed: its record may still say "running"; interrupted_session.hpp).
   std::string StatusJson() const;
   // Events with id > after, waiting up to `wait` for one; empty on timeout.
@@ -72,7 +81,9 @@ class SessionProcess {
   std::uint64_t FirstId() const;
 
  private:
-  void ReadEvents(int fd, pid_t pid);
+  void ReadEvents(int fd, int err_fd, pid_t pid);
+  // The last lines of the child's stderr, at most kStderrTailBytes (a line cut at the front).
+  static std::string Tail(const std::string& text);
   void Keep(std::string line);  // mutex held
 
   mutable std::mutex mutex_;

@@ -97,7 +97,8 @@ void SessionEventPublisher::OnProgress(const Progress& p) {
     stream_.Publish(std::move(event));
     last_phase_ = phase;
     last_run_id_ = p.run_id;
-  } else if (now - last_progress_ < std::chrono::duration<double>(options_.min_progress_period_s)) {
+  } else if (phase != "stopping" &&  // the table coming to rest: every reading (10 Hz at most)
+             now - last_progress_ < std::chrono::duration<double>(options_.min_progress_period_s)) {
     return;
   }
   last_progress_ = now;
@@ -155,7 +156,13 @@ void SessionEventPublisher::OnRunEnd(int run_id, const RunEnd& end, std::uint64_
     warning["message"] = "run " + std::to_string(run_id) + " " + end.status + ": " + end.reason;
     stream_.Publish(std::move(warning));
   }
-  nlohmann::json event = Event("run_result");
+  stream_.Publish(RunResultEvent("run_result", run_id, end, samples));
+}
+
+nlohmann::json SessionEventPublisher::RunResultEvent(const char* type, int run_id,
+                                                     const RunEnd& end,
+                                                     std::uint64_t samples) const {
+  nlohmann::json event = Event(type);
   event["run_id"] = run_id;
   event["status"] = end.status;
   event["reason"] = end.reason;
@@ -172,7 +179,7 @@ void SessionEventPublisher::OnRunEnd(int run_id, const RunEnd& end, std::uint64_
   event["bad_frames"] = end.bad_frames;
   event["temperature_start_c"] = Number(end.temperature_start_c);
   event["temperature_end_c"] = Number(end.temperature_end_c);
-  stream_.Publish(std::move(event));
+  return event;
 }
 
 void SessionEventPublisher::SessionFinished(const SessionResult& result) {
@@ -196,6 +203,11 @@ void SessionEventPublisher::SessionFinished(const SessionResult& result) {
       if (limit.value("status", "") == "FAIL") failed.push_back(limit.value("quantity", ""));
       stream_.Publish(std::move(event));
     }
+    for (const nlohmann::json& check : verdict.value("fit_checks", nlohmann::json::array())) {
+      nlohmann::json event = check;
+      event["type"] = "fit_check";
+      stream_.Publish(std::move(event));
+    }
   }
   nlohmann::json event = Event("outcome");
   event["outcome"] = std::string(ToString(result.outcome));
@@ -210,6 +222,68 @@ void SessionEventPublisher::SessionFinished(const SessionResult& result) {
 void SessionEventPublisher::ReportWritten(const std::string& report_path) {
   nlohmann::json event = Event("report");
   event["path"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::FixtureStarted(nlohmann::json units) {
+  units_ = units;
+  nlohmann::json event = Event("fixture_started");
+  event["units"] = std::move(units);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::AttachFixture(RunnerOptions& options, nlohmann::json units) {
+  units_ = std::move(units);
+  Attach(options);
+  options.on_samples = nullptr;  // one unit's plot only; a fixture's page shows its units' states
+  options.on_run_end = nullptr;
+  auto unit_run_end = options.on_unit_run_end;
+  options.on_unit_run_end = [this, unit_run_end](std::size_t unit, int run_id, const RunEnd& end,
+                                                 std::uint64_t n) {
+    if (unit_run_end) unit_run_end(unit, run_id, end, n);
+    nlohmann::json event = RunResultEvent("unit_run_result", run_id, end, n);
+    event["unit"] = unit;
+    if (unit < units_.size()) {
+      event["position"] = units_[unit].value("position", "");
+      event["serial"] = units_[unit].value("serial", "");
+    }
+    stream_.Publish(std::move(event));
+  };
+}
+
+void SessionEventPublisher::UnitFinished(std::size_t unit, const SessionResult& result,
+                                         const std::string& report) {
+  nlohmann::json failed = nlohmann::json::array();
+  if (result.verdict) {
+    const nlohmann::json verdict = VerdictJson(*result.verdict);
+    for (const nlohmann::json& limit : verdict.value("limits", nlohmann::json::array()))
+      if (limit.value("status", "") == "FAIL") failed.push_back(limit.value("quantity", ""));
+  }
+  nlohmann::json event = Event("unit_outcome");
+  event["unit"] = unit;
+  if (unit < units_.size()) {
+    event["position"] = units_[unit].value("position", "");
+    event["serial"] = units_[unit].value("serial", "");
+  }
+  event["outcome"] = std::string(ToString(result.outcome));
+  event["reason"] = result.reason;
+  event["exit_code"] = result.exit_code;
+  event["complete_runs"] = result.complete_runs;
+  event["failed_limits"] = std::move(failed);
+  event["session"] = result.dir.string();
+  event["report"] = report.empty() ? nlohmann::json(nullptr) : nlohmann::json(report);
+  stream_.Publish(std::move(event));
+}
+
+void SessionEventPublisher::FixtureFinished(OutcomeKind outcome, int exit_code,
+                                            const std::string& reason,
+                                            const std::string& fixture_dir) {
+  nlohmann::json event = Event("outcome");
+  event["outcome"] = std::string(ToString(outcome));
+  event["reason"] = reason;
+  event["exit_code"] = exit_code;
+  event["failed_limits"] = nlohmann::json::array();
+  event["session"] = fixture_dir;
   stream_.Publish(std::move(event));
 }
 

@@ -82,6 +82,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id);
 
 // Puts the table in its safe state (zero rate) and every gyro in its own (stopped). Never throws.
 void MakeSafe(const BenchHardware& hw) noexcept;
+// After MakeSafe: the table's rate reported (phase "stopping") until it reads zero or a bound.
+void WatchTableStop(SessionContext& ctx);
 // Stops one gyro. Never throws.
 void StopGyro(const UnitHardware& unit) noexcept;
 

@@ -213,6 +213,9 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
     outcome = StepOutcome::Error("record: " + ended.error().ToString());
   if (ctx.options->on_run_end && ctx.lanes.size() == 1)
     ctx.options->on_run_end(run_id, end, unit.samples);
+  if (ctx.options->on_unit_run_end)
+    ctx.options->on_unit_run_end(static_cast<std::size_t>(&lane - ctx.lanes.data()), run_id, end,
+                                 unit.samples);
   if (outcome.ok()) {
     lane.remaining.erase(run_id);
     ctx.Log(lane, "run " + std::to_string(run_id) + " " +

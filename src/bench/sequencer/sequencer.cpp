@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <expected>
 #include <optional>
 #include <set>
@@ -136,6 +137,43 @@ void MakeSafe(const BenchHardware& hw) noexcept {
   for (const UnitHardware& unit : hw.units) StopGyro(unit);
 }
 
+// After a stop (an Abort, a fault), the table's measured rate as it comes down, reported as the
+// phase "stopping" every 100 ms until it reads zero or the time a stop from the highest rate at
+// the set acceleration would take (twice, + 2 s; at most 60 s) has passed: the operator sees the
+// table reach rest instead of its last rate frozen on the screen (issue 26 §1). Reading only: the
+// table was commanded to zero (SafeStop) before, and its watchdog stops it without a heartbeat.
+void WatchTableStop(SessionContext& ctx) {
+  if (!ctx.options->on_progress) return;
+  constexpr double kRestRateRadS = 1e-3;  // "reads zero": the table's stable tolerance
+  constexpr std::int64_t kPeriodNs = 100'000'000;
+  const TableLinkConfig& table = ctx.configs->station.table;
+  const double bound_s =
+      std::min(2.0 * table.max_rate_rad_s / std::max(table.accel_rad_s2, 1e-3) + 2.0, 60.0);
+  const std::int64_t end_ns = ctx.hw->clock->NowNs() + static_cast<std::int64_t>(bound_s * 1e9);
+  Progress progress;
+  progress.phase = "stopping";
+  for (;;) {
+    const auto status = ctx.hw->table->ReadStatus();
+    if (!status) {
+      ctx.Log("after the stop the table's rate cannot be read: " + status.error().message);
+      return;
+    }
+    progress.table_rate_rad_s = status->measured_rate_rad_s;
+    ctx.ReportProgress(progress, true);
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.5f", status->measured_rate_rad_s);
+    if (std::abs(status->measured_rate_rad_s) < kRestRateRadS) {
+      ctx.Log(std::string("the table reads zero (") + rate + " rad/s): stopped");
+      return;
+    }
+    if (ctx.hw->clock->NowNs() >= end_ns) {
+      ctx.Log(std::string("the table still reads ") + rate + " rad/s after the stop");
+      return;
+    }
+    ctx.hw->clock->SleepForNs(kPeriodNs);
+  }
+}
+
 }  // namespace internal
 
 namespace {
@@ -236,6 +274,7 @@ std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int
     for (UnitLane& lane : ctx.lanes) {
       if (!lane.ended) ctx.CloseStopped(lane, step, "table commanded to zero rate, gyro stopped");
     }
+    internal::WatchTableStop(ctx);
   }
   std::vector<SessionResult> results;
   for (UnitLane& lane : ctx.lanes) results.push_back(std::move(lane.result));
@@ -325,6 +364,7 @@ std::expected<SessionHeader, std::string> UnitHeader(const BenchConfigs& configs
   SessionHeader header;
   header.unit_serial = units[i].serial;
   header.station_name = configs.station.name;
+  header.operator_name = options.operator_name;
   header.software_version = options.software_version;
   header.config_sha256 = {configs.station.sha256_hex, configs.sequence.sha256_hex,
                           configs.limits.sha256_hex};
@@ -453,7 +493,7 @@ std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs, const Ben
       recorders.push_back(std::move(*created));
       continue;
     }
-    auto recorder = SessionRecorder::OpenForResume(unit.dir);
+    auto recorder = SessionRecorder::OpenForResume(unit.dir, {}, options.operator_name);
     if (!recorder) {
       // The others stay as they were (they read as interrupted, and resume again).
       std::vector<SessionResult> results = RefuseAll(

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace {
 
@@ -900,3 +901,58 @@ TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
 }
 
 }  // namespace
+
+// Issue 26 §1: the operator is recorded: `run --operator` in a unit's record and in every unit of
+// a fixture's, read back through the typed record; `resume --operator` in the resume's entry,
+// the start's operator kept; a bad id refused before anything runs.
+TEST(BenchProgram, TheOperatorIsRecordedByRunFixtureAndResume) {
+  const fs::path work = FreshDir("operator");
+  fs::create_directories(work);
+  const fs::path sequence = ShortSequence(work);
+  const fs::path one = work / "one";
+  const Output single = RunBenchWith(
+      kNoPdf, "run --station " + StationWithoutStore(work, "station-sim.toml").string() +
+                  " --sequence " + sequence.string() + " --serial SN-OP --operator OP-17 -o " +
+                  one.string());
+  ASSERT_TRUE(single.exit_code >= 0 && single.exit_code <= 2) << single.out;
+  EXPECT_EQ(ReadJson(one / "session.json").at("operator"), "OP-17");
+  const auto typed = hrgbench::session::ReadSessionRecord(one);
+  ASSERT_TRUE(typed);
+  EXPECT_EQ(typed->operator_name, "OP-17");
+
+  const fs::path fixture = work / "fixture";
+  const Output four = RunBenchWith(
+      kNoPdf, "run --station " + StationWithoutStore(work, "station-sim-fixture.toml").string() +
+                  " --sequence " + sequence.string() +
+                  " --serial F1 --serial F2 --serial F3 --serial F4 --operator OP-18 -o " +
+                  fixture.string());
+  ASSERT_TRUE(four.exit_code >= 0 && four.exit_code <= 2) << four.out;
+  for (const auto& unit : ReadJson(fixture / "fixture.json").at("units"))
+    EXPECT_EQ(
+        ReadJson(fixture / unit.at("folder").get<std::string>() / "session.json").at("operator"),
+        "OP-18")
+        << unit.dump();
+
+  const fs::path killed_dir = work / "killed";
+  const Output killed = RunBenchWith(
+      kNoPdf + " HRGBENCH_TEST_KILL_AT=run.end",
+      "run --station " + StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
+          sequence.string() + " --serial SN-OR --operator OP-19 -o " + killed_dir.string());
+  ASSERT_EQ(killed.exit_code, kKilled) << killed.out;
+  const Output resumed =
+      RunBenchWith(kNoPdf, "resume " + killed_dir.string() + " --operator OP-20");
+  ASSERT_TRUE(resumed.exit_code >= 0 && resumed.exit_code <= 2) << resumed.out;
+  const nlohmann::json record = ReadJson(killed_dir / "session.json");
+  EXPECT_EQ(record.at("operator"), "OP-19");
+  ASSERT_EQ(record.at("resumed_at").size(), 1u);
+  EXPECT_EQ(record.at("resumed_at")[0].at("operator"), "OP-20");
+
+  const Output refused = RunBenchWith(
+      kNoPdf, "run --station " + StationWithoutStore(work, "station-sim.toml").string() +
+                  " --sequence " + sequence.string() + " --serial SN-OX --operator ../x -o " +
+                  (work / "refused").string());
+  EXPECT_EQ(refused.exit_code, 4) << refused.out;
+  EXPECT_NE(refused.out.find("--operator: the operator id"), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(work / "refused"));
+  fs::remove_all(work);
+}

@@ -127,11 +127,30 @@ def FreePort() -> int:
         return s.getsockname()[1]
 
 
-def WriteConfigs(source: Path, folder: Path) -> Path:
+def StationText(source: Path, shipped: str, offers: str) -> str:
+    """A shipped station file with `offers` for its [offers] (the shipped one names files beside
+    it in bench_configs/)."""
+    station = (source / "bench_configs" / shipped).read_text()
+    assert "\n[offers]" in station, f"{shipped} has no [offers]"
+    return station[:station.index("\n[offers]")] + "\n" + offers
+
+
+# What the test stations offer: the short sequence by default, which is not the first by name
+# (sequence-long.toml is), so a page that merely selects the first shows the wrong one.
+kOffers = """[offers]
+sequences = ["sequence-long.toml", "sequence-short.toml"]
+default_sequence = "sequence-short.toml"
+limits = ["limits-example.toml"]
+default_limits = "limits-example.toml"
+"""
+
+
+def WriteConfigs(source: Path, folder: Path, shipped: str = "station-sim.toml",
+                 offers: str = kOffers) -> Path:
     """The station (paced 4x) and what it offers: sequence-short (3 x 4 s), sequence-long (3 x 40 s,
     for abort and two browsers), the example limits."""
     folder.mkdir(parents=True)
-    station = (source / "bench_configs" / "station-sim.toml").read_text()
+    station = StationText(source, shipped, offers)
     station = station.replace("faster_than_real_time = true",
                               "faster_than_real_time = false\ntime_scale = 4.0")
     # The station's own results store, in the test's folder: the panel lists its recent sessions.
@@ -242,10 +261,12 @@ class Browser:
         return self.js("return document.getElementById(arguments[0]).dataset[arguments[1]]",
                        element_id, key)
 
-    def start(self, serial: str, sequence: str) -> None:
+    def start(self, serial: str, sequence: str, operator: str = "OP-BROWSER") -> None:
         from selenium.webdriver.common.by import By
         from selenium.webdriver.support.ui import Select
 
+        if operator and not self.js("return document.getElementById('operator').value"):
+            self.driver.find_element(By.ID, "operator").send_keys(operator)
         field = self.driver.find_element(By.ID, "serial")
         field.clear()
         field.send_keys(serial)
@@ -322,6 +343,9 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
         Check(kind == record["outcome"]["kind"],
               f"the page says {kind}, session.json {record['outcome']['kind']}")
         Check(browser.text("outcome-reason") == record["outcome"]["reason"], "reason differs")
+        # Issue 26: who ran it, in the record, on the page and in the store.
+        Check(record.get("operator") == "OP-BROWSER", f"operator in the record: {record.get('operator')}")
+        Check("OP-BROWSER" in browser.text("operator-shown"), "the page does not show the operator")
         Check(browser.js("return document.querySelectorAll('#runs tbody tr').length") == 3,
               "not three run rows")
         # Issue 26: each judged limit drawn as value ± k·u against its guard bands, with the zone
@@ -355,6 +379,8 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
         source = browser.text("recent-source")
         Check(source.startswith("from sqlite://") and source.endswith("results.sqlite"),
               f"the recent sessions do not come from the store: {source}")
+        Check(StoreOperators(tmp / "configs" / "results.sqlite") == ["OP-BROWSER"],
+              f"the store's operator: {StoreOperators(tmp / 'configs' / 'results.sqlite')}")
         Check(browser.js(
             "return document.querySelector('#recent tr[data-session=\"' + arguments[0] + '\"] a')"
             " !== null", name), "the recent session has no report link")
@@ -368,6 +394,190 @@ def CaseFlow(args, tmp: Path, out: Path) -> None:
               "the report's outcome differs from the panel's")
         browser.shot("report")
         errors = browser.console_errors()  # read once: the browser's log is emptied by reading
+        Check(not errors, f"console errors: {errors}")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
+def StoreOperators(store: Path) -> list[str]:
+    """Every session's operator in the station's SQLite results store, by serial."""
+    import sqlite3
+    with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
+        return [row[0] for row in db.execute("SELECT operator FROM session ORDER BY serial")]
+
+
+def CaseTraps(args, tmp: Path, out: Path) -> None:
+    """Issue 26 §1: the station's default sequence selected, also after a reload (the first by name
+    is another); no "none" limits on a station that does not offer it, and a start without limits
+    refused; no start without an operator; the operator kept across a reload; a session without
+    limits (a station that offers it) shown "not judged", never a green PASS; a child that fails
+    at its start said on the page."""
+    station = WriteConfigs(args.source_dir, tmp / "configs")
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        for attempt in ("first load", "reload"):
+            selected = browser.js("const s = document.getElementById('sequence');"
+                                  "return s.options[s.selectedIndex].text")
+            Check(selected.startswith("panel-short"), f"{attempt}: the page selects {selected!r}")
+            limits = browser.js("return [...document.getElementById('limits').options]"
+                                ".map(o => o.text)")
+            Check(limits == ["example"], f"{attempt}: limits offered {limits}")
+            browser.driver.refresh()
+            browser.open(panel.base)
+        status, reply = PostJson(panel.base, "api/start", {"serial": "SN-NL", "sequence": 0,
+                                                           "limits": None, "operator": "OP-1"})
+        Check(status == 400 and "judges every session" in reply.get("error", ""),
+              f"a start without limits: {status} {reply}")
+        # No operator: refused on the page, nothing started.
+        browser.js("document.getElementById('operator').value = ''")
+        browser.js("document.getElementById('serial').value = 'SN-NOOP'")
+        browser.click("start")
+        browser.wait(lambda: "operator id" in browser.text("message"),
+                     "no refusal without an operator: " + browser.text("message"))
+        status, reply = PostJson(panel.base, "api/start", {"serial": "SN-NOOP", "sequence": 0,
+                                                           "limits": 0})
+        Check(status == 400 and "operator" in reply.get("error", ""), f"{status} {reply}")
+        Check(not any(sessions.iterdir()), "a session folder without an operator")
+        # Entered once, kept across a reload (once per shift).
+        browser.js("document.getElementById('operator').value = 'OP-SHIFT';"
+                   "document.getElementById('operator').dispatchEvent(new Event('change'))")
+        browser.driver.refresh()
+        browser.open(panel.base)
+        Check(browser.js("return document.getElementById('operator').value") == "OP-SHIFT",
+              "the operator was not kept across the reload")
+        # The plan before Start: warm-up, three runs, the estimate, every limit, the fit checks.
+        steps = browser.js("return [...document.querySelectorAll('#plan tbody tr')]"
+                           ".map(r => r.dataset.step)")
+        Check(steps[:5] == ["warm-up", "run 1", "run 2", "run 3", "estimate"],
+              f"the plan: {steps}")
+        Check(sum(s.startswith("limit ") for s in steps) > 5 and
+              sum(s.startswith("fit ") for s in steps) == 9, f"the plan's checks: {steps}")
+        browser.shot("plan")
+        # A child that fails at its start: the page says why (the sequence file is gone).
+        (tmp / "configs" / "sequence-short.toml").rename(tmp / "configs" / "moved.toml")
+        browser.start("SN-GONE", "panel-short")
+        browser.wait(lambda: "sequence-short.toml" in browser.text("outcome-reason"),
+                     "the start failure never reached the page: "
+                     + browser.text("outcome-reason"))
+        Check(browser.data("outcome", "kind") == "ERROR", "the failed start is not an ERROR")
+        browser.shot("start-failure")
+    finally:
+        browser.quit()
+        panel.stop()
+    # A station that offers a session without limits: shown "not judged", never PASS.
+    offers = kOffers + "no_limits = true\n"
+    station = WriteConfigs(args.source_dir, tmp / "configs-nl", offers=offers)
+    panel = Panel(args.bin_dir, station, tmp / "sessions-nl", tmp / "serve-nl.log")
+    browser = Browser(out / "no-limits")
+    try:
+        browser.open(panel.base)
+        from selenium.webdriver.support.ui import Select
+        from selenium.webdriver.common.by import By
+        Select(browser.driver.find_element(By.ID, "limits")).select_by_visible_text("none")
+        browser.start("SN-NL-1", "panel-short")
+        kind = WaitOutcome(browser)
+        browser.shot("not-judged")
+        name = browser.text("session-name").split(" ")[0]
+        record = SessionJson(tmp / "sessions-nl", name)
+        Check(kind == "NOT-JUDGED" or record["outcome"]["kind"] != "PASS",
+              f"a session without limits is shown {kind} (the record: {record['outcome']['kind']})")
+        Check(browser.text("outcome") != "PASS", "shown as PASS")
+        colour = browser.js("return getComputedStyle(document.getElementById('outcome'))"
+                            ".backgroundColor")
+        Check(colour != "rgb(26, 138, 42)", "a session without limits shown in green")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
+def CaseFixture(args, tmp: Path, out: Path) -> None:
+    """Issue 26 "done when": the four-unit fixture from the panel, end to end: the operator and
+    four serials scanned (Enter moves to the next position), each unit's live state, four outcomes
+    and reports on the page as the records have them, the operator in every record and in the
+    store. Then one position left empty on purpose: three units run."""
+    station = WriteConfigs(args.source_dir, tmp / "configs", shipped="station-sim-fixture.toml")
+    sessions = tmp / "sessions"
+    os.environ["HRGBENCH_CHROMIUM"] = "/bin/false"  # each report's HTML, no PDF: seconds, not minutes
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    try:
+        browser.open(panel.base)
+        Check(browser.js("return document.getElementById('serial').hidden"),
+              "a fixture station shows the one-unit serial field")
+        positions = browser.js("return [...document.querySelectorAll('#fixture-serials input')]"
+                               ".filter(i => i.id.startsWith('serial-')).map(i => i.id)")
+        Check(positions == ["serial-A", "serial-B", "serial-C", "serial-D"],
+              f"the serial fields: {positions}")
+        # The scanner: the operator's badge, then each unit's label, each scan ending with Enter.
+        browser.driver.find_element(By.ID, "operator").send_keys("OP-FIX" + Keys.ENTER)
+        Check(browser.js("return document.activeElement.id") == "serial-A",
+              "Enter after the operator does not move to position A")
+        for position in "ABCD":
+            browser.driver.switch_to.active_element.send_keys(f"FX-{position}" + Keys.ENTER)
+            expected = "start" if position == "D" else f"serial-{chr(ord(position) + 1)}"
+            Check(browser.js("return document.activeElement.id") == expected,
+                  f"Enter after position {position} moves to "
+                  + browser.js("return document.activeElement.id"))
+        browser.click("start")
+        browser.wait(lambda: "started" in browser.text("message"),
+                     "no 'started' message: " + browser.text("message"))
+        # Every unit's live state: all four in the same run's capture at once.
+        browser.wait(lambda: browser.js(
+            "const r = [...document.querySelectorAll('#units tbody tr')];"
+            "return r.length === 4 && r.every(x => x.dataset.state === 'capture')"),
+            "the four units were never shown capturing")
+        browser.shot("live")
+        kind = WaitOutcome(browser)
+        browser.wait(lambda: browser.js(
+            "return [...document.querySelectorAll('#units tbody tr')]"
+            ".every(r => r.dataset.outcome && r.querySelector('a'))"),
+            "not every unit has its outcome and report link")
+        browser.shot("outcome")
+        fixtures = [p for p in sessions.iterdir() if p.name.startswith("fixture")]
+        Check(len(fixtures) == 1, f"fixture folders: {fixtures}")
+        record = json.loads((fixtures[0] / "fixture.json").read_text())
+        for unit in record["units"]:
+            row = "#units tr[data-position=\"" + unit["position"] + "\"]"
+            shown = browser.js(f"return document.querySelector('{row}').dataset.outcome")
+            Check(shown == unit["outcome"]["kind"],
+                  f"{unit['position']}: the page says {shown}, fixture.json {unit['outcome']}")
+            unit_record = json.loads((fixtures[0] / unit["folder"] / "session.json").read_text())
+            Check(unit_record.get("operator") == "OP-FIX",
+                  f"{unit['folder']}: operator {unit_record.get('operator')}")
+            href = browser.js(f"return document.querySelector('{row} a').href")
+            with urllib.request.urlopen(href, timeout=30) as response:
+                Check(response.status == 200 and b"<html" in response.read(2000).lower(),
+                      f"{unit['position']}: the report link does not open")
+        Check(StoreOperators(tmp / "configs" / "results.sqlite") == ["OP-FIX"] * 4,
+              f"the store: {StoreOperators(tmp / 'configs' / 'results.sqlite')}")
+        Check(kind in ("PASS", "FAIL", "ERROR"), f"the fixture's outcome: {kind}")
+        steps = browser.js("return Object.fromEntries([...document.querySelectorAll("
+                           "'#plan tbody tr')].map(r => [r.dataset.step, r.dataset.status]))")
+        Check(all(steps[f"run {k}"] == "complete" for k in (1, 2, 3)), f"the plan: {steps}")
+        # A position left empty on purpose: three units; an empty field not ticked is refused.
+        browser.driver.find_element(By.ID, "serial-A").send_keys("FY-A")
+        browser.driver.find_element(By.ID, "serial-B").send_keys("FY-B")
+        browser.driver.find_element(By.ID, "serial-D").send_keys("FY-D")
+        browser.click("start")
+        browser.wait(lambda: "position C" in browser.text("message"),
+                     "an empty position was not questioned: " + browser.text("message"))
+        browser.click("empty-C")
+        browser.click("start")
+        browser.wait(lambda: browser.js(
+            "return document.querySelectorAll('#units tbody tr').length === 3"),
+            "three units not shown")
+        WaitOutcome(browser)
+        browser.wait(lambda: browser.js(
+            "return [...document.querySelectorAll('#units tbody tr')]"
+            ".every(r => r.dataset.outcome)"), "not every unit ended")
+        browser.shot("three")
+        errors = browser.console_errors()
         Check(not errors, f"console errors: {errors}")
     finally:
         browser.quit()
@@ -407,6 +617,14 @@ def CaseAbort(args, tmp: Path, out: Path) -> None:
         Check("table commanded to zero rate" in log, "the table was not commanded to zero: " + log)
         Check("table commanded to zero rate" in (tmp / "serve.log").read_text(),
               "the session's log does not say the table was commanded to zero")
+        # Issue 26: the table's rate shown until it reads zero, and the page says so (it froze at
+        # the last capture's rate before).
+        browser.wait(lambda: browser.data("table-stop", "zero") == "true",
+                     "the page never showed the table at zero: " + browser.text("table-stop"))
+        Check("reads zero" in browser.text("table-stop"), browser.text("table-stop"))
+        Check(abs(float(browser.data("table-stop", "rate"))) < 1e-3,
+              "the last rate shown: " + str(browser.data("table-stop", "rate")))
+        Check("the table reads zero" in browser.text("log"), "the log does not say it")
     finally:
         browser.quit()
         panel.stop()
@@ -526,6 +744,7 @@ def CaseHostile(args, tmp: Path, out: Path) -> None:
     browser = Browser(out)
     try:
         browser.open(panel.base)
+        browser.js("document.getElementById('operator').value = 'OP-HOSTILE'")
         hostile = {
             "dot-dot": ("../../etc/x", "'/'"),
             "10 kB": ("A" * 10240, "too long: 10240 characters"),
@@ -612,7 +831,7 @@ def CaseHostile(args, tmp: Path, out: Path) -> None:
 
 
 CASES = {"flow": CaseFlow, "abort": CaseAbort, "two-browsers": CaseTwoBrowsers,
-         "hostile": CaseHostile, "resume": CaseResume}
+         "hostile": CaseHostile, "resume": CaseResume, "traps": CaseTraps, "fixture": CaseFixture}
 
 
 def main() -> int:

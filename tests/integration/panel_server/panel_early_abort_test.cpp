@@ -23,8 +23,9 @@ TEST(PanelSession, AnAbortRightAfterStartEndsTheSessionAbortedWithItsRecord) {
     Panel panel(dir, FreePort(), kBench, RealTimeStation(dir / "station"));
     ASSERT_TRUE(panel.Ready());
     const Reply started =
-        Exchange(panel.port(), Post("/api/start", panel.host(), panel.origin(),
-                                    R"({"serial":"SN-EARLY","sequence":0,"limits":null})"));
+        Exchange(panel.port(),
+                 Post("/api/start", panel.host(), panel.origin(),
+                      R"({"serial":"SN-EARLY","sequence":0,"limits":null,"operator":"OP-T"})"));
     ASSERT_EQ(started.status, 200) << started.body;
     const Reply abort =
         Exchange(panel.port(), Post("/api/abort", panel.host(), panel.origin(), "{}"));

@@ -59,8 +59,9 @@ TEST(PanelHostileClients, AnAbortGetsThroughStreamsThatDoNotReadAndSlowHeads) {
     Panel panel(dir, FreePort(), kBench, RealTimeStation(dir / "station"));
     ASSERT_TRUE(panel.Ready());
     const Reply started =
-        Exchange(panel.port(), Post("/api/start", panel.host(), panel.origin(),
-                                    R"({"serial":"SN-HOSTILE","sequence":0,"limits":null})"));
+        Exchange(panel.port(),
+                 Post("/api/start", panel.host(), panel.origin(),
+                      R"({"serial":"SN-HOSTILE","sequence":0,"limits":null,"operator":"OP-T"})"));
     ASSERT_EQ(started.status, 200) << started.body;
     const std::string name = Json(started.body).value("session", "");
     ASSERT_FALSE(name.empty()) << started.body;

@@ -97,8 +97,9 @@ TEST(PanelSession, AKilledSessionIsShownInterruptedAndResumesToItsEndKeepingItsR
     EXPECT_EQ(nothing.status, 409) << nothing.body;  // nothing has run
 
     const Reply started =
-        Exchange(panel.port(), Post("/api/start", panel.host(), panel.origin(),
-                                    R"({"serial":"SN-RESUME","sequence":0,"limits":null})"));
+        Exchange(panel.port(),
+                 Post("/api/start", panel.host(), panel.origin(),
+                      R"({"serial":"SN-RESUME","sequence":0,"limits":null,"operator":"OP-T"})"));
     ASSERT_EQ(started.status, 200) << started.body;
     const std::string name = Json(started.body).value("session", "");
     const fs::path folder = dir / "sessions" / name;
@@ -186,8 +187,9 @@ TEST(PanelSession, ARestartedPanelResumesAnOpenRecordOfItsSessionsFolderByName) 
     Panel panel(dir, FreePort(), kBench, station, kConfigs / "sequence-paper.toml");
     ASSERT_TRUE(panel.Ready());
     const Reply started =
-        Exchange(panel.port(), Post("/api/start", panel.host(), panel.origin(),
-                                    R"({"serial":"SN-RESTART","sequence":0,"limits":null})"));
+        Exchange(panel.port(),
+                 Post("/api/start", panel.host(), panel.origin(),
+                      R"({"serial":"SN-RESTART","sequence":0,"limits":null,"operator":"OP-T"})"));
     ASSERT_EQ(started.status, 200) << started.body;
     name = Json(started.body).value("session", "");
     kept = WaitForCompleteRuns(dir / "sessions" / name, 1, 120s);

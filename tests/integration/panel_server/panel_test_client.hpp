@@ -12,7 +12,9 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -129,7 +131,16 @@ class Panel {
                  const fs::path& sequence = kConfigs / "sequence-production.toml")
       : port_(port) {
     fs::create_directories(dir / "configs");
-    fs::copy_file(station, dir / "configs" / "station.toml", fs::copy_options::overwrite_existing);
+    {
+      // Without the shipped [offers] (it names files beside the shipped station): this panel
+      // offers the one sequence copied beside it.
+      std::ifstream in(station);
+      std::stringstream text;
+      text << in.rdbuf();
+      std::string toml = text.str();
+      toml = toml.substr(0, toml.find("\n[offers]"));
+      std::ofstream(dir / "configs" / "station.toml") << toml << '\n';
+    }
     fs::copy_file(sequence, dir / "configs" / "sequence-a.toml",
                   fs::copy_options::overwrite_existing);
     options_.station = dir / "configs" / "station.toml";

@@ -202,3 +202,81 @@ TEST(SessionEvents, TheEndOfASessionInOrder) {
 
 }  // namespace
 }  // namespace hrgbench::bench
+
+namespace hrgbench::bench {
+namespace {
+
+// Issue 26 §1: after a stop every reading of the table's rate is an event (the page shows it reach
+// zero), however soon after the last one; other progress stays bounded.
+TEST(SessionEvents, EveryTableReadingWhileStoppingIsPublished) {
+  Capture capture;
+  SessionEventOptions options;
+  options.min_progress_period_s = 3600.0;
+  SessionEventPublisher publisher(capture.stream(), options);
+  RunnerOptions runner;
+  publisher.Attach(runner);
+  runner.on_progress(At("capture", 1, 10));
+  for (int i = 0; i < 5; ++i) {
+    Progress p = At("stopping", 0);
+    p.table_rate_rad_s = -0.1 * (4 - i) / 4.0;
+    runner.on_progress(p);
+  }
+  const std::vector<nlohmann::json> stopping = [&] {
+    std::vector<nlohmann::json> out;
+    for (const nlohmann::json& e : OfType(capture.Events(), "progress"))
+      if (e["phase"] == "stopping") out.push_back(e);
+    return out;
+  }();
+  ASSERT_EQ(stopping.size(), 5u);
+  EXPECT_DOUBLE_EQ(stopping.back()["table_rate_rad_s"].get<double>(), 0.0);
+}
+
+// A fixture's stream: its units, each unit's run results by position, each unit's outcome with its
+// report, the fixture's outcome; no samples (the plot is one unit's).
+TEST(SessionEvents, AFixturesUnitsRunsAndOutcomes) {
+  Capture capture;
+  SessionEventPublisher publisher(capture.stream());
+  RunnerOptions runner;
+  const nlohmann::json units = {{{"position", "A"}, {"serial", "SN-A"}, {"session", "A-SN-A"}},
+                                {{"position", "B"}, {"serial", "SN-B"}, {"session", "B-SN-B"}}};
+  publisher.FixtureStarted(units);
+  publisher.AttachFixture(runner, units);
+  EXPECT_FALSE(runner.on_samples);
+  ASSERT_TRUE(runner.on_unit_run_end);
+  RunEnd end;
+  end.status = kRunComplete;
+  end.omega_rad_s = 0.5;
+  runner.on_unit_run_end(1, 1, end, 400);
+  SessionResult a;
+  a.outcome = OutcomeKind::kPass;
+  a.exit_code = 0;
+  a.reason = "ok";
+  SessionResult b;
+  b.outcome = OutcomeKind::kFail;
+  b.exit_code = 1;
+  b.reason = "delta1 out";
+  publisher.UnitFinished(0, a, "fx/A-SN-A/report/report.html");
+  publisher.UnitFinished(1, b, "");
+  publisher.FixtureFinished(OutcomeKind::kFail, 1, "2 units: A PASS, B FAIL", "fx");
+  const std::vector<nlohmann::json> events = capture.Events();
+  ASSERT_EQ(OfType(events, "fixture_started").size(), 1u);
+  const auto runs = OfType(events, "unit_run_result");
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0]["position"], "B");
+  EXPECT_EQ(runs[0]["run_id"], 1);
+  EXPECT_EQ(runs[0]["status"], "complete");
+  const auto outcomes = OfType(events, "unit_outcome");
+  ASSERT_EQ(outcomes.size(), 2u);
+  EXPECT_EQ(outcomes[0]["outcome"], "PASS");
+  EXPECT_EQ(outcomes[0]["report"], "fx/A-SN-A/report/report.html");
+  EXPECT_EQ(outcomes[1]["position"], "B");
+  EXPECT_TRUE(outcomes[1]["report"].is_null());
+  const auto fixture = OfType(events, "outcome");
+  ASSERT_EQ(fixture.size(), 1u);
+  EXPECT_EQ(fixture[0]["outcome"], "FAIL");
+  EXPECT_EQ(fixture[0]["exit_code"], 1);
+  EXPECT_TRUE(OfType(events, "samples").empty());
+}
+
+}  // namespace
+}  // namespace hrgbench::bench

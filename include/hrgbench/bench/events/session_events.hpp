@@ -21,9 +21,17 @@
 //                    sequence_gaps, kernel_drops, bad_frames, temperature_{start,end}_c
 //   estimate         estimate: the estimate as session.json records it (outcome.estimate)
 //   limit            quantity, status, value, std, min, max, message: one per declared limit
+//   fit_check        run, name, status, value, max, message: one per check of the fit
 //   outcome          outcome (PASS | FAIL | ERROR | ABORTED), reason, exit_code, complete_runs,
 //                    failed_limits [names], session
 //   report           path (null when none was written)
+// A fixture's stream (several units on the table) has session_started (unit "fixture"), then
+//   fixture_started  units [{position, serial, session (its folder in the fixture's)}]
+//   phase, progress, log as above (the table's, every unit's together; no samples)
+//   unit_run_result  unit (index), position, serial, and run_result's fields
+//   unit_outcome     unit, position, serial, outcome, reason, exit_code, complete_runs,
+//                    failed_limits, session, report (the unit's report, null when none)
+//   outcome          the fixture's: the worst unit's outcome (session: the fixture's folder)
 //   end              events_published, events_lost (written by EventStream::Close)
 //
 // Threads: the callbacks Attach installs run on the sequencer's thread and only build small JSON
@@ -66,11 +74,25 @@ class SessionEventPublisher {
   // After the report was (or was not) written: empty = none.
   void ReportWritten(const std::string& report_path);
 
+  // A fixture's: after SessionStarted, the units by position ({position, serial, session}).
+  void FixtureStarted(nlohmann::json units);
+  // Installs on_progress, on_log and on_unit_run_end for a fixture (`units` as FixtureStarted's;
+  // unit i is the session's i-th unit). `options` and this publisher must outlive the session.
+  void AttachFixture(RunnerOptions& options, nlohmann::json units);
+  // One unit's result and report (empty: none), after the session.
+  void UnitFinished(std::size_t unit, const SessionResult& result, const std::string& report);
+  // The fixture's outcome (the worst unit's) with its exit code.
+  void FixtureFinished(OutcomeKind outcome, int exit_code, const std::string& reason,
+                       const std::string& fixture_dir);
+
  private:
   void OnProgress(const Progress& p);
   void OnSamples(int run_id, std::span<const GyroSampleRecord> samples);
   void OnRunEnd(int run_id, const RunEnd& end, std::uint64_t samples);
   void FlushSamples();
+  nlohmann::json RunResultEvent(const char* type, int run_id, const RunEnd& end,
+                                std::uint64_t samples) const;
+  nlohmann::json units_ = nlohmann::json::array();  // a fixture's units, by index
 
   EventStream& stream_;
   SessionEventOptions options_;

@@ -80,7 +80,8 @@ struct Progress {
   int run_count = 0;  // runs in this invocation (a resume counts only the remaining ones)
   int run_id = 0;     // the run's id in the session
   double omega_rad_s = 0.0;
-  // "warm-up", "table" (settling), "excite", "ready", "release", "capture", "stop", "estimate";
+  // "warm-up", "table" (settling), "excite", "ready", "release", "capture", "stop", "estimate",
+  // "stopping" (after an abort or a fault: the table's rate until it reads zero);
   // every change of phase is reported at once (the period applies within a phase).
   std::string_view phase;
   double elapsed_s = 0.0;    // since the session (or the resume) started, on the hardware clock
@@ -97,6 +98,8 @@ struct Progress {
 struct RunnerOptions {
   std::string unit_serial;       // RunSession's unit; required there
   std::string software_version;  // git describe of the build
+  // Who runs (or resumes) it: recorded as every unit's "operator" (resume: in "resumed_at").
+  std::string operator_name;
   // RunSession's unit: the truth of a simulated station, recorded under "simulation" (std::nullopt
   // on real hardware).
   std::optional<nlohmann::json> simulation;
@@ -114,6 +117,10 @@ struct RunnerOptions {
   // A run as recorded (complete, rejected or aborted) with its sample count. May be empty. One
   // unit only, as on_samples.
   std::function<void(int run_id, const RunEnd&, std::uint64_t samples)> on_run_end;
+  // A run as recorded for unit `unit` (the index into the session's units), for every unit of a
+  // fixture as of one (a fixture's panel shows each unit's runs). May be empty.
+  std::function<void(std::size_t unit, int run_id, const RunEnd&, std::uint64_t samples)>
+      on_unit_run_end;
   double progress_period_s = 0.5;
 };
 

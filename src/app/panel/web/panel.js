@@ -211,6 +211,7 @@ function onEvent(raw) {
   try { e = JSON.parse(raw.data); } catch (err) { return; }
   const handler = handlers[e.type];
   if (handler) handler(e);
+  Station.onEvent(e);  // panel_station.js: the plan, a fixture's units, not judged
   document.body.dataset.lastEvent = e.type;
   // Latency: from the event's stamp (the bench's wall clock, ms) to the frame that shows it.
   if (typeof e.time_unix_s === "number" && e.time_unix_s * 1000 >= pageLoadedMs) {
@@ -252,10 +253,14 @@ async function loadState() {
     if (keep && [...select.options].some((o) => o.value === keep)) select.value = keep;
   };
   if ($("sequence").options.length === 0) {
+    // The station's defaults (its [offers]), never merely the first by name; "none" only when
+    // the station offers a session without limits.
     fill($("sequence"), s.sequences, false);
-    fill($("limits"), s.limits, true);
-    if (s.limits.length > 0) $("limits").value = "0";
+    fill($("limits"), s.limits, s.no_limits);
+    $("sequence").value = String(s.default_sequence);
+    if (s.default_limits !== null) $("limits").value = String(s.default_limits);
   }
+  Station.onState(s);
   // A session whose process died with its record open: say why and offer to continue it.
   const i = s.interrupted;
   $("interrupted-box").hidden = !i || s.session?.running;
@@ -297,21 +302,24 @@ async function post(path, body) {
 
 $("start").addEventListener("click", async () => {
   const limits = $("limits").value;
-  const r = await post("api/start", {
-    serial: $("serial").value,
+  const units = Station.startBody();  // {serial | serials, operator} or {error}
+  if (units.error) { message(units.error); return; }
+  const r = await post("api/start", Object.assign(units, {
     sequence: Number($("sequence").value),
     limits: limits === "" ? null : Number(limits),
-  });
+  }));
   if (r.ok) {
     message("started " + r.reply.session, "info");
     $("serial").value = "";
+    Station.afterStart();
   } else {
     message(r.reply.error || "refused (HTTP " + r.status + ")");
   }
 });
 $("serial").addEventListener("keydown", (ev) => { if (ev.key === "Enter") $("start").click(); });
 $("resume").addEventListener("click", async () => {
-  const r = await post("api/resume", {});
+  const operator = $("operator").value.trim();
+  const r = await post("api/resume", operator ? { operator } : {});
   if (r.ok) {
     message("resuming " + r.reply.session, "info");
     $("interrupted-box").hidden = true;
