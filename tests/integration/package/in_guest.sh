@@ -112,7 +112,7 @@ assert d['sequences'] and d['limits'], d"
 sequence=$(python3 -c "import json; d=json.load(open('$out/state.json')); print(d['sequences'][0]['id'])")
 limits=$(python3 -c "import json; d=json.load(open('$out/state.json')); print(d['limits'][0]['id'])")
 get -o "$out/start.json" -H 'Content-Type: application/json' -H "Origin: $base" \
-  --data "{\"serial\": \"SIM-0001\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
+  --data "{\"operator\": \"OP-PKG\", \"serial\": \"SIM-0001\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
 session=$(json 'd.get("session", "")' <"$out/start.json" 2>/dev/null)
 require "POST /api/start starts a session ($(cat "$out/start.json"))" [ -n "$session" ]
 session_over() {
@@ -131,6 +131,8 @@ check "the session's record and report are in the state folder, owned by hrgbenc
 check "the report's PDF was printed by Chromium inside the service" [ -s "$dir/report/report.pdf" ]
 check "the session is in the SQLite store in the state folder" sh -c "
   [ \"\$(sqlite3 /var/lib/hrgbench/results.sqlite 'select count(*) from session')\" = 1 ]"
+check "the store names the operator who started it" sh -c "
+  [ \"\$(sqlite3 /var/lib/hrgbench/results.sqlite 'select operator from session')\" = OP-PKG ]"
 check "GET the session's report over the panel" \
   get -f -o /dev/null "$base/sessions/$session/report/report.html"
 check "the panel's log is in the journal" \
@@ -150,7 +152,7 @@ check "the panel answers again" wait_for 60 get -f -o /dev/null "$base/api/state
 # session once (table to zero, gyro safe), the record says ABORTED, the panel exits 0. With the
 # child signalled too (KillMode=control-group) that would be its second interrupt: exit at once.
 get -o "$out/start2.json" -H 'Content-Type: application/json' -H "Origin: $base" \
-  --data "{\"serial\": \"SIM-0002\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
+  --data "{\"operator\": \"OP-PKG\", \"serial\": \"SIM-0002\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
 session2=$(json 'd.get("session", "")' <"$out/start2.json" 2>/dev/null)
 require "a second session starts ($(cat "$out/start2.json"))" [ -n "$session2" ]
 dir2=/var/lib/hrgbench/sessions/$session2
