@@ -426,11 +426,9 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
     const int i = is_delta ? p : p - 6;
     const bool estimated = is_delta ? s.delta_estimated[i] : s.xi_estimated[i];
     if (!estimated) continue;
-    const std::string key = is_delta ? "delta_std" : "xi_std";
-    const session::EstimateRecord* of_record = OfRecord(inputs.record);
-    double value = of_record == nullptr ? kNaN
-                   : is_delta           ? of_record->delta_std[static_cast<std::size_t>(i)]
-                                        : of_record->xi_std[static_cast<std::size_t>(i)];
+    double value = recorded == nullptr ? kNaN
+                   : is_delta          ? recorded->delta_std[static_cast<std::size_t>(i)]
+                                       : recorded->xi_std[static_cast<std::size_t>(i)];
     if (!std::isfinite(value)) value = is_delta ? s.delta_std[i] : s.xi_std[i];
     figure["labels"].push_back((is_delta ? "δ" : "ξ") + std::to_string(i + 1));
     achieved.push_back(value);
