@@ -26,7 +26,7 @@ echo "== bench session on the simulated station =="
 status=0
 "$bin/hrg-bench" run --station "$configs/station-sim.toml" \
   --sequence "$configs/sequence-production.toml" --limits "$configs/limits-example.toml" \
-  --serial SIM-0001 -o "$session" || status=$?
+  --serial SIM-0001 -o "$session" --prompts confirm || status=$?
 if [ -x "$bin/hrg-results" ]; then
   echo
   echo "== the unit's history in the results database (build/out/results.sqlite) =="

@@ -1,10 +1,10 @@
 // hrg-bench: the program a production line runs for every gyro, and CI runs on simulated hardware.
 //
 //   hrg-bench run --station S.toml --sequence Q.toml [--limits L.toml] --serial SN [-o DIR]
-//                 [--operator ID] [--json] [--events FILE|-]
+//                 [--operator ID] [--prompts terminal|confirm|fd:N] [--json] [--events FILE|-]
 //   hrg-bench run ... --serial SN1 --serial SN2 ...   a fixture: one serial per fitted position
 //                 (or POSITION=SN); exit code the worst unit's
-//   hrg-bench resume DIR [--operator ID] [--json] [--events FILE|-]
+//   hrg-bench resume DIR [--operator ID] [--prompts ...] [--json] [--events FILE|-]
 //   hrg-bench check S.toml Q.toml [L.toml]
 //   hrg-bench replay DIR [--unit POSITION|SERIAL] [--json] [--no-estimate] [--rebuild-into NEW_DIR]
 //   hrg-bench serve --station S.toml [--listen 127.0.0.1:8080] [--sessions DIR] [--token-file F]
@@ -34,6 +34,7 @@
 #include "app/fixture_session.hpp"
 #include "app/logging.hpp"
 #include "app/panel/panel_server.hpp"
+#include "app/prompt_answers.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
 #include "app/session_replay.hpp"
@@ -222,14 +223,25 @@ void PrintReportLine(const bench::SessionResult& result, bool json, const std::s
 }
 
 // --events: where, and the queue's capacity (events).
+// Who runs it and how the sequence's operator prompts are answered (--operator, --prompts).
+struct OperatorRequest {
+  std::string operator_id;  // empty: not recorded
+  std::string prompts;      // --prompts as given (app/prompt_answers.hpp); empty: the default
+};
+
 struct EventsRequest {
   std::string target;  // empty: no event stream
   std::size_t capacity = bench::EventStream::kDefaultCapacity;
 };
 
 int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
-                const std::string& serial, const std::string& operator_id, bool resume, bool json,
+                const std::string& serial, const OperatorRequest& who, bool resume, bool json,
                 const EventsRequest& events) {
+  auto answers = app::OpenPromptAnswers(who.prompts, configs.sequence, who.operator_id);
+  if (!answers) {
+    spdlog::error("{}", answers.error());
+    return kExitBadInput;
+  }
   std::unique_ptr<app::EventOutput> event_output;
   if (!events.target.empty()) {
     auto opened = app::EventOutput::Open(events.target, events.capacity);
@@ -249,7 +261,8 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   ProgressPrinter printer;
   bench::RunnerOptions options;
   options.unit_serial = serial;
-  options.operator_name = operator_id;
+  options.operator_name = who.operator_id;
+  options.prompts = answers->get();
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
   options.simulation = (*station)->simulation();
   options.interrupts = &g_interrupts;
@@ -301,8 +314,13 @@ std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::Se
 // folders under `dir`, fixture.json beside them. `resume`: continues the units that did not close
 // with a verdict; the others keep theirs.
 int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& dir,
-               const app::FixtureRecord& record, const std::string& operator_id, bool resume,
-               bool json, const EventsRequest& events) {
+               const app::FixtureRecord& record, const OperatorRequest& who, bool resume, bool json,
+               const EventsRequest& events) {
+  auto answers = app::OpenPromptAnswers(who.prompts, configs.sequence, who.operator_id);
+  if (!answers) {
+    spdlog::error("{}", answers.error());
+    return kExitBadInput;
+  }
   std::unique_ptr<app::EventOutput> event_output;
   if (!events.target.empty()) {
     auto opened = app::EventOutput::Open(events.target, events.capacity);
@@ -359,7 +377,8 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   ProgressPrinter printer;
   bench::RunnerOptions options;
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
-  options.operator_name = operator_id;
+  options.operator_name = who.operator_id;
+  options.prompts = answers->get();
   options.interrupts = &g_interrupts;
   options.interrupt_signal = &g_interrupt_signal;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
@@ -498,7 +517,8 @@ int ReplayFixture(const std::filesystem::path& dir, const std::string& unit, boo
 
 // `hrg-bench run`'s command line.
 struct RunArgs {
-  std::string station, sequence, limits, out_dir, operator_id;
+  std::string station, sequence, limits, out_dir;
+  OperatorRequest who;
   std::vector<std::string> serials;
 };
 
@@ -610,7 +630,7 @@ int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, b
     std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
     return kExitBadInput;
   }
-  return RunFixture(configs, dir, *record, args.operator_id, false, json, events);
+  return RunFixture(configs, dir, *record, args.who, false, json, events);
 }
 
 // `hrg-bench run`: a new session of one unit, or of a fixture's.
@@ -620,8 +640,8 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
     std::cerr << configs.error().ToString() << '\n';
     return kExitBadInput;
   }
-  if (!args.operator_id.empty()) {
-    if (auto problem = app::OperatorProblem(args.operator_id)) {
+  if (!args.who.operator_id.empty()) {
+    if (auto problem = app::OperatorProblem(args.who.operator_id)) {
       std::cerr << "--operator: " << *problem << '\n';
       return kExitBadInput;
     }
@@ -649,7 +669,7 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
     }
     dir = folder->string();
   }
-  return RunOrResume(*configs, dir, serial, args.operator_id, false, json, events);
+  return RunOrResume(*configs, dir, serial, args.who, false, json, events);
 }
 
 // `hrg-bench resume DIR` of a session that closed as PASS or FAIL (killed during its report or
@@ -687,11 +707,11 @@ int FinishClosed(const std::filesystem::path& dir, bool json, const EventsReques
 
 // `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a
 // verdict.
-int Resume(const std::string& resume_dir, const std::string& operator_id, bool json,
+int Resume(const std::string& resume_dir, const OperatorRequest& who, bool json,
            const EventsRequest& events) {
   const std::filesystem::path dir = resume_dir;
-  if (!operator_id.empty()) {
-    if (auto problem = app::OperatorProblem(operator_id)) {
+  if (!who.operator_id.empty()) {
+    if (auto problem = app::OperatorProblem(who.operator_id)) {
       std::cerr << "--operator: " << *problem << '\n';
       return kExitBadInput;
     }
@@ -707,7 +727,7 @@ int Resume(const std::string& resume_dir, const std::string& operator_id, bool j
       std::cerr << configs.error() << '\n';
       return kExitBadInput;
     }
-    return RunFixture(*configs, dir, *record, operator_id, true, json, events);
+    return RunFixture(*configs, dir, *record, who, true, json, events);
   }
   if (auto problem = app::NotStartedProblem(dir)) {
     std::cerr << *problem << '\n';
@@ -719,7 +739,7 @@ int Resume(const std::string& resume_dir, const std::string& operator_id, bool j
     std::cerr << configs.error() << '\n';
     return kExitBadInput;
   }
-  return RunOrResume(*configs, resume_dir, "", operator_id, true, json, events);
+  return RunOrResume(*configs, resume_dir, "", who, true, json, events);
 }
 
 // --events and --events-queue on `run` and `resume`.
@@ -731,6 +751,14 @@ void AddEventsOptions(CLI::App* command, EventsRequest& events) {
       ->add_option("--events-queue", events.capacity,
                    "events held for a slow reader before they are dropped (and counted)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+}
+
+// --prompts on `run` and `resume`.
+void AddPromptsOption(CLI::App* command, OperatorRequest& who) {
+  command->add_option("--prompts", who.prompts,
+                      "who answers the sequence's operator prompts: terminal (default when stdin "
+                      "is one), confirm (every prompt confirmed, recorded as auto), fd:N (JSON "
+                      "lines from the panel)");
 }
 
 CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest& events) {
@@ -745,21 +773,23 @@ CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest&
   run->add_option("-o,--output", args.out_dir,
                   "session directory (default sessions/SERIAL-UTC; a fixture's: "
                   "sessions/fixture-UTC)");
-  run->add_option("--operator", args.operator_id,
+  run->add_option("--operator", args.who.operator_id,
                   "who runs the session (an operator id, typed or scanned): recorded as the "
                   "session's operator");
+  AddPromptsOption(run, args.who);
   run->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(run, events);
   return run;
 }
 
-CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, std::string& operator_id, bool& json,
+CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, OperatorRequest& who, bool& json,
                            EventsRequest& events) {
   CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
   resume->add_option("dir", dir, "session directory")->required();
-  resume->add_option("--operator", operator_id,
+  resume->add_option("--operator", who.operator_id,
                      "who resumes it: recorded in the record's resumed_at (and as its operator "
                      "when the start recorded none)");
+  AddPromptsOption(resume, who);
   resume->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(resume, events);
   return resume;
@@ -819,13 +849,13 @@ int main(int argc, char** argv) {
   app::AddCommonFlags(cli, &quiet);
   RunArgs run_args;
   std::string resume_dir;
-  std::string resume_operator;
+  OperatorRequest resume_who;
   CheckArgs check_args;
   ReplayArgs replay_args;
   app::PanelOptions panel;
   EventsRequest events;
   CLI::App* run = AddRunCommand(cli, run_args, json, events);
-  CLI::App* resume = AddResumeCommand(cli, resume_dir, resume_operator, json, events);
+  CLI::App* resume = AddResumeCommand(cli, resume_dir, resume_who, json, events);
   CLI::App* check = AddCheckCommand(cli, check_args);
   CLI::App* replay = AddReplayCommand(cli, replay_args, json);
   CLI::App* serve = AddServeCommand(cli, panel);
@@ -852,7 +882,7 @@ int main(int argc, char** argv) {
     if (*replay) return Replay(replay_args, json);
     if (*check) return Check(check_args);
     if (*run) return Run(run_args, json, events);
-    if (*resume) return Resume(resume_dir, resume_operator, json, events);
+    if (*resume) return Resume(resume_dir, resume_who, json, events);
     return kExitBadInput;  // require_subcommand(1): not reached
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());

@@ -1,14 +1,17 @@
 // Loader of sequence files.
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <system_error>
 #include <utility>
 
 #include "count_text.hpp"
 #include "hrgbench/config/config_bounds.hpp"
 #include "hrgbench/config/sequence_config.hpp"
+#include "hrgbench/config/sha256.hpp"
 #include "hrgbench/config/toml_reader.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
 
@@ -134,6 +137,96 @@ std::expected<SequenceRun, ConfigError> ReadRun(TableReader& reader, const Defau
   }
   HRG_CHECK(reader.Unknown(kRunKeysText));
   return run;
+}
+
+// A prompt's image: a PNG, JPEG or SVG file at or below the sequence file's folder (so a
+// session's config copy can hold it at the same relative place), of bounded size.
+std::expected<void, ConfigError> ReadPromptImage(TableReader& reader, SequencePrompt& prompt,
+                                                 const std::filesystem::path& file) {
+  const toml::node* node = reader.Find("image");
+  if (node == nullptr) return {};
+  HRG_TRY(image, OptionalString(reader, "image", "", true));
+  const std::filesystem::path relative(*image);
+  const bool escapes = std::any_of(relative.begin(), relative.end(),
+                                   [](const std::filesystem::path& part) { return part == ".."; });
+  if (relative.is_absolute() || escapes) {
+    return std::unexpected(reader.Error(
+        *node, "image", "must be a path relative to the sequence file's folder, without \"..\""));
+  }
+  std::string extension = relative.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".png" && extension != ".jpg" && extension != ".jpeg" && extension != ".svg")
+    return std::unexpected(
+        reader.Error(*node, "image", "must be a .png, .jpg, .jpeg or .svg file"));
+  const std::filesystem::path resolved = file.parent_path() / relative;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(resolved, ec))
+    return std::unexpected(reader.Error(*node, "image", "no such file: " + resolved.string()));
+  const std::uintmax_t bytes = std::filesystem::file_size(resolved, ec);
+  if (ec || bytes > kMaxPromptImageBytes) {
+    return std::unexpected(
+        reader.Error(*node, "image",
+                     "out of range: " + resolved.string() + " is " +
+                         (ec ? "unreadable" : CountText(static_cast<double>(bytes))) +
+                         " bytes; a prompt's image has at most " +
+                         CountText(static_cast<double>(kMaxPromptImageBytes))));
+  }
+  auto sha = Sha256FileHex(resolved);
+  if (!sha) return std::unexpected(reader.Error(*node, "image", sha.error()));
+  prompt.image = relative.generic_string();
+  prompt.image_file = resolved;
+  prompt.image_sha256 = *sha;
+  return {};
+}
+
+std::expected<void, ConfigError> ReadPrompts(TableReader& root, SequenceConfig& sequence,
+                                             const Source& source,
+                                             const std::filesystem::path& file) {
+  const toml::node* prompts_node = root.Find("prompts");
+  if (prompts_node == nullptr) return {};
+  const toml::array* prompts = prompts_node->as_array();
+  if (prompts == nullptr || !prompts->is_array_of_tables()) {
+    return std::unexpected(
+        root.Error(*prompts_node, "prompts", "wrong type: expected [[prompts]] tables"));
+  }
+  if (prompts->size() > kMaxPrompts) {
+    return std::unexpected(ConfigError{file, LineOf(*prompts->get(0)), "prompts", "",
+                                       "out of range: " + std::to_string(prompts->size()) +
+                                           " [[prompts]] tables; a sequence has at most " +
+                                           std::to_string(kMaxPrompts)});
+  }
+  for (std::size_t i = 0; i < prompts->size(); ++i) {
+    TableReader reader(*prompts->get(i)->as_table(), "prompts[" + std::to_string(i) + "]", source);
+    SequencePrompt prompt;
+    HRG_TRY(id, RequiredString(reader, "id"));
+    for (const SequencePrompt& earlier : sequence.prompts) {
+      if (earlier.id == *id) {
+        return std::unexpected(
+            reader.Error(*reader.Find("id"), "id", "repeated: every prompt needs its own id"));
+      }
+    }
+    prompt.id = *id;
+    HRG_TRY(at, Choice(reader, "at", {"start", "before_run", "end"}, -1));
+    prompt.at = *at == 0   ? PromptPoint::kStart
+                : *at == 1 ? PromptPoint::kBeforeRun
+                           : PromptPoint::kEnd;
+    if (prompt.at == PromptPoint::kBeforeRun) {
+      HRG_TRY(run,
+              RequiredInteger(reader, "run", 1, static_cast<std::int64_t>(sequence.runs.size())));
+      prompt.before_run = static_cast<int>(*run);
+    } else if (auto forbidden = Forbid(reader, "run", "only with at = \"before_run\"")) {
+      return std::unexpected(*forbidden);
+    }
+    HRG_TRY(text, OptionalString(reader, "text", "", true, StringKind::kDescription));
+    if (text->empty()) return std::unexpected(reader.Missing("text", "what the operator must do"));
+    prompt.text = *text;
+    if (auto image = ReadPromptImage(reader, prompt, file); !image)
+      return std::unexpected(image.error());
+    HRG_CHECK(reader.Unknown("id, at, run, text, image"));
+    sequence.prompts.push_back(std::move(prompt));
+  }
+  return {};
 }
 
 std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& document,
@@ -302,8 +395,11 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     sequence.runs.push_back(*run);
   }
 
-  HRG_CHECK(root.Unknown(
-      "[sequence], [settle], [timeouts], [warmup], [drift], [capture], [defaults], [[runs]]"));
+  if (auto prompts = ReadPrompts(root, sequence, source, file); !prompts)
+    return std::unexpected(prompts.error());
+  HRG_CHECK(
+      root.Unknown("[sequence], [settle], [timeouts], [warmup], [drift], [capture], "
+                   "[defaults], [[runs]], [[prompts]]"));
   return sequence;
 }
 
@@ -332,6 +428,26 @@ std::vector<estimator::RunPlan> SequenceConfig::ToRunPlans(double omega_offset_r
     plans.push_back(plan);
   }
   return plans;
+}
+
+std::string SequencePrompt::Where() const {
+  switch (at) {
+    case PromptPoint::kStart:
+      return "start";
+    case PromptPoint::kBeforeRun:
+      return "before run " + std::to_string(before_run);
+    case PromptPoint::kEnd:
+      return "end";
+  }
+  return "start";
+}
+
+std::vector<const SequencePrompt*> SequenceConfig::PromptsAt(PromptPoint point, int run_id) const {
+  std::vector<const SequencePrompt*> out;
+  for (const SequencePrompt& prompt : prompts)
+    if (prompt.at == point && (point != PromptPoint::kBeforeRun || prompt.before_run == run_id))
+      out.push_back(&prompt);
+  return out;
 }
 
 double SequenceConfig::TotalFreeRunS() const {

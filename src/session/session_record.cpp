@@ -289,6 +289,41 @@ void ReadRunDetails(Fields& f, const json& run, const std::string& path, RunReco
   }
 }
 
+// prompts (absent: none). A string field that is null (no image, nobody answered) reads as "".
+std::vector<PromptRecord> ReadPrompts(Fields& f, const json& doc) {
+  std::vector<PromptRecord> out;
+  const json* prompts = f.Array(doc, "", keys::kPrompts);
+  if (prompts == nullptr) return out;
+  for (std::size_t k = 0; k < prompts->size() && f.ok(); ++k) {
+    const std::string at = Index(keys::kPrompts, k);
+    const json& item = (*prompts)[k];
+    if (!item.is_object()) {
+      f.Fail(at, "expected an object, got " + Describe(item));
+      return out;
+    }
+    PromptRecord prompt;
+    prompt.id = f.String(item, at, keys::kId);
+    prompt.at = f.String(item, at, keys::kAt);
+    prompt.text = f.String(item, at, keys::kText);
+    prompt.image_sha256 = f.String(item, at, keys::kImageSha256);
+    prompt.shown = ReadTimeStamp(f, item, at, keys::kShown);
+    prompt.answered = ReadTimeStamp(f, item, at, keys::kAnswered);
+    prompt.answer = f.String(item, at, keys::kAnswer);
+    if (!prompt.answer.empty() && prompt.answer != bench::kPromptConfirmed &&
+        prompt.answer != bench::kPromptAborted && prompt.answer != bench::kPromptInterrupted) {
+      f.Fail(
+          Join(at, keys::kAnswer),
+          "expected \"confirmed\", \"aborted\" or \"interrupted\", got \"" + prompt.answer + "\"");
+      return out;
+    }
+    prompt.by = f.String(item, at, keys::kBy);
+    prompt.how = f.String(item, at, keys::kHow);
+    prompt.reason = f.String(item, at, keys::kReason);
+    out.push_back(std::move(prompt));
+  }
+  return out;
+}
+
 // engineering.quantities[k].budget (absent: empty).
 std::vector<UncertaintyComponentRecord> ReadBudget(Fields& f, const json& quantity,
                                                    const std::string& at) {
@@ -700,6 +735,7 @@ std::expected<SessionRecord, SessionError> Type(Session&& base, const std::strin
     ReadRunDetails(f, runs[i], Index(keys::kRuns, i), run);
     record.runs.push_back(std::move(run));
   }
+  record.prompts = ReadPrompts(f, doc);
   record.outcome = ReadOutcome(f, doc);
   if (auto error = f.TakeError()) return std::unexpected(std::move(*error));
   record.document = std::move(base.document);

@@ -277,6 +277,50 @@ std::expected<void, RecordError> SessionRecorder::AppendCanFrames(
   return m.can_log->Append(frames);
 }
 
+std::expected<void, RecordError> SessionRecorder::BeginPrompt(const PromptShown& prompt) {
+  Impl& m = *impl_;
+  if (m.closed) return std::unexpected(m.WrongState("session is closed"));
+  if (m.open_run) return std::unexpected(m.WrongState("a prompt cannot open while a run is open"));
+  if (m.open_prompt) return std::unexpected(m.WrongState("another prompt is open"));
+  if (prompt.id.empty()) {
+    return std::unexpected(
+        RecordError{RecordErrorKind::kInvalidArgument, m.dir, "a prompt needs an id"});
+  }
+  namespace keys = session::keys;
+  json entry = json::object();
+  entry[keys::kId] = prompt.id;
+  entry[keys::kAt] = prompt.at;
+  entry[keys::kText] = prompt.text;
+  entry[keys::kImageSha256] =
+      prompt.image_sha256.empty() ? json(nullptr) : json(prompt.image_sha256);
+  entry[keys::kShown] = internal::TimeStampNow();
+  json& prompts = m.session.document[keys::kPrompts];
+  if (!prompts.is_array()) prompts = json::array();
+  prompts.push_back(std::move(entry));
+  m.open_prompt = prompts.size() - 1;
+  return m.WriteJson();
+}
+
+std::expected<void, RecordError> SessionRecorder::EndPrompt(const PromptAnswered& answer) {
+  Impl& m = *impl_;
+  if (!m.open_prompt) return std::unexpected(m.WrongState("no prompt is open"));
+  if (answer.answer != kPromptConfirmed && answer.answer != kPromptAborted &&
+      answer.answer != kPromptInterrupted) {
+    return std::unexpected(RecordError{RecordErrorKind::kInvalidArgument, m.dir,
+                                       "prompt answer '" + answer.answer + "' is not " +
+                                           kPromptConfirmed + ", " + kPromptAborted + " or " +
+                                           kPromptInterrupted});
+  }
+  namespace keys = session::keys;
+  json& entry = m.session.document[keys::kPrompts][*m.open_prompt];
+  entry[keys::kAnswer] = answer.answer;
+  entry[keys::kBy] = answer.by.empty() ? json(nullptr) : json(answer.by);
+  entry[keys::kHow] = answer.how.empty() ? json(nullptr) : json(answer.how);
+  entry[keys::kAnswered] = internal::TimeStampNow();
+  m.open_prompt.reset();
+  return m.WriteJson();
+}
+
 std::expected<void, RecordError> SessionRecorder::Close(const SessionOutcome& outcome) {
   Impl& m = *impl_;
   if (m.closed) return std::unexpected(m.WrongState("session is closed"));
@@ -290,6 +334,11 @@ std::expected<void, RecordError> SessionRecorder::Close(const SessionOutcome& ou
   auto keep = [&first_error](std::expected<void, RecordError> result) {
     if (!result && first_error) first_error = std::move(result);
   };
+  if (m.open_prompt) {
+    m.session.document[session::keys::kPrompts][*m.open_prompt][session::keys::kReason] =
+        outcome.reason;
+    keep(EndPrompt({.answer = kPromptInterrupted, .by = "", .how = ""}));
+  }
   if (m.open_run) {
     RunEnd aborted;
     aborted.status = kRunAborted;

@@ -26,6 +26,7 @@ class SessionRecorder::Impl {
   std::optional<CandumpLogWriter> can_log;
   std::optional<internal::RunCsvStream> stream;
   std::optional<int> open_run;
+  std::optional<std::size_t> open_prompt;  // index in document["prompts"]
   // Runs closed by an I/O failure, with the reason, for Close to record them as aborted.
   std::vector<std::pair<int, std::string>> failed_runs;
   bool closed = false;

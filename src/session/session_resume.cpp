@@ -122,6 +122,15 @@ std::expected<SessionRecorder, RecordError> SessionRecorder::OpenForResume(
     if (record.operator_name.empty()) doc[session::keys::kOperator] = operator_name;
   }
   if (doc.contains("outcome")) resumed["previous_outcome"] = doc["outcome"];
+  // A prompt the process died with open: said so, as a run left running becomes interrupted.
+  if (auto prompts = doc.find(session::keys::kPrompts);
+      prompts != doc.end() && prompts->is_array()) {
+    for (json& prompt : *prompts) {
+      if (!prompt.is_object() || prompt.contains(session::keys::kAnswer)) continue;
+      prompt[session::keys::kAnswer] = kPromptInterrupted;
+      prompt[session::keys::kReason] = "the process ended while it was open";
+    }
+  }
   doc["resumed_at"].push_back(std::move(resumed));
   doc.erase("outcome");
   doc.erase("ended");

@@ -89,6 +89,30 @@ struct CaptureCriteria {
   std::int64_t max_samples_lost = 0;   // samples missing per run
 };
 
+// [[prompts]]: what the operator must do at a point of the sequence (mount the unit, close the
+// lid, connect a cable), shown as a dialog on the panel or a line on the terminal and answered
+// "confirm" or "abort". While one is open the table is at zero rate and every gyro stopped; who
+// answered and when goes into the record (SessionRecorder::BeginPrompt/EndPrompt).
+enum class PromptPoint { kStart, kBeforeRun, kEnd };
+inline constexpr std::size_t kMaxPrompts = 64;
+// An image is shown beside the text (the panel embeds it in its event: kept small).
+inline constexpr std::uintmax_t kMaxPromptImageBytes = 256 * 1024;
+
+struct SequencePrompt {
+  std::string id;                        // unique in the sequence: what the answer names
+  PromptPoint at = PromptPoint::kStart;  // start: before the warm-up; end: after the last run
+  int before_run = 0;  // kBeforeRun: the run's id (its place in [[runs]], 1-based)
+  std::string text;
+  // Optional: a PNG, JPEG or SVG file in the sequence file's folder or below it (written relative
+  // to it; the config copy of a session holds it at the same place). Empty: none.
+  std::string image;                 // as written, relative
+  std::filesystem::path image_file;  // resolved against the sequence file's folder
+  std::string image_sha256;          // of the image's bytes, as loaded ("" without one)
+
+  // "start", "before run 3", "end": where it is asked, for the record and the operator.
+  std::string Where() const;
+};
+
 struct SequenceConfig {
   std::filesystem::path file;  // where it was loaded from
   std::string sha256_hex;      // SHA-256 of the file's bytes (recorded in the session)
@@ -100,7 +124,11 @@ struct SequenceConfig {
   WarmupCriteria warmup;
   DriftCriteria drift;
   CaptureCriteria capture;
-  std::vector<SequenceRun> runs;  // in order: run ids 1, 2, ...
+  std::vector<SequenceRun> runs;        // in order: run ids 1, 2, ...
+  std::vector<SequencePrompt> prompts;  // in file order; asked in that order at each point
+
+  // The prompts asked at `at` (before run `run_id` for kBeforeRun), in file order.
+  std::vector<const SequencePrompt*> PromptsAt(PromptPoint at, int run_id = 0) const;
 
   // The runs as the estimator's design (φ = 0; Ω is the table rate: add the Earth-rate part for a
   // plan that should match a real session).

@@ -248,6 +248,15 @@ struct OutcomeRecord {
   nlohmann::json verdict_json;
 };
 
+// prompts[i]: an operator prompt as shown and answered (session_record_types.hpp PromptShown,
+// PromptAnswered); answer "" while it was open (the process died with it open).
+struct PromptRecord {
+  std::string id, at, text, image_sha256;
+  std::optional<TimeStampRecord> shown, answered;
+  std::string answer;  // bench::kPromptConfirmed | kPromptAborted | kPromptInterrupted | ""
+  std::string by, how, reason;
+};
+
 struct SessionRecord {
   std::filesystem::path file;  // the session.json read ("" when read from a document)
   std::string format;          // session::kFormatName
@@ -276,6 +285,7 @@ struct SessionRecord {
   // fixture.position: the fitted position the unit sat in; "" when it was not on a fixture.
   std::string fixture_position;
   std::vector<RunRecord> runs;
+  std::vector<PromptRecord> prompts;     // in the order they were shown (resumes included)
   std::optional<OutcomeRecord> outcome;  // absent while running or after a crash
   nlohmann::json results;                // the upload mark; null when not uploaded
   nlohmann::json document;               // the whole session.json

@@ -13,7 +13,8 @@
 //   runs[] {id, file, omega_rad_s, status, plan {...}, start {...}, end {...}, attempts [...]},
 //   outcome {kind, exit_code, reason, failed_parameters [...], estimate {...}, verdict {...,
 //   decision {...}, retest, limits [{..., rule, zone, interval_min, ...}]}},
-//   resumed_at [...], results (the upload mark).
+//   resumed_at [...], prompts [{id, at, text, image_sha256, shown, answer, by, how, answered}],
+//   results (the upload mark).
 
 namespace hrgbench::session::keys {
 
@@ -58,6 +59,17 @@ inline constexpr const char* kRuns = "runs";
 inline constexpr const char* kOutcome = "outcome";
 inline constexpr const char* kResumedAt = "resumed_at";
 inline constexpr const char* kResults = "results";
+inline constexpr const char* kPrompts = "prompts";
+
+// An operator prompt (id, reason as above).
+inline constexpr const char* kAt = "at";
+inline constexpr const char* kText = "text";
+inline constexpr const char* kImageSha256 = "image_sha256";
+inline constexpr const char* kShown = "shown";
+inline constexpr const char* kAnswer = "answer";
+inline constexpr const char* kBy = "by";
+inline constexpr const char* kHow = "how";
+inline constexpr const char* kAnswered = "answered";
 
 // State values.
 inline constexpr const char* kStateRunning = "running";

@@ -149,6 +149,27 @@ struct RunEnd {
   std::uint64_t reference_phases_missing = 0;
 };
 
+// An operator prompt of the sequence (config/sequence_config.hpp SequencePrompt) as it was shown
+// (SessionRecorder::BeginPrompt: stamped "shown") and answered (EndPrompt: stamped "answered").
+struct PromptShown {
+  std::string id;            // the sequence's prompt id
+  std::string at;            // "start", "before run 3", "end"
+  std::string text;          // as shown
+  std::string image_sha256;  // of the image shown beside it; empty: none
+};
+
+// Answers in session.json: the operator confirmed it, or chose abort, or the prompt was still open
+// when the session stopped (an Abort, Ctrl-C, a fault).
+inline constexpr const char* kPromptConfirmed = "confirmed";
+inline constexpr const char* kPromptAborted = "aborted";
+inline constexpr const char* kPromptInterrupted = "interrupted";
+
+struct PromptAnswered {
+  std::string answer = kPromptConfirmed;  // one of the kPrompt* strings
+  std::string by;   // the operator who answered; empty when nobody did (interrupted)
+  std::string how;  // "panel", "terminal" or "auto" (`--prompts confirm`: no person answered)
+};
+
 // A run as the record holds it now (for resume and the progress display).
 struct RecordedRun {
   PlannedRun plan;

@@ -22,6 +22,8 @@
 //   "started": {"utc": "2024-05-01T12:00:00.123456Z", "monotonic_ns": N}, "ended": {...},
 //   "resumed_at": [{"utc", "monotonic_ns", "previous_state", "previous_outcome"}],
 //   "can_log": {"file": "can/session.log", "interface": "can0"},
+//   "prompts": [{"id", "at", "text", "image_sha256", "shown": {utc, monotonic_ns}, "answer",
+//                "by", "how", "answered": {...}, "reason" (interrupted only)}],
 //   "outcome": {"kind", "exit_code", "reason", "failed_parameters": [...], "estimate": {...}}
 //   runs[i]: "plan": {commanded_omega_rad_s, a, b, theta_rad, free_run_s, sample_rate_hz},
 //            "start": {RunStart fields, "utc"}, "end": {RunEnd fields, "samples", "utc"},
@@ -117,7 +119,16 @@ class SessionRecorder {
   // Hands raw CAN frames to the session's candump log (any time between Create and Close).
   std::expected<void, RecordError> AppendCanFrames(std::span<const LoggedCanFrame> frames);
 
-  // Ends the session: an open run is ended as "aborted" with the outcome's reason; the CAN log is
+  // An operator prompt: BeginPrompt appends {id, at, text, image_sha256, shown} to session.json's
+  // "prompts" (so a record of a process that died while the prompt was open shows it open);
+  // EndPrompt adds {answer, by, how, answered} to it. kWrongState when a run or another prompt is
+  // open (BeginPrompt) or none is (EndPrompt); kInvalidArgument for an empty id or an answer not
+  // one of the kPrompt* strings. Blocks on fsync.
+  std::expected<void, RecordError> BeginPrompt(const PromptShown& prompt);
+  std::expected<void, RecordError> EndPrompt(const PromptAnswered& answer);
+
+  // Ends the session: an open prompt is ended "interrupted" and an open run "aborted", both with
+  // the outcome's reason; the CAN log is
   // synced and closed; session.json gets "state": "closed", "ended" and "outcome". kInvalidArgument
   // (nothing written) when a non-PASS outcome has no reason. After Close (even a failed one) every
   // method but the accessors returns kWrongState.

@@ -2,6 +2,7 @@
 
 #include <signal.h>
 
+#include "app/fixture_session.hpp"
 #include "hrgbench/session/session_record.hpp"
 #include "hrgbench/session/session_record_keys.hpp"
 
@@ -54,13 +55,33 @@ std::optional<InterruptedSession> OpenSession(const std::filesystem::path& sessi
                                               const std::string& name, const std::string& ended) {
   const std::filesystem::path dir = sessions_dir / name;
   if (name.empty()) return std::nullopt;
-  // A fixture's folder has no session.json of its own: it does not read, and is not offered.
+  const std::string how = ended.empty() ? std::string("the session's process is gone") : ended;
+  if (IsFixtureFolder(dir)) {
+    const auto fixture = ReadFixtureRecord(dir);
+    if (!fixture) return std::nullopt;
+    InterruptedSession open;
+    open.session = name;
+    open.serial = "fixture";
+    std::string left;
+    for (const FixtureUnit& unit : fixture->units) {
+      open.units.emplace_back(unit.position, unit.serial);
+      const auto record = session::ReadSessionRecord(dir / unit.folder);
+      // No record yet (killed before it was written) or one still "running": this unit goes on.
+      if (!record || record->state == session::keys::kStateRunning)
+        left += (left.empty() ? "" : ", ") + unit.position + " " + unit.serial;
+    }
+    if (left.empty()) return std::nullopt;
+    open.reason = how + " before every unit's record was closed (" + left +
+                  "); a resume continues those units, keeping the completed runs and the other "
+                  "units' verdicts";
+    return open;
+  }
   const auto record = session::ReadSessionRecord(dir);
   if (!record || record->state != session::keys::kStateRunning) return std::nullopt;
   InterruptedSession open;
   open.session = name;
   open.serial = record->unit_serial;
-  open.reason = (ended.empty() ? std::string("the session's process is gone") : ended) +
+  open.reason = how +
                 " and left its record open (session.json says \"running\"); its completed runs "
                 "are kept and a resume continues with the rest";
   return open;

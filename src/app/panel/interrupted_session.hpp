@@ -7,8 +7,10 @@
 // rename), so a process that ended with the record still "running" was killed (kill -9, the OOM
 // killer) or exited without closing it (a full disk, a crash). A folder without a readable
 // session.json (killed before the record existed) has nothing to resume and is not offered.
-// A fixture folder (fixture.json, several units) is not a panel session: the panel starts one
-// unit at a time.
+// A fixture's folder (fixture.json, one folder per unit) is open when the fixture's process was
+// killed before every unit's record was closed: a unit whose session.json says "running", or
+// which has none yet (killed before it was written); `hrg-bench resume` continues those units and
+// keeps the verdicts of the others.
 //
 // Files only, no state: thread-safe. The folder is named by the caller (a name the panel chose,
 // or one checked with IsSessionName); nothing here takes a path from a request.
@@ -17,13 +19,17 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hrgbench::app {
 
 struct InterruptedSession {
   std::string session;  // the folder's name in the sessions folder
-  std::string serial;   // the record's unit.serial
-  std::string reason;   // for the operator: how the process ended, and that the record is open
+  std::string serial;   // the record's unit.serial; "fixture" for a fixture's folder
+  // A fixture's units (position, serial), for the page; empty for a session of one unit.
+  std::vector<std::pair<std::string, std::string>> units;
+  std::string reason;  // for the operator: how the process ended, and that the record is open
 };
 
 // How a session's process ended, in words: `exit` is SessionProcess's {"exit_code": n} or

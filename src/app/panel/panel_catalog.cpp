@@ -81,12 +81,22 @@ std::expected<PanelCatalog, std::string> LoadPanelCatalog(const fs::path& statio
                       {"theta_rad", run.theta_rad},
                       {"free_run_s", run.free_run_s},
                       {"sample_rate_hz", run.sample_rate_hz}});
+    // The operator's own steps, where they come (the page places them in the plan).
+    nlohmann::json prompts = nlohmann::json::array();
+    for (const bench::SequencePrompt& prompt : seq.prompts)
+      prompts.push_back({{"id", prompt.id},
+                         {"at", prompt.at == bench::PromptPoint::kStart       ? "start"
+                                : prompt.at == bench::PromptPoint::kBeforeRun ? "before_run"
+                                                                              : "end"},
+                         {"run", prompt.before_run},
+                         {"text", prompt.text}});
     const nlohmann::json plan = {{"warmup",
                                   {{"min_s", seq.warmup.min_s},
                                    {"window_s", seq.warmup.window_s},
                                    {"max_drift_c", seq.warmup.max_drift_c},
                                    {"timeout_s", seq.warmup.timeout_s}}},
-                                 {"runs", std::move(runs)}};
+                                 {"runs", std::move(runs)},
+                                 {"prompts", std::move(prompts)}};
     catalog.sequences.push_back({file, seq.name, text, plan});
   }
   if (catalog.sequences.empty())

@@ -137,7 +137,9 @@ std::expected<std::string, std::string> ReadBounded(const fs::path& file, std::u
 // threads, the event stream on the bounded stream threads.
 Lane ClassifyRequest(std::string_view method, std::string_view path) {
   if (method == "POST" && path == "/api/abort") return Lane::kAbort;
-  if ((method == "POST" && (path == "/api/start" || path == "/api/resume")) || path == "/api/state")
+  if ((method == "POST" &&
+       (path == "/api/start" || path == "/api/resume" || path == "/api/prompt")) ||
+      path == "/api/state")
     return Lane::kControl;
   if (path == "/api/events") return Lane::kStream;
   return Lane::kGeneral;
@@ -198,6 +200,11 @@ class Panel {
       if (!ReadBody(res, reader)) return;
       if (auto refused = process_.Abort()) return Error(res, 409, *refused);
       res.set_content(R"({"aborting":true})", "application/json");
+    });
+    server.Post("/api/prompt", [this](const httplib::Request&, httplib::Response& res,
+                                      const httplib::ContentReader& reader) {
+      const auto body = ReadBody(res, reader);
+      if (body) AnswerPrompt(*body, res);
     });
     server.Get(R"(/sessions/([^/]+)/report/([^/]+))",
                [this](const httplib::Request& req, httplib::Response& res) {
@@ -367,6 +374,31 @@ class Panel {
     return body;
   }
 
+  // {"id", "answer": "confirm" | "abort", "operator"}: the open prompt answered by the operator
+  // at the page (recorded as who answered it, so the operator is required as for a start).
+  void AnswerPrompt(const std::string& text, httplib::Response& res) {
+    const nlohmann::json body = nlohmann::json::parse(text, nullptr, false);
+    if (body.is_discarded() || !body.is_object())
+      return Error(res, 400, "the request is not a JSON object");
+    for (const auto& [key, value] : body.items())
+      if (key != "id" && key != "answer" && key != "operator")
+        return Error(
+            res, 400,
+            "unknown field \"" + key.substr(0, 32) + "\": expected id, answer and operator");
+    const std::string id = StringField(body, "id");
+    const std::string answer = StringField(body, "answer");
+    if (id.empty()) return Error(res, 400, "id: the prompt's id is required");
+    if (answer != "confirm" && answer != "abort")
+      return Error(res, 400, "answer: \"confirm\" or \"abort\"");
+    const std::string operator_id = StringField(body, "operator");
+    if (auto problem = OperatorProblem(operator_id))
+      return Error(res, 400,
+                   "operator: " + *problem + " (enter or scan your operator id once per shift)");
+    if (auto refused = process_.AnswerPrompt(id, answer == "confirm", operator_id))
+      return Error(res, 409, *refused);
+    res.set_content(R"({"answered":true})", "application/json");
+  }
+
   // {"serial" | "serials", "sequence", "limits", "operator"}: one unit ("serial"), or a fixture
   // station's units by position ("serials": {POSITION: SERIAL}, every fitted position named, ""
   // for one left empty on purpose). Everything the child would refuse is refused here first
@@ -534,6 +566,7 @@ class Panel {
     }
     launch.operator_id = operator_id;
     launch.serial = open->serial;
+    launch.units = open->units;  // a fixture's: the page shows each unit again
     // The names the page showed for it, when it was the panel's own; the record keeps the rest.
     const bool same = StringField(last, "session") == name;
     launch.sequence = same ? StringField(last, "sequence") : "";

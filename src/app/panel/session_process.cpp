@@ -52,17 +52,21 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     ::close(fds[1]);
     return std::string("cannot start: pipe: ") + std::strerror(errno);
   }
+  int answers[2];
+  if (::pipe2(answers, O_CLOEXEC) != 0) {
+    for (const int f : {fds[0], fds[1], err[0], err[1]}) ::close(f);
+    return std::string("cannot start: pipe: ") + std::strerror(errno);
+  }
   std::vector<std::string> args = launch.arguments;
   args.insert(args.begin(), launch.program);
+  args.emplace_back("--prompts");
+  args.emplace_back("fd:4");
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    ::close(err[0]);
-    ::close(err[1]);
+    for (const int f : {fds[0], fds[1], err[0], err[1], answers[0], answers[1]}) ::close(f);
     return std::string("cannot start: fork: ") + std::strerror(errno);
   }
   if (pid == 0) {
@@ -74,6 +78,7 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     // session once; reaching both, the session would see two interrupts (exit without a safe stop).
     ::setpgid(0, 0);
     ::dup2(fds[1], 3);
+    ::dup2(answers[0], 4);  // the operator's answers to its prompts
     ::dup2(err[1], STDERR_FILENO);
     const int null = ::open("/dev/null", O_RDONLY);
     if (null >= 0) ::dup2(null, STDIN_FILENO);
@@ -84,12 +89,16 @@ std::optional<std::string> SessionProcess::Start(const SessionLaunch& launch) {
     sigaddset(&interrupts, SIGTERM);
     ::sigprocmask(SIG_BLOCK, &interrupts, nullptr);
     // Nothing of the panel's (its listening socket, the browsers' connections) in the session.
-    for (int f = 4; f < 1024; ++f) ::close(f);
+    for (int f = 5; f < 1024; ++f) ::close(f);
     ::execv(argv[0], argv.data());
     std::_Exit(127);
   }
   ::close(fds[1]);
   ::close(err[1]);
+  ::close(answers[0]);
+  answers_fd_ = answers[1];
+  open_prompt_.clear();
+  prompt_answered_ = false;
   pid_ = pid;
   running_ = true;
   aborting_ = false;
@@ -120,6 +129,26 @@ std::optional<std::string> SessionProcess::Abort() {
   ::kill(pid_, SIGINT);
   spdlog::info("panel: session {} aborted by the operator", launch_.session_name);
   Keep(nlohmann::json({{"type", "panel_abort"}, {"session", launch_.session_name}}).dump());
+  return std::nullopt;
+}
+
+std::optional<std::string> SessionProcess::AnswerPrompt(const std::string& id, bool confirm,
+                                                        const std::string& by) {
+  const std::lock_guard lock(mutex_);
+  if (!running_ || answers_fd_ < 0) return "no session is running";
+  if (open_prompt_.empty()) return "no operator prompt is open";
+  if (id != open_prompt_)
+    return "prompt '" + id.substr(0, 64) + "' is not open (the open one is '" + open_prompt_ + "')";
+  if (prompt_answered_) return "prompt '" + id + "' was answered already";
+  const std::string line =
+      nlohmann::json({{"id", id}, {"answer", confirm ? "confirm" : "abort"}, {"by", by}}).dump() +
+      "\n";
+  // A few hundred bytes into a pipe the child drains: never blocks (PIPE_BUF is atomic).
+  const ssize_t written = ::write(answers_fd_, line.data(), line.size());
+  if (written != static_cast<ssize_t>(line.size()))
+    return std::string("cannot pass the answer to the session: ") + std::strerror(errno);
+  prompt_answered_ = true;
+  spdlog::info("panel: prompt '{}' answered {} by {}", id, confirm ? "confirm" : "abort", by);
   return std::nullopt;
 }
 
@@ -202,6 +231,14 @@ void SessionProcess::ReadEvents(int fd, int err_fd, pid_t pid) {
       if (parsed.is_discarded() || !parsed.is_object()) continue;
       if (parsed.contains("type") && parsed["type"] == "outcome") saw_outcome = true;
       const std::lock_guard lock(mutex_);
+      if (parsed.contains("type") && parsed["type"] == "prompt") {
+        open_prompt_ = parsed.contains("id") && parsed["id"].is_string()
+                           ? parsed["id"].get<std::string>()
+                           : std::string();
+        prompt_answered_ = false;
+      } else if (parsed.contains("type") && parsed["type"] == "prompt_answered") {
+        open_prompt_.clear();
+      }
       Keep(std::move(line));
     }
     pending.erase(0, start);
@@ -231,6 +268,9 @@ void SessionProcess::ReadEvents(int fd, int err_fd, pid_t pid) {
   exit_ = exit_event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   running_ = false;
   pid_ = -1;
+  if (answers_fd_ >= 0) ::close(answers_fd_);
+  answers_fd_ = -1;
+  open_prompt_.clear();
   spdlog::info("panel: session {} ended ({})", launch_.session_name,
                exit_.size() > 200 ? exit_.substr(0, 200) : exit_);
 }
@@ -243,16 +283,18 @@ bool SessionProcess::Running() const {
 std::string SessionProcess::StatusJson() const {
   const std::lock_guard lock(mutex_);
   if (!have_session_) return "null";
-  return nlohmann::json({{"running", running_},
-                         {"aborting", aborting_},
-                         {"exit", running_ ? nlohmann::json() : nlohmann::json::parse(exit_)},
-                         {"unit", launch_.serial},
-                         {"sequence", launch_.sequence},
-                         {"limits", launch_.limits},
-                         {"session", launch_.session_name},
-                         {"resume", launch_.resume},
-                         {"operator", launch_.operator_id},
-                         {"units", UnitsJson(launch_)}})
+  return nlohmann::json(
+             {{"running", running_},
+              {"aborting", aborting_},
+              {"exit", running_ ? nlohmann::json() : nlohmann::json::parse(exit_)},
+              {"unit", launch_.serial},
+              {"sequence", launch_.sequence},
+              {"limits", launch_.limits},
+              {"session", launch_.session_name},
+              {"resume", launch_.resume},
+              {"operator", launch_.operator_id},
+              {"units", UnitsJson(launch_)},
+              {"prompt", open_prompt_.empty() ? nlohmann::json() : nlohmann::json(open_prompt_)}})
       .dump();
 }
 

@@ -6,6 +6,10 @@
 // ends without an outcome (a refusal, exit code 4, or a crash) its last lines go to the page in
 // panel_exit's "error", so no start failure is said only in the server's log.
 //
+// Operator prompts: the child is started with --prompts fd:4, a pipe whose write end the panel
+// keeps; its "prompt" and "prompt_answered" events say which prompt is open, and AnswerPrompt
+// writes the answer a browser gave ({"id", "answer", "by"}, one line).
+//
 // Why a child process: Abort is then exactly what Ctrl-C does (SIGINT: table to zero, gyro safe,
 // record closed ABORTED), a crash of the session cannot take the panel down, and the panel never
 // touches the hardware itself. The child's stdout and stderr are the panel's stderr.
@@ -68,10 +72,16 @@ class SessionProcess {
   std::optional<std::string> Start(const SessionLaunch& launch);
   // SIGINT to the running child, once. Fails when none is running or it is already stopping.
   std::optional<std::string> Abort();
+  // The answer to the operator prompt the child has open ("confirm" or "abort", by `by`), written
+  // to its answer pipe (the child runs with --prompts fd:4). Fails when no session runs, no
+  // prompt or another one is open, or this one was answered already.
+  std::optional<std::string> AnswerPrompt(const std::string& id, bool confirm,
+                                          const std::string& by);
 
   bool Running() const;
   // The current (or last) session: {running, aborting, exit, unit, sequence, limits, session,
-  // resume, operator, units} or null; `exit` is null while it runs, then how the child ended:
+  // resume, operator, units, prompt (the open prompt's id or null)} or null; `exit` is null while
+  // it runs, then how the child ended:
   // {"exit_code": n} or
   // {"signal": n} (killed: its record may still say "running"; interrupted_session.hpp).
   std::string StatusJson() const;
@@ -97,6 +107,9 @@ class SessionProcess {
   std::vector<KeptEvent> events_;
   std::uint64_t next_id_ = 1;
   std::thread reader_;
+  int answers_fd_ = -1;      // the write end of the child's fd 4; -1 when none runs
+  std::string open_prompt_;  // the child's open prompt (its "prompt" event); "" when none
+  bool prompt_answered_ = false;
 };
 
 }  // namespace hrgbench::app

@@ -1,6 +1,10 @@
 #include "hrgbench/bench/events/session_events.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "hrgbench/analysis/verdict_json.hpp"
 
@@ -16,6 +20,41 @@ nlohmann::json Event(const char* type) {
   nlohmann::json event = nlohmann::json::object();
   event["type"] = type;
   return event;
+}
+
+// A prompt's image as a data: URI, so the page needs no second request to a file the panel would
+// have to be allowed to serve. The loader bounded its size; read again with the same bound (the
+// file may have changed since). null when there is none or it cannot be read.
+nlohmann::json ImageDataUri(const std::filesystem::path& file) {
+  if (file.empty()) return nullptr;
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes;
+  bytes.resize(static_cast<std::size_t>(kMaxPromptImageBytes) + 1);
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const auto got = static_cast<std::size_t>(in.gcount());
+  if (got == 0 || got > kMaxPromptImageBytes) return nullptr;
+  bytes.resize(got);
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const char* mime = extension == ".png"   ? "image/png"
+                     : extension == ".svg" ? "image/svg+xml"
+                                           : "image/jpeg";
+  static constexpr char kDigits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string uri = std::string("data:") + mime + ";base64,";
+  uri.reserve(uri.size() + (got + 2) / 3 * 4);
+  for (std::size_t i = 0; i < got; i += 3) {
+    const auto byte = [&](std::size_t k) {
+      return k < got ? static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[k])) : 0u;
+    };
+    const std::uint32_t triple = byte(i) << 16 | byte(i + 1) << 8 | byte(i + 2);
+    uri += kDigits[triple >> 18 & 63];
+    uri += kDigits[triple >> 12 & 63];
+    uri += i + 1 < got ? kDigits[triple >> 6 & 63] : '=';
+    uri += i + 2 < got ? kDigits[triple & 63] : '=';
+  }
+  return uri;
 }
 
 }  // namespace
@@ -79,6 +118,22 @@ void SessionEventPublisher::Attach(RunnerOptions& options) {
   options.on_run_end = [this, run_end](int run_id, const RunEnd& end, std::uint64_t n) {
     if (run_end) run_end(run_id, end, n);
     OnRunEnd(run_id, end, n);
+  };
+  auto prompt = options.on_prompt;
+  options.on_prompt = [this, prompt](const PromptRequest& request, const PromptReply* reply) {
+    if (prompt) prompt(request, reply);
+    nlohmann::json event = Event(reply == nullptr ? "prompt" : "prompt_answered");
+    event["id"] = request.id;
+    if (reply == nullptr) {
+      event["at"] = request.at;
+      event["text"] = request.text;
+      event["image"] = ImageDataUri(request.image_file);
+    } else {
+      event["answer"] = reply->confirmed ? "confirm" : "abort";
+      event["by"] = reply->by;
+      event["how"] = reply->how;
+    }
+    stream_.Publish(std::move(event));
   };
 }
 

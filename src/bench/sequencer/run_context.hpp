@@ -78,6 +78,9 @@ struct SessionContext {
 };
 
 StepOutcome WaitForWarmup(SessionContext& ctx);
+// The sequence's operator prompts at `at` (before run `run_id` for kBeforeRun), in file order
+// (prompt_step.cpp).
+StepOutcome AskOperator(SessionContext& ctx, PromptPoint at, int run_id = 0);
 StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id);
 
 // Puts the table in its safe state (zero rate) and every gyro in its own (stopped). Never throws.

@@ -33,6 +33,14 @@ std::expected<std::vector<std::pair<std::string, std::string>>, std::string> Con
     if (!text) return std::unexpected(text.error());
     copies.emplace_back(std::string("config/") + name, std::move(*text));
   }
+  // A prompt's image sits where the sequence names it, relative to the sequence (the loader allows
+  // no way out of its folder), so the copy beside config/sequence.toml loads as the original did.
+  for (const SequencePrompt& prompt : configs.sequence.prompts) {
+    if (prompt.image.empty()) continue;
+    auto bytes = ReadAll(prompt.image_file);
+    if (!bytes) return std::unexpected(bytes.error());
+    copies.emplace_back("config/" + prompt.image, std::move(*bytes));
+  }
   // A relative [results] url was resolved against the station file's folder, which the copy in
   // config/ no longer sits in: the resolved URL goes beside it, for resume's upload.
   if (configs.station.results_url_relative)
@@ -47,6 +55,8 @@ std::expected<void, std::string> SaveConfigs(const BenchConfigs& configs,
   if (auto made = session::CreateDirectoriesDurably(dir / "config"); !made)
     return std::unexpected(made.error().ToString());
   for (const auto& [relative, text] : *copies) {
+    if (auto made = session::CreateDirectoriesDurably((dir / relative).parent_path()); !made)
+      return std::unexpected(made.error().ToString());
     if (auto written = session::WriteFileAtomic(dir / relative, text); !written)
       return std::unexpected(written.error().ToString());
   }

@@ -245,18 +245,22 @@ std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int
   ctx.run_count = static_cast<int>(ids.size());
   for (int id : ids)
     ctx.remaining_free_run_s += seq.runs[static_cast<std::size_t>(id - 1)].free_run_s;
-  StepOutcome step = warm_up ? internal::WaitForWarmup(ctx) : StepOutcome::Ok();
+  // The start's prompts come first: "mount the unit" is before the unit can warm up.
+  StepOutcome step = internal::AskOperator(ctx, PromptPoint::kStart);
+  if (step.ok() && warm_up) step = internal::WaitForWarmup(ctx);
   for (std::size_t i = 0; i < ids.size() && step.ok() && ctx.LiveUnits() > 0; ++i) {
     ctx.run_index = static_cast<int>(i) + 1;
     const SequenceRun& run = seq.runs[static_cast<std::size_t>(ids[i] - 1)];
     bool needed = false;
     for (const UnitLane& lane : ctx.lanes) needed = needed || lane.Takes(ids[i]);
     if (needed) {
-      step = internal::RunOne(ctx, run, ids[i]);
+      step = internal::AskOperator(ctx, PromptPoint::kBeforeRun, ids[i]);
+      if (step.ok()) step = internal::RunOne(ctx, run, ids[i]);
     } else {
       ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
     }
   }
+  if (step.ok() && ctx.LiveUnits() > 0) step = internal::AskOperator(ctx, PromptPoint::kEnd);
   if (step.ok()) {
     if (ctx.LiveUnits() > 0) {
       // Normal end: bring the table to rest before the (long) estimates, the logs complete first.
@@ -346,9 +350,14 @@ std::vector<SessionResult> RefuseAll(const BenchHardware& hw, const std::vector<
   return results;
 }
 
-std::optional<std::string> HardwareProblem(const BenchHardware& hw,
-                                           const std::vector<UnitSession>& units) {
+std::optional<std::string> StartProblem(const BenchConfigs& configs, const BenchHardware& hw,
+                                        const std::vector<UnitSession>& units,
+                                        const RunnerOptions& options) {
   if (hw.units.empty()) return "no unit on the table";
+  // Refused before anything moves: the first prompt would otherwise stop a running session.
+  if (!configs.sequence.prompts.empty() && options.prompts == nullptr)
+    return configs.sequence.file.string() + ": " + std::to_string(configs.sequence.prompts.size()) +
+           " operator prompt(s) ([[prompts]]) and nothing to answer them";
   if (units.size() != hw.units.size())
     return std::to_string(units.size()) + " unit session(s) for " +
            std::to_string(hw.units.size()) + " fitted position(s)";
@@ -424,7 +433,8 @@ std::optional<std::string> ClearUnstartedFolder(const std::filesystem::path& dir
 std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchHardware& hw,
                                        const std::vector<UnitSession>& units,
                                        const RunnerOptions& options) {
-  if (auto problem = HardwareProblem(hw, units)) return RefuseAll(hw, units, *problem);
+  if (auto problem = StartProblem(configs, hw, units, options))
+    return RefuseAll(hw, units, *problem);
   const ClockAttachment attached(*hw.clock);
   const std::string realtime_status = ProbeRealtime(configs.station.realtime);
   std::vector<SessionRecorder> recorders;
@@ -471,7 +481,8 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
 std::vector<SessionResult> ResumeSessions(const BenchConfigs& configs, const BenchHardware& hw,
                                           const std::vector<UnitSession>& units,
                                           const RunnerOptions& options) {
-  if (auto problem = HardwareProblem(hw, units)) return RefuseAll(hw, units, *problem);
+  if (auto problem = StartProblem(configs, hw, units, options))
+    return RefuseAll(hw, units, *problem);
   const ClockAttachment attached(*hw.clock);
   std::vector<SessionRecorder> recorders;
   recorders.reserve(units.size());

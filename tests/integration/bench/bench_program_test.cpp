@@ -956,3 +956,87 @@ TEST(BenchProgram, TheOperatorIsRecordedByRunFixtureAndResume) {
   EXPECT_FALSE(fs::exists(work / "refused"));
   fs::remove_all(work);
 }
+
+namespace {
+
+// ShortSequence with the operator's two steps of the production sequence.
+fs::path ShortSequenceWithPrompts(const fs::path& work) {
+  const fs::path path = ShortSequence(work);
+  std::ofstream(path, std::ios::app)
+      << "\n[[prompts]]\nid = \"mount\"\nat = \"start\"\ntext = \"Mount the unit.\"\n"
+         "\n[[prompts]]\nid = \"remove\"\nat = \"end\"\ntext = \"Take it off.\"\n";
+  return path;
+}
+
+}  // namespace
+
+// Issue 26 §1: a sequence with prompts and nobody to answer them is refused before anything
+// starts (stdin is not a terminal), naming what to do; a bad --prompts is refused too.
+TEST(BenchProgram, PromptsWithNobodyToAnswerThemAreRefusedBeforeAnythingStarts) {
+  const fs::path work = FreshDir("prompts-refused");
+  fs::create_directories(work);
+  const std::string run =
+      "run --station " + StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
+      ShortSequenceWithPrompts(work).string() + " --serial SN-PR -o " + (work / "s").string();
+  const Output nobody = RunBench(run + " < /dev/null");
+  EXPECT_EQ(nobody.exit_code, 4) << nobody.out;
+  EXPECT_NE(nobody.out.find("2 operator prompt(s) ([[prompts]]) and no terminal to answer them on: "
+                            "run it on a terminal, from the panel, or with --prompts confirm"),
+            std::string::npos)
+      << nobody.out;
+  EXPECT_FALSE(fs::exists(work / "s"));
+  const Output bogus = RunBench(run + " --prompts sometimes < /dev/null");
+  EXPECT_EQ(bogus.exit_code, 4) << bogus.out;
+  EXPECT_NE(bogus.out.find("--prompts: expected terminal, confirm or fd:N, got 'sometimes'"),
+            std::string::npos)
+      << bogus.out;
+  const Output closed = RunBench(run + " --prompts fd:57 < /dev/null");
+  EXPECT_EQ(closed.exit_code, 4) << closed.out;
+  EXPECT_NE(closed.out.find("file descriptor 57 is not open"), std::string::npos) << closed.out;
+  EXPECT_FALSE(fs::exists(work / "s"));
+  fs::remove_all(work);
+}
+
+// --prompts confirm: every prompt answered at once and recorded as answered by nobody ("auto");
+// --prompts fd:N: JSON lines, an answer to another prompt ignored, recorded with who answered.
+TEST(BenchProgram, PromptsAnsweredAutomaticallyOrFromAPipeAreRecordedWithWhoAndHow) {
+  const fs::path work = FreshDir("prompts-answered");
+  fs::create_directories(work);
+  const std::string run = "run --station " +
+                          StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
+                          ShortSequenceWithPrompts(work).string() + " --serial SN-PA";
+  const Output automatic =
+      RunBenchWith(kNoPdf, run + " -o " + (work / "auto").string() + " --prompts confirm");
+  EXPECT_NE(automatic.exit_code, 4) << automatic.out;
+  EXPECT_NE(automatic.exit_code, 3) << automatic.out;
+  auto record = hrgbench::session::ReadSessionRecord(work / "auto");
+  ASSERT_TRUE(record.has_value()) << record.error().ToString();
+  ASSERT_EQ(record->prompts.size(), 2u);
+  for (const hrgbench::session::PromptRecord& prompt : record->prompts) {
+    EXPECT_EQ(prompt.answer, "confirmed");
+    EXPECT_EQ(prompt.how, "auto");
+    EXPECT_EQ(prompt.by, "");
+  }
+
+  std::ofstream(work / "answers.jsonl") << R"({"id":"remove","answer":"confirm","by":"OP-EARLY"})"
+                                        << "\n"
+                                        << R"({"id":"mount","answer":"confirm","by":"OP-P"})"
+                                        << "\n"
+                                        << R"({"id":"remove","answer":"abort","by":"OP-Q"})"
+                                        << "\n";
+  const Output piped = RunBenchWith(kNoPdf, run + " -o " + (work / "piped").string() +
+                                                " --operator OP-P --prompts fd:5 5< " +
+                                                (work / "answers.jsonl").string());
+  EXPECT_EQ(piped.exit_code, 3) << piped.out;  // the last answer aborts
+  EXPECT_NE(piped.out.find("answer ignored (open prompt 'mount')"), std::string::npos) << piped.out;
+  record = hrgbench::session::ReadSessionRecord(work / "piped");
+  ASSERT_TRUE(record.has_value()) << record.error().ToString();
+  ASSERT_EQ(record->prompts.size(), 2u);
+  EXPECT_EQ(record->prompts[0].by, "OP-P");
+  EXPECT_EQ(record->prompts[0].how, "panel");
+  EXPECT_EQ(record->prompts[1].answer, "aborted");
+  EXPECT_EQ(record->prompts[1].by, "OP-Q");
+  ASSERT_TRUE(record->outcome.has_value());
+  EXPECT_EQ(record->outcome->reason, "aborted by OP-Q at prompt 'remove'");
+  fs::remove_all(work);
+}

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -47,6 +48,17 @@ inline std::optional<bench::BenchConfigs> OpenShippedStation(
   return std::move(*configs);
 }
 
+// Answers every operator prompt at once (the shipped production sequence has two), as
+// `hrg-bench run --prompts confirm` does; counts what it was shown.
+class ConfirmEveryPrompt final : public bench::PromptAnswers {
+ public:
+  void Show(const bench::PromptRequest& prompt) override { shown.push_back(prompt.id); }
+  std::optional<bench::PromptReply> Wait(std::chrono::milliseconds) override {
+    return bench::PromptReply{true, "test", "auto"};
+  }
+  std::vector<std::string> shown;
+};
+
 struct BenchRun {
   bench::SessionResult result;
   std::filesystem::path dir;
@@ -63,8 +75,9 @@ inline BenchRun RunOnSimulatedStation(
     const std::function<void(bench::BenchConfigs&)>& edit = {},
     const std::function<bool(const bench::Progress&)>& interrupt_when = {},
     const std::function<std::unique_ptr<hw::RateTable>(hw::RateTable&)>& wrap_table = {},
-    const std::string& station_file = "station-sim.toml") {
+    const std::string& station_file = "station-sim.toml", bench::PromptAnswers* prompts = nullptr) {
   BenchRun run;
+  ConfirmEveryPrompt confirm;
   auto configs = OpenShippedStation(station_file, sequence, limits, edit, run.station);
   if (!configs) return run;
   std::atomic<int> interrupts{0};
@@ -76,6 +89,7 @@ inline BenchRun RunOnSimulatedStation(
   options.on_progress = [&](const bench::Progress& p) {
     if (interrupt_when && interrupt_when(p)) interrupts = 1;
   };
+  options.prompts = prompts != nullptr ? prompts : &confirm;
   run.dir = FreshDir("session");
   bench::BenchHardware hardware = run.station->hardware();
   if (wrap_table) {
@@ -98,8 +112,10 @@ inline FixtureRun RunFixtureOnSimulatedStation(
     const std::string& sequence, const std::string& limits,
     const std::function<void(bench::BenchConfigs&)>& edit = {},
     const std::function<bool(const bench::Progress&)>& interrupt_when = {},
-    const std::string& station_file = "station-sim-fixture.toml") {
+    const std::string& station_file = "station-sim-fixture.toml",
+    bench::PromptAnswers* prompts = nullptr) {
   FixtureRun run;
+  ConfirmEveryPrompt confirm;
   auto configs = OpenShippedStation(station_file, sequence, limits, edit, run.station);
   if (!configs) return run;
   const std::filesystem::path fixture = FreshDir("fixture");
@@ -120,6 +136,7 @@ inline FixtureRun RunFixtureOnSimulatedStation(
   options.on_progress = [&](const bench::Progress& p) {
     if (interrupt_when && interrupt_when(p)) interrupts = 1;
   };
+  options.prompts = prompts != nullptr ? prompts : &confirm;
   run.results = bench::RunSessions(*configs, hardware, units, options);
   return run;
 }

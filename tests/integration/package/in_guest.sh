@@ -115,6 +115,20 @@ get -o "$out/start.json" -H 'Content-Type: application/json' -H "Origin: $base" 
   --data "{\"operator\": \"OP-PKG\", \"serial\": \"SIM-0001\", \"sequence\": $sequence, \"limits\": $limits}" "$base/api/start"
 session=$(json 'd.get("session", "")' <"$out/start.json" 2>/dev/null)
 require "POST /api/start starts a session ($(cat "$out/start.json"))" [ -n "$session" ]
+# The production sequence's operator steps (mount, remove): answered as the panel's dialog does.
+prompt_open() {  # prompt_open ID: the session waits for the operator at prompt ID
+  get "$base/api/state" | python3 -c "
+import json, sys; s = json.load(sys.stdin)['session']
+sys.exit(0 if s and s.get('prompt') == '$1' else 1)"
+}
+answer_prompt() {  # answer_prompt ID
+  wait_for 300 prompt_open "$1" &&
+    get -f -o /dev/null -H 'Content-Type: application/json' -H "Origin: $base" \
+      --data "{\"id\": \"$1\", \"answer\": \"confirm\", \"operator\": \"OP-PKG\"}" \
+      "$base/api/prompt"
+}
+check "the operator's first prompt (mount) is confirmed from the panel" answer_prompt mount
+check "the operator's last prompt (remove) is confirmed from the panel" answer_prompt remove
 session_over() {
   get "$base/api/state" | python3 -c "
 import json, sys; s = json.load(sys.stdin)['session']
@@ -131,6 +145,10 @@ check "the session's record and report are in the state folder, owned by hrgbenc
 check "the report's PDF was printed by Chromium inside the service" [ -s "$dir/report/report.pdf" ]
 check "the session is in the SQLite store in the state folder" sh -c "
   [ \"\$(sqlite3 /var/lib/hrgbench/results.sqlite 'select count(*) from session')\" = 1 ]"
+check "the record says who confirmed each prompt" python3 -c "
+import json; p = json.load(open('$dir/session.json')).get('prompts') or []
+assert [(x['id'], x['answer'], x['by'], x['how']) for x in p] == [
+    ('mount', 'confirmed', 'OP-PKG', 'panel'), ('remove', 'confirmed', 'OP-PKG', 'panel')], p"
 check "the store names the operator who started it" sh -c "
   [ \"\$(sqlite3 /var/lib/hrgbench/results.sqlite 'select operator from session')\" = OP-PKG ]"
 check "GET the session's report over the panel" \

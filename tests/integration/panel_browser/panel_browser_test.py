@@ -145,8 +145,25 @@ default_limits = "limits-example.toml"
 """
 
 
+# The operator's steps of a fixture (issue 26 §1): mounting before the warm-up (with a picture),
+# taking the units off after the last run.
+PROMPTS = """
+[[prompts]]
+id = "mount"
+at = "start"
+text = "Mount the four units and close the lid."
+image = "pictures/lid.svg"
+[[prompts]]
+id = "remove"
+at = "end"
+text = "Open the lid and take the units off."
+"""
+LID_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60">'
+           '<rect x="5" y="5" width="110" height="50" fill="#e08a00"/></svg>')
+
+
 def WriteConfigs(source: Path, folder: Path, shipped: str = "station-sim.toml",
-                 offers: str = kOffers) -> Path:
+                 offers: str = kOffers, prompts: bool = False) -> Path:
     """The station (paced 4x) and what it offers: sequence-short (3 x 4 s), sequence-long (3 x 40 s,
     for abort and two browsers), the example limits."""
     folder.mkdir(parents=True)
@@ -158,7 +175,11 @@ def WriteConfigs(source: Path, folder: Path, shipped: str = "station-sim.toml",
     assert shipped_store in station, "station-sim.toml's [results] url changed"
     station = station.replace(shipped_store, f'url = "sqlite://{folder / "results.sqlite"}"')
     (folder / "station-panel.toml").write_text(station)
-    (folder / "sequence-short.toml").write_text(SHORT.replace("FREE_RUN", "4.0"))
+    (folder / "sequence-short.toml").write_text(
+        SHORT.replace("FREE_RUN", "4.0") + (PROMPTS if prompts else ""))
+    if prompts:
+        (folder / "pictures").mkdir()
+        (folder / "pictures" / "lid.svg").write_text(LID_SVG)
     (folder / "sequence-long.toml").write_text(
         SHORT.replace("FREE_RUN", "40.0").replace("panel-short", "panel-long"))
     shutil.copy(source / "bench_configs" / "limits-example.toml", folder / "limits-example.toml")
@@ -499,7 +520,8 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
     four serials scanned (Enter moves to the next position), each unit's live state, four outcomes
     and reports on the page as the records have them, the operator in every record and in the
     store. Then one position left empty on purpose: three units run."""
-    station = WriteConfigs(args.source_dir, tmp / "configs", shipped="station-sim-fixture.toml")
+    station = WriteConfigs(args.source_dir, tmp / "configs", shipped="station-sim-fixture.toml",
+                           prompts=True)
     sessions = tmp / "sessions"
     os.environ["HRGBENCH_CHROMIUM"] = "/bin/false"  # each report's HTML, no PDF: seconds, not minutes
     panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
@@ -527,12 +549,16 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
         browser.click("start")
         browser.wait(lambda: "started" in browser.text("message"),
                      "no 'started' message: " + browser.text("message"))
+        # The operator's first step: a dialog over the page, its picture drawn, the plan saying
+        # it waits, the table at zero; an answer to another prompt is refused.
+        ConfirmPrompt(browser, panel, "mount", "Mount the four units", image=True)
         # Every unit's live state: all four in the same run's capture at once.
         browser.wait(lambda: browser.js(
             "const r = [...document.querySelectorAll('#units tbody tr')];"
             "return r.length === 4 && r.every(x => x.dataset.state === 'capture')"),
             "the four units were never shown capturing")
         browser.shot("live")
+        ConfirmPrompt(browser, panel, "remove", "take the units off")
         kind = WaitOutcome(browser)
         browser.wait(lambda: browser.js(
             "return [...document.querySelectorAll('#units tbody tr')]"
@@ -550,6 +576,13 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
             unit_record = json.loads((fixtures[0] / unit["folder"] / "session.json").read_text())
             Check(unit_record.get("operator") == "OP-FIX",
                   f"{unit['folder']}: operator {unit_record.get('operator')}")
+            answered = [(p["id"], p.get("answer"), p.get("by"), p.get("how"))
+                        for p in unit_record.get("prompts", [])]
+            Check(answered == [("mount", "confirmed", "OP-FIX", "panel"),
+                               ("remove", "confirmed", "OP-FIX", "panel")],
+                  f"{unit['folder']}: prompts {answered}")
+            Check((fixtures[0] / unit["folder"] / "config" / "pictures" / "lid.svg").exists(),
+                  f"{unit['folder']}: the prompt's picture is not in the session's config copy")
             href = browser.js(f"return document.querySelector('{row} a').href")
             with urllib.request.urlopen(href, timeout=30) as response:
                 Check(response.status == 200 and b"<html" in response.read(2000).lower(),
@@ -561,9 +594,13 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
                            "'#plan tbody tr')].map(r => [r.dataset.step, r.dataset.status]))")
         Check(all(steps[f"run {k}"] == "complete" for k in (1, 2, 3)), f"the plan: {steps}")
         # A position left empty on purpose: three units; an empty field not ticked is refused.
-        browser.driver.find_element(By.ID, "serial-A").send_keys("FY-A")
-        browser.driver.find_element(By.ID, "serial-B").send_keys("FY-B")
-        browser.driver.find_element(By.ID, "serial-D").send_keys("FY-D")
+        for position in "ABD":
+            field = browser.driver.find_element(By.ID, f"serial-{position}")
+            field.click()
+            field.send_keys(f"FY-{position}")
+        typed = browser.js("return ['A', 'B', 'D'].map(p => "
+                           "document.getElementById('serial-' + p).value)")
+        Check(typed == ["FY-A", "FY-B", "FY-D"], f"the serials typed read {typed}")
         browser.click("start")
         browser.wait(lambda: "position C" in browser.text("message"),
                      "an empty position was not questioned: " + browser.text("message"))
@@ -572,6 +609,8 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
         browser.wait(lambda: browser.js(
             "return document.querySelectorAll('#units tbody tr').length === 3"),
             "three units not shown")
+        ConfirmPrompt(browser, panel, "mount", "Mount the four units")
+        ConfirmPrompt(browser, panel, "remove", "take the units off")
         WaitOutcome(browser)
         browser.wait(lambda: browser.js(
             "return [...document.querySelectorAll('#units tbody tr')]"
@@ -582,6 +621,41 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
     finally:
         browser.quit()
         panel.stop()
+
+
+def ConfirmPrompt(browser: Browser, panel: Panel, prompt_id: str, text: str,
+                  image: bool = False) -> None:
+    """Waits for the operator prompt `prompt_id` in its dialog and confirms it as the operator the
+    page holds; checks what the operator sees while it is open."""
+    browser.wait(lambda: browser.js(
+        "const d = document.getElementById('prompt-dialog');"
+        "return d.open && d.dataset.id === arguments[0]", prompt_id),
+        f"the prompt dialog '{prompt_id}' never opened")
+    shown = browser.text("prompt-text")
+    Check(text in shown, f"prompt '{prompt_id}' says: {shown}")
+    if image:
+        browser.wait(lambda: browser.js(
+            "const i = document.getElementById('prompt-image');"
+            "return !i.hidden && i.complete && i.naturalWidth === 120"),
+            "the prompt's picture is not drawn")
+    browser.wait(lambda: browser.js(
+        "const r = document.querySelector('#plan tr[data-step=\"prompt ' + arguments[0] + '\"]');"
+        "return r && r.dataset.status === 'open'", prompt_id),
+        f"the plan does not show prompt '{prompt_id}' open")
+    status, reply = PostJson(panel.base, "api/prompt",
+                             {"id": "not-" + prompt_id, "answer": "confirm", "operator": "OP-X"})
+    Check(status == 409 and "is not open" in reply.get("error", ""),
+          f"an answer to another prompt: {status} {reply}")
+    Check(browser.js("return document.getElementById('prompt-operator').value") == "OP-FIX",
+          "the dialog does not carry the operator")
+    browser.shot("prompt-" + prompt_id)
+    browser.click("prompt-confirm")
+    browser.wait(lambda: not browser.js("return document.getElementById('prompt-dialog').open"),
+                 f"the prompt dialog '{prompt_id}' stayed open after its answer")
+    browser.wait(lambda: browser.js(
+        "const r = document.querySelector('#plan tr[data-step=\"prompt ' + arguments[0] + '\"]');"
+        "return r && r.dataset.status === 'confirmed'", prompt_id),
+        f"the plan does not show prompt '{prompt_id}' confirmed")
 
 
 def CaseAbort(args, tmp: Path, out: Path) -> None:

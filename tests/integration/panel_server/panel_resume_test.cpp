@@ -226,5 +226,63 @@ TEST(PanelSession, ARestartedPanelResumesAnOpenRecordOfItsSessionsFolderByName) 
   fs::remove_all(dir);
 }
 
+// Issue 26 §1: a fixture started from the panel and killed mid-run is shown interrupted (which
+// units are still open) and resumed from the panel to its end: every unit closed, the runs
+// completed before the kill unchanged, the page told the units again.
+TEST(PanelSession, AKilledFixtureIsShownInterruptedAndResumesEveryUnit) {
+  const fs::path dir = FreshDir();
+  {
+    Panel panel(dir, FreePort(), kBench,
+                PacedStation(dir / "station", 20.0, "station-sim-fixture.toml"),
+                kConfigs / "sequence-paper.toml");
+    ASSERT_TRUE(panel.Ready());
+    const Reply started =
+        Exchange(panel.port(),
+                 Post("/api/start", panel.host(), panel.origin(),
+                      R"({"serials":{"A":"FK-A","B":"FK-B","C":"FK-C","D":"FK-D"},"sequence":0,)"
+                      R"("limits":null,"operator":"OP-T"})"));
+    ASSERT_EQ(started.status, 200) << started.body;
+    const std::string name = Json(started.body).value("session", "");
+    const fs::path folder = dir / "sessions" / name;
+    const std::map<int, std::string> kept = WaitForCompleteRuns(folder / "A-FK-A", 1, 120s);
+    const pid_t child = SessionChild();
+    ASSERT_GT(child, 0) << "no `hrg-bench run` child of the panel";
+    ASSERT_EQ(::kill(child, SIGKILL), 0);
+    ASSERT_EQ(kept.size(), 1u) << "the fixture did not get through a run";
+    ASSERT_TRUE(WaitForSessionEnd(panel, 60s).is_object());
+
+    const nlohmann::json interrupted = FullState(panel)["interrupted"];
+    ASSERT_TRUE(interrupted.is_object()) << FullState(panel).dump();
+    EXPECT_EQ(interrupted["session"], name);
+    EXPECT_EQ(interrupted["unit"], "fixture");
+    const std::string reason = interrupted.value("reason", "");
+    EXPECT_NE(reason.find("killed by signal 9 (SIGKILL) before every unit's record was closed "
+                          "(A FK-A, B FK-B, C FK-C, D FK-D)"),
+              std::string::npos)
+        << reason;
+
+    const Reply resumed = Exchange(
+        panel.port(), Post("/api/resume", panel.host(), panel.origin(), R"({"operator":"OP-R"})"));
+    ASSERT_EQ(resumed.status, 200) << resumed.body;
+    const nlohmann::json running = SessionState(panel);
+    EXPECT_EQ(running["units"].size(), 4u) << running.dump();
+    const nlohmann::json done = WaitForSessionEnd(panel, 300s);
+    ASSERT_TRUE(done.is_object()) << "the panel's state did not answer";
+    ASSERT_FALSE(done.value("running", true)) << "the resume did not end: " << done.dump();
+    EXPECT_EQ(done["exit"], nlohmann::json({{"exit_code", 0}})) << done.dump();
+    EXPECT_TRUE(FullState(panel)["interrupted"].is_null());
+    for (const char* unit : {"A-FK-A", "B-FK-B", "C-FK-C", "D-FK-D"}) {
+      const nlohmann::json record = ReadRecord(folder / unit);
+      EXPECT_EQ(record.value("state", ""), "closed") << unit;
+    }
+    const std::map<int, std::string> after = WaitForCompleteRuns(folder / "A-FK-A", 5, 1s);
+    for (const auto& [id, bytes] : kept) {
+      ASSERT_TRUE(after.contains(id)) << "run " << id;
+      EXPECT_TRUE(after.at(id) == bytes) << "run " << id << " changed";
+    }
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace hrgbench::app

@@ -16,8 +16,9 @@ inline const fs::path kBench = fs::path(HRGBENCH_BIN_DIR) / "hrg-bench";
 
 // The simulated station paced at `time_scale` simulated seconds per wall-clock second (its shipped
 // file runs as fast as it can). Its results go to a store in `dir`.
-inline fs::path PacedStation(const fs::path& dir, double time_scale) {
-  std::ifstream in(kConfigs / "station-sim.toml");
+inline fs::path PacedStation(const fs::path& dir, double time_scale,
+                             const std::string& shipped = "station-sim.toml") {
+  std::ifstream in(kConfigs / shipped);
   std::stringstream text;
   text << in.rdbuf();
   std::string toml = text.str();

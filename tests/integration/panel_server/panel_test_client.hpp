@@ -141,8 +141,16 @@ class Panel {
       toml = toml.substr(0, toml.find("\n[offers]"));
       std::ofstream(dir / "configs" / "station.toml") << toml << '\n';
     }
-    fs::copy_file(sequence, dir / "configs" / "sequence-a.toml",
-                  fs::copy_options::overwrite_existing);
+    {
+      // Without the sequence's [[prompts]] (the production sequence's operator steps): these
+      // sessions have nobody at the dialog. The prompts are the browser test's (fixture case).
+      std::ifstream in(sequence);
+      std::stringstream text;
+      text << in.rdbuf();
+      std::string toml = text.str();
+      toml = toml.substr(0, toml.find("\n[[prompts]]"));
+      std::ofstream(dir / "configs" / "sequence-a.toml") << toml << '\n';
+    }
     options_.station = dir / "configs" / "station.toml";
     options_.listen = "127.0.0.1:" + std::to_string(port_);
     options_.sessions = dir / "sessions";

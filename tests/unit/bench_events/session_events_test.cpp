@@ -9,6 +9,8 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -276,6 +278,39 @@ TEST(SessionEvents, AFixturesUnitsRunsAndOutcomes) {
   EXPECT_EQ(fixture[0]["outcome"], "FAIL");
   EXPECT_EQ(fixture[0]["exit_code"], 1);
   EXPECT_TRUE(OfType(events, "samples").empty());
+}
+
+// An operator prompt on the stream (issue 26 §1): opened with its text and its picture as a
+// data: URI (base64 as RFC 4648 says: "Man" is "TWFu", padding for the rest), then answered.
+TEST(SessionEvents, APromptIsAnnouncedWithItsPictureThenItsAnswer) {
+  Capture capture;
+  SessionEventPublisher publisher(capture.stream());
+  RunnerOptions runner;
+  publisher.Attach(runner);
+  const std::filesystem::path picture =
+      std::filesystem::temp_directory_path() / ("prompt-" + std::to_string(::getpid()) + ".png");
+  std::ofstream(picture, std::ios::binary) << "Man"
+                                           << "Ma";
+  const PromptRequest request{"mount", "start", "Mount the unit.", picture, "abc"};
+  runner.on_prompt(request, nullptr);
+  const PromptReply reply{true, "OP-3", "panel"};
+  runner.on_prompt(request, &reply);
+  std::filesystem::remove(picture);
+  runner.on_prompt({"remove", "end", "Take it off.", "", ""}, nullptr);
+  const std::vector<nlohmann::json> events = capture.Events();
+  const auto open = OfType(events, "prompt");
+  ASSERT_EQ(open.size(), 2u);
+  EXPECT_EQ(open[0]["id"], "mount");
+  EXPECT_EQ(open[0]["at"], "start");
+  EXPECT_EQ(open[0]["text"], "Mount the unit.");
+  EXPECT_EQ(open[0]["image"], "data:image/png;base64,TWFuTWE=");
+  EXPECT_TRUE(open[1]["image"].is_null());
+  const auto answered = OfType(events, "prompt_answered");
+  ASSERT_EQ(answered.size(), 1u);
+  EXPECT_EQ(answered[0]["id"], "mount");
+  EXPECT_EQ(answered[0]["answer"], "confirm");
+  EXPECT_EQ(answered[0]["by"], "OP-3");
+  EXPECT_EQ(answered[0]["how"], "panel");
 }
 
 }  // namespace

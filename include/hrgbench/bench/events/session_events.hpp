@@ -8,12 +8,16 @@
 //                    software_version, plan [{run_id, omega_rad_s, free_run_s, sample_rate_hz,
 //                    samples}]
 //   phase            run, run_count, run_id, omega_rad_s, phase: warm-up | settle | excite | ready
-//                    | release | capture | stop | estimate (on every change)
+//                    | release | capture | stop | estimate | prompt (on every change)
 //   progress         run, run_count, run_id, omega_rad_s, phase, samples, samples_expected,
 //                    samples_lost, elapsed_s, remaining_s, table_rate_rad_s (at most one per
 //                    min_progress_period_s of wall time, and at each phase change)
 //   samples          run_id, stride, t_s [..], y [[y1, y2, y3, y4] ..]: the run's samples
 //                    decimated (every stride-th), sent with the progress events
+//   prompt           id, at (start | before run N | end), text, image (a data: URI or null): an
+//                    operator prompt is open (the table at zero); answer it (the panel: POST
+//                    /api/prompt) or abort the session
+//   prompt_answered  id, answer (confirm | abort), by, how (panel | terminal | auto)
 //   log              message: a line the sequencer logged
 //   warning          message: a flagged or rejected run as it ends; the estimator's warnings
 //   run_result       run_id, status (complete | rejected | aborted), reason, samples,
@@ -66,8 +70,8 @@ class SessionEventPublisher {
   void SessionStarted(const BenchConfigs& configs, const std::string& unit_serial,
                       const std::string& session_dir, bool resume,
                       const std::string& software_version);
-  // Installs on_progress, on_log, on_samples and on_run_end, each calling the one already set
-  // (if any) first. `options` and this publisher must outlive the session.
+  // Installs on_progress, on_log, on_samples, on_run_end and on_prompt, each calling the one
+  // already set (if any) first. `options` and this publisher must outlive the session.
   void Attach(RunnerOptions& options);
   // After the session: warnings, the estimate, each limit, the outcome.
   void SessionFinished(const SessionResult& result);

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "hrgbench/analysis/verdict.hpp"
+#include "hrgbench/bench/sequencer/operator_prompts.hpp"
 #include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/estimator/summary.hpp"
 #include "hrgbench/hw/can_bus.hpp"
@@ -81,6 +82,7 @@ struct Progress {
   int run_id = 0;     // the run's id in the session
   double omega_rad_s = 0.0;
   // "warm-up", "table" (settling), "excite", "ready", "release", "capture", "stop", "estimate",
+  // "prompt" (an operator prompt is open: the table at zero rate, its rate in table_rate_rad_s),
   // "stopping" (after an abort or a fault: the table's rate until it reads zero);
   // every change of phase is reported at once (the period applies within a phase).
   std::string_view phase;
@@ -122,6 +124,11 @@ struct RunnerOptions {
   std::function<void(std::size_t unit, int run_id, const RunEnd&, std::uint64_t samples)>
       on_unit_run_end;
   double progress_period_s = 0.5;
+  // Answers the sequence's operator prompts (not owned). A sequence with prompts and no source is
+  // refused before anything moves (ERROR).
+  PromptAnswers* prompts = nullptr;
+  // A prompt shown (reply null) and answered (reply set), for the event stream. May be empty.
+  std::function<void(const PromptRequest&, const PromptReply* reply)> on_prompt;
 };
 
 struct SessionResult {

@@ -162,6 +162,7 @@ function showOutcome(kind, reason) {
   text("outcome-reason", reason);
 }
 function ended(e) {
+  closePrompt();
   state.running = false;
   $("abort").disabled = true;
   if (!state.outcome)
@@ -170,8 +171,47 @@ function ended(e) {
   loadState();
 }
 
+// ---- operator prompts: a modal dialog while the session waits for the operator ----
+let openPrompt = null;
+function showPrompt(e) {
+  openPrompt = e.id;
+  text("prompt-at", "(" + e.at + ")");
+  text("prompt-text", e.text);
+  const image = $("prompt-image");
+  image.hidden = !e.image;
+  if (e.image) image.src = e.image; else image.removeAttribute("src");
+  $("prompt-operator").value = $("operator").value.trim();
+  text("prompt-message", "");
+  $("prompt-dialog").dataset.id = e.id;
+  if (!$("prompt-dialog").open) $("prompt-dialog").showModal();
+  logLine("operator prompt (" + e.at + "): " + e.text);
+}
+function closePrompt() {
+  openPrompt = null;
+  if ($("prompt-dialog").open) $("prompt-dialog").close();
+}
+async function answerPrompt(answer) {
+  if (openPrompt === null) return;
+  const operator = $("prompt-operator").value.trim();
+  if (!operator) { text("prompt-message", "enter or scan your operator id to answer"); return; }
+  if (answer === "abort" && !confirm("Abort the session? The table stays at zero rate and the " +
+                                     "record says who aborted it.")) return;
+  const r = await post("api/prompt", { id: openPrompt, answer, operator });
+  if (!r.ok) text("prompt-message", r.reply.error || "refused (HTTP " + r.status + ")");
+}
+$("prompt-confirm").addEventListener("click", () => answerPrompt("confirm"));
+$("prompt-abort").addEventListener("click", () => answerPrompt("abort"));
+// Escape would hide the dialog and leave the session waiting unseen: answering is the only way.
+$("prompt-dialog").addEventListener("cancel", (ev) => ev.preventDefault());
+
 const handlers = {
-  panel_session: resetSession,
+  panel_session: (e) => { closePrompt(); resetSession(e); },
+  prompt: showPrompt,
+  prompt_answered: (e) => {
+    logLine("prompt " + e.id + ": " + (e.answer === "confirm" ? "confirmed" : "aborted") +
+            (e.by ? " by " + e.by : ""));
+    closePrompt();
+  },
   panel_abort: () => { logLine("abort requested by the operator: table to zero, gyro safe"); },
   panel_exit: ended,
   session_started: (e) => { state.runCount = e.plan.length; text("run", "0 of " + e.plan.length); },
@@ -264,8 +304,9 @@ async function loadState() {
   // A session whose process died with its record open: say why and offer to continue it.
   const i = s.interrupted;
   $("interrupted-box").hidden = !i || s.session?.running;
-  if (i) text("interrupted-reason", "Session " + i.session + " (unit " + i.unit + ") was " +
-              "interrupted: " + i.reason + ".");
+  if (i) text("interrupted-reason", (i.unit === "fixture" ? "Fixture session " + i.session
+                                      : "Session " + i.session + " (unit " + i.unit + ")") +
+              " was interrupted: " + i.reason + ".");
   // Its record has no outcome yet (not ERROR: the resume judges it).
   if (i && !s.session?.running && state.session === i.session)
     showOutcome("INTERRUPTED", "not closed: the record is open until it is resumed");

@@ -137,15 +137,22 @@ const Station = (() => {
     byId("warmup-text").textContent = "";
     if (!sequence) return;
     const p = sequence.plan;
+    // The operator's steps where they come: before the warm-up, before a run, at the end.
+    const prompts = (where, run) => (p.prompts || [])
+      .filter((q) => q.at === where && (where !== "before_run" || q.run === run))
+      .forEach((q) => planRow("prompt " + q.id, "operator: " + q.text));
+    prompts("start");
     planRow("warm-up", "at least " + num(p.warmup.min_s, 0) + " s, then until the temperature " +
             "drifts ≤ " + p.warmup.max_drift_c + " °C over " + num(p.warmup.window_s, 0) +
             " s (gives up after " + num(p.warmup.timeout_s, 0) + " s)");
     runCount = p.runs.length;
     p.runs.forEach((r, i) => {
+      prompts("before_run", i + 1);
       planRow("run " + (i + 1), "Ω " + num(r.omega_rad_s, 4) + " rad/s; wave a " + r.a + ", b " +
               r.b + ", θ " + num(r.theta_rad, 3) + " rad; " + r.free_run_s + " s at " +
               r.sample_rate_hz + " Hz");
     });
+    prompts("end");
     planRow("estimate", "maximum likelihood over every run");
     if (!limits) {
       planRow("limits", "none: the session is not judged against the unit's limits", "not judged");
@@ -235,6 +242,8 @@ const Station = (() => {
           setStep("estimate", "running");
         } else if (e.phase === "stopping") {
           tableStopping(e);
+        } else if (e.phase === "prompt") {
+          // The prompt's own row says it is open (its event); the run it precedes has not begun.
         } else if (e.run_id > 0) {
           setStep("warm-up", "done");
           byId("warmup-bar").style.width = "100%";
@@ -246,6 +255,13 @@ const Station = (() => {
         break;
       case "run_result":
         setStep("run " + e.run_id, e.status, e.samples + " samples");
+        break;
+      case "prompt":
+        setStep("prompt " + e.id, "open", "waiting for the operator (the table at zero)");
+        break;
+      case "prompt_answered":
+        setStep("prompt " + e.id, e.answer === "confirm" ? "confirmed" : "aborted",
+                (e.by ? "by " + e.by : "") + (e.how === "auto" ? " (auto)" : ""));
         break;
       case "unit_run_result": {
         setStep("run " + e.run_id, e.status);
