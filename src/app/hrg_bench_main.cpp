@@ -103,6 +103,9 @@ class ProgressPrinter {
  public:
   ProgressPrinter() : tty_(::isatty(STDERR_FILENO) == 1) {}
   void operator()(const bench::Progress& p) {
+    // An operator prompt waits on the terminal's last line: a progress line would overwrite it
+    // (the prompt itself is logged).
+    if (p.phase == "prompt") return;
     char line[200];
     if (p.phase == "estimate" || p.phase == "warm-up") {
       std::snprintf(line, sizeof line, "%-8.*s  %6.1f s elapsed  ~%6.1f s of free run ahead",
