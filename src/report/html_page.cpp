@@ -298,8 +298,10 @@ void Page::Verdict() {
   for (std::size_t i = 0; i < verdict.limits.size(); ++i) {
     const session::LimitRowRecord& l = verdict.limits[i];
     const auto at = [&](const char* key) { return pointer(keys::kLimits, i, key); };
-    out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + Src(at(keys::kValue), l.value) +
-            "</td><td>" + Src(at(keys::kStd), l.std) + "</td><td>" + Src(at(keys::kMin), l.min) +
+    // The value to the digits its std supports (GUM 7.2.6), as in the parameter table.
+    const auto [value, std_dev] = SrcWithStd(at(keys::kValue), l.value, at(keys::kStd), l.std);
+    out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + value + "</td><td>" + std_dev +
+            "</td><td>" + Src(at(keys::kMin), l.min) +
             "</td><td>" + Src(at(keys::kMax), l.max) + "</td><td class=\"status-" + Attr(l.status) +
             "\">" + HtmlEscape(l.status) + "</td><td>" + GuardBandBar(l) + "</td><td>" +
             HtmlEscape(l.message) + "</td></tr>\n";

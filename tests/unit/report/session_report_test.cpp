@@ -173,6 +173,38 @@ TEST(SessionReport, EachLimitIsDrawnWithItsIntervalAndGuardBands) {
   EXPECT_NE(html.find("undecided within the guard band: retest"), std::string::npos);
 }
 
+// Issue 26: the limits table once wrote each value to six digits beside its std ("0.0244137 ±
+// 0.0095"); a value carries the digits its std supports (GUM 7.2.6: the std to two significant
+// digits, the value to the same place), data-value keeping every digit.
+TEST(SessionReport, TheLimitsTableWritesEachValueToItsStdsPrecision) {
+  json record = RecordedOutcome();
+  record["outcome"]["verdict"]["limits"] = json::parse(R"([
+    {"quantity": "xi1", "status": "FAIL", "value": 0.02441372, "std": 0.009512, "min": -0.02,
+     "max": 0.02, "message": "above its maximum"},
+    {"quantity": "tau_s", "status": "FAIL", "value": 1000.123456, "std": 2.5, "min": 2000.0,
+     "max": null, "message": "below its minimum"}])");
+  testing::ScratchDir dir("report_limits_precision");
+  WriteSession(dir.path(), record);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  const auto cell = [&](const std::string& pointer) {
+    const std::string open = "data-source=\"" + pointer + "\" data-value=\"";
+    const std::size_t at = html.find(open);
+    if (at == std::string::npos) return std::string("(absent)");
+    const std::size_t text = html.find('>', at) + 1;
+    return html.substr(text, html.find('<', text) - text);
+  };
+  EXPECT_EQ(cell("/outcome/verdict/limits/0/value"), "0.0244");
+  EXPECT_EQ(cell("/outcome/verdict/limits/0/std"), "0.0095");
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/value"), "1000.1");
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/std"), "2.5");
+  EXPECT_NE(html.find("data-source=\"/outcome/verdict/limits/0/value\" data-value=\"0.02441372\""),
+            std::string::npos);
+  // The limits themselves are declared numbers, shown as declared.
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/min"), "2000");
+}
+
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
   testing::ScratchDir dir("report_older");
   json outcome = RecordedOutcome();
