@@ -301,10 +301,9 @@ void Page::Verdict() {
     // The value to the digits its std supports (GUM 7.2.6), as in the parameter table.
     const auto [value, std_dev] = SrcWithStd(at(keys::kValue), l.value, at(keys::kStd), l.std);
     out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + value + "</td><td>" + std_dev +
-            "</td><td>" + Src(at(keys::kMin), l.min) +
-            "</td><td>" + Src(at(keys::kMax), l.max) + "</td><td class=\"status-" + Attr(l.status) +
-            "\">" + HtmlEscape(l.status) + "</td><td>" + GuardBandBar(l) + "</td><td>" +
-            HtmlEscape(l.message) + "</td></tr>\n";
+            "</td><td>" + Src(at(keys::kMin), l.min) + "</td><td>" + Src(at(keys::kMax), l.max) +
+            "</td><td class=\"status-" + Attr(l.status) + "\">" + HtmlEscape(l.status) +
+            "</td><td>" + GuardBandBar(l) + "</td><td>" + HtmlEscape(l.message) + "</td></tr>\n";
   }
   out_ += "</table>\n";
   if (!verdict.decision_rule.empty())

@@ -89,7 +89,8 @@ void Page::Run(const RunView& run) {
         src(keys::kOmegaOffsetInStd, fit.omega_offset_in_std) + "</td></tr></table>\n";
   }
   if (run.loaded && run.figures) {
-    for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
+    for (const char* kind : {"channels", "motion", "residuals", "residual-histogram",
+                             "residual-spectrum", "orbit", "forms"})
       Figure(std::string(kind) + "-run-" + id, 960, 300);
   } else if (run.loaded) {
     out_ +=

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "figure_spec.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/model.hpp"
@@ -15,6 +16,7 @@
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page_pointer.hpp"
+#include "residual_figures.hpp"
 #include "sample_timing.hpp"
 
 namespace hrgbench::report::internal {
@@ -23,35 +25,10 @@ namespace {
 using estimator::kNaN;
 using nlohmann::json;
 
-json Numbers(const std::vector<double>& values) {
-  json out = json::array();
-  out.get_ref<json::array_t&>().reserve(values.size());
-  for (const double v : values) out.push_back(std::isfinite(v) ? json(Rounded(v)) : json(nullptr));
-  return out;
-}
-
-json Series(const std::string& label, const std::vector<double>& y, bool model = false) {
-  return json{{"label", label}, {"y", Numbers(y)}, {"model", model}};
-}
-
-// A series on the figure's right-hand axis (y2_label).
-json RightSeries(const std::string& label, const std::vector<double>& y, bool model = false) {
-  json s = Series(label, y, model);
-  s["axis"] = "y2";
-  return s;
-}
-
-json LineFigure(const std::string& name, const std::string& caption, const std::string& x_label,
-                const std::string& y_label, const std::vector<double>& x) {
-  return json{{"name", name},          {"caption", caption}, {"type", "line"},
-              {"x_label", x_label},    {"y_label", y_label}, {"y_log", false},
-              {"equal_aspect", false}, {"x", Numbers(x)},    {"series", json::array()}};
-}
-
 // One run's figures: channels with the model, residuals, orbit elements and principal forms, each
 // data series next to the model's.
 void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_points,
-                json* figures) {
+                const session::SessionRecord& record, double noise_sigma, json* figures) {
   const estimator::RunData& d = run.data;
   const auto n = static_cast<Eigen::Index>(d.t_s.size());
   const MinMaxDecimator decimator(d.t_s, max_points);
@@ -173,6 +150,19 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   figures->push_back(std::move(channels));
   figures->push_back(std::move(motion));
   figures->push_back(std::move(residuals));
+  if (have_model) {
+    // σ̂ of this run as its fit recorded it, else the session's; the sample rate as recorded, else
+    // the run's own mean step.
+    double sigma = noise_sigma;
+    const session::EstimateRecord* estimate =
+        record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
+    for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k)
+      if (estimate->fit_runs[k].run == run.id && std::isfinite(estimate->fit_runs[k].noise_sigma))
+        sigma = estimate->fit_runs[k].noise_sigma;
+    double fs = record.sample_rate_hz;
+    if (!(fs > 0.0) && n > 1) fs = static_cast<double>(n - 1) / (d.t_s.back() - d.t_s.front());
+    AddResidualFigures(run.id, d.y - run.fitted_y.transpose(), sigma, fs, figures);
+  }
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
 }
@@ -526,11 +516,12 @@ double NumberAt(const json& doc, const std::string& pointer) {
 }
 
 RunPart BuildRunPart(const RunView& run, const session::SessionRecord& record,
-                     const estimator::Xi& xi, std::size_t max_points_per_series) {
+                     const estimator::Xi& xi, double noise_sigma,
+                     std::size_t max_points_per_series) {
   RunPart part;
   if (!run.loaded) return part;
   part.quality = CaptureQuality(run, record);
-  if (run.figures) RunFigures(run, xi, max_points_per_series, &part.figures);
+  if (run.figures) RunFigures(run, xi, max_points_per_series, record, noise_sigma, &part.figures);
   return part;
 }
 

@@ -183,7 +183,8 @@ internal::RunPart FinishRun(RunView* v, const estimator::EstimateSummary* drawn,
     v->fitted_y = v->fitted_x * distortion.transpose();
   }
   const estimator::Xi xi = in.summary ? in.summary->xi : estimator::Xi::Zero();
-  internal::RunPart part = internal::BuildRunPart(*v, in.record, xi, max_points);
+  const double sigma = in.summary ? in.summary->noise_sigma : estimator::kNaN;
+  internal::RunPart part = internal::BuildRunPart(*v, in.record, xi, sigma, max_points);
   v->data.t_s = std::vector<double>();
   v->data.y.resize(4, 0);
   v->fitted_x.resize(0, 4);

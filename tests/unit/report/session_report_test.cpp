@@ -38,7 +38,8 @@ TEST(SessionReport, SimulatedSessionWithoutOutcomeFollowsTheContract) {
   EXPECT_EQ(canvases, names.size());
   std::set<std::string> expected = {"anisotropy", "std-vs-bound"};
   for (int run = 1; run <= 4; ++run)
-    for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
+    for (const char* kind : {"channels", "motion", "residuals", "residual-histogram",
+                             "residual-spectrum", "orbit", "forms"})
       expected.insert(std::string(kind) + "-run-" + std::to_string(run));
   EXPECT_EQ(names, expected);
   // Every figure has its data, and each canvas is in its run's section.
