@@ -46,9 +46,10 @@ inline nlohmann::json RightSeries(const std::string& label, const std::vector<do
 inline nlohmann::json LineFigure(const std::string& name, const std::string& caption,
                                  const std::string& x_label, const std::string& y_label,
                                  const std::vector<double>& x) {
-  return nlohmann::json{{"name", name},          {"caption", caption}, {"type", "line"},
-                        {"x_label", x_label},    {"y_label", y_label}, {"y_log", false},
-                        {"equal_aspect", false}, {"x", Numbers(x)},    {"series", nlohmann::json::array()}};
+  return nlohmann::json{
+      {"name", name},          {"caption", caption}, {"type", "line"},
+      {"x_label", x_label},    {"y_label", y_label}, {"y_log", false},
+      {"equal_aspect", false}, {"x", Numbers(x)},    {"series", nlohmann::json::array()}};
 }
 
 }  // namespace hrgbench::report::internal

@@ -17,6 +17,7 @@
 #include "html_text.hpp"
 #include "page_pointer.hpp"
 #include "residual_figures.hpp"
+#include "run_conditions.hpp"
 #include "sample_timing.hpp"
 
 namespace hrgbench::report::internal {
@@ -165,6 +166,8 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   }
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
+  if (run.index < record.runs.size())
+    AddConditionsFigure(run, record.runs[run.index], decimator, figures);
 }
 
 // Capture quality the report computes from the samples and the record (the recorded counters
@@ -186,6 +189,7 @@ json CaptureQuality(const RunView& run, const session::SessionRecord& record) {
     end = record.runs[run.index].end->values;
   q["temperature_drift_c"] = bench::NumberOrNull(end.temperature_end_c - end.temperature_start_c);
   q["frequency_drift_hz"] = bench::NumberOrNull(end.frequency_end_hz - end.frequency_start_hz);
+  AddRunConditions(run, &q);
   return q;
 }
 

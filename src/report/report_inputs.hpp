@@ -32,6 +32,9 @@ struct RunView {
   bool figures = true;
   std::string not_loaded_reason;  // why not (status, missing file, empty, unreadable)
   estimator::RunData data;        // id, Ω, t_s, y (when loaded)
+  // The run CSV's temp_c column, parallel to data.t_s; empty when the CSV has none (and dropped
+  // with the samples).
+  std::vector<double> temperature_c;
   // The fitted model at data.t_s (empty when the estimate has no entry for this run).
   estimator::RunChannels fitted_y;
   estimator::RunChannels fitted_x;

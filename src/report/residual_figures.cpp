@@ -77,9 +77,8 @@ void AddResidualFigures(int run_id, const Eigen::Matrix4Xd& residuals, double no
           "residual-spectrum-run-" + id,
           "Run " + id + ": one-sided power spectral density of each channel's residuals (Welch: " +
               std::to_string(s.segment_length) + "-sample Hann segments, half overlap, " +
-              std::to_string(s.segments) + " averaged) against the white noise of " +
-              sigma_text + ", 2σ̂²/fs = " + Readable(2.0 * sigma * sigma / sample_rate_hz) +
-              " y²/Hz (dashed)",
+              std::to_string(s.segments) + " averaged) against the white noise of " + sigma_text +
+              ", 2σ̂²/fs = " + Readable(2.0 * sigma * sigma / sample_rate_hz) + " y²/Hz (dashed)",
           "f [Hz]", "PSD [y²/Hz]", f);
       spectrum["y_log"] = true;
     }

@@ -36,8 +36,7 @@ void Fft(std::vector<std::complex<double>>& x) {
 
 }  // namespace
 
-DensityHistogram HistogramOf(std::span<const double> values, double half_width,
-                             std::size_t bins) {
+DensityHistogram HistogramOf(std::span<const double> values, double half_width, std::size_t bins) {
   DensityHistogram h;
   if (!(half_width > 0.0) || !std::isfinite(half_width) || bins == 0) return h;
   const double width = 2.0 * half_width / static_cast<double>(bins);
@@ -80,7 +79,8 @@ PowerSpectrum WelchSpectrum(const double* first, std::ptrdiff_t stride, std::siz
   std::vector<std::complex<double>> buffer(m);
   for (std::size_t begin = 0; begin + m <= n; begin += half) {
     double mean = 0.0;
-    for (std::size_t k = 0; k < m; ++k) mean += first[static_cast<std::ptrdiff_t>(begin + k) * stride];
+    for (std::size_t k = 0; k < m; ++k)
+      mean += first[static_cast<std::ptrdiff_t>(begin + k) * stride];
     mean /= static_cast<double>(m);
     for (std::size_t k = 0; k < m; ++k)
       buffer[k] = (first[static_cast<std::ptrdiff_t>(begin + k) * stride] - mean) * window[k];
