@@ -435,21 +435,25 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
 }
 
 // derived.unit_history: {store, unavailable, count, sessions: [{started_utc, station, outcome,
-// path, values {name: number}}]}, the newest kMaxUnitHistoryRows, oldest first; null without one.
+// path, values {name: number}, stds {name: number}}]}, the newest kMaxUnitHistoryRows, oldest
+// first; null without one.
 json UnitHistoryJson(const std::optional<UnitHistory>& history) {
   if (!history) return nullptr;
   json sessions = json::array();
   const std::size_t n = history->sessions.size();
   for (std::size_t i = n > kMaxUnitHistoryRows ? n - kMaxUnitHistoryRows : 0; i < n; ++i) {
     const UnitHistoryEntry& e = history->sessions[i];
-    json values = json::object();
+    json values = json::object(), stds = json::object();
     for (const auto& [name, value] : e.values)
       if (std::isfinite(value)) values[name] = value;
+    for (const auto& [name, value] : e.stds)
+      if (std::isfinite(value)) stds[name] = value;
     sessions.push_back({{"started_utc", e.started_utc},
                         {"station", e.station},
                         {"outcome", e.outcome},
                         {"path", e.path},
-                        {"values", std::move(values)}});
+                        {"values", std::move(values)},
+                        {"stds", std::move(stds)}});
   }
   return {{"store", history->store},
           {"unavailable", history->unavailable},

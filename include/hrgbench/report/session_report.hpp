@@ -69,6 +69,9 @@ struct UnitHistoryEntry {
   // Engineering quantities by name (estimator/engineering_quantities.hpp: "tau_s", "q_factor",
   // ...); a quantity the session did not determine is absent.
   std::map<std::string, double> values;
+  // Their standard uncertainties as stored (a quantity without one is absent): the trend plots'
+  // bars.
+  std::map<std::string, double> stds;
 };
 struct UnitHistory {
   std::string store;                       // where it came from (the URL without its password)
