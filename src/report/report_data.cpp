@@ -309,11 +309,16 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
         EngineeringQuantity(inputs.record, p.split_name);
     const session::EngineeringQuantityRecord* angle =
         EngineeringQuantity(inputs.record, p.axis_name);
+    // The legend names the axes only: their numbers go into the caption, which wraps. A legend
+    // label as long as "high-frequency axis: Δf = … ± … mHz at θω = … ± …° on the shell" is
+    // wider than the square chart once its plot area is padded square, and was cut off.
     if (angle == nullptr || split == nullptr) {
-      axis(std::string(p.first) + " (" + p.split_symbol + " = " + Readable(p.derived_split) + " " +
-               p.derived_unit + ", derived by the report; significance not recorded)",
-           p.derived_axis_shell_rad, p.length, false);
-      axis(p.second, p.derived_axis_shell_rad + quarter, p.length, false);
+      axis(p.first, p.derived_axis_shell_rad, p.length, false);
+      axis(std::string(p.second) + " (+45°)", p.derived_axis_shell_rad + quarter, p.length, false);
+      caption += "; " + std::string(p.first) + " at " +
+                 Readable(p.derived_axis_shell_rad * 180 / std::numbers::pi) + "° on the shell, " +
+                 p.split_symbol + " = " + Readable(p.derived_split) + " " + p.derived_unit +
+                 " (derived by the report; significance not recorded)";
       continue;
     }
     const double angle_deg = angle->value;
@@ -323,11 +328,11 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
                  MetrologicalText(*split) + ")";
       continue;
     }
-    axis(std::string(p.first) + ": " + p.split_symbol + " = " + MetrologicalText(*split) + " at " +
-             p.angle_symbol + " = " + MetrologicalText(*angle) + " on the shell",
-         angle_deg * deg, p.length, false);
-    axis(std::string(p.second) + " (" + p.angle_symbol + " + 45°)", angle_deg * deg + quarter,
-         p.length, false);
+    axis(p.first, angle_deg * deg, p.length, false);
+    axis(std::string(p.second) + " (+45°)", angle_deg * deg + quarter, p.length, false);
+    caption += "; " + std::string(p.first) + " at " + p.angle_symbol + " = " +
+               MetrologicalText(*angle) + " on the shell, " + p.split_symbol + " = " +
+               MetrologicalText(*split) + " (the " + p.second + " at " + p.angle_symbol + " + 45°)";
   }
   caption += "; from δ at " + source;
   if (OfRecord(inputs.record) != nullptr && !OfRecord(inputs.record)->engineering.empty())

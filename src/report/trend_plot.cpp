@@ -86,19 +86,19 @@ std::string TrendPlot(const std::string& quantity, const std::string& label,
     title += "; limits [" + (limit_min ? Readable(*limit_min) : std::string("—")) + ", " +
              (limit_max ? Readable(*limit_max) : std::string("—")) + "]";
   std::string svg = "<svg class=\"trend\" data-quantity=\"" + HtmlEscape(quantity) +
-                    "\" data-points=\"" + std::to_string(with_value) + "\" width=\"" +
-                    Px(kWidth) + "\" height=\"" + Px(kHeight) + "\" viewBox=\"0 0 " + Px(kWidth) +
-                    " " + Px(kHeight) + "\" role=\"img\"><title>" + HtmlEscape(title) +
-                    "</title>";
-  svg += "<text x=\"" + Px(kLeft) + "\" y=\"12\" font-size=\"11\">" + HtmlEscape(label) +
-         "</text>";
+                    "\" data-points=\"" + std::to_string(with_value) + "\" width=\"" + Px(kWidth) +
+                    "\" height=\"" + Px(kHeight) + "\" viewBox=\"0 0 " + Px(kWidth) + " " +
+                    Px(kHeight) + "\" role=\"img\"><title>" + HtmlEscape(title) + "</title>";
+  svg += "<text x=\"" + Px(kLeft) + "\" y=\"12\" font-size=\"11\">" + HtmlEscape(label) + "</text>";
   svg += "<rect x=\"" + Px(kLeft) + "\" y=\"" + Px(kTop) + "\" width=\"" + Px(plot_w) +
          "\" height=\"" + Px(plot_h) + "\" fill=\"none\" stroke=\"#ccc\"/>";
   int digits = 4;
   while (digits < 7 && AxisNumber(top, digits) == AxisNumber(bottom, digits)) ++digits;
-  for (const double v : top == bottom ? std::vector<double>{top} : std::vector<double>{top, bottom}) {
+  for (const double v :
+       top == bottom ? std::vector<double>{top} : std::vector<double>{top, bottom}) {
     svg += "<text x=\"" + Px(kLeft - 4) + "\" y=\"" + Px(y(v) + 4) +
-           "\" font-size=\"9\" text-anchor=\"end\">" + HtmlEscape(AxisNumber(v, digits)) + "</text>";
+           "\" font-size=\"9\" text-anchor=\"end\">" + HtmlEscape(AxisNumber(v, digits)) +
+           "</text>";
   }
   for (const double l : limits)
     svg += "<line class=\"limit\" x1=\"" + Px(kLeft) + "\" x2=\"" + Px(kLeft + plot_w) +

@@ -103,6 +103,8 @@ MUTATIONS = [
     ("one canvas never drawn", '{"name": "residuals-run-1"', '{"name": "residuals-run-1-undrawn"',
      "figures"),
     ("chart with axes and no data", '"points": 199', '"points": 0', "figures"),
+    ("legend label cut off", 'label: "s" + (i + 1),',
+     'label: "s" + (i + 1) + " with a label far too long for its chart ".repeat(4),', "figures"),
     ("figure missing", 'data-figure="orbit-run-1"', 'data-figure="orbit-run-one"', "figures"),
     ("canvas without figcaption", "<figcaption>anisotropy</figcaption>", "", "figures"),
     ("wrong data-value", 'data-value="-0.0010016167989"', 'data-value="-0.0010016167988"',

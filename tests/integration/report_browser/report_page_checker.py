@@ -28,7 +28,9 @@ own test can tell which check caught a page broken on purpose):
              <figcaption>, and drawn: its own pixels (getImageData) hold at least
              `kMinInkFraction` of non-transparent pixels and `kMinColours` distinct colours, and,
              when Chart.js drew it (Chart.getChart), a dataset holds at least 2 finite points (a
-             chart with axes but no data is blank to an engineer, however many pixels its grid has)
+             chart with axes but no data is blank to an engineer, however many pixels its grid has),
+             and every legend item of it lies inside the canvas (a label wider than the chart is
+             cut off at its edge)
   numbers    every [data-source] element: the pointer resolves in session.json; data-value parses
              to exactly the JSON value (float equality; strings and booleans exactly; null as ""
              or "null"); the displayed text (the element's own text, without nested data-source
@@ -271,7 +273,16 @@ for (const c of document.querySelectorAll('canvas[data-figure]')) {
         }
         best = Math.max(best, n);
       }
-      f.chart = { datasets: chart.data.datasets.length, mostPoints: best };
+      // Legend items outside the canvas are cut off (Chart.js lays a too-long label out at its
+      // full width and clips it at the canvas' edge): each hit box holds the item's full width.
+      const boxes = (chart.legend && chart.legend.options && chart.legend.options.display !== false
+                     && chart.legend.legendHitBoxes) || [];
+      const cut = boxes.map((b, i) => ({ b, text: (chart.legend.legendItems[i] || {}).text }))
+        .filter(({ b }) => b.left < -0.5 || b.top < -0.5 || b.left + b.width > chart.width + 0.5 ||
+                           b.top + b.height > chart.height + 0.5)
+        .map(({ b, text }) => String(text) + ' at ' + Math.round(b.left) + '+' +
+                              Math.round(b.width) + ' of ' + chart.width + ' px');
+      f.chart = { datasets: chart.data.datasets.length, mostPoints: best, legendCut: cut };
     }
   }
   figures.push(f);
@@ -446,6 +457,9 @@ class ReportPageChecker:
                 result.add("figures", f"{name}: blank ({100 * f['ink']:.2f} % of "
                                       f"{f['width']}×{f['height']} pixels drawn, "
                                       f"{f['colours']} colours)")
+            if f["chart"] is not None and f["chart"].get("legendCut"):
+                result.add("figures", f"{name}: legend cut off at the canvas' edge: "
+                                      + "; ".join(f["chart"]["legendCut"]))
             if f["chart"] is not None and f["chart"]["mostPoints"] < 2:
                 result.add("figures", f"{name}: Chart.js drew it with no data "
                                       f"({f['chart']['datasets']} datasets, at most "

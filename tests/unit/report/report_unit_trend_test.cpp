@@ -12,8 +12,7 @@ using namespace testing_support;
 
 std::size_t Count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
-    ++n;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
 }
 
@@ -21,12 +20,20 @@ TEST(ReportUnitTrend, EachKeyQuantityIsPlottedAcrossSessionsWithItsLimits) {
   json record = RecordedOutcome();  // τ = 1000 ± 2.5 s against min 2000 s
   record["outcome"]["verdict"]["decision"] = {{"rule", "guarded_acceptance_retest"},
                                               {"coverage_factor", 2.0}};
-  record["outcome"]["estimate"]["engineering"]["quantities"].push_back(
-      {{"name", "q_factor"}, {"label", "Q"}, {"unit", ""}, {"value", 1.5e7},
-       {"std", 1e3}, {"determined", true}, {"note", ""}});
-  record["outcome"]["verdict"]["limits"].push_back(
-      {{"quantity", "q_factor"}, {"status", "PASS"}, {"value", 1.5e7}, {"std", 1e3},
-       {"min", 1e6}, {"max", 1e9}, {"message", ""}});
+  record["outcome"]["estimate"]["engineering"]["quantities"].push_back({{"name", "q_factor"},
+                                                                        {"label", "Q"},
+                                                                        {"unit", ""},
+                                                                        {"value", 1.5e7},
+                                                                        {"std", 1e3},
+                                                                        {"determined", true},
+                                                                        {"note", ""}});
+  record["outcome"]["verdict"]["limits"].push_back({{"quantity", "q_factor"},
+                                                    {"status", "PASS"},
+                                                    {"value", 1.5e7},
+                                                    {"std", 1e3},
+                                                    {"min", 1e6},
+                                                    {"max", 1e9},
+                                                    {"message", ""}});
   testing::ScratchDir dir("report_unit_trend");
   WriteSession(dir.path(), record);
   ReportOptions options = Fast();
@@ -50,7 +57,8 @@ TEST(ReportUnitTrend, EachKeyQuantityIsPlottedAcrossSessionsWithItsLimits) {
   const json data = ReportData(html);
   EXPECT_EQ(data["derived"]["unit_history"]["sessions"][1]["stds"]["tau_s"], 3.0);
 
-  const std::size_t at = html.find("<svg class=\"trend\" data-quantity=\"tau_s\" data-points=\"4\"");
+  const std::size_t at =
+      html.find("<svg class=\"trend\" data-quantity=\"tau_s\" data-points=\"4\"");
   ASSERT_NE(at, std::string::npos);
   EXPECT_LT(html.find("<section id=\"unit-history\">"), at);
   const std::string tau_plot = html.substr(at, html.find("</svg>", at) - at);

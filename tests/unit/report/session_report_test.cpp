@@ -206,6 +206,43 @@ TEST(SessionReport, TheLimitsTableWritesEachValueToItsStdsPrecision) {
   EXPECT_EQ(cell("/outcome/verdict/limits/1/min"), "2000");
 }
 
+// Issue 26: the anisotropy's legend was cut off — each axis' label carried its numbers
+// ("high-frequency axis: Δf = … ± … mHz at θω = … ± …° on the shell"), wider than the square
+// chart once padded square. The legend names the axes; the numbers are in the caption.
+TEST(SessionReport, TheAnisotropyLegendNamesTheAxesAndTheCaptionHoldsTheirNumbers) {
+  json record = RecordedOutcome();
+  json& quantities = record["outcome"]["estimate"]["engineering"]["quantities"];
+  const auto quantity = [](const char* name, const char* unit, double value, double std_dev) {
+    return json{{"name", name},   {"label", name},      {"unit", unit}, {"value", value},
+                {"std", std_dev}, {"determined", true}, {"note", ""}};
+  };
+  quantities.push_back(quantity("frequency_split_mhz", "mHz", 12.3456, 0.7123));
+  quantities.push_back(quantity("frequency_axis_deg", "deg", -23.456, 1.234));
+  quantities.push_back(quantity("damping_split_per_s", "1/s", 2.5e-5, 3e-6));
+  quantities.push_back(quantity("damping_axis_deg", "deg", 31.2, 4.4));
+  testing::ScratchDir dir("report_anisotropy_legend");
+  WriteSession(dir.path(), record);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const json data = ReportData(Read(result->html));
+  json anisotropy;
+  for (const json& f : data["figures"])
+    if (f["name"] == "anisotropy") anisotropy = f;
+  ASSERT_TRUE(anisotropy.is_object());
+  std::vector<std::string> labels;
+  for (const json& s : anisotropy["series"]) labels.push_back(s["label"].get<std::string>());
+  EXPECT_EQ(labels,
+            (std::vector<std::string>{"high-frequency axis", "low-frequency axis (+45°)",
+                                      "fast-decay axis", "slow-decay axis (+45°)", "shell"}));
+  const std::string caption = anisotropy["caption"].get<std::string>();
+  EXPECT_NE(caption.find("high-frequency axis at θω = -23.5 ± 1.2° on the shell, Δf = 12.35 ± "
+                         "0.71 mHz"),
+            std::string::npos)
+      << caption;
+  EXPECT_NE(caption.find("fast-decay axis at θτ = 31.2 ± 4.4° on the shell"), std::string::npos)
+      << caption;
+}
+
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
   testing::ScratchDir dir("report_older");
   json outcome = RecordedOutcome();
