@@ -42,7 +42,8 @@ TEST(StationReport, AnUnknownSheetOrKeyIsAnErrorNamingFileKeyAndValue) {
   EXPECT_NE(legal.error().message.find("\"A4\" or \"Letter\""), std::string::npos);
   EXPECT_GT(legal.error().line, 0u);
 
-  auto unknown = ParseStationConfig(kBase + "\n[report]\npaper = \"A4\"\nmargin_mm = 12\n", "s.toml");
+  auto unknown =
+      ParseStationConfig(kBase + "\n[report]\npaper = \"A4\"\nmargin_mm = 12\n", "s.toml");
   ASSERT_FALSE(unknown.has_value());
   EXPECT_EQ(unknown.error().key, "report.margin_mm");
 
