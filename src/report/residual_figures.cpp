@@ -1,5 +1,6 @@
 #include "residual_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <span>
@@ -66,7 +67,10 @@ void AddResidualFigures(int run_id, const Eigen::Matrix4Xd& residuals, double no
   const char* names[] = {"y1 − ŷ1", "y2 − ŷ2", "y3 − ŷ3", "y4 − ŷ4"};
   nlohmann::json spectrum;
   for (int c = 0; c < 4; ++c) {
-    const PowerSpectrum s = WelchSpectrum(residuals.data() + c, 4, n, sample_rate_hz);
+    // At least ~15 segments averaged (a short run's spectrum is otherwise noise on noise), at
+    // most 512 samples each (a long run's resolution fs/512 is ample for lines and colour).
+    const PowerSpectrum s = WelchSpectrum(residuals.data() + c, 4, n, sample_rate_hz,
+                                          std::clamp<std::size_t>(n / 8, 8, 512));
     // 0 and fs/M (the segments' means removed: the Hann window spreads that over both) and fs/2
     // (not doubled) read low by construction, not by the noise: left out.
     if (s.density.size() < 4) return;

@@ -3,9 +3,10 @@
 //  - residual-histogram-run-N: the four channels' residuals pooled, as a density histogram (50
 //    bins over ±5 times the larger of σ̂ and their RMS) against the Gaussian N(0, σ̂²) the fit
 //    assumed (dashed): a wide, skewed or heavy-tailed histogram is noise the model does not have.
-//  - residual-spectrum-run-N: each channel's one-sided PSD (Welch, Hann, 512-sample segments,
-//    half overlap; residual_statistics.hpp) on a log axis, against the white-noise level 2σ̂²/fs
-//    (dashed): lines, a rising low end or a roll-off are colour the white-noise model ignores.
+//  - residual-spectrum-run-N: each channel's one-sided PSD (Welch, Hann, segments of n/8 up to 512
+//    samples, half overlap; residual_statistics.hpp) on a log axis, against the white-noise level
+//    2σ̂²/fs (dashed): lines, a rising low end or a roll-off are colour the white-noise model
+//    ignores.
 // Each figure holds at most ~1100 numbers whatever the run's length. Internal to src/report.
 
 #include <Eigen/Core>

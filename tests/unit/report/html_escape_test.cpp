@@ -14,7 +14,8 @@ TEST(HtmlEscape, EveryCharacterThatEndsTextOrAnAttributeIsAnEntity) {
 }
 
 TEST(HtmlEscape, NoUrlSurvivesAndOtherTextIsKept) {
-  EXPECT_EQ(HtmlEscape("sqlite:///srv/results.sqlite"), "sqlite:&#47;&#47;&#47;srv&#47;results.sqlite");
+  EXPECT_EQ(HtmlEscape("sqlite:///srv/results.sqlite"),
+            "sqlite:&#47;&#47;&#47;srv&#47;results.sqlite");
   EXPECT_EQ(HtmlEscape("τ = 1000 ± 2.5 s"), "τ = 1000 ± 2.5 s");
   EXPECT_EQ(HtmlEscape(""), "");
 }
