@@ -129,6 +129,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
           RightSeries("θ − θ(0) model", decimator.Apply(model_motion.data() + 1, 2), true));
     }
   }
+  json what_the_fit_left = json::array();  // the residual histogram and spectrum
   if (have_model) {
     for (int c = 0; c < 4; ++c)
       channels["series"].push_back(Series(std::string(y_names[c]) + " model",
@@ -137,6 +138,17 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
     for (int c = 0; c < 4; ++c)
       residuals["series"].push_back(Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
                                            decimator.Apply(e.data() + c, 4)));
+    // σ̂ of this run as its fit recorded it, else the session's; the sample rate as recorded, else
+    // the run's own mean step.
+    double sigma = noise_sigma;
+    const session::EstimateRecord* estimate =
+        record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
+    for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k)
+      if (estimate->fit_runs[k].run == run.id && std::isfinite(estimate->fit_runs[k].noise_sigma))
+        sigma = estimate->fit_runs[k].noise_sigma;
+    double fs = record.sample_rate_hz;
+    if (!(fs > 0.0) && n > 1) fs = static_cast<double>(n - 1) / (d.t_s.back() - d.t_s.front());
+    AddResidualFigures(run.id, e, sigma, fs, &what_the_fit_left);
     for (int k = 0; k < 2; ++k)
       orbit["series"].push_back(Series(std::string(orbit_names[k]) + " model",
                                        decimator.Apply(model_elements.data() + k, 7), true));
@@ -151,19 +163,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   figures->push_back(std::move(channels));
   figures->push_back(std::move(motion));
   figures->push_back(std::move(residuals));
-  if (have_model) {
-    // σ̂ of this run as its fit recorded it, else the session's; the sample rate as recorded, else
-    // the run's own mean step.
-    double sigma = noise_sigma;
-    const session::EstimateRecord* estimate =
-        record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
-    for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k)
-      if (estimate->fit_runs[k].run == run.id && std::isfinite(estimate->fit_runs[k].noise_sigma))
-        sigma = estimate->fit_runs[k].noise_sigma;
-    double fs = record.sample_rate_hz;
-    if (!(fs > 0.0) && n > 1) fs = static_cast<double>(n - 1) / (d.t_s.back() - d.t_s.front());
-    AddResidualFigures(run.id, d.y - run.fitted_y.transpose(), sigma, fs, figures);
-  }
+  for (json& f : what_the_fit_left) figures->push_back(std::move(f));
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
   if (run.index < record.runs.size())
