@@ -158,13 +158,16 @@ class ProgressPrinter {
 // be written is logged; it never changes the outcome or the exit code. Empty when none was written.
 // `results_url`: the station's results store, from which the report lists the unit's earlier
 // sessions (this one is not in it yet: the upload follows the report).
-std::string WriteReport(const bench::SessionResult& result, const std::string& results_url) {
+// `paper`: the station's [report] paper (StationConfig::report_paper).
+std::string WriteReport(const bench::SessionResult& result, const std::string& results_url,
+                        const std::string& paper) {
   std::error_code ec;
   if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
   session::KillPoint("report");
   try {
     report::ReportOptions options;
     options.unit_history = app::ReadUnitHistory(results_url, result.dir);
+    options.paper = report::ParsePaperSize(paper).value_or(report::PaperSize::kA4);
     const auto written = report::WriteSessionReport(result.dir, options);
     if (!written) {
       spdlog::error("session report not written: {}", written.error().ToString());
@@ -284,7 +287,8 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   if (event_output) event_output->publisher().SessionFinished(result);
   std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
   if (!json) PrintOutcome(result, out_text);
-  const std::string report_path = WriteReport(result, configs.station.results_url);
+  const std::string report_path =
+      WriteReport(result, configs.station.results_url, configs.station.report_paper);
   if (event_output) {
     event_output->publisher().ReportWritten(report_path);
     event_output->Close(result.dir);
@@ -301,10 +305,11 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
 // it is never re-opened or re-judged (the upload adds only its "results" mark). The report's
 // path, or empty when there is none.
 std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::SessionResult& result,
-                               const std::string& results_url) {
+                               const std::string& results_url, const std::string& paper) {
   std::error_code ec;
   std::string report_path = (dir / "report" / "report.html").string();
-  if (!std::filesystem::exists(report_path, ec)) report_path = WriteReport(result, results_url);
+  if (!std::filesystem::exists(report_path, ec))
+    report_path = WriteReport(result, results_url, paper);
   const auto recorded = session::ReadSessionRecord(dir);
   const bool marked = recorded && recorded->results.is_object() &&
                       recorded->results.value("uploaded", false) &&
@@ -414,7 +419,8 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     const auto k = std::find(driven_index.begin(), driven_index.end(), i);
     if (k != driven_index.end()) {
       results[i] = ran[static_cast<std::size_t>(k - driven_index.begin())];
-      reports[i] = WriteReport(results[i], configs.station.results_url);
+      reports[i] =
+          WriteReport(results[i], configs.station.results_url, configs.station.report_paper);
       app::UploadClosedSession(configs.station.results_url, results[i].dir);
       continue;
     }
@@ -422,7 +428,8 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
       results[i].outcome = kept[i]->pass ? bench::OutcomeKind::kPass : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
       results[i].reason = bench::KeptReason(kept[i]->reason);
-      reports[i] = FinishClosedFolder(results[i].dir, results[i], configs.station.results_url);
+      reports[i] = FinishClosedFolder(results[i].dir, results[i], configs.station.results_url,
+                                      configs.station.report_paper);
     }
   }
   if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);
@@ -694,16 +701,18 @@ int FinishClosed(const std::filesystem::path& dir, bool json, const EventsReques
   result.estimate_json = recorded->outcome->estimate_json;
   for (const session::RunRecord& run : recorded->runs)
     result.complete_runs += run.status == bench::kRunComplete ? 1 : 0;
-  std::string results_url;
-  if (auto configs = bench::LoadSavedConfigs(dir))
+  std::string results_url, paper = "a4";
+  if (auto configs = bench::LoadSavedConfigs(dir)) {
     results_url = configs->station.results_url;
-  else
+    paper = configs->station.report_paper;
+  } else {
     spdlog::warn("{}; the session is not uploaded", configs.error());
+  }
   spdlog::info("{}: closed as {}; its record is kept as it is", dir.string(),
                bench::ToString(result.outcome));
   std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
   if (!json) PrintOutcome(result, out_text);
-  const std::string report_path = FinishClosedFolder(dir, result, results_url);
+  const std::string report_path = FinishClosedFolder(dir, result, results_url, paper);
   PrintReportLine(result, json, report_path, out_text);
   return result.exit_code;
 }

@@ -4,12 +4,14 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
 #include "app/unit_history.hpp"
+#include "hrgbench/config/station_config.hpp"
 #include "hrgbench/report/session_report.hpp"
 
 namespace {
@@ -20,18 +22,33 @@ struct Arguments {
   std::string dir;
   std::string output;
   bool no_pdf = false;
-  std::string paper = "a4";
+  std::string paper;  // empty: the session's station's [report] paper, else A4
   bool no_figures = false;
   bool refit = false;
   std::string chart_js;
   std::string results_url;
 };
 
+// The PDF's sheet: --paper; else what the session's station declared ([report] paper in its copy
+// config/station.toml, so a report regenerated later prints as the station did); else A4.
+report::PaperSize Paper(const Arguments& args) {
+  if (!args.paper.empty()) return *report::ParsePaperSize(args.paper);  // CLI11 checked it
+  const std::filesystem::path copy = std::filesystem::path(args.dir) / "config" / "station.toml";
+  std::error_code ec;
+  if (!std::filesystem::exists(copy, ec)) return report::PaperSize::kA4;
+  const auto station = bench::LoadStationConfig(copy);
+  if (!station) {
+    spdlog::warn("{}; the PDF is printed on A4", station.error().ToString());
+    return report::PaperSize::kA4;
+  }
+  return report::ParsePaperSize(station->report_paper).value_or(report::PaperSize::kA4);
+}
+
 int Run(const Arguments& args) {
   report::ReportOptions options;
   options.output = args.output;
   options.pdf = !args.no_pdf;
-  options.paper = *report::ParsePaperSize(args.paper);  // CLI11 checked it
+  options.paper = Paper(args);
   options.figures = !args.no_figures;
   options.refit = args.refit;
   options.chart_js = args.chart_js;
@@ -69,7 +86,9 @@ int main(int argc, char** argv) {
   cli.add_option("-o,--output", args.output,
                  "the HTML file (default SESSION_DIR/report/report.html)");
   cli.add_flag("--no-pdf", args.no_pdf, "do not print the PDF");
-  cli.add_option("--paper", args.paper, "the PDF's sheet: a4 (default) or letter")
+  cli.add_option("--paper", args.paper,
+                 "the PDF's sheet: a4 or letter (default: the session's station's [report] paper, "
+                 "else a4)")
       ->check(CLI::IsMember({"a4", "letter"}));
   cli.add_flag("--no-figures", args.no_figures, "do not draw the SVG figures");
   cli.add_flag("--refit", args.refit,

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <map>
 
+#include "hrgbench/report/html_escape.hpp"
+
 namespace hrgbench::app {
 namespace {
 
@@ -33,32 +35,6 @@ struct Tally {
             {"first_pass_yield", share(first_passed, first_judged)}};
   }
 };
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string Text(const nlohmann::json& value) {
   return value.is_string() ? value.get<std::string>() : value.is_null() ? "" : value.dump();
@@ -113,8 +89,8 @@ std::string LineViewHtml(const nlohmann::json& view, const std::string& store) {
       "td,th{border:1px solid #999;padding:.3em .6em;text-align:left}"
       ".PASS{background:#c8f0c8}.FAIL{background:#f4c0c0}.ERROR,.ABORTED{background:#f4e0a0}"
       "</style></head><body>\n<h1>Line view</h1>\n<p>Read-only, from <code>" +
-      Escape(store) + "</code>; day <span id=\"day\">" + Escape(Text(view["day"])) +
-      "</span> (UTC). Refreshes every 30 s.</p>\n";
+      report::HtmlEscape(store) + "</code>; day <span id=\"day\">" +
+      report::HtmlEscape(Text(view["day"])) + "</span> (UTC). Refreshes every 30 s.</p>\n";
   html += "<h2>Yield today</h2>\n<p id=\"line-yield\">" + Percent(today["yield"]) + " (" +
           std::to_string(today["pass"].get<int>()) + " PASS of " +
           std::to_string(today["pass"].get<int>() + today["fail"].get<int>()) +
@@ -124,10 +100,10 @@ std::string LineViewHtml(const nlohmann::json& view, const std::string& store) {
       "<table id=\"yield\"><tr><th>station</th><th>sessions</th><th>PASS</th><th>FAIL</th>"
       "<th>other</th><th>yield</th><th>first-pass yield</th></tr>\n";
   for (const auto& row : today["per_station"]) {
-    html += "<tr data-station=\"" + Escape(Text(row["station"])) + "\"><td>" +
-            Escape(Text(row["station"])) + "</td><td>" + Text(row["sessions"]) + "</td><td>" +
-            Text(row["pass"]) + "</td><td>" + Text(row["fail"]) + "</td><td>" + Text(row["other"]) +
-            "</td><td class=\"yield\">" + Percent(row["yield"]) + "</td><td>" +
+    html += "<tr data-station=\"" + report::HtmlEscape(Text(row["station"])) + "\"><td>" +
+            report::HtmlEscape(Text(row["station"])) + "</td><td>" + Text(row["sessions"]) +
+            "</td><td>" + Text(row["pass"]) + "</td><td>" + Text(row["fail"]) + "</td><td>" +
+            Text(row["other"]) + "</td><td class=\"yield\">" + Percent(row["yield"]) + "</td><td>" +
             Percent(row["first_pass_yield"]) + "</td></tr>\n";
   }
   html +=
@@ -135,15 +111,17 @@ std::string LineViewHtml(const nlohmann::json& view, const std::string& store) {
       "<th>serial</th><th>position</th><th>started (UTC)</th><th>sequence</th><th>pass</th>"
       "<th>outcome</th><th>reason</th></tr>\n";
   for (const auto& s : view["stations"]) {
-    const std::string outcome = Escape(Text(s["outcome"]));
-    html += "<tr data-station=\"" + Escape(Text(s["station"])) + "\"><td>" +
-            Escape(Text(s["station"])) + "</td><td>" + Escape(Text(s["serial"])) + "</td><td>" +
-            Escape(Text(s["fixture_position"])) + "</td><td>" + Escape(Text(s["started_utc"])) +
-            "</td><td>" + Escape(Text(s["sequence"])) + "</td><td>" +
+    const std::string outcome = report::HtmlEscape(Text(s["outcome"]));
+    html += "<tr data-station=\"" + report::HtmlEscape(Text(s["station"])) + "\"><td>" +
+            report::HtmlEscape(Text(s["station"])) + "</td><td>" +
+            report::HtmlEscape(Text(s["serial"])) + "</td><td>" +
+            report::HtmlEscape(Text(s["fixture_position"])) + "</td><td>" +
+            report::HtmlEscape(Text(s["started_utc"])) + "</td><td>" +
+            report::HtmlEscape(Text(s["sequence"])) + "</td><td>" +
             (s["attempt"].get<int>() <= 1 ? std::string("first")
                                           : "retest " + std::to_string(s["attempt"].get<int>())) +
             "</td><td class=\"outcome " + outcome + "\">" + outcome + "</td><td>" +
-            Escape(Text(s["reason"])) + "</td></tr>\n";
+            report::HtmlEscape(Text(s["reason"])) + "</td></tr>\n";
   }
   html += "</table>\n</body></html>\n";
   return html;

@@ -29,16 +29,20 @@ std::optional<report::UnitHistory> ReadUnitHistory(const std::string& url,
   if (*store == nullptr) return history;  // nothing stored yet
   results::SessionFilter filter;
   filter.serial = record->serial;
-  auto sessions = (*store)->SessionsWithParameters(filter);
+  // The export rows: each parameter with its std (the trend plots' bars), not only its value.
+  auto sessions = (*store)->ExportRows(filter);
   if (!sessions) return Unavailable(std::move(history), sessions.error().message);
-  for (results::SessionWithParameters& s : *sessions) {
+  for (results::SessionExport& s : *sessions) {
     if (s.session.id == record->id) continue;
     report::UnitHistoryEntry entry;
     entry.started_utc = std::move(s.session.started_utc);
     entry.station = std::move(s.session.station);
     entry.outcome = std::move(s.session.outcome);
     entry.path = std::move(s.session.path);
-    entry.values = std::move(s.values);
+    for (const auto& [name, row] : s.parameters) {
+      if (row.value) entry.values[name] = *row.value;
+      if (row.std) entry.stds[name] = *row.std;
+    }
     history.sessions.push_back(std::move(entry));
   }
   return history;

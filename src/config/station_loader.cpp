@@ -675,6 +675,22 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
     HRG_CHECK(reader.Unknown("url"));
   }
 
+  HRG_TRY(report_table, SubTable(root, "report", false));
+  if (*report_table != nullptr) {
+    TableReader reader(**report_table, "report", source);
+    HRG_TRY(paper, RequiredString(reader, "paper"));
+    // Spelled as a sheet is named; a near miss ("a4", "US Letter") is an error, not a guess.
+    if (*paper == "A4") {
+      station.report_paper = "a4";
+    } else if (*paper == "Letter") {
+      station.report_paper = "letter";
+    } else {
+      return std::unexpected(
+          reader.Error(*reader.table().get("paper"), "paper", "must be \"A4\" or \"Letter\""));
+    }
+    HRG_CHECK(reader.Unknown("paper"));
+  }
+
   HRG_TRY(offers_table, SubTable(root, "offers", false));
   if (*offers_table != nullptr) {
     TableReader reader(**offers_table, "offers", source);
@@ -684,7 +700,7 @@ std::expected<StationConfig, ConfigError> ReadStation(const TomlDocument& docume
 
   HRG_CHECK(
       root.Unknown("[station], [site], [gyro], [table], [simulated], [[fixture]], [realtime], "
-                   "[results], [offers]"));
+                   "[results], [report], [offers]"));
   return station;
 }
 

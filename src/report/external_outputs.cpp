@@ -55,7 +55,8 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
          << "set title " << Quoted(f.value("caption", name)) << " font 'sans,9'\n"
          << "set xlabel " << Quoted(f.value("x_label", "")) << "\n"
          << "set ylabel " << Quoted(f.value("y_label", "")) << "\n"
-         << "set key outside right top\nset grid\nunset logscale\nset size noratio\n"
+         << (square ? "set key below\n" : "set key outside right top\n")
+         << "set grid\nunset logscale\nset size noratio\n"
          << "set xtics auto\nset ytics mirror\nunset y2tics\nunset y2label\n";
   if (f.value("y_log", false)) script << "set logscale y\n";
   // Series on the right-hand axis (the orbit's θ in degrees beside a and b).

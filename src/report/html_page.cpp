@@ -13,6 +13,7 @@
 #include "page_pointer.hpp"
 #include "page_script.hpp"
 #include "report_data.hpp"
+#include "trend_plot.hpp"
 
 namespace hrgbench::report::internal {
 
@@ -29,6 +30,7 @@ void Page::Head() {
       "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
       "text-align:left;vertical-align:top}th{background:#f2f2f2}\n"
       ".num{font-variant-numeric:tabular-nums}.na{color:#888}\n"
+      "svg.trend{margin:0 .5em .5em 0}\n"
       "#outcome{font-size:1.6em;font-weight:bold;padding:.5em .8em;border-radius:6px;color:#fff;"
       "margin:.8em 0}\n"
       "#outcome[data-kind=PASS]{background:#1b7f3b}#outcome[data-kind=FAIL]{background:#b3261e}"
@@ -298,11 +300,12 @@ void Page::Verdict() {
   for (std::size_t i = 0; i < verdict.limits.size(); ++i) {
     const session::LimitRowRecord& l = verdict.limits[i];
     const auto at = [&](const char* key) { return pointer(keys::kLimits, i, key); };
-    out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + Src(at(keys::kValue), l.value) +
-            "</td><td>" + Src(at(keys::kStd), l.std) + "</td><td>" + Src(at(keys::kMin), l.min) +
-            "</td><td>" + Src(at(keys::kMax), l.max) + "</td><td class=\"status-" + Attr(l.status) +
-            "\">" + HtmlEscape(l.status) + "</td><td>" + GuardBandBar(l) + "</td><td>" +
-            HtmlEscape(l.message) + "</td></tr>\n";
+    // The value to the digits its std supports (GUM 7.2.6), as in the parameter table.
+    const auto [value, std_dev] = SrcWithStd(at(keys::kValue), l.value, at(keys::kStd), l.std);
+    out_ += "<tr><td>" + HtmlEscape(l.quantity) + "</td><td>" + value + "</td><td>" + std_dev +
+            "</td><td>" + Src(at(keys::kMin), l.min) + "</td><td>" + Src(at(keys::kMax), l.max) +
+            "</td><td class=\"status-" + Attr(l.status) + "\">" + HtmlEscape(l.status) +
+            "</td><td>" + GuardBandBar(l) + "</td><td>" + HtmlEscape(l.message) + "</td></tr>\n";
   }
   out_ += "</table>\n";
   if (!verdict.decision_rule.empty())
@@ -393,7 +396,55 @@ void Page::UnitHistory() {
     }
     out_ += "<td>" + cell + "</td>";
   }
-  out_ += "</tr>\n</table>\n</section>\n";
+  out_ += "</tr>\n</table>\n";
+  UnitTrends(shown);
+  out_ += "</section>\n";
+}
+
+// One small plot per key quantity: the earlier sessions' values ± k·u (the data block's copy of
+// the store's rows) and this session's from its record, against this session's limits.
+void Page::UnitTrends(std::size_t shown) {
+  const session::EstimateRecord* estimate =
+      record_.outcome && record_.outcome->estimate ? &*record_.outcome->estimate : nullptr;
+  const session::VerdictRecord* verdict =
+      record_.outcome && record_.outcome->verdict ? &*record_.outcome->verdict : nullptr;
+  // The k the verdict judged with, else the engineering quantities' own, else 1 (bars of u).
+  double k = verdict != nullptr ? verdict->decision_coverage_factor : session::kNotRecorded;
+  if (!(std::isfinite(k) && k > 0.0) && estimate != nullptr)
+    k = estimate->engineering_coverage_factor;
+  if (!(std::isfinite(k) && k > 0.0)) k = 1.0;
+  std::string plots;
+  for (const auto& [name, label] : kHistoryColumns) {
+    std::vector<TrendPoint> points;
+    for (std::size_t i = 0; i < shown; ++i) {
+      const std::string s = "/derived/unit_history/sessions/" + std::to_string(i);
+      const json* started = At(data_, s + "/started_utc");
+      points.push_back(
+          {started != nullptr && started->is_string() ? started->get<std::string>() : std::string(),
+           NumberAt(data_, s + "/values/" + name), NumberAt(data_, s + "/stds/" + name), false});
+    }
+    TrendPoint current{"this session", session::kNotRecorded, session::kNotRecorded, true};
+    for (std::size_t q = 0; estimate != nullptr && q < estimate->engineering.size(); ++q) {
+      if (estimate->engineering[q].name != name) continue;
+      current.value = estimate->engineering[q].value;
+      current.std_dev = estimate->engineering[q].std;
+    }
+    points.push_back(current);
+    std::optional<double> low, high;
+    for (std::size_t i = 0; verdict != nullptr && i < verdict->limits.size(); ++i) {
+      const session::LimitRowRecord& l = verdict->limits[i];
+      if (l.quantity != name) continue;
+      if (std::isfinite(l.min)) low = l.min;
+      if (std::isfinite(l.max)) high = l.max;
+    }
+    plots += TrendPlot(name, label, points, k, low, high);
+  }
+  if (plots.empty()) return;
+  out_ +=
+      "<div class=\"trends\"><p>The trend of each: one point per session (this one filled, "
+      "last), bars ± " +
+      Readable(k) + "·u where the store keeps u, this session's limits dashed.</p>\n" + plots +
+      "</div>\n";
 }
 
 void Page::Figure(const std::string& name, int width, int height) {

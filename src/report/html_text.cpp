@@ -12,36 +12,6 @@ namespace {
 constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 }  // namespace
 
-std::string HtmlEscape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size() + 16);
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      case '/':
-        out += "&#47;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::string RoundTrip(double value) {
   if (!std::isfinite(value)) return "null";
   char buffer[64];

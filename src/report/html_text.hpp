@@ -6,10 +6,12 @@
 #include <string>
 #include <string_view>
 
+#include "hrgbench/report/html_escape.hpp"
+
 namespace hrgbench::report::internal {
 
-// &, <, >, ", ' as entities, and '/' as &#47; (so no "://" can appear in the page's text).
-std::string HtmlEscape(std::string_view text);
+// The project's one HTML escape (hrgbench/report/html_escape.hpp).
+using report::HtmlEscape;
 
 // Shortest text that reads back to the same double (std::to_chars), "null" when not finite.
 std::string RoundTrip(double value);

@@ -106,6 +106,7 @@ class Page {
   void EngineeringBudgets(const session::EstimateRecord& estimate);
   void Verdict();
   void UnitHistory();
+  void UnitTrends(std::size_t shown);  // the trend plots under the history table
   void Figure(const std::string& name, int width, int height);
   void Run(const RunView& run);
   // When not every run has figures: one row per run (figures drawn or not) above the sections.

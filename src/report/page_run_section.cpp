@@ -9,6 +9,7 @@
 namespace hrgbench::report::internal {
 
 namespace keys = session::keys;
+using nlohmann::json;
 
 void Page::Run(const RunView& run) {
   const std::string id = std::to_string(run.id);
@@ -66,6 +67,19 @@ void Page::Run(const RunView& run) {
       row("temperature drift [°C]", Der(d + "temperature_drift_c"));
     if (std::isfinite(NumberAt(data_, d + "frequency_drift_hz")))
       row("frequency drift [Hz]", Der(d + "frequency_drift_hz"));
+    // Over the run, not only at its ends; what was not recorded over it is said.
+    const json* over = At(data_, d + "temperature_over_run");
+    if (over != nullptr && over->is_string()) {
+      row("temperature over the run [°C]",
+          Der(d + "temperature_min_c") + " … " + Der(d + "temperature_max_c") + " (" +
+              Der(d + "temperature_samples") + " samples, temp_c)");
+    } else {
+      row("temperature over the run",
+          std::string(kMissing) + " (the run CSV has no temp_c column: at start and end only)");
+    }
+    row("resonant frequency over the run",
+        std::string(kMissing) +
+            " (session.json holds it at the release, the start and the end of the run only)");
   }
   out_ += "</table>\n";
   // The fit of this run as recorded (outcome.estimate.fit.runs[k] with run == id).
@@ -89,7 +103,8 @@ void Page::Run(const RunView& run) {
         src(keys::kOmegaOffsetInStd, fit.omega_offset_in_std) + "</td></tr></table>\n";
   }
   if (run.loaded && run.figures) {
-    for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
+    for (const char* kind : {"channels", "motion", "residuals", "residual-histogram",
+                             "residual-spectrum", "orbit", "forms", "conditions"})
       Figure(std::string(kind) + "-run-" + id, 960, 300);
   } else if (run.loaded) {
     out_ +=

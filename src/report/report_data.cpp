@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "figure_spec.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/estimator/cramer_rao.hpp"
 #include "hrgbench/estimator/model.hpp"
@@ -15,6 +16,8 @@
 #include "hrgbench/session/session_record_keys.hpp"
 #include "html_text.hpp"
 #include "page_pointer.hpp"
+#include "residual_figures.hpp"
+#include "run_conditions.hpp"
 #include "sample_timing.hpp"
 
 namespace hrgbench::report::internal {
@@ -23,35 +26,10 @@ namespace {
 using estimator::kNaN;
 using nlohmann::json;
 
-json Numbers(const std::vector<double>& values) {
-  json out = json::array();
-  out.get_ref<json::array_t&>().reserve(values.size());
-  for (const double v : values) out.push_back(std::isfinite(v) ? json(Rounded(v)) : json(nullptr));
-  return out;
-}
-
-json Series(const std::string& label, const std::vector<double>& y, bool model = false) {
-  return json{{"label", label}, {"y", Numbers(y)}, {"model", model}};
-}
-
-// A series on the figure's right-hand axis (y2_label).
-json RightSeries(const std::string& label, const std::vector<double>& y, bool model = false) {
-  json s = Series(label, y, model);
-  s["axis"] = "y2";
-  return s;
-}
-
-json LineFigure(const std::string& name, const std::string& caption, const std::string& x_label,
-                const std::string& y_label, const std::vector<double>& x) {
-  return json{{"name", name},          {"caption", caption}, {"type", "line"},
-              {"x_label", x_label},    {"y_label", y_label}, {"y_log", false},
-              {"equal_aspect", false}, {"x", Numbers(x)},    {"series", json::array()}};
-}
-
 // One run's figures: channels with the model, residuals, orbit elements and principal forms, each
 // data series next to the model's.
 void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_points,
-                json* figures) {
+                const session::SessionRecord& record, double noise_sigma, json* figures) {
   const estimator::RunData& d = run.data;
   const auto n = static_cast<Eigen::Index>(d.t_s.size());
   const MinMaxDecimator decimator(d.t_s, max_points);
@@ -151,6 +129,7 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
           RightSeries("θ − θ(0) model", decimator.Apply(model_motion.data() + 1, 2), true));
     }
   }
+  json what_the_fit_left = json::array();  // the residual histogram and spectrum
   if (have_model) {
     for (int c = 0; c < 4; ++c)
       channels["series"].push_back(Series(std::string(y_names[c]) + " model",
@@ -159,6 +138,17 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
     for (int c = 0; c < 4; ++c)
       residuals["series"].push_back(Series(std::string(y_names[c]) + " − ŷ" + std::to_string(c + 1),
                                            decimator.Apply(e.data() + c, 4)));
+    // σ̂ of this run as its fit recorded it, else the session's; the sample rate as recorded, else
+    // the run's own mean step.
+    double sigma = noise_sigma;
+    const session::EstimateRecord* estimate =
+        record.outcome && record.outcome->estimate ? &*record.outcome->estimate : nullptr;
+    for (std::size_t k = 0; estimate != nullptr && k < estimate->fit_runs.size(); ++k)
+      if (estimate->fit_runs[k].run == run.id && std::isfinite(estimate->fit_runs[k].noise_sigma))
+        sigma = estimate->fit_runs[k].noise_sigma;
+    double fs = record.sample_rate_hz;
+    if (!(fs > 0.0) && n > 1) fs = static_cast<double>(n - 1) / (d.t_s.back() - d.t_s.front());
+    AddResidualFigures(run.id, e, sigma, fs, &what_the_fit_left);
     for (int k = 0; k < 2; ++k)
       orbit["series"].push_back(Series(std::string(orbit_names[k]) + " model",
                                        decimator.Apply(model_elements.data() + k, 7), true));
@@ -173,8 +163,11 @@ void RunFigures(const RunView& run, const estimator::Xi& xi, std::size_t max_poi
   figures->push_back(std::move(channels));
   figures->push_back(std::move(motion));
   figures->push_back(std::move(residuals));
+  for (json& f : what_the_fit_left) figures->push_back(std::move(f));
   figures->push_back(std::move(orbit));
   figures->push_back(std::move(forms));
+  if (run.index < record.runs.size())
+    AddConditionsFigure(run, record.runs[run.index], decimator, figures);
 }
 
 // Capture quality the report computes from the samples and the record (the recorded counters
@@ -196,6 +189,7 @@ json CaptureQuality(const RunView& run, const session::SessionRecord& record) {
     end = record.runs[run.index].end->values;
   q["temperature_drift_c"] = bench::NumberOrNull(end.temperature_end_c - end.temperature_start_c);
   q["frequency_drift_hz"] = bench::NumberOrNull(end.frequency_end_hz - end.frequency_start_hz);
+  AddRunConditions(run, &q);
   return q;
 }
 
@@ -315,11 +309,16 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
         EngineeringQuantity(inputs.record, p.split_name);
     const session::EngineeringQuantityRecord* angle =
         EngineeringQuantity(inputs.record, p.axis_name);
+    // The legend names the axes only: their numbers go into the caption, which wraps. A legend
+    // label as long as "high-frequency axis: Δf = … ± … mHz at θω = … ± …° on the shell" is
+    // wider than the square chart once its plot area is padded square, and was cut off.
     if (angle == nullptr || split == nullptr) {
-      axis(std::string(p.first) + " (" + p.split_symbol + " = " + Readable(p.derived_split) + " " +
-               p.derived_unit + ", derived by the report; significance not recorded)",
-           p.derived_axis_shell_rad, p.length, false);
-      axis(p.second, p.derived_axis_shell_rad + quarter, p.length, false);
+      axis(p.first, p.derived_axis_shell_rad, p.length, false);
+      axis(std::string(p.second) + " (+45°)", p.derived_axis_shell_rad + quarter, p.length, false);
+      caption += "; " + std::string(p.first) + " at " +
+                 Readable(p.derived_axis_shell_rad * 180 / std::numbers::pi) + "° on the shell, " +
+                 p.split_symbol + " = " + Readable(p.derived_split) + " " + p.derived_unit +
+                 " (derived by the report; significance not recorded)";
       continue;
     }
     const double angle_deg = angle->value;
@@ -329,11 +328,11 @@ json Anisotropy(const ReportInputs& inputs, json* figures) {
                  MetrologicalText(*split) + ")";
       continue;
     }
-    axis(std::string(p.first) + ": " + p.split_symbol + " = " + MetrologicalText(*split) + " at " +
-             p.angle_symbol + " = " + MetrologicalText(*angle) + " on the shell",
-         angle_deg * deg, p.length, false);
-    axis(std::string(p.second) + " (" + p.angle_symbol + " + 45°)", angle_deg * deg + quarter,
-         p.length, false);
+    axis(p.first, angle_deg * deg, p.length, false);
+    axis(std::string(p.second) + " (+45°)", angle_deg * deg + quarter, p.length, false);
+    caption += "; " + std::string(p.first) + " at " + p.angle_symbol + " = " +
+               MetrologicalText(*angle) + " on the shell, " + p.split_symbol + " = " +
+               MetrologicalText(*split) + " (the " + p.second + " at " + p.angle_symbol + " + 45°)";
   }
   caption += "; from δ at " + source;
   if (OfRecord(inputs.record) != nullptr && !OfRecord(inputs.record)->engineering.empty())
@@ -441,21 +440,25 @@ json CramerRao(const ReportInputs& inputs, json* figures) {
 }
 
 // derived.unit_history: {store, unavailable, count, sessions: [{started_utc, station, outcome,
-// path, values {name: number}}]}, the newest kMaxUnitHistoryRows, oldest first; null without one.
+// path, values {name: number}, stds {name: number}}]}, the newest kMaxUnitHistoryRows, oldest
+// first; null without one.
 json UnitHistoryJson(const std::optional<UnitHistory>& history) {
   if (!history) return nullptr;
   json sessions = json::array();
   const std::size_t n = history->sessions.size();
   for (std::size_t i = n > kMaxUnitHistoryRows ? n - kMaxUnitHistoryRows : 0; i < n; ++i) {
     const UnitHistoryEntry& e = history->sessions[i];
-    json values = json::object();
+    json values = json::object(), stds = json::object();
     for (const auto& [name, value] : e.values)
       if (std::isfinite(value)) values[name] = value;
+    for (const auto& [name, value] : e.stds)
+      if (std::isfinite(value)) stds[name] = value;
     sessions.push_back({{"started_utc", e.started_utc},
                         {"station", e.station},
                         {"outcome", e.outcome},
                         {"path", e.path},
-                        {"values", std::move(values)}});
+                        {"values", std::move(values)},
+                        {"stds", std::move(stds)}});
   }
   return {{"store", history->store},
           {"unavailable", history->unavailable},
@@ -526,11 +529,12 @@ double NumberAt(const json& doc, const std::string& pointer) {
 }
 
 RunPart BuildRunPart(const RunView& run, const session::SessionRecord& record,
-                     const estimator::Xi& xi, std::size_t max_points_per_series) {
+                     const estimator::Xi& xi, double noise_sigma,
+                     std::size_t max_points_per_series) {
   RunPart part;
   if (!run.loaded) return part;
   part.quality = CaptureQuality(run, record);
-  if (run.figures) RunFigures(run, xi, max_points_per_series, &part.figures);
+  if (run.figures) RunFigures(run, xi, max_points_per_series, record, noise_sigma, &part.figures);
   return part;
 }
 

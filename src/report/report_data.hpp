@@ -26,13 +26,15 @@
 namespace hrgbench::report::internal {
 
 // One run's part of the data block: derived.runs["<id>"] (capture quality) and, when run.figures,
-// its five figures. Needs run.data (and run.fitted_* to draw the model).
+// its seven figures. Needs run.data (and run.fitted_* to draw the model and what it left);
+// `noise_sigma` the estimate's σ̂ (a run's own recorded σ̂ takes precedence).
 struct RunPart {
   nlohmann::json quality;
   nlohmann::json figures = nlohmann::json::array();
 };
 RunPart BuildRunPart(const RunView& run, const session::SessionRecord& record,
-                     const estimator::Xi& xi, std::size_t max_points_per_series);
+                     const estimator::Xi& xi, double noise_sigma,
+                     std::size_t max_points_per_series);
 
 // The whole block from the inputs and each loaded run's part (`run_parts` parallel to
 // inputs.runs; a run not loaded has an empty part).

@@ -28,10 +28,13 @@ struct RunView {
                             // part of the page is made: session_report.cpp)
   std::size_t samples = 0;  // samples read (when loaded), and their first and last t_s
   double first_t_s = 0.0, last_t_s = 0.0;
-  // Its five figures are drawn (ReportOptions::max_runs_with_figures chooses which runs).
+  // Its seven figures are drawn (ReportOptions::max_runs_with_figures chooses which runs).
   bool figures = true;
   std::string not_loaded_reason;  // why not (status, missing file, empty, unreadable)
   estimator::RunData data;        // id, Ω, t_s, y (when loaded)
+  // The run CSV's temp_c column, parallel to data.t_s; empty when the CSV has none (and dropped
+  // with the samples).
+  std::vector<double> temperature_c;
   // The fitted model at data.t_s (empty when the estimate has no entry for this run).
   estimator::RunChannels fitted_y;
   estimator::RunChannels fitted_x;

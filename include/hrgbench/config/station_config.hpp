@@ -220,6 +220,10 @@ struct StationConfig {
   bool results_url_relative = false;
   // [offers]: what the panel lists and selects first (station_offers.hpp).
   StationOffers offers;
+  // [report] paper = "A4" | "Letter": the sheet of the session report's PDF, as
+  // report::ParsePaperSize names it ("a4", "letter"). A4 when the station does not say;
+  // hrg-report --paper overrides it.
+  std::string report_paper = "a4";
 };
 
 // The fitted positions, in the order declared.

@@ -18,7 +18,9 @@
 //
 // ## The HTML contract (the browser test, branch `browser`, relies on it; keep it exactly)
 //  - Every chart is a `<canvas data-figure="NAME">` inside a `<figure>` with a `<figcaption>`.
-//    Names: `channels-run-N`, `motion-run-N`, `residuals-run-N`, `orbit-run-N`, `forms-run-N`
+//    Names: `channels-run-N`, `motion-run-N`, `residuals-run-N`, `residual-histogram-run-N`,
+//    `residual-spectrum-run-N` (what the fit left: its density against N(0, σ̂²), its Welch PSD
+//    against 2σ̂²/fs; only where the run has a fitted model), `orbit-run-N`, `forms-run-N`
 //    (N = the run id; for every run when there are at most max_runs_with_figures, else for that
 //    many, and the page has a run list `<section id="run-list">` with one row per run),
 //    `anisotropy`, `std-vs-bound`.
@@ -67,6 +69,9 @@ struct UnitHistoryEntry {
   // Engineering quantities by name (estimator/engineering_quantities.hpp: "tau_s", "q_factor",
   // ...); a quantity the session did not determine is absent.
   std::map<std::string, double> values;
+  // Their standard uncertainties as stored (a quantity without one is absent): the trend plots'
+  // bars.
+  std::map<std::string, double> stds;
 };
 struct UnitHistory {
   std::string store;                       // where it came from (the URL without its password)
@@ -95,7 +100,7 @@ struct ReportOptions {
   // Points per series on the page (min/max per bucket, see decimate.hpp). 2000 keeps a production
   // session (6 runs × 100 000 samples) under 5 MB of HTML.
   std::size_t max_points_per_series = 2000;
-  // Runs drawn with their five figures. A session with more runs gets a run list (one row per
+  // Runs drawn with their seven figures. A session with more runs gets a run list (one row per
   // run) and the figures of this many: the first, the last and those with the largest residual
   // RMS. Each run with figures adds ≈ 0.6 MB to the page at 2000 points per series, each run
   // without ≈ 3 kB, so the page stays under ≈ 12 MB at the sequence bound of 1000 runs

@@ -165,6 +165,29 @@ TEST_F(CliTest, ReportWritesThePageAndPrintsItsPath) {
   EXPECT_TRUE(fs::exists(session / "report" / "report.html"));
 }
 
+// Issue 26: the PDF's sheet is the station's ([report] paper in the session's copy of the station
+// file), and --paper overrides it; the page's @page rule is what Chromium prints on.
+TEST_F(CliTest, ReportPrintsOnTheStationsPaperUnlessTold) {
+  const fs::path session = SimulatePaper();
+  const std::string sheet = "@page{size:";
+  const auto printed_on = [&](const std::string& args) {
+    const Result r = Run(HRG_REPORT, Quote(session) + " --no-pdf --no-figures" + args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const std::string page = ReadAll(session / "report" / "report.html");
+    const std::size_t at = page.find(sheet);
+    return at == std::string::npos
+               ? std::string("(none)")
+               : page.substr(at + sheet.size(), page.find(';', at) - at - sheet.size());
+  };
+  EXPECT_EQ(printed_on(""), "A4");  // no station copy (hrg-sim): A4
+  fs::create_directories(session / "config");
+  std::ofstream(session / "config" / "station.toml")
+      << ReadAll(fs::path(HRGBENCH_SOURCE_DIR) / "bench_configs" / "station-sim.toml")
+      << "\n[report]\npaper = \"Letter\"\n";
+  EXPECT_EQ(printed_on(""), "letter");
+  EXPECT_EQ(printed_on(" --paper a4"), "A4");
+}
+
 TEST_F(CliTest, ReportOfAMalformedSessionExitsBadInputNamingFileAndField) {
   const fs::path session = SimulatePaper();
   nlohmann::json doc = nlohmann::json::parse(ReadAll(session / "session.json"));

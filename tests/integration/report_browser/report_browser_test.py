@@ -103,6 +103,10 @@ MUTATIONS = [
     ("one canvas never drawn", '{"name": "residuals-run-1"', '{"name": "residuals-run-1-undrawn"',
      "figures"),
     ("chart with axes and no data", '"points": 199', '"points": 0', "figures"),
+    ("trend point not drawn", '<circle class="session" cx="80" cy="60" r="3"',
+     '<circle class="session" cx="80" cy="60" r="0"', "figures"),
+    ("legend label cut off", 'label: "s" + (i + 1),',
+     'label: "s" + (i + 1) + " with a label far too long for its chart ".repeat(4),', "figures"),
     ("figure missing", 'data-figure="orbit-run-1"', 'data-figure="orbit-run-one"', "figures"),
     ("canvas without figcaption", "<figcaption>anisotropy</figcaption>", "", "figures"),
     ("wrong data-value", 'data-value="-0.0010016167989"', 'data-value="-0.0010016167988"',
@@ -318,7 +322,11 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
         run_ids = [r.get("id") for r in session.get("runs", []) if r.get("status") == "complete"
                    and (session_dir / r.get("file", "")).is_file()]
         with rpc.ReportPageChecker(ready_timeout_s=60.0) as checker:
-            result = checker.Check(html, session, run_ids, artifacts_dir=out, mentions=mentions)
+            # Issue 26's figures: what each run's fit left and its conditions over the run (the
+            # bench's runs record temperature and frequency at their start and end).
+            result = checker.Check(html, session, run_ids, artifacts_dir=out, mentions=mentions,
+                                   run_figures=["residual-histogram", "residual-spectrum",
+                                                "conditions"])
         Report(result, case)
         failures += [str(p) for p in result.problems]
         pdf = html.parent / "report.pdf"

@@ -28,7 +28,9 @@ own test can tell which check caught a page broken on purpose):
              <figcaption>, and drawn: its own pixels (getImageData) hold at least
              `kMinInkFraction` of non-transparent pixels and `kMinColours` distinct colours, and,
              when Chart.js drew it (Chart.getChart), a dataset holds at least 2 finite points (a
-             chart with axes but no data is blank to an engineer, however many pixels its grid has)
+             chart with axes but no data is blank to an engineer, however many pixels its grid has),
+             and every legend item of it lies inside the canvas (a label wider than the chart is
+             cut off at its edge)
   numbers    every [data-source] element: the pointer resolves in session.json; data-value parses
              to exactly the JSON value (float equality; strings and booleans exactly; null as ""
              or "null"); the displayed text (the element's own text, without nested data-source
@@ -43,6 +45,8 @@ own test can tell which check caught a page broken on purpose):
              has a data-run that is a run number or 0, agrees with a "run N:" at the start of
              its text, and sits where its data-run says
   mentions   (optional) the page's text contains each given string (e.g. a missing file's name)
+  trends     (under figures) every svg.trend (the unit's history) is laid out and draws each of its
+             data-points as a circle.session with a box
 
 Screenshots (full page and each <figure>) go to `artifacts_dir` when given.
 
@@ -92,6 +96,7 @@ class PageResult:
     warnings_checked: int = 0
     ready_after_s: float | None = None
     screenshots: list[Path] = field(default_factory=list)
+    trends: list[dict] = field(default_factory=list)
 
     def add(self, check: str, message: str) -> None:
         self.problems.append(Problem(check, message))
@@ -217,11 +222,14 @@ def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
                               f"{expected!r} (allowed ±{tolerance:.3g} at the precision shown)")
 
 
-def RequiredFigures(run_ids: Iterable[int]) -> list[str]:
+def RequiredFigures(run_ids: Iterable[int], run_figures: Iterable[str] = ()) -> list[str]:
+    """The contract's figures; `run_figures` adds kinds every run must have on this page too
+    (e.g. residual-histogram, residual-spectrum, conditions: issue 26's)."""
     names = []
     for run_id in run_ids:
         names += [f"channels-run-{run_id}", f"residuals-run-{run_id}", f"orbit-run-{run_id}",
                   f"forms-run-{run_id}"]
+        names += [f"{kind}-run-{run_id}" for kind in run_figures]
     return names + ["anisotropy", "std-vs-bound"]
 
 
@@ -271,7 +279,16 @@ for (const c of document.querySelectorAll('canvas[data-figure]')) {
         }
         best = Math.max(best, n);
       }
-      f.chart = { datasets: chart.data.datasets.length, mostPoints: best };
+      // Legend items outside the canvas are cut off (Chart.js lays a too-long label out at its
+      // full width and clips it at the canvas' edge): each hit box holds the item's full width.
+      const boxes = (chart.legend && chart.legend.options && chart.legend.options.display !== false
+                     && chart.legend.legendHitBoxes) || [];
+      const cut = boxes.map((b, i) => ({ b, text: (chart.legend.legendItems[i] || {}).text }))
+        .filter(({ b }) => b.left < -0.5 || b.top < -0.5 || b.left + b.width > chart.width + 0.5 ||
+                           b.top + b.height > chart.height + 0.5)
+        .map(({ b, text }) => String(text) + ' at ' + Math.round(b.left) + '+' +
+                              Math.round(b.width) + ' of ' + chart.width + ' px');
+      f.chart = { datasets: chart.data.datasets.length, mostPoints: best, legendCut: cut };
     }
   }
   figures.push(f);
@@ -299,7 +316,15 @@ for (const el of document.querySelectorAll('[src],[href],[srcset],[poster],objec
     if (v && /(^|[\s,])(https?:)?\/\//i.test(v)) linked.push(el.tagName + ' ' + attr + '=' + v);
   }
 }
-return { figures, numbers, derived, dataBlocks, warnings, outcomes, entries, linked,
+// The unit's trend plots (inline SVG): each point that is drawn has a box on the page.
+const trends = [...document.querySelectorAll('svg.trend')].map((el) => {
+  const circles = [...el.querySelectorAll('circle.session')];
+  const drawn = circles.filter((c) => { const b = c.getBBox(); return b.width > 0 && b.height > 0; });
+  const box = el.getBoundingClientRect();
+  return { quantity: el.getAttribute('data-quantity'), points: Number(el.getAttribute('data-points')),
+           drawn: drawn.length, width: box.width, height: box.height };
+});
+return { figures, numbers, derived, dataBlocks, warnings, outcomes, entries, linked, trends,
          text: document.body ? document.body.innerText : '' };
 """
 
@@ -330,7 +355,8 @@ class ReportPageChecker:
         self.close()
 
     def Check(self, html: Path, session: Any, run_ids: Iterable[int],
-              artifacts_dir: Path | None = None, mentions: Iterable[str] = ()) -> PageResult:
+              artifacts_dir: Path | None = None, mentions: Iterable[str] = (),
+              run_figures: Iterable[str] = ()) -> PageResult:
         result = PageResult()
         driver = self.driver
         driver.get_log("browser")  # drop what an earlier page logged
@@ -357,7 +383,13 @@ class ReportPageChecker:
         for link in page["linked"]:
             result.add("network", f"an element links to the network: {link}")
 
-        self._CheckFigures(page["figures"], RequiredFigures(run_ids), result)
+        self._CheckFigures(page["figures"], RequiredFigures(run_ids, run_figures), result)
+        for t in page["trends"]:
+            if t["width"] <= 0 or t["height"] <= 0 or t["drawn"] < 1 or t["drawn"] != t["points"]:
+                result.add("figures", f"trend of {t['quantity']}: {t['drawn']} of "
+                                      f"{t['points']} points drawn in a {t['width']:.0f}×"
+                                      f"{t['height']:.0f} px plot")
+        result.trends = page["trends"]
         for f in page["figures"]:
             m = re.search(r"-run-(\d+)$", f["name"])
             if m and f["section"] != int(m.group(1)):
@@ -446,6 +478,9 @@ class ReportPageChecker:
                 result.add("figures", f"{name}: blank ({100 * f['ink']:.2f} % of "
                                       f"{f['width']}×{f['height']} pixels drawn, "
                                       f"{f['colours']} colours)")
+            if f["chart"] is not None and f["chart"].get("legendCut"):
+                result.add("figures", f"{name}: legend cut off at the canvas' edge: "
+                                      + "; ".join(f["chart"]["legendCut"]))
             if f["chart"] is not None and f["chart"]["mostPoints"] < 2:
                 result.add("figures", f"{name}: Chart.js drew it with no data "
                                       f"({f['chart']['datasets']} datasets, at most "

@@ -81,5 +81,63 @@ TEST(ReportRecordedFit, ARecordFromBeforeTheFittedRunsWereKeptIsReRunWithAWarnin
   EXPECT_TRUE(AnyWarningWith(drawn->warnings, "keeps no fitted runs"));
 }
 
+// Issue 26 §4: what the fit left, per run, from the recorded fit: a histogram of the residuals
+// against the Gaussian of σ̂ and their spectrum against the white-noise level 2σ̂²/fs. The session
+// is white noise of σ = 1e-4 at 100 Hz (WriteSession), so both must read as such.
+TEST(ReportRecordedFit, EachRunShowsItsResidualHistogramAndSpectrum) {
+  testing::ScratchDir dir("report_residual_figures");
+  WriteSession(dir.path());
+  CloseWithEstimateOfRecord(dir.path(), true);
+  const auto drawn = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(drawn.has_value()) << drawn.error().ToString();
+  EXPECT_FALSE(drawn->estimate_rerun);
+  const std::string html = Read(drawn->html);
+  const json data = ReportData(html);
+  const json session = SessionJson(dir.path());
+  const auto figure = [&](const std::string& name) {
+    for (const json& f : data["figures"])
+      if (f.value("name", std::string()) == name) return f;
+    return json();
+  };
+  for (int run = 1; run <= 4; ++run) {
+    const std::string id = std::to_string(run);
+    for (const std::string kind : {"residual-histogram-run-", "residual-spectrum-run-"})
+      EXPECT_NE(Section(html, run).find("data-figure=\"" + kind + id + "\""), std::string::npos)
+          << kind << id;
+    const json histogram = figure("residual-histogram-run-" + id);
+    ASSERT_TRUE(histogram.is_object()) << id;
+    ASSERT_EQ(histogram["series"].size(), 2u);
+    // The step line's area is the share of residuals binned: all of them but a few beyond ±5σ̂.
+    const auto x = histogram["series"][0]["x"].get<std::vector<double>>();
+    const auto y = histogram["series"][0]["y"].get<std::vector<double>>();
+    ASSERT_EQ(x.size(), y.size());
+    double area = 0.0;
+    for (std::size_t k = 1; k < x.size(); ++k) area += (x[k] - x[k - 1]) * y[k];
+    EXPECT_NEAR(area, 1.0, 0.01) << id;
+    EXPECT_EQ(histogram["series"][1]["model"], true);
+    const json spectrum = figure("residual-spectrum-run-" + id);
+    ASSERT_TRUE(spectrum.is_object()) << id;
+    EXPECT_EQ(spectrum["y_log"], true);
+    ASSERT_EQ(spectrum["series"].size(), 5u);  // four channels and the white-noise level
+    EXPECT_EQ(spectrum["series"][4]["model"], true);
+    // The level is 2σ̂²/fs of the run's σ̂ as its fit recorded it (σ = 1e-4 simulated).
+    double sigma = std::nan("");
+    for (const json& r : session["outcome"]["estimate"]["fit"]["runs"])
+      if (r["run"] == run) sigma = r["noise_sigma"].get<double>();
+    EXPECT_NEAR(sigma, 1e-4, 1e-5) << id;
+    const double level = spectrum["series"][4]["y"].get<std::vector<double>>().at(0);
+    EXPECT_NEAR(level / (2 * sigma * sigma / 100.0), 1.0, 1e-5) << id;
+    // 200 samples per run: the channels' mean density is the white level, within its scatter.
+    double mean = 0.0;
+    std::size_t count = 0;
+    for (int c = 0; c < 4; ++c)
+      for (const double v : spectrum["series"][c]["y"].get<std::vector<double>>()) {
+        mean += v;
+        ++count;
+      }
+    EXPECT_NEAR(mean / static_cast<double>(count) / level, 1.0, 0.3) << id;
+  }
+}
+
 }  // namespace
 }  // namespace hrgbench::report

@@ -144,7 +144,7 @@ TEST(SessionReport, GnuplotDrawsEveryFigureAsSvg) {
   o.figures = true;
   const auto result = WriteSessionReport(dir.path(), o);
   ASSERT_TRUE(result) << result.error().ToString();
-  EXPECT_EQ(result->figures.size(), 22u);  // 5 per run, the anisotropy, std vs bound
+  EXPECT_EQ(result->figures.size(), 30u);  // 7 per run, the anisotropy, std vs bound
   for (const fs::path& f : result->figures) {
     EXPECT_EQ(f.parent_path(), dir.path() / "report");
     EXPECT_NE(Read(f).find("<svg"), std::string::npos) << f;

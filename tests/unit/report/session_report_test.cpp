@@ -38,7 +38,8 @@ TEST(SessionReport, SimulatedSessionWithoutOutcomeFollowsTheContract) {
   EXPECT_EQ(canvases, names.size());
   std::set<std::string> expected = {"anisotropy", "std-vs-bound"};
   for (int run = 1; run <= 4; ++run)
-    for (const char* kind : {"channels", "motion", "residuals", "orbit", "forms"})
+    for (const char* kind : {"channels", "motion", "residuals", "residual-histogram",
+                             "residual-spectrum", "orbit", "forms"})
       expected.insert(std::string(kind) + "-run-" + std::to_string(run));
   EXPECT_EQ(names, expected);
   // Every figure has its data, and each canvas is in its run's section.
@@ -171,6 +172,75 @@ TEST(SessionReport, EachLimitIsDrawnWithItsIntervalAndGuardBands) {
   EXPECT_EQ(html.find("data-quantity=\"tau_s\""), std::string::npos);
   EXPECT_NE(html.find("Decision rule guarded_acceptance_retest, k = 2"), std::string::npos);
   EXPECT_NE(html.find("undecided within the guard band: retest"), std::string::npos);
+}
+
+// Issue 26: the limits table once wrote each value to six digits beside its std ("0.0244137 ±
+// 0.0095"); a value carries the digits its std supports (GUM 7.2.6: the std to two significant
+// digits, the value to the same place), data-value keeping every digit.
+TEST(SessionReport, TheLimitsTableWritesEachValueToItsStdsPrecision) {
+  json record = RecordedOutcome();
+  record["outcome"]["verdict"]["limits"] = json::parse(R"([
+    {"quantity": "xi1", "status": "FAIL", "value": 0.02441372, "std": 0.009512, "min": -0.02,
+     "max": 0.02, "message": "above its maximum"},
+    {"quantity": "tau_s", "status": "FAIL", "value": 1000.123456, "std": 2.5, "min": 2000.0,
+     "max": null, "message": "below its minimum"}])");
+  testing::ScratchDir dir("report_limits_precision");
+  WriteSession(dir.path(), record);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  const auto cell = [&](const std::string& pointer) {
+    const std::string open = "data-source=\"" + pointer + "\" data-value=\"";
+    const std::size_t at = html.find(open);
+    if (at == std::string::npos) return std::string("(absent)");
+    const std::size_t text = html.find('>', at) + 1;
+    return html.substr(text, html.find('<', text) - text);
+  };
+  EXPECT_EQ(cell("/outcome/verdict/limits/0/value"), "0.0244");
+  EXPECT_EQ(cell("/outcome/verdict/limits/0/std"), "0.0095");
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/value"), "1000.1");
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/std"), "2.5");
+  EXPECT_NE(html.find("data-source=\"/outcome/verdict/limits/0/value\" data-value=\"0.02441372\""),
+            std::string::npos);
+  // The limits themselves are declared numbers, shown as declared.
+  EXPECT_EQ(cell("/outcome/verdict/limits/1/min"), "2000");
+}
+
+// Issue 26: the anisotropy's legend was cut off — each axis' label carried its numbers
+// ("high-frequency axis: Δf = … ± … mHz at θω = … ± …° on the shell"), wider than the square
+// chart once padded square. The legend names the axes; the numbers are in the caption.
+TEST(SessionReport, TheAnisotropyLegendNamesTheAxesAndTheCaptionHoldsTheirNumbers) {
+  json record = RecordedOutcome();
+  json& quantities = record["outcome"]["estimate"]["engineering"]["quantities"];
+  const auto quantity = [](const char* name, const char* unit, double value, double std_dev) {
+    return json{{"name", name},   {"label", name},      {"unit", unit}, {"value", value},
+                {"std", std_dev}, {"determined", true}, {"note", ""}};
+  };
+  quantities.push_back(quantity("frequency_split_mhz", "mHz", 12.3456, 0.7123));
+  quantities.push_back(quantity("frequency_axis_deg", "deg", -23.456, 1.234));
+  quantities.push_back(quantity("damping_split_per_s", "1/s", 2.5e-5, 3e-6));
+  quantities.push_back(quantity("damping_axis_deg", "deg", 31.2, 4.4));
+  testing::ScratchDir dir("report_anisotropy_legend");
+  WriteSession(dir.path(), record);
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const json data = ReportData(Read(result->html));
+  json anisotropy;
+  for (const json& f : data["figures"])
+    if (f["name"] == "anisotropy") anisotropy = f;
+  ASSERT_TRUE(anisotropy.is_object());
+  std::vector<std::string> labels;
+  for (const json& s : anisotropy["series"]) labels.push_back(s["label"].get<std::string>());
+  EXPECT_EQ(labels,
+            (std::vector<std::string>{"high-frequency axis", "low-frequency axis (+45°)",
+                                      "fast-decay axis", "slow-decay axis (+45°)", "shell"}));
+  const std::string caption = anisotropy["caption"].get<std::string>();
+  EXPECT_NE(caption.find("high-frequency axis at θω = -23.5 ± 1.2° on the shell, Δf = 12.35 ± "
+                         "0.71 mHz"),
+            std::string::npos)
+      << caption;
+  EXPECT_NE(caption.find("fast-decay axis at θτ = 31.2 ± 4.4° on the shell"), std::string::npos)
+      << caption;
 }
 
 TEST(SessionReport, OutcomeWithoutEngineeringOrVerdictSaysNotRecorded) {
