@@ -81,8 +81,9 @@ class TerminalAnswers final : public bench::PromptAnswers {
                  prompt.at.c_str(), prompt.text.c_str());
     if (!prompt.image_file.empty())
       std::fprintf(stderr, "(image: %s)\n", prompt.image_file.c_str());
-    std::fprintf(stderr, "The table is at zero rate. Enter: done, go on · a + Enter: abort the "
-                         "session\n> ");
+    std::fprintf(stderr,
+                 "The table is at zero rate. Enter: done, go on · a + Enter: abort the "
+                 "session\n> ");
     std::fflush(stderr);
   }
 
@@ -121,7 +122,8 @@ class PipeAnswers final : public bench::PromptAnswers {
   std::optional<bench::PromptReply> Wait(std::chrono::milliseconds wait) override {
     std::optional<std::string> line = input_.Next(wait);
     if (!line) {
-      if (input_.closed()) return bench::PromptReply{false, "the panel's answer pipe closed", "panel"};
+      if (input_.closed())
+        return bench::PromptReply{false, "the panel's answer pipe closed", "panel"};
       return std::nullopt;
     }
     const nlohmann::json answer = nlohmann::json::parse(*line, nullptr, false);
@@ -132,8 +134,8 @@ class PipeAnswers final : public bench::PromptAnswers {
     const std::string choice = text("answer");
     if (text("id") != open_id_ || (choice != "confirm" && choice != "abort")) {
       // An answer to an earlier prompt (two browsers) or a malformed one: not this prompt's.
-      std::fprintf(stderr, "prompts: answer ignored (open prompt '%s'): %.200s\n",
-                   open_id_.c_str(), line->c_str());
+      std::fprintf(stderr, "prompts: answer ignored (open prompt '%s'): %.200s\n", open_id_.c_str(),
+                   line->c_str());
       return std::nullopt;
     }
     return bench::PromptReply{choice == "confirm", text("by"), "panel"};

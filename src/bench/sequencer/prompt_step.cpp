@@ -52,8 +52,7 @@ StepOutcome BringTableToRest(SessionContext& ctx, const SequencePrompt& prompt) 
     if (!status) return StepOutcome::Error("rate table: " + status.error().ToString());
     if (status->fault)
       return StepOutcome::Error("rate table fault before " + Quoted(prompt) + " (" +
-                                hw::RateTableFaultName(status->fault_code) +
-                                ")");
+                                hw::RateTableFaultName(status->fault_code) + ")");
     if (std::abs(status->measured_rate_rad_s) <= seq.settle.rate_tolerance_rad_s &&
         !status->in_motion)
       return StepOutcome::Ok();
@@ -104,8 +103,8 @@ StepOutcome AskOne(SessionContext& ctx, const SequencePrompt& prompt) {
     ctx.ReportProgress(progress, first);  // a change of phase is reported at once
     ctx.PumpCanLogs();
     if (std::optional<PromptReply> reply = answers->Wait(kPollMs)) {
-      const PromptAnswered answered{reply->confirmed ? kPromptConfirmed : kPromptAborted,
-                                    reply->by, reply->how};
+      const PromptAnswered answered{reply->confirmed ? kPromptConfirmed : kPromptAborted, reply->by,
+                                    reply->how};
       RecordOnEveryUnit(ctx,
                         [&](SessionRecorder& recorder) { return recorder.EndPrompt(answered); });
       if (ctx.options->on_prompt) ctx.options->on_prompt(request, &*reply);

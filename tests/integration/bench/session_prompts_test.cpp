@@ -102,7 +102,8 @@ TEST(SessionPrompts, EachIsAskedWhereTheSequenceSaysWithTheTableAtRestAndRecorde
   // Safe before anyone is asked to act: the table within the settle tolerance of zero, every gyro
   // stopped (the last run's too, before "remove").
   for (std::size_t i = 0; i < answers.shown.size(); ++i) {
-    EXPECT_LE(std::abs(answers.table_rate_at_show[i]), configs->sequence.settle.rate_tolerance_rad_s)
+    EXPECT_LE(std::abs(answers.table_rate_at_show[i]),
+              configs->sequence.settle.rate_tolerance_rad_s)
         << answers.shown[i];
     EXPECT_TRUE(answers.gyros_stopped_at_show[i]) << answers.shown[i];
   }
@@ -158,8 +159,7 @@ TEST(SessionPrompts, AnAbortWhileAPromptIsOpenStopsSafelyAndRecordsItInterrupted
   ScriptedAnswers never({{true, "", -1}}, nullptr);
   const BenchRun run = RunOnSimulatedStation(
       "sequence-paper.toml", "", ShortWithPrompts,
-      [](const bench::Progress& p) { return p.phase == "prompt"; }, {}, "station-sim.toml",
-      &never);
+      [](const bench::Progress& p) { return p.phase == "prompt"; }, {}, "station-sim.toml", &never);
   EXPECT_EQ(run.result.outcome, bench::OutcomeKind::kAborted);
   EXPECT_EQ(run.result.reason, "aborted by operator while prompt 'mount' was open");
   const auto prompts = Prompts(run.dir);
@@ -192,8 +192,8 @@ TEST(SessionPrompts, WithNobodyToAnswerTheSessionIsRefusedBeforeAnythingMoves) {
 
 TEST(SessionPrompts, OnAFixtureEachPromptIsAskedOnceAndRecordedForEveryUnit) {
   ScriptedAnswers answers({{true, "OP-F", 0}}, nullptr);
-  const FixtureRun run = RunFixtureOnSimulatedStation(
-      "sequence-paper.toml", "", ShortWithPrompts, {}, "station-sim-fixture.toml", &answers);
+  const FixtureRun run = RunFixtureOnSimulatedStation("sequence-paper.toml", "", ShortWithPrompts,
+                                                      {}, "station-sim-fixture.toml", &answers);
   ASSERT_EQ(run.results.size(), 4u);
   EXPECT_EQ(answers.shown.size(), 3u);
   for (const fs::path& dir : run.dirs) {

@@ -58,7 +58,8 @@ TEST(PromptAnswers, ThePanelsPipeAnswersTheOpenPromptOnly) {
              "\n"
              "not json\n");
   pipe.Write(std::string(kMaxAnswerBytes + 10, 'x') + "\n");
-  pipe.Write(R"({"id":"p0","answer":"abort","by":"OP-B"})" "\n");
+  pipe.Write(R"({"id":"p0","answer":"abort","by":"OP-B"})"
+             "\n");
   std::optional<bench::PromptReply> reply;
   for (int i = 0; i < 20 && !reply; ++i) reply = (*source)->Wait(50ms);
   ASSERT_TRUE(reply.has_value());

@@ -43,9 +43,9 @@ TEST(SessionRecorderPrompts, AShownPromptIsOnDiskBeforeItIsAnsweredThenAnsweredW
   ASSERT_TRUE(recorder->EndPrompt({kPromptConfirmed, "OP-7", "panel"}).has_value());
   ASSERT_TRUE(recorder->BeginPrompt(kCable).has_value());
   ASSERT_TRUE(recorder->EndPrompt({kPromptAborted, "OP-8", "terminal"}).has_value());
-  ASSERT_TRUE(recorder->Close({OutcomeKind::kAborted, "aborted by OP-8 at prompt 'cable'", {}, {},
-                               {}})
-                  .has_value());
+  ASSERT_TRUE(
+      recorder->Close({OutcomeKind::kAborted, "aborted by OP-8 at prompt 'cable'", {}, {}, {}})
+          .has_value());
 
   auto record = session::ReadSessionRecord(dir);
   ASSERT_TRUE(record.has_value()) << record.error().ToString();
@@ -75,10 +75,13 @@ TEST(SessionRecorderPrompts, ClosingWithAPromptOpenRecordsItInterruptedWithTheRe
   auto recorder = SessionRecorder::Create(dir, SyntheticHeader(1));
   ASSERT_TRUE(recorder.has_value());
   ASSERT_TRUE(recorder->BeginPrompt(kMount).has_value());
-  ASSERT_TRUE(
-      recorder->Close({OutcomeKind::kAborted, "aborted by operator while prompt 'mount' was open",
-                       {}, {}, {}})
-          .has_value());
+  ASSERT_TRUE(recorder
+                  ->Close({OutcomeKind::kAborted,
+                           "aborted by operator while prompt 'mount' was open",
+                           {},
+                           {},
+                           {}})
+                  .has_value());
   auto record = session::ReadSessionRecord(dir);
   ASSERT_TRUE(record.has_value()) << record.error().ToString();
   ASSERT_EQ(record->prompts.size(), 1u);
