@@ -148,10 +148,7 @@ class PipeAnswers final : public bench::PromptAnswers {
 
 class AutoConfirm final : public bench::PromptAnswers {
  public:
-  void Show(const bench::PromptRequest& prompt) override {
-    std::fprintf(stderr, "operator prompt '%s' confirmed by --prompts confirm: %s\n",
-                 prompt.id.c_str(), prompt.text.c_str());
-  }
+  void Show(const bench::PromptRequest&) override {}  // the sequencer logs the prompt
   std::optional<bench::PromptReply> Wait(std::chrono::milliseconds) override {
     return bench::PromptReply{true, "", "auto"};
   }

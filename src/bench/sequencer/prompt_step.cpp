@@ -111,7 +111,10 @@ StepOutcome AskOne(SessionContext& ctx, const SequencePrompt& prompt) {
       const std::string who = reply->by.empty() ? "the operator" : reply->by;
       if (!reply->confirmed)
         return StepOutcome::Aborted("aborted by " + who + " at " + Quoted(prompt));
-      ctx.Log(Quoted(prompt) + " confirmed by " + who + " (" + reply->how + ")");
+      ctx.Log(
+          Quoted(prompt) +
+          (reply->how == "auto" ? " confirmed automatically, by nobody" : " confirmed by " + who) +
+          " (" + reply->how + ")");
       return StepOutcome::Ok();
     }
   }
