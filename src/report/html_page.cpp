@@ -53,6 +53,7 @@ void Page::Meta() {
     out_ += std::string("<tr><th>") + name + "</th><td>" + value + "</td></tr>\n";
   };
   row("unit serial", TextOrMissing(record_.unit_serial));
+  row("operator", TextOrMissing(record_.operator_name));
   row("station", TextOrMissing(record_.station_name));
   if (!record_.fixture_position.empty())
     row("fixture position", HtmlEscape(record_.fixture_position));
@@ -72,6 +73,25 @@ void Page::Meta() {
   row("state", TextOrMissing(record_.state));
   if (!record_.description.empty()) row("description", HtmlEscape(record_.description));
   row("session directory", HtmlEscape(in_.session_dir.string()));
+  out_ += "</table>\n";
+  // What the operator was asked to do at the table and who confirmed it, when (the sequence's
+  // [[prompts]]; an interrupted one says why).
+  if (record_.prompts.empty()) return;
+  out_ +=
+      "<h2>Operator prompts</h2>\n<table id=\"prompts\"><tr><th>prompt</th><th>where</th>"
+      "<th>what</th><th>answer</th><th>by</th><th>how</th><th>shown (UTC)</th>"
+      "<th>answered (UTC)</th></tr>\n";
+  for (const session::PromptRecord& p : record_.prompts) {
+    const std::string answer = p.answer.empty()
+                                   ? std::string("open")
+                                   : p.answer + (p.reason.empty() ? "" : ": " + p.reason);
+    out_ += "<tr><td>" + HtmlEscape(p.id) + "</td><td>" + HtmlEscape(p.at) + "</td><td>" +
+            HtmlEscape(p.text) + "</td><td>" + HtmlEscape(answer) + "</td><td>" +
+            (p.by.empty() ? std::string(p.how == "auto" ? "nobody" : "—") : HtmlEscape(p.by)) +
+            "</td><td>" + TextOrMissing(p.how) + "</td><td>" +
+            TextOrMissing(p.shown ? p.shown->utc : std::string()) + "</td><td>" +
+            TextOrMissing(p.answered ? p.answered->utc : std::string()) + "</td></tr>\n";
+  }
   out_ += "</table>\n";
 }
 

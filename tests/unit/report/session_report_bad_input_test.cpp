@@ -194,5 +194,41 @@ TEST(SessionReport, AFixtureUnitsReportNamesItsPosition) {
             std::string::npos);
 }
 
+// Issue 26 §1: who ran the session and who confirmed each operator prompt, when, head the report.
+TEST(SessionReport, TheOperatorAndEveryPromptWithWhoAnsweredItAreInTheReport) {
+  testing::ScratchDir dir("report_prompts");
+  WriteSession(dir.path(),
+               {{"operator", "OP-R"},
+                {"prompts", nlohmann::json::array(
+                                {{{"id", "mount"},
+                                  {"at", "start"},
+                                  {"text", "Mount <the> unit."},
+                                  {"shown", {{"utc", "2026-11-27T04:00:00.000000Z"}}},
+                                  {"answer", "confirmed"},
+                                  {"by", "OP-R"},
+                                  {"how", "panel"},
+                                  {"answered", {{"utc", "2026-11-27T04:01:30.000000Z"}}}},
+                                 {{"id", "remove"},
+                                  {"at", "end"},
+                                  {"text", "Take it off."},
+                                  {"shown", {{"utc", "2026-11-27T04:20:00.000000Z"}}},
+                                  {"answer", "interrupted"},
+                                  {"reason", "aborted by operator while prompt 'remove' was open"},
+                                  {"answered", {{"utc", "2026-11-27T04:20:05.000000Z"}}}}})}});
+  const auto result = WriteSessionReport(dir.path(), Fast());
+  ASSERT_TRUE(result) << result.error().ToString();
+  const std::string html = Read(result->html);
+  EXPECT_NE(html.find("<tr><th>operator</th><td>OP-R</td></tr>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td>mount</td><td>start</td><td>Mount &lt;the&gt; unit.</td>"
+                      "<td>confirmed</td><td>OP-R</td><td>panel</td>"
+                      "<td>2026-11-27T04:00:00.000000Z</td><td>2026-11-27T04:01:30.000000Z</td>"
+                      "</tr>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>interrupted: aborted by operator while prompt &#39;remove&#39; was "
+                      "open</td>"),
+            std::string::npos)
+      << html.substr(html.find("id=\"prompts\""), 1200);
+}
+
 }  // namespace
 }  // namespace hrgbench::report
