@@ -23,14 +23,14 @@ constexpr std::chrono::milliseconds kPollMs{200};
 
 std::string Quoted(const SequencePrompt& prompt) { return "prompt '" + prompt.id + "'"; }
 
-// Every live unit's record gets the same entry (a fixture's units share the table, so the prompt).
-StepOutcome RecordOnEveryUnit(SessionContext& ctx, const auto& write) {
+// Every live unit's record gets the same entry (a fixture's units share the table, so the prompt);
+// a unit whose record cannot be written ends on its own fault, the others go on.
+void RecordOnEveryUnit(SessionContext& ctx, const auto& write) {
   for (UnitLane& lane : ctx.lanes) {
     if (lane.ended) continue;
     if (auto written = write(*lane.recorder); !written)
       ctx.EndUnit(lane, StepOutcome::Error("record: " + written.error().ToString()));
   }
-  return StepOutcome::Ok();
 }
 
 // The table brought to rest in idle mode (zero rate held by the table itself, so no rate command
