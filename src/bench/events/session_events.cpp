@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <iterator>
 
 #include "hrgbench/analysis/verdict_json.hpp"
 
