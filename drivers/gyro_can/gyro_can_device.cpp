@@ -205,9 +205,11 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
     StatusMessage reported;
     status = DecodeStatusMessage(frame, node, &reported);
     if (status == DecodeStatus::kOk) {
+      const hw::GyroStatus decoded = ToGyroStatus(reported, info.timestamp_ns);
+      decoder_.OnStatus(decoded.temperature_c, decoded.resonant_frequency_hz);
       {
         const std::lock_guard lock(status_mutex_);
-        last_status_ = ToGyroStatus(reported, info.timestamp_ns);
+        last_status_ = decoded;
       }
       ++status_frames_;
       if (reported.mode == GyroMode::kFaulted && State() != GyroMode::kStopped) {

@@ -154,6 +154,11 @@ double SampleStreamDecoder::InterpolatedPhase(std::uint64_t sample) const noexce
   return a.phase_rad + fraction * step;
 }
 
+void SampleStreamDecoder::OnStatus(double temperature_c, double resonant_frequency_hz) noexcept {
+  temperature_c_ = temperature_c;
+  resonant_frequency_hz_ = resonant_frequency_hz;
+}
+
 void SampleStreamDecoder::Emit(std::uint64_t sample, const std::int32_t (&y_raw)[4]) noexcept {
   if (sample < next_sample_) return;  // cannot happen with monotonic unwrapping; be safe
   counters_.samples_lost += sample - next_sample_;
@@ -166,6 +171,8 @@ void SampleStreamDecoder::Emit(std::uint64_t sample, const std::int32_t (&y_raw)
   slot.seq = static_cast<std::uint32_t>(sample);
   for (int c = 0; c < 4; ++c) slot.y[c] = DequantiseY(y_raw[c]);
   slot.reference_phase_rad = InterpolatedPhase(sample);
+  slot.temperature_c = temperature_c_;
+  slot.resonant_frequency_hz = resonant_frequency_hz_;
   newest_sample_ = sample;
   ++size_;
   ++counters_.samples_decoded;

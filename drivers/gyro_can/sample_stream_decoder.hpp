@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -50,6 +51,10 @@ class SampleStreamDecoder {
   void OnSampleHalf(const SampleHalf& half, std::int64_t stamp_ns) noexcept;
   void OnSampleFd(const SampleFdBlock& block, std::int64_t stamp_ns) noexcept;
   void OnReferencePhase(const ReferencePhaseReport& report, std::int64_t stamp_ns) noexcept;
+  // The electronics' latest status report: every sample completed from now on carries its
+  // temperature and frequency (GyroSample). Kept across Start(): a run's first samples carry the
+  // report that preceded its release.
+  void OnStatus(double temperature_c, double resonant_frequency_hz) noexcept;
 
   // Samples a sample waits for the report after it (a lost report or two are bridged).
   static constexpr std::uint64_t kReferenceHoldSamples = 4 * kReferencePhaseInterval;
@@ -105,6 +110,8 @@ class SampleStreamDecoder {
   Report reports_[2];
   int reports_seen_ = 0;
   std::uint64_t newest_sample_ = 0;
+  double temperature_c_ = std::numeric_limits<double>::quiet_NaN();
+  double resonant_frequency_hz_ = std::numeric_limits<double>::quiet_NaN();
   SampleStreamCounters counters_;
 };
 

@@ -33,6 +33,7 @@
 #include "app/event_output.hpp"
 #include "app/fixture_session.hpp"
 #include "app/logging.hpp"
+#include "app/memory_policy.hpp"
 #include "app/panel/panel_server.hpp"
 #include "app/prompt_answers.hpp"
 #include "app/serial_check.hpp"
@@ -848,6 +849,7 @@ CLI::App* AddServeCommand(CLI::App& cli, app::PanelOptions& panel) {
 
 int main(int argc, char** argv) {
   BlockInterrupts();  // first: see BlockInterrupts
+  hrgbench::app::KeepFreedMemoryForReuse();
   CLI::App cli{
       "hrg-bench: free-run sessions of a hemispherical resonator gyro on a rate table, recorded, "
       "estimated and judged.\n"

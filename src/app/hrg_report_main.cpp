@@ -10,6 +10,7 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
+#include "app/memory_policy.hpp"
 #include "app/unit_history.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/report/session_report.hpp"
@@ -69,6 +70,7 @@ int Run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hrgbench::app::KeepFreedMemoryForReuse();  // first: before any thread
   CLI::App cli{
       "hrg-report: the session report. Reads SESSION_DIR, draws the recorded fit (the estimate "
       "of record and each run's fitted state; a record from before they were kept has its "

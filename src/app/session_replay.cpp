@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <system_error>
@@ -300,22 +301,34 @@ std::expected<void, std::string> StartRebuiltSession(const fs::path& from, const
   return {};
 }
 
-// A complete run's file from its rebuilt samples, with the recorded file's table columns when
-// they belong to the same samples.
+// A complete run's file from its rebuilt samples: y and seq, the electronics' conditions (temp_c,
+// freq_hz) when the log's status reports stamp every sample (as the bench records them), and the
+// recorded file's other columns (the table's) when they belong to the same samples.
 std::expected<void, std::string> WriteRebuiltRun(
     const fs::path& path, const std::vector<bench::GyroSampleRecord>& rebuilt,
     const RecordedCapture& recorded) {
   session::RunSamples samples;
   samples.y.resize(4, static_cast<Eigen::Index>(rebuilt.size()));
-  std::vector<double> seq;
+  std::vector<double> seq, temperature_c, frequency_hz;
   seq.reserve(rebuilt.size());
+  temperature_c.reserve(rebuilt.size());
+  frequency_hz.reserve(rebuilt.size());
   samples.t_s.reserve(rebuilt.size());
+  bool conditions = !rebuilt.empty();
   for (std::size_t k = 0; k < rebuilt.size(); ++k) {
     samples.t_s.push_back(rebuilt[k].t_s);
     for (int c = 0; c < 4; ++c) samples.y(c, static_cast<Eigen::Index>(k)) = rebuilt[k].y[c];
     seq.push_back(rebuilt[k].seq);
+    temperature_c.push_back(rebuilt[k].temperature_c);
+    frequency_hz.push_back(rebuilt[k].resonant_frequency_hz);
+    conditions =
+        conditions && std::isfinite(temperature_c.back()) && std::isfinite(frequency_hz.back());
   }
   samples.extra_columns.emplace("seq", std::move(seq));
+  if (conditions) {
+    samples.extra_columns.emplace("temp_c", std::move(temperature_c));
+    samples.extra_columns.emplace("freq_hz", std::move(frequency_hz));
+  }
   if (recorded.samples && recorded.samples->size() == rebuilt.size() &&
       FirstDifference(*recorded.samples, rebuilt, rebuilt.size()).empty()) {
     for (const auto& [name, values] : recorded.samples->extra_columns)

@@ -68,18 +68,25 @@ void Page::Run(const RunView& run) {
     if (std::isfinite(NumberAt(data_, d + "frequency_drift_hz")))
       row("frequency drift [Hz]", Der(d + "frequency_drift_hz"));
     // Over the run, not only at its ends; what was not recorded over it is said.
-    const json* over = At(data_, d + "temperature_over_run");
-    if (over != nullptr && over->is_string()) {
-      row("temperature over the run [°C]",
-          Der(d + "temperature_min_c") + " … " + Der(d + "temperature_max_c") + " (" +
-              Der(d + "temperature_samples") + " samples, temp_c)");
-    } else {
-      row("temperature over the run",
-          std::string(kMissing) + " (the run CSV has no temp_c column: at start and end only)");
+    struct Over {
+      const char* key;
+      const char* unit;
+      const char* label;
+      const char* column;
+    };
+    for (const Over& c :
+         {Over{"temperature", "c", "temperature over the run [°C]", "temp_c"},
+          Over{"frequency", "hz", "resonant frequency over the run [Hz]", "freq_hz"}}) {
+      const std::string key = c.key;
+      const json* over = At(data_, d + key + "_over_run");
+      if (over != nullptr && over->is_string()) {
+        row(c.label, Der(d + key + "_min_" + c.unit) + " … " + Der(d + key + "_max_" + c.unit) +
+                         " (" + Der(d + key + "_samples") + " samples, " + c.column + ")");
+      } else {
+        row(c.label, std::string(kMissing) + " (the run CSV has no " + c.column +
+                         " column: at start and end only)");
+      }
     }
-    row("resonant frequency over the run",
-        std::string(kMissing) +
-            " (session.json holds it at the release, the start and the end of the run only)");
   }
   out_ += "</table>\n";
   // The fit of this run as recorded (outcome.estimate.fit.runs[k] with run == id).

@@ -32,9 +32,10 @@ struct RunView {
   bool figures = true;
   std::string not_loaded_reason;  // why not (status, missing file, empty, unreadable)
   estimator::RunData data;        // id, Ω, t_s, y (when loaded)
-  // The run CSV's temp_c column, parallel to data.t_s; empty when the CSV has none (and dropped
-  // with the samples).
+  // The run CSV's temp_c and freq_hz columns (the electronics' last status at each sample),
+  // parallel to data.t_s; empty when the CSV has none (and dropped with the samples).
   std::vector<double> temperature_c;
+  std::vector<double> resonant_frequency_hz;
   // The fitted model at data.t_s (empty when the estimate has no entry for this run).
   estimator::RunChannels fitted_y;
   estimator::RunChannels fitted_x;

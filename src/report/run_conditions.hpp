@@ -1,9 +1,8 @@
 #pragma once
 // The conditions over a run (issue 26 §4: not only at its start and end): the unit's temperature
-// from the run CSV's temp_c column when the electronics recorded one per sample, else the
-// recorded start and end only, said so; the resonant frequency as the record holds it (at the
-// release, at the run's start and end: session.json keeps no series of it, and the report does not
-// decode the electronics' status frames of the raw CAN log), said so. Internal to src/report.
+// and resonant frequency from the run CSV's temp_c and freq_hz columns (the electronics' last
+// status report at each sample, as the bench records them) when the run has them, else the
+// recorded start and end only, said so. Internal to src/report.
 
 #include <nlohmann/json.hpp>
 
@@ -13,15 +12,14 @@
 
 namespace hrgbench::report::internal {
 
-// The numbers of the run's capture-quality block (derived.runs["<id>"]): temperature_over_run
-// ("temp_c" or null), temperature_min_c / _max_c / _samples (when temp_c), frequency_over_run
-// (null: not recorded over the run).
+// The numbers of the run's capture-quality block (derived.runs["<id>"]), per condition:
+// temperature_over_run ("temp_c" or null) with temperature_min_c / _max_c / _samples when
+// recorded; frequency_over_run ("freq_hz" or null) with frequency_min_hz / _max_hz / _samples.
 void AddRunConditions(const RunView& run, nlohmann::json* quality);
 
-// conditions-run-N: temperature (left axis; temp_c decimated onto the run's time axis as every
-// series, or the recorded start and end joined by a dashed line) and the resonant frequency
-// (right axis; the recorded start and end, dashed), against t. Nothing when the record has
-// neither (no temp_c, no start or end value).
+// conditions-run-N: temperature (left axis) and resonant frequency (right axis) against t, each
+// from its column decimated onto the run's time axis as every series, or the recorded start and
+// end joined by a dashed line. Nothing when the record has neither.
 void AddConditionsFigure(const RunView& run, const session::RunRecord& recorded,
                          const MinMaxDecimator& decimator, nlohmann::json* figures);
 

@@ -149,21 +149,22 @@ std::optional<estimator::EstimateSummary> RecordedSummary(const session::Session
   return s;
 }
 
-// The run CSV's header names a temp_c column (the electronics' temperature per sample). Only
-// then are its extra columns kept: the others (seq, the table's rate) are not drawn.
-bool HasTemperatureColumn(const fs::path& csv) {
+// The run CSV's header names a conditions column (temp_c or freq_hz: the electronics' status per
+// sample). Only then are its extra columns kept: the others (seq, the table's rate) are not drawn.
+bool HasConditionsColumn(const fs::path& csv) {
   std::ifstream in(csv, std::ios::binary);
   std::string header(4096, '\0');
   in.read(header.data(), static_cast<std::streamsize>(header.size()));
   header.resize(static_cast<std::size_t>(in.gcount()));
   header = header.substr(0, header.find('\n'));
   if (!header.empty() && header.back() == '\r') header.pop_back();
-  const std::string column = "temp_c";
-  for (std::size_t at = header.find(column); at != std::string::npos;
-       at = header.find(column, at + 1)) {
-    const bool starts = at == 0 || header[at - 1] == ',';
-    const bool ends = at + column.size() == header.size() || header[at + column.size()] == ',';
-    if (starts && ends) return true;
+  for (const std::string column : {"temp_c", "freq_hz"}) {
+    for (std::size_t at = header.find(column); at != std::string::npos;
+         at = header.find(column, at + 1)) {
+      const bool starts = at == 0 || header[at - 1] == ',';
+      const bool ends = at + column.size() == header.size() || header[at + column.size()] == ',';
+      if (starts && ends) return true;
+    }
   }
   return false;
 }
@@ -173,7 +174,7 @@ bool HasTemperatureColumn(const fs::path& csv) {
 bool LoadRunSamples(const fs::path& session_dir, const session::SessionRecord& record,
                     std::size_t min_samples, RunView* v, std::string* why) {
   auto samples = session::ReadRunCsv(session_dir / v->file, min_samples,
-                                     HasTemperatureColumn(session_dir / v->file));
+                                     HasConditionsColumn(session_dir / v->file));
   if (!samples) {
     std::error_code ec;
     const bool exists = fs::exists(session_dir / v->file, ec);
@@ -186,6 +187,8 @@ bool LoadRunSamples(const fs::path& session_dir, const session::SessionRecord& r
   v->last_t_s = samples->t_s.empty() ? 0.0 : samples->t_s.back();
   if (const auto t = samples->extra_columns.find("temp_c"); t != samples->extra_columns.end())
     v->temperature_c = std::move(t->second);
+  if (const auto f = samples->extra_columns.find("freq_hz"); f != samples->extra_columns.end())
+    v->resonant_frequency_hz = std::move(f->second);
   v->data.t_s = std::move(samples->t_s);
   v->data.y = std::move(samples->y);
   estimator::ToModelConvention(record.iq_convention, v->data.y);
@@ -209,6 +212,7 @@ internal::RunPart FinishRun(RunView* v, const estimator::EstimateSummary* drawn,
   internal::RunPart part = internal::BuildRunPart(*v, in.record, xi, sigma, max_points);
   v->data.t_s = std::vector<double>();
   v->temperature_c = std::vector<double>();
+  v->resonant_frequency_hz = std::vector<double>();
   v->data.y.resize(4, 0);
   v->fitted_x.resize(0, 4);
   v->fitted_y.resize(0, 4);

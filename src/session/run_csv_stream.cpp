@@ -27,6 +27,7 @@ std::string Show(double value) { return session::NumberText(value); }
 std::expected<RunCsvStream, RecordError> RunCsvStream::Open(const fs::path& partial_path,
                                                             bool with_measured_omega,
                                                             bool with_temperature,
+                                                            bool with_resonant_frequency,
                                                             std::int64_t flush_interval_ns) {
   auto file = AppendFile::Open(partial_path, AppendFile::Mode::kCreateNew, flush_interval_ns);
   if (!file) return std::unexpected(file.error());
@@ -34,9 +35,11 @@ std::expected<RunCsvStream, RecordError> RunCsvStream::Open(const fs::path& part
   stream.file_ = std::move(*file);
   stream.with_measured_omega_ = with_measured_omega;
   stream.with_temperature_ = with_temperature;
+  stream.with_resonant_frequency_ = with_resonant_frequency;
   std::string& out = stream.file_->buffer();
   out += "t_s,y1,y2,y3,y4";
   // Extra columns in name order, as WriteRunCsv (a std::map) orders them.
+  if (with_resonant_frequency) out += ",freq_hz";
   if (with_measured_omega) out += ",omega_meas_rad_s";
   out += ",seq";
   if (with_temperature) out += ",temp_c";
@@ -67,6 +70,9 @@ std::expected<void, RecordError> RunCsvStream::Append(std::span<const GyroSample
         return refuse(k, "non-finite y" + std::to_string(c + 1) + " " + Show(s.y[c]));
       }
     }
+    if (with_resonant_frequency_ && !std::isfinite(s.resonant_frequency_hz)) {
+      return refuse(k, "non-finite freq_hz " + Show(s.resonant_frequency_hz));
+    }
     if (with_measured_omega_ && !std::isfinite(s.measured_omega_rad_s)) {
       return refuse(k, "non-finite omega_meas_rad_s " + Show(s.measured_omega_rad_s));
     }
@@ -81,6 +87,10 @@ std::expected<void, RecordError> RunCsvStream::Append(std::span<const GyroSample
     for (int c = 0; c < 4; ++c) {
       out += ',';
       AppendNumber(out, s.y[c]);
+    }
+    if (with_resonant_frequency_) {
+      out += ',';
+      AppendNumber(out, s.resonant_frequency_hz);
     }
     if (with_measured_omega_) {
       out += ',';

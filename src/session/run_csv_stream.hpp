@@ -21,6 +21,7 @@ class RunCsvStream {
   static std::expected<RunCsvStream, RecordError> Open(const std::filesystem::path& partial_path,
                                                        bool with_measured_omega,
                                                        bool with_temperature,
+                                                       bool with_resonant_frequency,
                                                        std::int64_t flush_interval_ns);
 
   // Validates the whole batch (finite values, t_s strictly increasing), then formats and buffers
@@ -41,6 +42,7 @@ class RunCsvStream {
   std::unique_ptr<AppendFile> file_;
   bool with_measured_omega_ = false;
   bool with_temperature_ = false;
+  bool with_resonant_frequency_ = false;
   std::uint64_t samples_ = 0;
   double last_t_s_ = 0.0;
 };

@@ -198,9 +198,9 @@ std::expected<void, RecordError> SessionRecorder::BeginRun(int run_id, const Run
     object["attempts"].push_back(std::move(attempt));
   }
 
-  auto stream =
-      internal::RunCsvStream::Open(m.dir / (final_name + ".partial"), start.with_measured_omega,
-                                   start.with_temperature, m.options.flush_interval_ns);
+  auto stream = internal::RunCsvStream::Open(
+      m.dir / (final_name + ".partial"), start.with_measured_omega, start.with_temperature,
+      start.with_resonant_frequency, m.options.flush_interval_ns);
   if (!stream) return std::unexpected(stream.error());
   m.stream = std::move(*stream);
   m.open_run = run_id;

@@ -33,6 +33,7 @@ inline std::vector<bench::GyroSampleRecord> SyntheticSamples(int run_id, std::si
     }
     s.measured_omega_rad_s = omega_rad_s + 1e-6 * std::sin(s.t_s);
     s.temperature_c = 25.0 + 0.01 * s.t_s;
+    s.resonant_frequency_hz = 5012.5 - 0.001 * std::floor(10.0 * s.t_s);  // 10 Hz status, 1 mHz
   }
   return out;
 }

@@ -118,6 +118,12 @@ struct GyroSample {
   // times e^{+iχ}), so y is as if the reference had stayed locked. NaN: not reported (electronics
   // without it, or before their first report), y as received.
   double reference_phase_rad = std::numeric_limits<double>::quiet_NaN();
+  // The conditions of the electronics' last status report decoded before this sample (GyroStatus,
+  // same units and resolution), so the record has them over the run, not only at its ends;
+  // deterministic in the order of the frames, so a replay of the CAN log gives the same. NaN: no
+  // status received yet.
+  double temperature_c = std::numeric_limits<double>::quiet_NaN();
+  double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
 };
 
 // One counter per failure kind (STYLE rule 5), cumulative since construction, never reset.

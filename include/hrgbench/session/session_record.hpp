@@ -80,7 +80,8 @@ struct ElectronicsRecord {
 
 // runs[i].start: the conditions at release (bench::RunStart) and when it was.
 struct RunStartRecord {
-  bench::RunStart values;  // with_measured_omega / with_temperature are not recorded: false
+  bench::RunStart values;  // with_measured_omega / _temperature / _resonant_frequency: not
+                           // recorded (false); the run CSV's header says which columns it has
   TimeStampRecord at;
 };
 

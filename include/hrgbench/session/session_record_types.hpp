@@ -91,8 +91,9 @@ struct RunStart {
   std::int64_t release_t_ns = 0;  // acknowledged release stamp, receive time base
   // Optional per-sample columns of this run's CSV; when set, every sample must carry a finite
   // value for it.
-  bool with_measured_omega = false;  // column omega_meas_rad_s
-  bool with_temperature = false;     // column temp_c
+  bool with_measured_omega = false;      // column omega_meas_rad_s
+  bool with_temperature = false;         // column temp_c
+  bool with_resonant_frequency = false;  // column freq_hz
 };
 
 // One sample as the run CSV stores it.
@@ -102,6 +103,8 @@ struct GyroSampleRecord {
   double y[4] = {0.0, 0.0, 0.0, 0.0};
   double measured_omega_rad_s = std::numeric_limits<double>::quiet_NaN();  // if with_measured_omega
   double temperature_c = std::numeric_limits<double>::quiet_NaN();         // if with_temperature
+  // If with_resonant_frequency.
+  double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Run status strings in session.json. Only kRunComplete runs are read by the estimator.

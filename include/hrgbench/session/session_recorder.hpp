@@ -31,9 +31,9 @@
 //   runs[i].omega_rad_s: the commanded Ω until EndRun, then RunEnd::omega_rad_s (measured table
 //   rate + Earth rate) when finite. sample_rate_hz (top level) is the first planned run's.
 //
-// Run CSV columns: t_s,y1,y2,y3,y4,[omega_meas_rad_s,]seq[,temp_c] (extra columns in name order,
-// as session::WriteRunCsv writes them), numbers in shortest round-trip form: a run read back with
-// session::ReadRunCsv is bit-identical to what was appended.
+// Run CSV columns: t_s,y1,y2,y3,y4,[freq_hz,][omega_meas_rad_s,]seq[,temp_c] (extra columns in name
+// order, as session::WriteRunCsv writes them), numbers in shortest round-trip form: a run read back
+// with session::ReadRunCsv is bit-identical to what was appended.
 //
 // Threads: one non-real-time thread calls every method (the capture thread only fills a queue that
 // thread drains). Not thread-safe. Nothing here is real-time safe: it allocates, formats, writes

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <expected>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -119,6 +120,10 @@ struct UnitRun {
   std::unique_ptr<CaptureThread> capture;
   StepOutcome outcome;  // the unit's own fault in this run
   std::uint64_t samples = 0;
+  // The electronics' last reported conditions (the status at ready, then each sample's): what a
+  // sample its electronics did not stamp is recorded with, so the run's columns stay complete.
+  double temperature_c = std::numeric_limits<double>::quiet_NaN();
+  double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Moves what the unit's capture pushed to its record; a record that cannot be written is the
@@ -130,8 +135,14 @@ void DrainUnit(SessionContext& ctx, UnitRun& unit, int run_id, std::vector<hw::G
   if (drained.empty() || !unit.outcome.ok()) return;
   records.clear();
   records.reserve(drained.size());
-  for (const hw::GyroSample& sample : drained)
-    records.push_back(ToSampleRecord(sample, unit.release_stamp_ns));
+  for (const hw::GyroSample& sample : drained) {
+    GyroSampleRecord& record = records.emplace_back(ToSampleRecord(sample, unit.release_stamp_ns));
+    if (std::isfinite(record.temperature_c)) unit.temperature_c = record.temperature_c;
+    record.temperature_c = unit.temperature_c;
+    if (std::isfinite(record.resonant_frequency_hz))
+      unit.resonant_frequency_hz = record.resonant_frequency_hz;
+    record.resonant_frequency_hz = unit.resonant_frequency_hz;
+  }
   unit.samples += records.size();
   if (ctx.options->on_samples && ctx.lanes.size() == 1) ctx.options->on_samples(run_id, records);
   if (auto appended = unit.lane->recorder->AppendSamples(records); !appended) {
@@ -272,8 +283,11 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     const double sign = unit.lane->hw->axis_sign;
     unit.start.commanded_omega_rad_s = sign * run.omega_rad_s;
     unit.start.earth_rate_rad_s = sign * ctx.earth_rate_rad_s;
-    unit.start.temperature_c = ready->temperature_c;
-    unit.start.resonant_frequency_hz = ready->resonant_frequency_hz;
+    unit.start.temperature_c = unit.temperature_c = ready->temperature_c;
+    unit.start.resonant_frequency_hz = unit.resonant_frequency_hz = ready->resonant_frequency_hz;
+    // The conditions over the run (README "The record"), when the electronics report them.
+    unit.start.with_temperature = std::isfinite(unit.start.temperature_c);
+    unit.start.with_resonant_frequency = std::isfinite(unit.start.resonant_frequency_hz);
   }
   std::erase_if(units, [](const UnitRun& unit) { return unit.lane->ended; });
   if (units.empty()) return StepOutcome::Ok();

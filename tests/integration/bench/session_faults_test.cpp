@@ -151,6 +151,45 @@ TEST(BenchDrift, ADriftingRunIsFlaggedAndKept) {
   std::filesystem::remove_all(run.dir);
 }
 
+// Issue 26 §4: the conditions over each run, not only at its ends. The simulated housing warms at
+// 0.2 °C/s (its truth, set here); every sample of the run CSV carries the electronics' last status
+// (10 Hz) before it: temp_c follows T_release + 0.2·t to within a status period (0.02 °C) and the
+// wire's 0.01 °C resolution, and freq_hz is the slow model's resonant frequency to the wire's mHz.
+TEST(BenchDrift, TheTemperatureAndFrequencyOverEachRunAreRecordedPerSample) {
+  constexpr double kDriftCPerS = 0.2;
+  double frequency_hz = 0.0;
+  const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [&](auto& c) {
+    Drifting(c);
+    c.sequence.drift.action = bench::DriftAction::kFlag;
+    frequency_hz = c.station.simulated.resonant_frequency_hz;
+  });
+  ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  const nlohmann::json& first = session->document.at("runs").at(0);
+  const double release_c = first.at("start").at("temperature_c").get<double>();
+  auto samples =
+      session::ReadRunCsv(run.dir / first.at("file").get<std::string>(), 1, /*keep_extra=*/true);
+  ASSERT_TRUE(samples) << samples.error().ToString();
+  ASSERT_TRUE(samples->extra_columns.contains("temp_c"));
+  ASSERT_TRUE(samples->extra_columns.contains("freq_hz"));
+  const std::vector<double>& temp_c = samples->extra_columns.at("temp_c");
+  const std::vector<double>& freq_hz = samples->extra_columns.at("freq_hz");
+  ASSERT_EQ(temp_c.size(), samples->t_s.size());
+  const double tolerance_c = kDriftCPerS * 0.2 + 0.005;  // two status periods + half an LSB
+  for (std::size_t k = 0; k < temp_c.size(); ++k) {
+    const double t = samples->t_s[k];
+    ASSERT_NEAR(temp_c[k], release_c + kDriftCPerS * t, tolerance_c) << "t = " << t;
+    if (k > 0) {
+      ASSERT_GE(temp_c[k], temp_c[k - 1]) << "t = " << t;  // it only warms
+    }
+    ASSERT_NEAR(freq_hz[k], frequency_hz, 0.0005) << "t = " << t;
+  }
+  // Not the release value carried through the run: it moved by the drift over the 2 s.
+  EXPECT_NEAR(temp_c.back() - temp_c.front(), kDriftCPerS * samples->t_s.back(), tolerance_c);
+  std::filesystem::remove_all(run.dir);
+}
+
 TEST(BenchDrift, ADriftingRunIsRejectedWhenTheSequenceSaysSo) {
   const BenchRun run = RunOnSimulatedStation("sequence-paper.toml", "", [](auto& c) {
     Drifting(c);

@@ -139,10 +139,15 @@ void ExpectEverySample(const fs::path& session) {
     EXPECT_EQ(run["status"], "complete");
     std::ifstream csv(session / run["file"].get<std::string>());
     std::string line;
-    std::getline(csv, line);  // header
+    std::getline(csv, line);  // header: seq's place in it
+    std::size_t seq_column = 0;
+    for (std::size_t at = 0; at < line.find("seq"); ++at) seq_column += line[at] == ',';
+    ASSERT_NE(line.find(",seq"), std::string::npos) << line;
     std::int64_t rows = 0;
     while (std::getline(csv, line)) {
-      const std::int64_t seq = std::stoll(line.substr(line.rfind(',') + 1));
+      std::size_t start = 0;
+      for (std::size_t c = 0; c < seq_column; ++c) start = line.find(',', start) + 1;
+      const std::int64_t seq = std::stoll(line.substr(start, line.find(',', start) - start));
       EXPECT_EQ(seq, rows) << run["file"];
       ++rows;
     }

@@ -11,7 +11,9 @@ checker      the test of the test: the hand-written fixture (fixture/report.html
              a blank canvas, a wrong number, a misplaced warning, a network request, ...) fails,
              and fails in the check that should catch it.
 bench        hrg-bench runs a short sequence (SEQUENCE below, 3 runs of 4 s at 100 Hz) on the
-             simulated station with the example limits; hrg-report writes the report; the checker
+             simulated station with the example limits, three times for one serial, each session
+             uploaded to a SQLite store of the test's own; hrg-report writes the third's report
+             with the store (--results), so it draws the unit's trend (3 points each); the checker
              asserts the whole contract against the session.json it reads itself; the PDF, when
              hrg-report wrote one, has pages and says the outcome (pdftotext).
 missing-run  the same session with runs/run-002.csv deleted: the report still renders, without
@@ -228,27 +230,45 @@ def Run(command: list[str], log: Path, timeout_s: float = 240.0) -> int:
     return code
 
 
-def MakeBenchSession(args: argparse.Namespace, tmp: Path) -> Path:
+def StationWithStore(args: argparse.Namespace, tmp: Path) -> tuple[Path, str]:
+    """The simulated station, its sessions uploaded to a results store of this test's own (the
+    shipped file names the repository's build/out/results.sqlite)."""
+    url = f"sqlite://{tmp / 'results.sqlite'}"
+    text = (args.source_dir / "bench_configs" / "station-sim.toml").read_text()
+    shipped = 'url = "sqlite://../build/out/results.sqlite"'
+    if shipped not in text:
+        raise RuntimeError(f"station-sim.toml no longer says {shipped}: update this test")
+    station = tmp / "station.toml"
+    station.write_text(text.replace(shipped, f'url = "{url}"'))
+    return station, url
+
+
+def MakeBenchSession(args: argparse.Namespace, tmp: Path, station: Path,
+                     name: str = "session") -> Path:
     """A session of the simulated station, judged against the example limits. Raises on a bench
     that did not produce one."""
     sequence = tmp / "sequence.toml"
     sequence.write_text(SEQUENCE)
-    session = tmp / "session"
+    session = tmp / name
     configs = args.source_dir / "bench_configs"
-    code = Run([str(args.bin_dir / "hrg-bench"), "run", "--station",
-                str(configs / "station-sim.toml"), "--sequence", str(sequence), "--limits",
-                str(configs / "limits-example.toml"), "--serial", "BROWSER-0001", "-o",
-                str(session)], tmp / "hrg-bench.log")
+    log = tmp / f"hrg-bench-{name}.log"
+    code = Run([str(args.bin_dir / "hrg-bench"), "run", "--station", str(station), "--sequence",
+                str(sequence), "--limits", str(configs / "limits-example.toml"), "--serial",
+                "BROWSER-0001", "-o", str(session)], log)
     if code not in (0, 1):  # PASS or FAIL: the unit judged; anything else is the bench's error
-        print((tmp / "hrg-bench.log").read_text())
+        print(log.read_text())
         raise RuntimeError(f"hrg-bench exited {code}")
     return session
 
 
-def WriteReport(args: argparse.Namespace, session: Path, tmp: Path) -> tuple[int, Path]:
+def WriteReport(args: argparse.Namespace, session: Path, tmp: Path,
+                results_url: str = "") -> tuple[int, Path]:
     report_dir = session / "report"
     shutil.rmtree(report_dir, ignore_errors=True)  # hrg-bench may have written one: ours is new
-    code = Run([str(args.bin_dir / "hrg-report"), str(session)], tmp / "hrg-report.log")
+    command = [str(args.bin_dir / "hrg-report"), str(session)]
+    if results_url:
+        command += ["--results", results_url]
+    code = Run(command, tmp / "hrg-report.log")
     print((tmp / "hrg-report.log").read_text())
     return code, report_dir / "report.html"
 
@@ -291,13 +311,19 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
     failures = []
     with tempfile.TemporaryDirectory(prefix="hrgbench-browser-") as tmp_name:
         tmp = Path(tmp_name)
-        session_dir = MakeBenchSession(args, tmp)
+        station, results_url = StationWithStore(args, tmp)
+        # bench: the unit's history from the store, so the report draws its trend: two earlier
+        # sessions of the same serial, then the one reported.
+        earlier = 2 if case == "bench" else 0
+        for k in range(earlier):
+            MakeBenchSession(args, tmp, station, f"earlier-{k + 1}")
+        session_dir = MakeBenchSession(args, tmp, station)
         # hrg-bench writes the report itself when the session closes and prints its path.
         bench_html = session_dir / "report" / "report.html"
         if case == "bench":
             if not bench_html.is_file():
                 failures.append(f"hrg-bench wrote no {bench_html}")
-            elif str(bench_html) not in (tmp / "hrg-bench.log").read_text():
+            elif str(bench_html) not in (tmp / "hrg-bench-session.log").read_text():
                 failures.append(f"hrg-bench did not print the report's path {bench_html}")
         mentions = []
         if case == "missing-run":
@@ -308,7 +334,7 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
             del recorded["outcome"]
             (session_dir / "session.json").write_text(json.dumps(recorded, indent=2))
             mentions = ["not recorded"]
-        code, html = WriteReport(args, session_dir, tmp)
+        code, html = WriteReport(args, session_dir, tmp, results_url if earlier else "")
         session = json.loads((session_dir / "session.json").read_text())
         KeepArtifacts(out, session_dir, html)
         if not html.is_file():
@@ -329,6 +355,18 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
                                                 "conditions"])
         Report(result, case)
         failures += [str(p) for p in result.problems]
+        if earlier:
+            # One point per session of the unit that determined the quantity (this one included),
+            # each drawn (the checker checks drawn == points); a trend per key quantity.
+            sessions = earlier + 1
+            print(f"trends: {[(t['quantity'], t['points'], t['drawn']) for t in result.trends]}")
+            if not any(t["points"] == sessions for t in result.trends):
+                failures.append(f"the store holds {sessions} sessions of the unit and no trend "
+                                f"draws all of them: {result.trends}")
+            for t in result.trends:
+                if t["points"] > sessions:
+                    failures.append(f"trend of {t['quantity']}: {t['points']} points, the store "
+                                    f"holds {sessions} sessions of the unit")
         pdf = html.parent / "report.pdf"
         if pdf.is_file():
             kind = session.get("outcome", {}).get("kind", "")

@@ -1,7 +1,6 @@
 // Issue 26 §4: temperature and frequency over each run, not only at its start and end. A run whose
-// CSV has the electronics' temp_c column is drawn from it; a run without says so and draws the
-// recorded start and end only; the resonant frequency, which session.json keeps at the run's
-// start and end only, is drawn so and said not recorded over the run.
+// CSV has the electronics' temp_c and freq_hz columns is drawn from them; a run without says so
+// and draws the recorded start and end only.
 
 #include <gtest/gtest.h>
 
@@ -12,9 +11,10 @@ namespace {
 
 using namespace testing_support;
 
-// Run 1 gets a temp_c column (a ramp from 25 °C to 25.5 °C with one sample at 27 °C: a spike the
-// page must not lose to decimation); runs 1 and 2 get an end with temperature and frequency at
-// start and end; runs 3 and 4 have neither.
+// Run 1 gets temp_c and freq_hz columns (a ramp from 25 °C to 25.5 °C with one sample at 27 °C,
+// and a frequency falling 0.02 Hz with one sample 0.5 Hz low: spikes the page must not lose to
+// decimation); runs 1 and 2 get an end with temperature and frequency at start and end; runs 3
+// and 4 have neither.
 void WriteSessionWithConditions(const fs::path& dir) {
   WriteSession(dir);
   auto run = session::ReadRunCsv(dir / "runs/run-001.csv");
@@ -23,6 +23,10 @@ void WriteSessionWithConditions(const fs::path& dir) {
   for (std::size_t k = 0; k < temp_c.size(); ++k) temp_c[k] = 25.0 + 0.25 * run->t_s[k];
   temp_c[77] = 27.0;
   run->extra_columns["temp_c"] = temp_c;
+  std::vector<double> freq_hz(run->t_s.size());
+  for (std::size_t k = 0; k < freq_hz.size(); ++k) freq_hz[k] = 5000.0 - 0.01 * run->t_s[k];
+  freq_hz[123] = 4999.5;
+  run->extra_columns["freq_hz"] = freq_hz;
   ASSERT_TRUE(session::WriteRunCsv(dir / "runs/run-001.csv", *run).has_value());
   json document = SessionJson(dir);
   for (int r = 0; r < 2; ++r)
@@ -45,7 +49,12 @@ double MaxOf(const json& values) {
   return v.empty() ? std::nan("") : *std::max_element(v.begin(), v.end());
 }
 
-TEST(ReportRunConditions, TemperatureOverTheRunFromTempCElseSaidNotRecorded) {
+double MinOf(const json& values) {
+  const std::vector<double> v = values.get<std::vector<double>>();
+  return v.empty() ? std::nan("") : *std::min_element(v.begin(), v.end());
+}
+
+TEST(ReportRunConditions, TemperatureAndFrequencyOverTheRunFromTheirColumnsElseSaidNotRecorded) {
   testing::ScratchDir dir("report_run_conditions");
   WriteSessionWithConditions(dir.path());
   ReportOptions options = Fast();
@@ -69,8 +78,20 @@ TEST(ReportRunConditions, TemperatureOverTheRunFromTempCElseSaidNotRecorded) {
   EXPECT_EQ(c1["series"][0]["label"], "temperature (temp_c)");
   EXPECT_LE(c1["series"][0]["y"].size(), 40u);
   EXPECT_EQ(MaxOf(c1["series"][0]["y"]), 27.0);
+  EXPECT_EQ(q1["frequency_over_run"], "freq_hz");
+  EXPECT_EQ(q1["frequency_min_hz"], 4999.5);
+  EXPECT_EQ(q1["frequency_max_hz"], 5000.0);
+  EXPECT_EQ(q1["frequency_samples"], 200);
+  EXPECT_NE(Section(html, 1).find("resonant frequency over the run [Hz]</td><td>"),
+            std::string::npos);
+  EXPECT_EQ(c1["series"][1]["label"], "resonant frequency (freq_hz)");
   EXPECT_EQ(c1["series"][1]["axis"], "y2");
-  EXPECT_EQ(MaxOf(c1["series"][1]["y"]), 5000.01);
+  EXPECT_FALSE(c1["series"][1].contains("x"));  // on the run's decimated time axis
+  EXPECT_LE(c1["series"][1]["y"].size(), 40u);
+  EXPECT_EQ(MinOf(c1["series"][1]["y"]), 4999.5);
+  EXPECT_EQ(MaxOf(c1["series"][1]["y"]), 5000.0);
+  EXPECT_NE(c1["caption"].get<std::string>().find("from the run's freq_hz column"),
+            std::string::npos);
 
   // Run 2: no temp_c column: the recorded ends, dashed, and the page says why.
   EXPECT_TRUE(data["derived"]["runs"]["2"]["temperature_over_run"].is_null());
@@ -80,12 +101,18 @@ TEST(ReportRunConditions, TemperatureOverTheRunFromTempCElseSaidNotRecorded) {
   EXPECT_EQ(c2["series"][0]["label"], "temperature at start and end");
   EXPECT_EQ(c2["series"][0]["model"], true);
   EXPECT_NE(c2["caption"].get<std::string>().find("start and end only"), std::string::npos);
+  EXPECT_TRUE(data["derived"]["runs"]["2"]["frequency_over_run"].is_null());
+  EXPECT_NE(Section(html, 2).find("the run CSV has no freq_hz column"), std::string::npos);
+  ASSERT_EQ(c2["series"].size(), 2u);
+  EXPECT_EQ(c2["series"][1]["label"], "resonant frequency at start and end");
+  EXPECT_EQ(c2["series"][1]["axis"], "y2");
+  EXPECT_EQ(MaxOf(c2["series"][1]["y"]), 5000.01);
 
   // Run 3: nothing recorded: no figure, and the page says so.
   EXPECT_TRUE(FigureNamed(data, "conditions-run-3").is_null());
   EXPECT_NE(Section(html, 3).find("Figure conditions-run-3: not drawn"), std::string::npos);
-  for (int run = 1; run <= 4; ++run)
-    EXPECT_NE(Section(html, run).find("resonant frequency over the run</td><td><span "
+  for (int run = 2; run <= 4; ++run)
+    EXPECT_NE(Section(html, run).find("resonant frequency over the run [Hz]</td><td><span "
                                       "class=\"na\">not recorded</span>"),
               std::string::npos)
         << run;

@@ -104,6 +104,7 @@ TEST(SessionRecorderErrors, SamplesTheCsvCannotHoldAreRefusedAndNothingOfTheBatc
   ASSERT_TRUE(recorder.has_value());
   RunStart start;
   start.with_temperature = true;
+  start.with_resonant_frequency = true;
   ASSERT_TRUE(recorder->BeginRun(1, start).has_value());
   auto samples = SyntheticSamples(1, 10, 1000.0);
   ASSERT_TRUE(recorder->AppendSamples(std::span(samples).first(5)).has_value());
@@ -123,6 +124,12 @@ TEST(SessionRecorderErrors, SamplesTheCsvCannotHoldAreRefusedAndNothingOfTheBatc
   bad[9].temperature_c = kNaN;  // enabled optional column
   EXPECT_EQ(recorder->AppendSamples(std::span(bad).subspan(5)).error().kind,
             RecordErrorKind::kInvalidArgument);
+  bad = samples;
+  bad[8].resonant_frequency_hz = HUGE_VAL;  // the other one
+  const auto refused = recorder->AppendSamples(std::span(bad).subspan(5));
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_NE(refused.error().message.find("non-finite freq_hz inf"), std::string::npos)
+      << refused.error().message;
   EXPECT_EQ(fs::file_size(dir / "runs" / "run-001.csv.partial"), size_before);
 
   ASSERT_TRUE(recorder->AppendSamples(std::span(samples).subspan(5)).has_value());
@@ -134,6 +141,7 @@ TEST(SessionRecorderErrors, SamplesTheCsvCannotHoldAreRefusedAndNothingOfTheBatc
   EXPECT_EQ(read->size(), 10u);
   EXPECT_FALSE(read->extra_columns.contains("omega_meas_rad_s"));
   EXPECT_TRUE(read->extra_columns.contains("temp_c"));
+  EXPECT_TRUE(read->extra_columns.contains("freq_hz"));
 }
 
 TEST(SessionRecorderErrors, ResumeRefusesWhatItDidNotWrite) {

@@ -43,6 +43,7 @@ RunStart StartFor(const PlannedRun& plan) {
   start.release_t_ns = 123'456'789 + plan.id;
   start.with_measured_omega = true;
   start.with_temperature = true;
+  start.with_resonant_frequency = true;
   return start;
 }
 
@@ -129,6 +130,7 @@ TEST(SessionRecorder, FullSessionReadsBackExactlyThroughTheSessionLibrary) {
       ASSERT_EQ(extra.at("seq")[k], samples[k].seq);
       ASSERT_EQ(extra.at("omega_meas_rad_s")[k], samples[k].measured_omega_rad_s);
       ASSERT_EQ(extra.at("temp_c")[k], samples[k].temperature_c);
+      ASSERT_EQ(extra.at("freq_hz")[k], samples[k].resonant_frequency_hz);
     }
   }
   // The metadata rule 9 asks for.

@@ -66,6 +66,8 @@ inline GyroSampleRecord ToSampleRecord(const hw::GyroSample& sample, std::int64_
   record.seq = sample.seq;
   record.t_s = static_cast<double>(sample.t_ns - release_t_ns) * 1e-9;
   std::copy(std::begin(sample.y), std::end(sample.y), std::begin(record.y));
+  record.temperature_c = sample.temperature_c;
+  record.resonant_frequency_hz = sample.resonant_frequency_hz;
   return record;
 }
 
