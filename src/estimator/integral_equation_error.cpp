@@ -47,52 +47,133 @@ void ForEachEquation(const RunData& run, const Xi& xi_removed, Visit visit) {
   }
 }
 
-// The equations of ML's start (IntegralEquationResult::initial_forms_free), visit(lhs, m) for
-// t_1 … t_{n−2}: lhs = r(t_k) − r(t_0), m = 2·Mδ(Ω, I_k) with I_k the trapezoid integral corrected
-// at its ends (Euler–Maclaurin: −h²/12·(r'(t_k) − r'(t_1)), per interval for uneven steps, r' by
-// three-point differences, hence one sample of delay and no equation at the last sample). Why: the
-// trapezoid integral of a form turning at the pattern's rate ω is off by ≈ (ω·h)²/12 relative,
-// along ω itself, so δ2 came out high by that much (1.2e-4 relative at 20 samples/s on the
-// production design's rates) whatever the run's length: in units of the fit's std, ever further
-// off as runs get longer. Corrected, the error is O((ω·h)⁴). The correction's constant term, and
-// r(t_0)'s noise, are absorbed by the run's unknown initial forms.
-template <typename Visit>
-void ForEachStartEquation(const RunData& run, const Xi& xi_removed, Visit visit) {
-  // (I + C)⁻¹ on u = (x1 + i·x2, x3 + i·x4), as in UndistortExact but inverted once per run: the
-  // start removes the first solve's ξ from every sample, and two complex divisions per sample
-  // would cost as much as the regression's products.
+// The quadratic monomials of a sample, y_a·y_b for a ≤ b: every quadratic form of (I + C)⁻¹·y, for
+// any ξ, is a fixed combination of them (FormsOfMonomials).
+using Monomials = Eigen::Matrix<double, 10, 1>;
+constexpr std::array<std::array<int, 2>, 10> kMonomialPairs = {
+    {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+
+Monomials MonomialsOf(const RunData& run, Eigen::Index k) {
+  Monomials q;
+  for (std::size_t i = 0; i < kMonomialPairs.size(); ++i)
+    q[static_cast<Eigen::Index>(i)] =
+        run.y(kMonomialPairs[i][0], k) * run.y(kMonomialPairs[i][1], k);
+  return q;
+}
+
+// The forms (Ac, As, K, S) of x = (I + C(ξ))⁻¹·y as a 4×10 matrix on the monomials of y.
+Eigen::Matrix<double, 4, 10> FormsOfMonomials(const Xi& xi) {
+  // (I + C)⁻¹ on u = (x1 + i·x2, x3 + i·x4) as in UndistortExact, written as a real 4×4 matrix.
   using Complex = std::complex<double>;
-  const bool undistort = (xi_removed.array() != 0.0).any();
-  const Complex p(xi_removed[0], -xi_removed[1]), q(xi_removed[3], -xi_removed[2]);
+  const Complex p(xi[0], -xi[1]), q(xi[3], -xi[2]);
   const Complex inverse_det = 1.0 / ((1.0 + p) * (1.0 - p) - q * q);
   const Complex g11 = (1.0 - p) * inverse_det, g12 = -q * inverse_det,
                 g22 = (1.0 + p) * inverse_det;
-  const auto forms = [&](Eigen::Index k) {
-    if (!undistort) return QuadraticForms(run.y.col(k));
-    const Complex v1(run.y(0, k), run.y(1, k)), v2(run.y(2, k), run.y(3, k));
-    const Complex u1 = g11 * v1 + g12 * v2, u2 = g12 * v1 + g22 * v2;
-    return QuadraticForms(State(u1.real(), u1.imag(), u2.real(), u2.imag()));
+  const auto block = [](const Complex& g) {
+    Eigen::Matrix2d m;
+    m << g.real(), -g.imag(), g.imag(), g.real();
+    return m;
   };
+  Matrix4 h;
+  h << block(g11), block(g12), block(g12), block(g22);
+  // x'·F·x for each form: Ac = x1² + x2² − x3² − x4², As = 2(x1x3 + x2x4), K = 2(x1x4 − x2x3),
+  // S = |x|² (QuadraticForms).
+  std::array<Matrix4, 4> f;
+  f[kAc] = Eigen::Vector4d(1, 1, -1, -1).asDiagonal();
+  f[kAs].setZero();
+  f[kAs](0, 2) = f[kAs](2, 0) = f[kAs](1, 3) = f[kAs](3, 1) = 1.0;
+  f[kK].setZero();
+  f[kK](0, 3) = f[kK](3, 0) = 1.0;
+  f[kK](1, 2) = f[kK](2, 1) = -1.0;
+  f[kS].setIdentity();
+  Eigen::Matrix<double, 4, 10> l;
+  for (int i = 0; i < 4; ++i) {
+    const Matrix4 m = h.transpose() * f[static_cast<std::size_t>(i)] * h;
+    for (std::size_t c = 0; c < kMonomialPairs.size(); ++c) {
+      const int a = kMonomialPairs[c][0], b = kMonomialPairs[c][1];
+      l(i, static_cast<Eigen::Index>(c)) = a == b ? m(a, a) : 2.0 * m(a, b);
+    }
+  }
+  return l;
+}
+
+// ML's start (IntegralEquationResult::initial_forms_free): the sums over t_1 … t_{n−2} of the
+// monomials' end-corrected integral I_k and of q(t_k) − q(t_0), and their products. The integral is
+// the trapezoid's corrected at its ends (Euler–Maclaurin: −h²/12·(q'(t_k) − q'(t_1)), per interval
+// for uneven steps, q' by three-point differences, hence one sample of delay and no equation at the
+// last sample). Why: the trapezoid integral of a form turning at the pattern's rate ω is off by
+// ≈ (ω·h)²/12 relative, along ω itself, so δ2 came out high by that much (1.2e-4 relative at 20
+// samples/s on the production design's rates) whatever the run's length: in units of the fit's
+// std, ever further off as runs get longer. Corrected, the error is O((ω·h)⁴). The correction's
+// constant term, and q(t_0)'s noise, are absorbed by the run's unknown initial forms. On the
+// monomials rather than the forms, so that one pass serves every ξ removed (both candidates and the
+// refinement), each solve then costing a few 10×10 products per run.
+IntegralEquationSums::Monomial StartMonomialSums(const RunData& run) {
+  IntegralEquationSums::Monomial sums;
+  sums.integral_integral.setZero();
+  sums.integral_lhs.setZero();
+  sums.integral.setZero();
+  sums.lhs.setZero();
+  sums.count = 0.0;
   const Eigen::Index n = run.size();
-  if (n < 3) return;
-  const Forms r0 = forms(0);
-  // r at t_{k−1}, t_k, t_{k+1}; the derivative at t_{k−1}; the trapezoid integral to t_k and its
+  if (n < 3) return sums;
+  const Monomials q0 = MonomialsOf(run, 0);
+  // q at t_{k−1}, t_k, t_{k+1}; the derivative at t_{k−1}; the trapezoid integral to t_k and its
   // correction so far.
-  Forms before = r0, now = forms(1);
-  Forms derivative_before = Forms::Zero();
-  Forms integral = 0.5 * (run.t_s[1] - run.t_s[0]) * (now + before);
-  Forms correction = Forms::Zero();
+  Monomials before = q0, now = MonomialsOf(run, 1);
+  Monomials derivative_before = Monomials::Zero();
+  Monomials integral = 0.5 * (run.t_s[1] - run.t_s[0]) * (now + before);
+  Monomials correction = Monomials::Zero();
   for (Eigen::Index k = 1; k + 1 < n; ++k) {
-    const Forms after = forms(k + 1);
+    const Monomials after = MonomialsOf(run, k + 1);
     const double a = run.t_s[k] - run.t_s[k - 1], b = run.t_s[k + 1] - run.t_s[k];
-    const Forms derivative = (a * a * (after - now) + b * b * (now - before)) / (a * b * (a + b));
+    const double scale = 1.0 / (a * b * (a + b));
+    const Monomials derivative = (a * a * scale) * (after - now) + (b * b * scale) * (now - before);
     if (k >= 2) correction -= (a * a / 12.0) * (derivative - derivative_before);
-    visit(Forms(now - r0),
-          Matrix46(2.0 * FormsRegressor(run.omega_rad_s, Forms(integral + correction))));
+    const Monomials i_k = integral + correction;
+    const Monomials lhs = now - q0;
+    // The upper triangle only (symmetric: filled in below).
+    for (Eigen::Index c = 0; c < 10; ++c)
+      for (Eigen::Index r = 0; r <= c; ++r) sums.integral_integral(r, c) += i_k[r] * i_k[c];
+    sums.integral_lhs.noalias() += i_k.lazyProduct(lhs.transpose());
+    sums.integral += i_k;
+    sums.lhs += lhs;
+    sums.count += 1.0;
     integral += 0.5 * b * (after + now);
     derivative_before = derivative;
     before = now;
     now = after;
+  }
+  sums.integral_integral.triangularView<Eigen::StrictlyLower>() =
+      sums.integral_integral.transpose();
+  return sums;
+}
+
+// The 6×6 Σmᵀm and Σmᵀ·lhs of a run's start equations with ξ removed (forms = l·monomials),
+// each run's initial forms eliminated: m = 2·Mδ(Ω, l·I_k) = Σ_j (l·I_k)_j·B_j is linear in the
+// forms, so both follow from the monomial sums.
+void StartNormalEquations(const IntegralEquationSums::Monomial& sums, double omega_rad_s,
+                          const Eigen::Matrix<double, 4, 10>& l, Eigen::Matrix<double, 6, 6>* mm,
+                          Eigen::Matrix<double, 6, 1>* ml) {
+  std::array<Matrix46, 4> basis;
+  for (int j = 0; j < 4; ++j)
+    basis[static_cast<std::size_t>(j)] = 2.0 * FormsRegressor(omega_rad_s, Forms::Unit(j));
+  const Matrix4 uu = l * sums.integral_integral * l.transpose();         // Σ u·uᵀ, u = l·I_k
+  const Matrix4 vu = l * sums.integral_lhs.transpose() * l.transpose();  // Σ v·uᵀ, v = l·Δq
+  const Forms u_sum = l * sums.integral, v_sum = l * sums.lhs;
+  mm->setZero();
+  ml->setZero();
+  Matrix46 m_sum = Matrix46::Zero();
+  for (int j = 0; j < 4; ++j) {
+    const Matrix46& bj = basis[static_cast<std::size_t>(j)];
+    for (int i = 0; i < 4; ++i)
+      *mm += uu(j, i) * bj.transpose() * basis[static_cast<std::size_t>(i)];
+    *ml += bj.transpose() * vu.col(j);
+    m_sum += u_sum[j] * bj;
+  }
+  if (sums.count > 0.0) {
+    *mm -= m_sum.transpose() * m_sum / sums.count;
+    *ml -= m_sum.transpose() * v_sum / sums.count;
   }
 }
 
@@ -162,8 +243,10 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   IntegralEquationSums local;
   IntegralEquationSums& cache = sums != nullptr ? *sums : local;
   const bool forms_free = out->initial_forms_free;
-  const bool reuse = cache.normals.size() == runs.size() && cache.xi_removed == xi_removed &&
-                     cache.initial_forms_free == forms_free;
+  // ML's start: the monomial sums serve any ξ removed (StartMonomialSums); the normal equations
+  // follow from them per run, every time.
+  const bool reuse = !forms_free && cache.normals.size() == runs.size() &&
+                     cache.xi_removed == xi_removed && !cache.initial_forms_free;
   if (!reuse) {
     cache.xi_removed = xi_removed;
     cache.initial_forms_free = forms_free;
@@ -172,43 +255,43 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   }
   std::vector<Normal>& normals = cache.normals;
   std::vector<Rhs>& rhss = cache.rhss;
+  const auto select = [&](std::size_t r) {
+    Eigen::Matrix<double, 6, 10> s = Eigen::Matrix<double, 6, 10>::Zero();
+    s.leftCols<6>().setIdentity();
+    for (int k = 0; k < 4; ++k)
+      s(kXiColumn[static_cast<std::size_t>(k)], 6 + k) =
+          4.0 * runs[r].omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
+    return s;
+  };
   const auto accumulate = [&](std::size_t r) {
     Eigen::Matrix<double, 6, 6> mm = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> ml = Eigen::Matrix<double, 6, 1>::Zero();
     // lazyProduct: products this small are faster unrolled than through Eigen's blocked GEMM.
-    // With the initial forms c unknown, their columns are the identity in every equation: they
-    // are eliminated per run from the sums of m and lhs (a Schur complement: the regression on
-    // m and lhs centred on their run means).
-    Matrix46 m_sum = Matrix46::Zero();
-    Forms lhs_sum = Forms::Zero();
-    double count = 0.0;
-    if (forms_free) {
-      ForEachStartEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
-        mm.noalias() += m.transpose().lazyProduct(m);
-        ml.noalias() += m.transpose().lazyProduct(lhs);
-        m_sum += m;
-        lhs_sum += lhs;
-        count += 1.0;
-      });
-    } else {
-      ForEachEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
-        mm.noalias() += m.transpose().lazyProduct(m);
-        ml.noalias() += m.transpose().lazyProduct(lhs);
-      });
-    }
-    if (forms_free && count > 0.0) {
-      mm.noalias() -= m_sum.transpose().lazyProduct(m_sum) / count;
-      ml.noalias() -= m_sum.transpose().lazyProduct(lhs_sum) / count;
-    }
-    Eigen::Matrix<double, 6, 10> select = Eigen::Matrix<double, 6, 10>::Zero();
-    select.leftCols<6>().setIdentity();
-    for (int k = 0; k < 4; ++k)
-      select(kXiColumn[static_cast<std::size_t>(k)], 6 + k) =
-          4.0 * runs[r].omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
-    normals[r] = select.transpose() * mm * select;
-    rhss[r] = select.transpose() * ml;
+    ForEachEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
+      mm.noalias() += m.transpose().lazyProduct(m);
+      ml.noalias() += m.transpose().lazyProduct(lhs);
+    });
+    const Eigen::Matrix<double, 6, 10> sel = select(r);
+    normals[r] = sel.transpose() * mm * sel;
+    rhss[r] = sel.transpose() * ml;
   };
-  if (!reuse) ParallelFor(runs.size(), threads, accumulate);
+  if (forms_free) {
+    if (cache.monomials.size() != runs.size()) {
+      cache.monomials.assign(runs.size(), IntegralEquationSums::Monomial());
+      ParallelFor(runs.size(), threads,
+                  [&](std::size_t r) { cache.monomials[r] = StartMonomialSums(runs[r]); });
+    }
+    const Eigen::Matrix<double, 4, 10> l = FormsOfMonomials(xi_removed);
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      Eigen::Matrix<double, 6, 6> mm;
+      Eigen::Matrix<double, 6, 1> ml;
+      StartNormalEquations(cache.monomials[r], runs[r].omega_rad_s, l, &mm, &ml);
+      const Eigen::Matrix<double, 6, 10> sel = select(r);
+      normals[r] = sel.transpose() * mm * sel;
+      rhss[r] = sel.transpose() * ml;
+    }
+  }
+  if (!reuse && !forms_free) ParallelFor(runs.size(), threads, accumulate);
   Normal full_normal = Normal::Zero();
   Rhs full_rhs = Rhs::Zero();
   out->equations = 0;

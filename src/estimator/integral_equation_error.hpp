@@ -26,11 +26,21 @@ struct IntegralEquationResult {
 // equations (the fixed ξ, with the free ones at 0), not on which unknowns are free: two solves with
 // different free sets and the same held ξ share them instead of passing over the data again. Filled
 // on first use; reused while `xi_removed`, `initial_forms_free` and the number of runs match.
+// With initial_forms_free, the per-run sums are over the samples' quadratic monomials and serve
+// every ξ removed (integral_equation_error.cpp, StartMonomialSums).
 struct IntegralEquationSums {
   Xi xi_removed = Xi::Constant(kNaN);
   bool initial_forms_free = false;
   std::vector<Eigen::Matrix<double, 10, 10>> normals;
   std::vector<Eigen::Matrix<double, 10, 1>> rhss;
+  struct Monomial {
+    Eigen::Matrix<double, 10, 10> integral_integral;  // Σ I_k·I_kᵀ
+    Eigen::Matrix<double, 10, 10> integral_lhs;       // Σ I_k·(q(t_k) − q(t_0))ᵀ
+    Eigen::Matrix<double, 10, 1> integral;            // Σ I_k
+    Eigen::Matrix<double, 10, 1> lhs;                 // Σ (q(t_k) − q(t_0))
+    double count = 0.0;
+  };
+  std::vector<Monomial> monomials;  // filled on first use; the runs must not change after
 };
 
 // False when the regression is singular. `threads` as in OutputErrorProblem (resolved already).

@@ -243,11 +243,11 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
                                           free->xi_fixed, &iee, start_problem.Threads(),
                                           &iee_sums)) {
         // The ξ found to first order removed exactly and corrected: the start's δ2 then no longer
-        // drifts with the runs' length (RefinedIntegralEquationError). Its own sums: the
-        // candidate with ξ held shares the first solve's.
+        // drifts with the runs' length (RefinedIntegralEquationError). From the same sums: no
+        // pass over the data.
         if (xi_in_start != kNoXi)
           internal::RefinedIntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
-                                                 iee, &iee, start_problem.Threads());
+                                                 iee, &iee, start_problem.Threads(), &iee_sums);
         Candidate c;
         c.p = internal::Pack(iee.delta, iee.xi);
         // The integral equation error does not see the common phase (its forms discard it): each
