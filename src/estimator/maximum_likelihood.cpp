@@ -236,9 +236,18 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
     std::vector<Candidate> candidates;
     for (const XiMask& xi_in_start : {free->xi, kNoXi}) {
       internal::IntegralEquationResult iee;
+      // Each run's initial forms unknown and the integral end-corrected: a start whose error,
+      // in units of the fit's std, no longer grows with the runs' length (IntegralEquationError).
+      iee.initial_forms_free = true;
       if (internal::IntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
                                           free->xi_fixed, &iee, start_problem.Threads(),
                                           &iee_sums)) {
+        // The ξ found to first order removed exactly and corrected: the start's δ2 then no longer
+        // drifts with the runs' length (RefinedIntegralEquationError). From the same sums: no
+        // pass over the data.
+        if (xi_in_start != kNoXi)
+          internal::RefinedIntegralEquationError(runs, free->delta, free->delta_fixed, xi_in_start,
+                                                 iee, &iee, start_problem.Threads(), &iee_sums);
         Candidate c;
         c.p = internal::Pack(iee.delta, iee.xi);
         // The integral equation error does not see the common phase (its forms discard it): each
