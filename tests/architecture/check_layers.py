@@ -36,6 +36,8 @@ STD_HEADERS = set(
 POSIX_PREFIXES = ("sys/", "linux/", "net/", "netinet/", "arpa/")
 POSIX_HEADERS = {"unistd.h", "fcntl.h", "poll.h", "signal.h", "spawn.h", "sched.h", "pthread.h",
                  "netdb.h", "time.h", "dirent.h", "termios.h", "pwd.h", "grp.h"}
+# The C library's own extensions (glibc): mallopt for the programs' allocator policy.
+GLIBC_HEADERS = {"malloc.h"}
 # Third-party libraries by the first component of the include, or the whole name.
 LIBRARIES = {"Eigen": "Eigen", "unsupported": "Eigen", "nlohmann": "nlohmann", "toml++": "toml++",
              "CLI": "CLI11", "spdlog": "spdlog", "httplib.h": "httplib", "modbus.h": "modbus",
@@ -91,7 +93,7 @@ def classify(root, rel, kind, target):
         return ("unknown", target)
     if target in STD_HEADERS:
         return ("std", "")
-    if target in POSIX_HEADERS or target.startswith(POSIX_PREFIXES):
+    if target in POSIX_HEADERS or target in GLIBC_HEADERS or target.startswith(POSIX_PREFIXES):
         return ("library", "posix")
     first = target.split("/")[0]
     if first in LIBRARIES:
