@@ -27,6 +27,7 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "app/cli_exit.hpp"
@@ -241,25 +242,43 @@ struct EventsRequest {
   std::size_t capacity = bench::EventStream::kDefaultCapacity;
 };
 
-int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
-                const std::string& serial, const OperatorRequest& who, bool resume, bool json,
-                const EventsRequest& events) {
+// What a session (one unit or a fixture) talks to besides its station: who answers its prompts,
+// and its event stream when asked for one. Either cannot be opened: the reason is logged and the
+// session refused before anything moves (kExitBadInput).
+struct SessionChannels {
+  std::unique_ptr<bench::PromptAnswers> answers;
+  std::unique_ptr<app::EventOutput> event_output;  // null: no event stream
+};
+
+std::optional<SessionChannels> OpenSessionChannels(const bench::BenchConfigs& configs,
+                                                   const OperatorRequest& who,
+                                                   const EventsRequest& events) {
+  SessionChannels channels;
   auto answers = app::OpenPromptAnswers(who.prompts, configs.sequence, who.operator_id);
   if (!answers) {
     spdlog::error("{}", answers.error());
-    return kExitBadInput;
+    return std::nullopt;
   }
-  std::unique_ptr<app::EventOutput> event_output;
+  channels.answers = std::move(*answers);
   if (!events.target.empty()) {
     auto opened = app::EventOutput::Open(events.target, events.capacity);
     if (!opened) {
       spdlog::error("{}", opened.error());
-      return kExitBadInput;
+      return std::nullopt;
     }
     // A reader that goes away must cost events, not the process.
     ::signal(SIGPIPE, SIG_IGN);
-    event_output = std::move(*opened);
+    channels.event_output = std::move(*opened);
   }
+  return channels;
+}
+
+int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
+                const std::string& serial, const OperatorRequest& who, bool resume, bool json,
+                const EventsRequest& events) {
+  auto channels = OpenSessionChannels(configs, who, events);
+  if (!channels) return kExitBadInput;
+  std::unique_ptr<app::EventOutput>& event_output = channels->event_output;
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
@@ -269,7 +288,7 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   bench::RunnerOptions options;
   options.unit_serial = serial;
   options.operator_name = who.operator_id;
-  options.prompts = answers->get();
+  options.prompts = channels->answers.get();
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
   options.simulation = (*station)->simulation();
   options.interrupts = &g_interrupts;
@@ -325,21 +344,9 @@ std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::Se
 int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& dir,
                const app::FixtureRecord& record, const OperatorRequest& who, bool resume, bool json,
                const EventsRequest& events) {
-  auto answers = app::OpenPromptAnswers(who.prompts, configs.sequence, who.operator_id);
-  if (!answers) {
-    spdlog::error("{}", answers.error());
-    return kExitBadInput;
-  }
-  std::unique_ptr<app::EventOutput> event_output;
-  if (!events.target.empty()) {
-    auto opened = app::EventOutput::Open(events.target, events.capacity);
-    if (!opened) {
-      spdlog::error("{}", opened.error());
-      return kExitBadInput;
-    }
-    ::signal(SIGPIPE, SIG_IGN);  // as RunOrResume: a reader that goes away costs events only
-    event_output = std::move(*opened);
-  }
+  auto channels = OpenSessionChannels(configs, who, events);
+  if (!channels) return kExitBadInput;
+  std::unique_ptr<app::EventOutput>& event_output = channels->event_output;
   auto station = app::OpenStation(configs.station);
   if (!station) {
     spdlog::error("{}", station.error());
@@ -387,7 +394,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   bench::RunnerOptions options;
   options.software_version = HRGBENCH_SOFTWARE_VERSION;
   options.operator_name = who.operator_id;
-  options.prompts = answers->get();
+  options.prompts = channels->answers.get();
   options.interrupts = &g_interrupts;
   options.interrupt_signal = &g_interrupt_signal;
   options.on_progress = [&](const bench::Progress& p) { printer(p); };
