@@ -22,7 +22,9 @@
 
 namespace hrgbench::report::internal {
 
-// Attribute text for a JSON pointer ('/' kept: a pointer holds no URL).
+// Attribute text for a JSON pointer. Not HtmlEscape: that writes '/' as &#47; so that nothing in
+// the page reads as a URL; a pointer holds no URL, and its '/' are kept so the page's readers and
+// tests match data-source="/outcome/..." as written.
 inline std::string Attr(const std::string& text) {
   std::string out;
   for (const char c : text) {
