@@ -7,8 +7,8 @@
 // Ω·Mδ[:, j] per estimated ξ gives ξ from its coefficient. ξ held fixed is removed exactly first.
 #include "integral_equation_error.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
-#include <complex>
 
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/model.hpp"
@@ -61,38 +61,19 @@ Monomials MonomialsOf(const RunData& run, Eigen::Index k) {
   return q;
 }
 
-// The forms (Ac, As, K, S) of x = (I + C(ξ))⁻¹·y as a 4×10 matrix on the monomials of y.
+// The forms (Ac, As, K, S) of x = (I + C(ξ))⁻¹·y as a 4×10 matrix on the monomials of y: each
+// form is a quadratic form of y, read off QuadraticForms by polarisation (a monomial y_a² has the
+// form's value at h·e_a, y_a·y_b the excess at h·(e_a + e_b)), with h = (I +
+// DistortionMatrix(ξ))⁻¹, so the forms and the pick-off are defined once, in model.cpp.
 Eigen::Matrix<double, 4, 10> FormsOfMonomials(const Xi& xi) {
-  // (I + C)⁻¹ on u = (x1 + i·x2, x3 + i·x4) as in UndistortExact, written as a real 4×4 matrix.
-  using Complex = std::complex<double>;
-  const Complex p(xi[0], -xi[1]), q(xi[3], -xi[2]);
-  const Complex inverse_det = 1.0 / ((1.0 + p) * (1.0 - p) - q * q);
-  const Complex g11 = (1.0 - p) * inverse_det, g12 = -q * inverse_det,
-                g22 = (1.0 + p) * inverse_det;
-  const auto block = [](const Complex& g) {
-    Eigen::Matrix2d m;
-    m << g.real(), -g.imag(), g.imag(), g.real();
-    return m;
-  };
-  Matrix4 h;
-  h << block(g11), block(g12), block(g12), block(g22);
-  // x'·F·x for each form: Ac = x1² + x2² − x3² − x4², As = 2(x1x3 + x2x4), K = 2(x1x4 − x2x3),
-  // S = |x|² (QuadraticForms).
-  std::array<Matrix4, 4> f;
-  f[kAc] = Eigen::Vector4d(1, 1, -1, -1).asDiagonal();
-  f[kAs].setZero();
-  f[kAs](0, 2) = f[kAs](2, 0) = f[kAs](1, 3) = f[kAs](3, 1) = 1.0;
-  f[kK].setZero();
-  f[kK](0, 3) = f[kK](3, 0) = 1.0;
-  f[kK](1, 2) = f[kK](2, 1) = -1.0;
-  f[kS].setIdentity();
+  const Matrix4 h = (Matrix4::Identity() + DistortionMatrix(xi)).inverse();
   Eigen::Matrix<double, 4, 10> l;
-  for (int i = 0; i < 4; ++i) {
-    const Matrix4 m = h.transpose() * f[static_cast<std::size_t>(i)] * h;
-    for (std::size_t c = 0; c < kMonomialPairs.size(); ++c) {
-      const int a = kMonomialPairs[c][0], b = kMonomialPairs[c][1];
-      l(i, static_cast<Eigen::Index>(c)) = a == b ? m(a, a) : 2.0 * m(a, b);
-    }
+  for (std::size_t c = 0; c < kMonomialPairs.size(); ++c) {
+    const int a = kMonomialPairs[c][0], b = kMonomialPairs[c][1];
+    const Forms column = a == b ? QuadraticForms(h.col(a))
+                                : Forms(QuadraticForms(h.col(a) + h.col(b)) -
+                                        QuadraticForms(h.col(a)) - QuadraticForms(h.col(b)));
+    l.col(static_cast<Eigen::Index>(c)) = column;
   }
   return l;
 }
