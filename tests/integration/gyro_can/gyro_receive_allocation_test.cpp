@@ -5,46 +5,21 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
+#include "allocation_counter.hpp"  // the counting operator new (this binary only)
 #include "gyro_rig.hpp"
-
-namespace {
-std::atomic<std::int64_t> g_allocations{0};
-}  // namespace
-
-// Counting replacements of the global allocation functions (not inline, per the standard).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace hrgbench::testing {
 namespace {
 
 TEST(GyroReceiveAllocationTest, TheCounterSeesAllocations) {
-  const std::int64_t before = g_allocations.load();
+  const std::int64_t before = hrgbench::testing::process_allocation_count.load();
   std::vector<int>* volatile escaped = new std::vector<int>(100);
   delete escaped;
-  EXPECT_GE(g_allocations.load() - before, 2);
+  EXPECT_GE(hrgbench::testing::process_allocation_count.load() - before, 2);
 }
 
 TEST(GyroReceiveAllocationTest, StreamingOneHundredThousandSamplesDoesNotAllocate) {
@@ -58,7 +33,7 @@ TEST(GyroReceiveAllocationTest, StreamingOneHundredThousandSamplesDoesNotAllocat
   std::uint32_t expected_seq = 0;
   bool in_order = true;
 
-  const std::int64_t before = g_allocations.load();
+  const std::int64_t before = hrgbench::testing::process_allocation_count.load();
   const auto start = std::chrono::steady_clock::now();
   while (total < 100'000) {
     const hw::GyroReadResult r = rig.device->ReadSamples(buffer, 100'000'000);
@@ -69,7 +44,7 @@ TEST(GyroReceiveAllocationTest, StreamingOneHundredThousandSamplesDoesNotAllocat
   }
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::int64_t allocations = g_allocations.load() - before;
+  const std::int64_t allocations = hrgbench::testing::process_allocation_count.load() - before;
 
   EXPECT_GE(total, 100'000u);
   EXPECT_TRUE(in_order);

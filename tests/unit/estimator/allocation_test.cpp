@@ -6,27 +6,9 @@
 //    1 000 and for 100 000 samples per run (std containers, lambdas, anything else).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "allocation_counter.hpp"  // the counting operator new (this binary only)
 #include "estimator/output_error_problem.hpp"
 #include "hrgbench/estimator/simulation.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hrgbench::estimator {
 namespace {
@@ -57,11 +39,11 @@ long CountPass(const std::vector<RunData>& runs) {
   std::vector<internal::RunNuisance> w0;
   internal::NormalEquations ne;
   std::vector<double> per_run;
-  const long before = g_allocations.load();
+  const long before = hrgbench::testing::process_allocation_count.load();
   EXPECT_TRUE(problem.SolveInitialStates(p, &w0));
   problem.Linearize(p, w0, &ne);
   problem.Cost(p, w0, &per_run);
-  return g_allocations.load() - before;
+  return hrgbench::testing::process_allocation_count.load() - before;
 }
 
 TEST(AllocationTest, PassesOverTheDataAllocateIndependentlyOfTheSampleCount) {

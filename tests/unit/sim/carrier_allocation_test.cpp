@@ -6,44 +6,20 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
+#include "allocation_counter.hpp"  // the counting operator new (this binary only)
 #include "sim/carrier_simulation.hpp"
-
-namespace {
-std::atomic<std::int64_t> g_allocations{0};
-}  // namespace
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace hrgbench::drivers::sim {
 namespace {
 
 TEST(CarrierAllocationTest, TheCounterSeesAllocations) {
-  const std::int64_t before = g_allocations.load();
+  const std::int64_t before = hrgbench::testing::process_allocation_count.load();
   std::vector<int>* volatile escaped = new std::vector<int>(100);
   delete escaped;
-  EXPECT_GE(g_allocations.load() - before, 2);
+  EXPECT_GE(hrgbench::testing::process_allocation_count.load() - before, 2);
 }
 
 TEST(CarrierAllocationTest, ReleaseAndSamplesDoNotAllocate) {
@@ -56,11 +32,11 @@ TEST(CarrierAllocationTest, ReleaseAndSamplesDoNotAllocate) {
   options.frequency_temperature_coefficient_per_c = 5e-5;
   options.electronics.reference.mode = ReferenceMode::kTracking;
   CarrierSimulation sim(options);  // construction may allocate; nothing after it
-  const std::int64_t before = g_allocations.load();
+  const std::int64_t before = hrgbench::testing::process_allocation_count.load();
   sim.Release({{1.0, 0.1, 0.3, 0.0}, 0.3, 1000.0, 7, 25.0, 0.01});
   double sink = 0.0;
   for (int k = 0; k < 2000; ++k) sink += sim.Next(0.3 + 1e-9 * k)[0];
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(hrgbench::testing::process_allocation_count.load() - before, 0);
   EXPECT_TRUE(std::isfinite(sink));
 }
 
