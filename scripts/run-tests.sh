@@ -38,9 +38,25 @@ if [ "$host_count" -eq 0 ] || [ "$kernel_count" -eq 0 ]; then
   exit 1
 fi
 
+# The tests' scratch space is a folder of this run's own (TMPDIR), removed at the end: what a test
+# leaves behind is said, not piled up in /tmp run after run (sessions are ~120 MB each).
+test_tmp="$(mktemp -d "${TMPDIR:-/tmp}/hrgbench-tests.XXXXXX")"
+export TMPDIR="$test_tmp"
+disk_free() { df -h --output=avail "$1" | tail -n 1 | tr -d ' '; }
+echo "run-tests: scratch $test_tmp; free: $(disk_free "$build") beside the build, $(disk_free "$test_tmp") for scratch"
+
 load_pid=""
-stop_load() { [ -z "$load_pid" ] || kill "$load_pid" 2>/dev/null || true; }
-trap stop_load EXIT
+finish() {
+  [ -z "$load_pid" ] || kill "$load_pid" 2>/dev/null || true
+  local left
+  left="$(find "$test_tmp" -mindepth 1 -maxdepth 1 | wc -l)"
+  if [ "$left" -ne 0 ]; then
+    echo "run-tests: the tests left $left entries ($(du -sh "$test_tmp" | cut -f1)) in their scratch; removed:"
+    find "$test_tmp" -mindepth 1 -maxdepth 1 -printf '  %f\n' | sort | head -n 20
+  fi
+  rm -rf "$test_tmp"
+}
+trap finish EXIT
 if [ "${HRGBENCH_TEST_LOAD:-0}" = "1" ]; then
   command -v stress-ng >/dev/null || { echo "run-tests: stress-ng missing" >&2; exit 1; }
   stress-ng --cpu "$(nproc)" --timeout 0 --quiet &
@@ -62,6 +78,7 @@ for ((pass = 1; pass <= repeat; ++pass)); do
     exit "$status"
   fi
 done
+echo "run-tests: free: $(disk_free "$build") beside the build"
 echo "run-tests: part 3 of 3: the input readers, sanitized (AddressSanitizer, UndefinedBehaviorSanitizer)"
 bash "$root/scripts/run-sanitized-tests.sh" --fast
 echo "run-tests: every test passed ($host_count host, $kernel_count kernel$([ "$repeat" -eq 1 ] || echo ", $repeat passes"), the sanitized readers)"

@@ -8,10 +8,13 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <random>
 #include <string>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 #include "app/station_factory.hpp"
@@ -30,6 +33,38 @@ inline std::filesystem::path FreshDir(const std::string& stem) {
   return std::filesystem::temp_directory_path() /
          ("hrgbench-" + stem + "-" + std::to_string(rd()) + std::to_string(rd()));
 }
+
+// Removes a session's (or fixture's) folder when the run that made it goes out of scope, also when
+// an ASSERT returned early: a production session is ~120 MB, and a suite that leaves them behind
+// fills a CI machine's disk. A failed test keeps its folder and says where, for a look.
+class RemovedAtEnd {
+ public:
+  RemovedAtEnd() = default;
+  explicit RemovedAtEnd(std::filesystem::path path) : path_(std::move(path)) {}
+  RemovedAtEnd(RemovedAtEnd&& other) noexcept : path_(std::exchange(other.path_, {})) {}
+  RemovedAtEnd& operator=(RemovedAtEnd&& other) noexcept {
+    if (this != &other) {
+      Remove();
+      path_ = std::exchange(other.path_, {});
+    }
+    return *this;
+  }
+  RemovedAtEnd(const RemovedAtEnd&) = delete;
+  RemovedAtEnd& operator=(const RemovedAtEnd&) = delete;
+  ~RemovedAtEnd() { Remove(); }
+
+ private:
+  void Remove() {
+    if (path_.empty()) return;
+    if (::testing::Test::HasFailure()) {
+      std::cerr << "kept for a look (the test failed): " << path_.string() << "\n";
+      return;
+    }
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  std::filesystem::path path_;
+};
 
 // Loads the shipped configs, lets `edit` change them, and opens the station into `station`;
 // std::nullopt (and a test failure) when either fails.
@@ -60,6 +95,7 @@ class ConfirmEveryPrompt final : public bench::PromptAnswers {
 };
 
 struct BenchRun {
+  RemovedAtEnd removes_dir;  // first: destroyed last, after the station that wrote into it
   bench::SessionResult result;
   std::filesystem::path dir;
   std::unique_ptr<app::Station> station;  // kept, so a test can look at the hardware afterwards
@@ -91,6 +127,7 @@ inline BenchRun RunOnSimulatedStation(
   };
   options.prompts = prompts != nullptr ? prompts : &confirm;
   run.dir = FreshDir("session");
+  run.removes_dir = RemovedAtEnd(run.dir);
   bench::BenchHardware hardware = run.station->hardware();
   if (wrap_table) {
     run.table = wrap_table(*hardware.table);
@@ -101,6 +138,7 @@ inline BenchRun RunOnSimulatedStation(
 }
 
 struct FixtureRun {
+  RemovedAtEnd removes_fixture_dir;           // every unit's folder is under it
   std::vector<bench::SessionResult> results;  // one per fitted position, in order
   std::vector<std::filesystem::path> dirs;
   std::unique_ptr<app::Station> station;
@@ -119,6 +157,7 @@ inline FixtureRun RunFixtureOnSimulatedStation(
   auto configs = OpenShippedStation(station_file, sequence, limits, edit, run.station);
   if (!configs) return run;
   const std::filesystem::path fixture = FreshDir("fixture");
+  run.removes_fixture_dir = RemovedAtEnd(fixture);
   std::vector<bench::UnitSession> units;
   const bench::BenchHardware& hardware = run.station->hardware();
   for (std::size_t i = 0; i < hardware.units.size(); ++i) {
