@@ -21,6 +21,7 @@
 
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
+#include "removed_at_end.hpp"
 
 namespace {
 
@@ -166,6 +167,7 @@ TEST(BenchProgram, UnwritableOutputIsAnErrorAndMovesNothing) {
 
 TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   const fs::path work = FreshDir("kill9");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path session_dir = work / "session";
   const fs::path station = PacedStation(work);
   const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
@@ -218,7 +220,6 @@ TEST(BenchProgram, KillNineMidRunLeavesAReadableSessionThatResumes) {
   EXPECT_EQ(complete, 5u);
   // The run the kill cut short, when it had been released (else the kill hit between runs).
   EXPECT_LE(earlier_attempts, 1u) << replay.doc.dump(1);
-  fs::remove_all(work);
 }
 
 // One LSB changed in a sample frame (with its CRC-8 made valid again, as a gateway that rewrote
@@ -255,6 +256,7 @@ void WriteLines(const fs::path& file, const std::vector<std::string>& lines, boo
 
 TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged) {
   const fs::path work = FreshDir("replay");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path session_dir = work / "session";
   fs::create_directories(work);
   const Output ran = RunBench("run --station " + (kConfigs / "station-sim.toml").string() +
@@ -413,13 +415,13 @@ TEST(BenchProgram, ReplayRebuildsTheRecordFromTheRawCanLogAndFindsWhatWasChanged
   const Output absent = RunBench("replay " + (work / "absent").string());
   EXPECT_EQ(absent.exit_code, 4) << absent.out;
   EXPECT_NE(absent.out.find("session.json"), std::string::npos) << absent.out;
-  fs::remove_all(work);
 }
 
 // A serial that could name a folder outside the sessions folder is refused before anything runs
 // (the panel's rule, serial_check.hpp), and nothing is written.
 TEST(BenchProgram, ASerialThatCouldLeaveTheSessionsFolderIsAUsageError) {
   const fs::path work = FreshDir("serial");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const pid_t pid = Spawn({"run", "--station", (kConfigs / "station-sim.toml").string(),
                            "--sequence", (kConfigs / "sequence-paper.toml").string(), "--serial",
@@ -435,12 +437,12 @@ TEST(BenchProgram, ASerialThatCouldLeaveTheSessionsFolderIsAUsageError) {
   text << log.rdbuf();
   EXPECT_NE(text.str().find("--serial: "), std::string::npos) << text.str();
   EXPECT_FALSE(fs::exists(work / "session"));
-  fs::remove_all(work);
 }
 
 // A signal in the middle of run 2: the session stops safely, ABORTED, and the record says who.
 void ExpectSignalAborts(int signal, const std::string& reason) {
   const fs::path work = FreshDir("signal" + std::to_string(signal));
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path session_dir = work / "session";
   const fs::path station = PacedStation(work);
   const pid_t pid = Spawn({"run", "--station", station.string(), "--sequence",
@@ -468,7 +470,6 @@ void ExpectSignalAborts(int signal, const std::string& reason) {
   std::stringstream html;
   html << page.rdbuf();
   EXPECT_NE(html.str().find("<div id=\"outcome\" data-kind=\"ABORTED\">"), std::string::npos);
-  fs::remove_all(work);
 }
 
 // Ctrl-C at the terminal, and the panel's Abort (which sends SIGINT to the session's process).
@@ -486,6 +487,7 @@ TEST(BenchProgram, SigtermStopsSafelyAndTheRecordSaysSo) {
 // ends with all its runs and its verdict, and fixture.json ties the four together.
 TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
   const fs::path work = FreshDir("fixture-kill9");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path fixture = work / "fixture";
   const fs::path station = PacedStation(work, "station-sim-fixture.toml");
   const pid_t pid =
@@ -547,13 +549,13 @@ TEST(BenchProgram, FixtureKilledMidRunResumesEveryUnit) {
   ASSERT_EQ(one.doc.at("units").size(), 1u);
   EXPECT_EQ(one.doc.at("units").at(0).at("position"), "C");
   EXPECT_EQ(RunBench("replay " + fixture.string() + " --unit Z").exit_code, 4);
-  fs::remove_all(work);
 }
 
 // A unit that never gets ready ends as ERROR; the others PASS; the fixture's exit code is the
 // worst unit's. A resume continues that unit only: the others' records are not touched.
 TEST(BenchProgram, FixtureResumeContinuesOnlyTheUnitsWithoutAVerdict) {
   const fs::path work = FreshDir("fixture-resume");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path fixture = work / "fixture";
   fs::create_directories(work);
   std::string toml = ReadText(kConfigs / "station-sim-fixture.toml");
@@ -588,7 +590,6 @@ TEST(BenchProgram, FixtureResumeContinuesOnlyTheUnitsWithoutAVerdict) {
   const nlohmann::json b_doc = ReadJson(fixture / "B-U2" / "session.json");
   EXPECT_TRUE(b_doc.contains("resumed_at"));
   EXPECT_EQ(b_doc.at("outcome").at("kind"), "ERROR");
-  fs::remove_all(work);
 }
 
 // hrg-bench with `env` ("NAME=value ...") in its environment; stdout and stderr together. A
@@ -655,6 +656,7 @@ const std::string kNoPdf = "HRGBENCH_CHROMIUM=/bin/false";
 // its record existed is refused with the reason and what to do.
 TEST(BenchProgram, FixtureKilledAtAnyWritePointResumes) {
   const fs::path work = FreshDir("fixture-kill-points");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const fs::path sequence = ShortSequence(work);
   const std::string run = "run --station " +
@@ -720,13 +722,13 @@ TEST(BenchProgram, FixtureKilledAtAnyWritePointResumes) {
   // Only the points before fixture.json is in place: the config copies and fixture.json's own
   // temporary.
   EXPECT_LE(not_started, 5);
-  fs::remove_all(work);
 }
 
 // Row 6 of issue 25: a session closed as PASS and killed during its report is final: `resume`
 // writes the missing report and leaves session.json byte for byte as it was.
 TEST(BenchProgram, ResumeOfAClosedRecordFinishesTheReportAndRewritesNothing) {
   const fs::path work = FreshDir("closed-resume");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const fs::path session_dir = work / "session";
   const Output killed = RunBenchWith(
@@ -757,7 +759,6 @@ TEST(BenchProgram, ResumeOfAClosedRecordFinishesTheReportAndRewritesNothing) {
   // Again: nothing left to do, nothing changes.
   RunBenchWith(kNoPdf, "resume " + session_dir.string());
   EXPECT_TRUE(ReadText(session_dir / "session.json") == record);
-  fs::remove_all(work);
 }
 
 // Whether process `pid` has ended (gone, or a zombie nobody has reaped yet).
@@ -772,6 +773,7 @@ bool ProcessEnded(pid_t pid) {
 // (PR_SET_PDEATHSIG), and the next report removes the temporary folders the killed one left.
 TEST(BenchProgram, AKilledReportLeavesNoChildAndTheNextReportRemovesItsTemporaryFolders) {
   const fs::path work = FreshDir("report-kill");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path tmp = work / "tmp";
   fs::create_directories(tmp);
   // A "Chromium" that says who it is and then runs until it is killed.
@@ -817,7 +819,6 @@ TEST(BenchProgram, AKilledReportLeavesNoChildAndTheNextReportRemovesItsTemporary
       RunBenchWith("TMPDIR=" + tmp.string() + " " + kNoPdf, run + (work / "s2").string());
   EXPECT_LE(next.exit_code, 2) << next.out;
   EXPECT_EQ(stale(), 0) << "the next report left the killed one's temporary folders";
-  fs::remove_all(work);
 }
 
 // Row 6 of issue 25: a disk that fills mid-session. The session runs on a tmpfs just larger than
@@ -828,6 +829,7 @@ TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   if (std::system("unshare -rm true > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "no user namespaces here (unshare -rm)";
   const fs::path work = FreshDir("disk-full");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   const fs::path mount = work / "mnt";
   fs::create_directories(mount);
   const std::string run = kBench + " run --station " +
@@ -858,19 +860,18 @@ TEST(BenchProgram, ADiskThatFillsMidSessionLeavesTheReasonInTheRecord) {
   EXPECT_EQ(outcome.at("outcome"), "ERROR") << outcome.dump(1);
   EXPECT_NE(outcome.at("reason").get<std::string>().find("No space left"), std::string::npos)
       << outcome.dump(1);
-  fs::remove_all(work);
 }
 
 // A folder that holds no record is refused with the reason and what to do.
 TEST(BenchProgram, ResumeOfAFolderWithoutARecordSaysNothingRan) {
   const fs::path work = FreshDir("no-record");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work / "config");
   const Output resumed = RunBench("resume " + work.string());
   EXPECT_EQ(resumed.exit_code, 4);
   EXPECT_NE(resumed.out.find("neither session.json nor fixture.json"), std::string::npos)
       << resumed.out;
   EXPECT_NE(resumed.out.find("nothing was run"), std::string::npos) << resumed.out;
-  fs::remove_all(work);
 }
 
 TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
@@ -907,6 +908,7 @@ TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
 // the start's operator kept; a bad id refused before anything runs.
 TEST(BenchProgram, TheOperatorIsRecordedByRunFixtureAndResume) {
   const fs::path work = FreshDir("operator");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const fs::path sequence = ShortSequence(work);
   const fs::path one = work / "one";
@@ -954,7 +956,6 @@ TEST(BenchProgram, TheOperatorIsRecordedByRunFixtureAndResume) {
   EXPECT_EQ(refused.exit_code, 4) << refused.out;
   EXPECT_NE(refused.out.find("--operator: the operator id"), std::string::npos) << refused.out;
   EXPECT_FALSE(fs::exists(work / "refused"));
-  fs::remove_all(work);
 }
 
 namespace {
@@ -974,6 +975,7 @@ fs::path ShortSequenceWithPrompts(const fs::path& work) {
 // starts (stdin is not a terminal), naming what to do; a bad --prompts is refused too.
 TEST(BenchProgram, PromptsWithNobodyToAnswerThemAreRefusedBeforeAnythingStarts) {
   const fs::path work = FreshDir("prompts-refused");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const std::string run =
       "run --station " + StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
@@ -994,13 +996,13 @@ TEST(BenchProgram, PromptsWithNobodyToAnswerThemAreRefusedBeforeAnythingStarts) 
   EXPECT_EQ(closed.exit_code, 4) << closed.out;
   EXPECT_NE(closed.out.find("file descriptor 57 is not open"), std::string::npos) << closed.out;
   EXPECT_FALSE(fs::exists(work / "s"));
-  fs::remove_all(work);
 }
 
 // --prompts confirm: every prompt answered at once and recorded as answered by nobody ("auto");
 // --prompts fd:N: JSON lines, an answer to another prompt ignored, recorded with who answered.
 TEST(BenchProgram, PromptsAnsweredAutomaticallyOrFromAPipeAreRecordedWithWhoAndHow) {
   const fs::path work = FreshDir("prompts-answered");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
   fs::create_directories(work);
   const std::string run = "run --station " +
                           StationWithoutStore(work, "station-sim.toml").string() + " --sequence " +
@@ -1038,5 +1040,4 @@ TEST(BenchProgram, PromptsAnsweredAutomaticallyOrFromAPipeAreRecordedWithWhoAndH
   EXPECT_EQ(record->prompts[1].by, "OP-Q");
   ASSERT_TRUE(record->outcome.has_value());
   EXPECT_EQ(record->outcome->reason, "aborted by OP-Q at prompt 'remove'");
-  fs::remove_all(work);
 }

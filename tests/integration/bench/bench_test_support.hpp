@@ -8,18 +8,16 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
-#include <iostream>
 #include <memory>
 #include <optional>
 #include <random>
 #include <string>
-#include <system_error>
-#include <utility>
 #include <vector>
 
 #include "app/station_factory.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/config/bench_configs.hpp"
+#include "removed_at_end.hpp"
 
 namespace hrgbench::testing {
 
@@ -33,38 +31,6 @@ inline std::filesystem::path FreshDir(const std::string& stem) {
   return std::filesystem::temp_directory_path() /
          ("hrgbench-" + stem + "-" + std::to_string(rd()) + std::to_string(rd()));
 }
-
-// Removes a session's (or fixture's) folder when the run that made it goes out of scope, also when
-// an ASSERT returned early: a production session is ~120 MB, and a suite that leaves them behind
-// fills a CI machine's disk. A failed test keeps its folder and says where, for a look.
-class RemovedAtEnd {
- public:
-  RemovedAtEnd() = default;
-  explicit RemovedAtEnd(std::filesystem::path path) : path_(std::move(path)) {}
-  RemovedAtEnd(RemovedAtEnd&& other) noexcept : path_(std::exchange(other.path_, {})) {}
-  RemovedAtEnd& operator=(RemovedAtEnd&& other) noexcept {
-    if (this != &other) {
-      Remove();
-      path_ = std::exchange(other.path_, {});
-    }
-    return *this;
-  }
-  RemovedAtEnd(const RemovedAtEnd&) = delete;
-  RemovedAtEnd& operator=(const RemovedAtEnd&) = delete;
-  ~RemovedAtEnd() { Remove(); }
-
- private:
-  void Remove() {
-    if (path_.empty()) return;
-    if (::testing::Test::HasFailure()) {
-      std::cerr << "kept for a look (the test failed): " << path_.string() << "\n";
-      return;
-    }
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::filesystem::path path_;
-};
 
 // Loads the shipped configs, lets `edit` change them, and opens the station into `station`;
 // std::nullopt (and a test failure) when either fails.
