@@ -1,6 +1,8 @@
 #include "can_virtual/can_log_playback.hpp"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <utility>
 
 #include "hrgbench/hw/can_frame_text.hpp"
@@ -20,14 +22,22 @@ bool SameFrame(const hw::CanFrame& a, const hw::CanFrame& b) noexcept {
   return std::equal(a.data.begin(), a.data.begin() + a.length, b.data.begin());
 }
 
+// How far past a wait the recording is searched for the answer and a resend: both come within a
+// few frames of the command (a resend within the host's ack timeout), while a sample stream
+// behind an answer is unbounded.
+constexpr std::size_t kLateAnswerLookAhead = 32;
+constexpr std::size_t kUntilNextSent = SIZE_MAX;
+
 }  // namespace
 
-CanLogPlayback::CanLogPlayback(PlaybackSource source, SentByHost sent_by_host, bool supports_fd)
+CanLogPlayback::CanLogPlayback(PlaybackSource source, SentByHost sent_by_host, bool supports_fd,
+                               AnswersTo answers)
     : source_(std::move(source)),
       sent_by_host_(std::move(sent_by_host)),
-      supports_fd_(supports_fd) {
+      supports_fd_(supports_fd),
+      answers_(std::move(answers)) {
   // The recording's time starts at its first frame (a host's first deadline is measured from it).
-  ReadAhead(true);
+  ReadAhead(1);
 }
 
 void CanLogPlayback::Advance(std::int64_t stamp_ns) noexcept {
@@ -35,8 +45,8 @@ void CanLogPlayback::Advance(std::int64_t stamp_ns) noexcept {
   started_ = true;
 }
 
-void CanLogPlayback::ReadAhead(bool one_received) {
-  while (!pending_sent_ && !source_ended_ && !(one_received && !received_.empty())) {
+void CanLogPlayback::ReadAhead(std::size_t received_wanted) {
+  while (!pending_sent_ && !source_ended_ && received_.size() < received_wanted) {
     std::optional<PlaybackFrame> next = source_();
     if (!next) {
       source_ended_ = true;
@@ -60,13 +70,13 @@ bool CanLogPlayback::Accepts(const hw::CanFrame& frame) const noexcept {
 
 const PlaybackFrame* CanLogPlayback::NextSentFrame() {
   if (divergence_) return nullptr;
-  ReadAhead(false);
+  ReadAhead(kUntilNextSent);
   return pending_sent_ ? &*pending_sent_ : nullptr;
 }
 
 bool CanLogPlayback::HasDeliverable() {
   if (divergence_) return false;
-  ReadAhead(true);
+  ReadAhead(1);
   return !received_.empty();
 }
 
@@ -76,7 +86,7 @@ CanStatus CanLogPlayback::Send(const hw::CanFrame& frame, std::int64_t /*timeout
     ++statistics_.invalid_frames;
     return CanStatus::kInvalidFrame;
   }
-  ReadAhead(false);
+  ReadAhead(kUntilNextSent);
   if (!pending_sent_) {
     divergence_ = "the driver sent " + hw::CanFrameToString(frame) + " after line " +
                   std::to_string(line_) + ", where the log has no further frame from the host";
@@ -91,6 +101,8 @@ CanStatus CanLogPlayback::Send(const hw::CanFrame& frame, std::int64_t /*timeout
   }
   Advance(pending_sent_->stamp_ns);
   line_ = pending_sent_->line;
+  last_sent_ = pending_sent_->frame;
+  last_sent_answered_ = false;
   pending_sent_.reset();
   ++frames_matched_;
   ++statistics_.frames_sent;
@@ -101,15 +113,25 @@ CanStatus CanLogPlayback::Receive(hw::CanFrame* frame, std::int64_t timeout_ns,
                                   hw::ReceiveInfo* info) noexcept {
   if (frame == nullptr) return CanStatus::kInvalidArgument;
   if (divergence_) return CanStatus::kError;
-  ReadAhead(true);
+  ReadAhead(1);
   const std::int64_t wait_ns = std::max<std::int64_t>(timeout_ns, 0);
-  if (received_.empty() || received_.front().stamp_ns > now_ns_ + wait_ns) {
+  if (received_.empty()) {
+    now_ns_ += wait_ns;
+    ++statistics_.timeouts;
+    return CanStatus::kTimeout;
+  }
+  const bool late = received_.front().stamp_ns > now_ns_ + wait_ns;
+  if (late && !AnswerTakenLate()) {
     now_ns_ += wait_ns;
     ++statistics_.timeouts;
     return CanStatus::kTimeout;
   }
   PlaybackFrame next = std::move(received_.front());
   received_.pop_front();
+  if (answers_ && last_sent_ && answers_(*last_sent_, next.frame)) {
+    last_sent_answered_ = true;
+    if (late) ++late_answers_;
+  }
   Advance(next.stamp_ns);
   line_ = next.line;
   *frame = next.frame;
@@ -121,6 +143,17 @@ CanStatus CanLogPlayback::Receive(hw::CanFrame* frame, std::int64_t timeout_ns,
   ++frames_delivered_;
   ++statistics_.frames_received;
   return CanStatus::kOk;
+}
+
+bool CanLogPlayback::AnswerTakenLate() {
+  if (!answers_ || !last_sent_ || last_sent_answered_) return false;
+  ReadAhead(kLateAnswerLookAhead);
+  // The host resent its frame: it had given up waiting, whatever arrived before the resend.
+  if (pending_sent_ && SameFrame(pending_sent_->frame, *last_sent_)) return false;
+  const auto end = received_.begin() +
+                   static_cast<std::ptrdiff_t>(std::min(received_.size(), kLateAnswerLookAhead));
+  return std::any_of(received_.begin(), end,
+                     [this](const PlaybackFrame& f) { return answers_(*last_sent_, f.frame); });
 }
 
 CanStatus CanLogPlayback::SetFilters(std::span<const hw::CanFilter> filters) noexcept {

@@ -18,6 +18,13 @@
 //     the recording exactly as long as it waited then, and retries as it retried then.
 //     SleepForNs advances the time. Time never goes back (a recording's stamps may: a resumed
 //     session's clock offset differs).
+//   - An answer taken late: live, a host past its deadline still takes what has already arrived,
+//     and a host descheduled longer than its answer was late (a loaded machine) takes an answer
+//     stamped after its deadline without resending. The recording holds no look times, only what
+//     the host did next; so with an `answers` predicate, an answer to the host's last frame that
+//     the recording has before the host's next frame, where that next frame is not a resend of
+//     the last, is delivered past the wait (late_answers() counts them). A resend means the host
+//     had given up waiting: the wait times out, as above.
 //
 // The source is pulled one frame at a time, so a recording of any length is played in constant
 // memory (the frames between two sent frames that the host has not received yet are held).
@@ -25,6 +32,7 @@
 // Not thread-safe: one thread drives the host and the playback (the hw::Clock is only used by
 // it). No error frames, no bus-off, never kBufferFull.
 
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -48,10 +56,13 @@ struct PlaybackFrame {
 using PlaybackSource = std::function<std::optional<PlaybackFrame>()>;
 // True for frames the host sent.
 using SentByHost = std::function<bool(const hw::CanFrame&)>;
+// True when `received` answers `sent` (a protocol's acknowledgement of that command).
+using AnswersTo = std::function<bool(const hw::CanFrame& sent, const hw::CanFrame& received)>;
 
 class CanLogPlayback final : public hw::CanBus, public hw::Clock {
  public:
-  CanLogPlayback(PlaybackSource source, SentByHost sent_by_host, bool supports_fd = true);
+  CanLogPlayback(PlaybackSource source, SentByHost sent_by_host, bool supports_fd = true,
+                 AnswersTo answers = {});
 
   // hw::CanBus
   hw::CanStatus Send(const hw::CanFrame& frame, std::int64_t timeout_ns) noexcept override;
@@ -77,17 +88,24 @@ class CanLogPlayback final : public hw::CanBus, public hw::Clock {
   // The line of the last frame delivered or matched (0 before any).
   std::uint64_t line() const noexcept { return line_; }
   const std::optional<std::string>& divergence() const noexcept { return divergence_; }
+  // Answers delivered after the host's wait had ended (see above).
+  std::uint64_t late_answers() const noexcept { return late_answers_; }
 
  private:
-  // Reads from the source until a sent frame is pending or the source ends, or (when
-  // `one_received` is set) until one received frame is queued.
-  void ReadAhead(bool one_received);
+  // Reads from the source until a sent frame is pending, the source ends, or `received_wanted`
+  // received frames are queued.
+  void ReadAhead(std::size_t received_wanted);
   bool Accepts(const hw::CanFrame& frame) const noexcept;
   void Advance(std::int64_t stamp_ns) noexcept;
+  bool AnswerTakenLate();
 
   PlaybackSource source_;
   SentByHost sent_by_host_;
   bool supports_fd_ = true;
+  AnswersTo answers_;
+  std::optional<hw::CanFrame> last_sent_;
+  bool last_sent_answered_ = false;
+  std::uint64_t late_answers_ = 0;
   bool source_ended_ = false;
   std::deque<PlaybackFrame> received_;  // before pending_sent_ (or the end)
   std::optional<PlaybackFrame> pending_sent_;

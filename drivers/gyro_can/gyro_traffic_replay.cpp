@@ -24,10 +24,21 @@ can_virtual::SentByHost HostFramesTo(NodeId node) {
   };
 }
 
+// An Ack answers the command it names, by message and token (a resend repeats the token).
+can_virtual::AnswersTo AcksOf(NodeId node) {
+  return [node](const hw::CanFrame& sent, const hw::CanFrame& received) {
+    Ack ack;
+    if (sent.length < 1 || DecodeAck(received, node, &ack) != DecodeStatus::kOk) return false;
+    return ack.token == sent.data[0] && CommandMessage(ack.command) == MessageOf(sent.id);
+  };
+}
+
 class Replayer {
  public:
   Replayer(can_virtual::PlaybackSource source, const GyroReplayOptions& options)
-      : bus_(std::move(source), HostFramesTo(options.node)), options_(options) {}
+      : bus_(std::move(source), HostFramesTo(options.node), /*supports_fd=*/true,
+             AcksOf(options.node)),
+        options_(options) {}
 
   GyroReplay Run() {
     while (const PlaybackFrame* next = bus_.NextSentFrame()) {
@@ -47,6 +58,7 @@ class Replayer {
     if (bus_.divergence() && !result_.divergence) result_.divergence = bus_.divergence();
     result_.frames_matched = bus_.frames_matched();
     result_.frames_delivered = bus_.frames_delivered();
+    result_.acks_taken_late = bus_.late_answers();
     return std::move(result_);
   }
 

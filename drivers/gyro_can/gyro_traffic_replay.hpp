@@ -49,6 +49,9 @@ struct GyroReplay {
   std::uint64_t frames_matched = 0;  // host frames the driver sent, retries included
   std::uint64_t frames_delivered = 0;
   int host_starts = 0;  // driver instances: 1, plus one per resume
+  // Acks stamped after the host's wait that it took without resending (a descheduled host on a
+  // loaded machine; can_log_playback.hpp "An answer taken late").
+  std::uint64_t acks_taken_late = 0;
   // "line 812: timeout: release (token 13): no ack after 3 attempts of 50 ms": a call that
   // failed on the recorded traffic (as it failed live, when the driver is the one recorded).
   std::vector<std::string> notes;

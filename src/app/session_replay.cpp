@@ -418,6 +418,7 @@ std::expected<SessionReplay, std::string> ReplaySession(const fs::path& dir,
     replay.log_damage = replay.log_file.string() + ": " + reader->damage()->message;
   replay.commands = replayed.commands;
   replay.host_starts = replayed.host_starts;
+  replay.acks_taken_late = replayed.acks_taken_late;
   replay.driver_notes = std::move(replayed.notes);
   replay.divergence = std::move(replayed.divergence);
 
@@ -551,6 +552,7 @@ json ReplayJson(const SessionReplay& replay) {
           {"driver",
            {{"commands", replay.commands},
             {"host_starts", replay.host_starts},
+            {"acks_taken_late", replay.acks_taken_late},
             {"notes", replay.driver_notes},
             {"divergence", optional_text(replay.divergence)}}},
           {"captures", captures},

@@ -59,6 +59,7 @@ struct SessionReplay {
   std::optional<std::string> log_damage;  // "…/can/session.log: line 1234: …": read up to there
   std::uint64_t commands = 0;
   int host_starts = 0;
+  std::uint64_t acks_taken_late = 0;      // stamped after the host's wait, taken without a resend
   std::vector<std::string> driver_notes;  // what failed again as it failed then
   std::optional<std::string> divergence;  // the driver sent what the host did not
   std::vector<ReplayedCapture> captures;

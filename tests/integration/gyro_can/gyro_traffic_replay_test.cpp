@@ -162,6 +162,49 @@ TEST(GyroTrafficReplay, ASecondHostProcessIsFollowed) {
   ExpectSameSamples(second, replay.runs[1]);
 }
 
+// A host descheduled past its ack deadline (a loaded machine, a process just started) takes the
+// Ack already queued, stamped after the deadline, and does not resend: the replay must follow it,
+// not resend a Configure the recording does not have (BenchProgram.FixtureKilledMidRunResumes-
+// EveryUnit diverged so at load 8-13, on the resumed host's first Configure).
+TEST(GyroTrafficReplay, AnAckStampedPastTheDeadlineThatTheHostTookIsFollowed) {
+  GyroRigOptions options;
+  options.sim.sigma = 1e-4;
+  RecordedRig recorded(options);
+  const LiveRun first = recorded.Run(400);
+  auto restarted = drivers::gyro_can::GyroCanDevice::Create(*recorded.rig.host_endpoint, [&] {
+    drivers::gyro_can::GyroCanDeviceConfig config;
+    config.clock = &recorded.rig.clock;
+    return config;
+  }());
+  ASSERT_TRUE(restarted.has_value());
+  recorded.rig.device = std::move(*restarted);
+  const LiveRun second = recorded.Run(400);
+  std::vector<PlaybackFrame> log;
+  recorded.Drain(log);
+  // The second host's Configure: its Ack stamped three ack timeouts late.
+  const std::int64_t timeout_ns = drivers::gyro_can::GyroCanDeviceConfig{}.ack_timeout_ns;
+  std::size_t configures = 0;
+  std::int64_t configure_stamp = 0;
+  std::uint64_t late_line = 0;
+  for (PlaybackFrame& f : log) {
+    if (f.frame.id == drivers::gyro_can::can_id::kConfigure && ++configures == 2)
+      configure_stamp = f.stamp_ns;
+    if (configure_stamp != 0 && late_line == 0 && f.frame.id == drivers::gyro_can::can_id::kAck) {
+      f.stamp_ns = configure_stamp + 3 * timeout_ns;
+      late_line = f.line;
+    }
+  }
+  ASSERT_NE(late_line, 0u);
+  const GyroReplay replay = Replay(log);
+  ASSERT_FALSE(replay.divergence) << *replay.divergence;
+  EXPECT_TRUE(replay.notes.empty()) << replay.notes.front();
+  EXPECT_EQ(replay.acks_taken_late, 1u);
+  EXPECT_EQ(replay.host_starts, 2);
+  ASSERT_EQ(replay.runs.size(), 2u);
+  ExpectSameSamples(first, replay.runs[0]);
+  ExpectSameSamples(second, replay.runs[1]);
+}
+
 TEST(GyroTrafficReplay, ADriverThatSendsOtherwiseIsNamedAtTheLine) {
   RecordedRig recorded(GyroRigOptions{});
   const LiveRun first = recorded.Run(300);
