@@ -31,6 +31,7 @@
 #include <string>
 
 #include "app/cli_exit.hpp"
+#include "app/closed_session_report.hpp"
 #include "app/event_output.hpp"
 #include "app/fixture_session.hpp"
 #include "app/logging.hpp"
@@ -156,35 +157,8 @@ class ProgressPrinter {
   int last_run_ = -1;
 };
 
-// The session report (HTML, figures, PDF) into the closed session's directory. A report that cannot
-// be written is logged; it never changes the outcome or the exit code. Empty when none was written.
-// `results_url`: the station's results store, from which the report lists the unit's earlier
-// sessions (this one is not in it yet: the upload follows the report).
-// `paper`: the station's [report] paper (StationConfig::report_paper).
-std::string WriteReport(const bench::SessionResult& result, const std::string& results_url,
-                        const std::string& paper) {
-  std::error_code ec;
-  if (result.dir.empty() || !std::filesystem::exists(result.dir / "session.json", ec)) return {};
-  session::KillPoint("report");
-  try {
-    report::ReportOptions options;
-    options.unit_history = app::ReadUnitHistory(results_url, result.dir);
-    options.paper = report::ParsePaperSize(paper).value_or(report::PaperSize::kA4);
-    const auto written = report::WriteSessionReport(result.dir, options);
-    if (!written) {
-      spdlog::error("session report not written: {}", written.error().ToString());
-      return {};
-    }
-    for (const std::string& w : written->warnings) spdlog::warn("report: {}", w);
-    return written->html.string();
-  } catch (const std::exception& error) {
-    // The session is closed and its outcome decided: nothing the report does may change that.
-    spdlog::error("session report not written: {}", error.what());
-    return {};
-  }
-}
-
-nlohmann::json ResultJson(const bench::SessionResult& result, const std::string& report_path) {
+nlohmann::json ResultJson(const bench::SessionResult& result, const app::ClosedReport& report) {
+  const std::string& report_path = report.path;
   nlohmann::json out;
   out["outcome"] = std::string(bench::ToString(result.outcome));
   out["exit_code"] = result.exit_code;
@@ -194,6 +168,11 @@ nlohmann::json ResultJson(const bench::SessionResult& result, const std::string&
   out["estimate"] = result.estimate_json;
   out["warnings"] = result.warnings;
   out["report"] = report_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(report_path);
+  // A report still being written: the job writing it, and where it says how it went.
+  out["report_job"] = report.job
+                          ? nlohmann::json{{"pid", *report.job},
+                                           {"state_file", app::ReportJobFile(result.dir).string()}}
+                          : nlohmann::json(nullptr);
   // "limits" (each limit) predates "verdict" (the limits and the fit checks): both kept.
   if (result.verdict) {
     out["verdict"] = bench::VerdictJson(*result.verdict);
@@ -222,12 +201,20 @@ void PrintOutcome(const bench::SessionResult& result, std::ostream& out_text) {
 }
 
 // What follows the outcome once the report is written: its line, or the whole result as JSON.
-void PrintReportLine(const bench::SessionResult& result, bool json, const std::string& report_path,
+void PrintReportLine(const bench::SessionResult& result, bool json, const app::ClosedReport& report,
                      std::ostream& out_text) {
   if (json)
-    out_text << ResultJson(result, report_path).dump(1) << '\n';
-  else if (!report_path.empty())
-    out_text << "report: " << report_path << '\n';
+    out_text << ResultJson(result, report).dump(1) << '\n';
+  else if (!report.path.empty())
+    out_text << "report: " << report.path << (report.job ? " (being written)" : "") << '\n';
+}
+
+// The report event: written (or none), or being written by a job.
+void PublishReport(app::EventOutput& events, const app::ClosedReport& report) {
+  if (report.job)
+    events.publisher().ReportBeingWritten(report.path, *report.job);
+  else
+    events.publisher().ReportWritten(report.path);
 }
 
 // --events: where, and the queue's capacity (events).
@@ -275,7 +262,7 @@ std::optional<SessionChannels> OpenSessionChannels(const bench::BenchConfigs& co
 
 int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
                 const std::string& serial, const OperatorRequest& who, bool resume, bool json,
-                const EventsRequest& events) {
+                const EventsRequest& events, app::ReportMode report_mode) {
   auto channels = OpenSessionChannels(configs, who, events);
   if (!channels) return kExitBadInput;
   std::unique_ptr<app::EventOutput>& event_output = channels->event_output;
@@ -307,35 +294,34 @@ int RunOrResume(const bench::BenchConfigs& configs, const std::string& dir,
   if (event_output) event_output->publisher().SessionFinished(result);
   std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
   if (!json) PrintOutcome(result, out_text);
-  const std::string report_path =
-      WriteReport(result, configs.station.results_url, configs.station.report_paper);
+  const app::ClosedReport report = app::MakeReports({result}, configs.station.results_url,
+                                                    configs.station.report_paper, report_mode)
+                                       .front();
   if (event_output) {
-    event_output->publisher().ReportWritten(report_path);
+    PublishReport(*event_output, report);
     event_output->Close(result.dir);
   }
-  // After the folder is complete (record closed, report written, events.json); never changes the
-  // outcome.
+  // After the folder is complete (record closed, report written or started, events.json); never
+  // changes the outcome.
   app::UploadClosedSession(configs.station.results_url, result.dir);
-  PrintReportLine(result, json, report_path, out_text);
+  PrintReportLine(result, json, report, out_text);
   return result.exit_code;
 }
 
 // What a kill during the report or the upload left undone for a session that closed with a
-// verdict: the report when it is missing, the upload when it is not marked. The record is final:
-// it is never re-opened or re-judged (the upload adds only its "results" mark). The report's
-// path, or empty when there is none.
-std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::SessionResult& result,
-                               const std::string& results_url, const std::string& paper) {
-  std::error_code ec;
-  std::string report_path = (dir / "report" / "report.html").string();
-  if (!std::filesystem::exists(report_path, ec))
-    report_path = WriteReport(result, results_url, paper);
-  const auto recorded = session::ReadSessionRecord(dir);
+// verdict: the report when it is missing (and no job is writing it), the upload when it is not
+// marked. The record is final: it is never re-opened or re-judged (the upload adds only its
+// "results" mark).
+app::ClosedReport FinishClosedFolder(const bench::SessionResult& result,
+                                     const std::string& results_url, const std::string& paper,
+                                     app::ReportMode report_mode) {
+  const app::ClosedReport report = app::FinishReport(result, results_url, paper, report_mode);
+  const auto recorded = session::ReadSessionRecord(result.dir);
   const bool marked = recorded && recorded->results.is_object() &&
                       recorded->results.value("uploaded", false) &&
                       recorded->results.value("url", std::string()) == results_url;
-  if (!marked) app::UploadClosedSession(results_url, dir);
-  return report_path;
+  if (!marked) app::UploadClosedSession(results_url, result.dir);
+  return report;
 }
 
 // Every unit on the table in one session (a station with several fitted positions): the units'
@@ -343,7 +329,7 @@ std::string FinishClosedFolder(const std::filesystem::path& dir, const bench::Se
 // with a verdict; the others keep theirs.
 int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& dir,
                const app::FixtureRecord& record, const OperatorRequest& who, bool resume, bool json,
-               const EventsRequest& events) {
+               const EventsRequest& events, app::ReportMode report_mode) {
   auto channels = OpenSessionChannels(configs, who, events);
   if (!channels) return kExitBadInput;
   std::unique_ptr<app::EventOutput>& event_output = channels->event_output;
@@ -421,24 +407,29 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   printer.EndLine();
   // Every unit's result: this invocation's, or (resume) the verdict its session already had.
   std::vector<bench::SessionResult> results(record.units.size());
-  std::vector<std::string> reports(record.units.size());
+  std::vector<app::ClosedReport> reports(record.units.size());
+  std::vector<bench::SessionResult> this_run;  // the units driven now: their reports together
   for (std::size_t i = 0; i < record.units.size(); ++i) {
     results[i].dir = sessions[i].dir;
     const auto k = std::find(driven_index.begin(), driven_index.end(), i);
     if (k != driven_index.end()) {
       results[i] = ran[static_cast<std::size_t>(k - driven_index.begin())];
-      reports[i] =
-          WriteReport(results[i], configs.station.results_url, configs.station.report_paper);
-      app::UploadClosedSession(configs.station.results_url, results[i].dir);
+      this_run.push_back(results[i]);
       continue;
     }
     if (kept[i]) {
       results[i].outcome = kept[i]->pass ? bench::OutcomeKind::kPass : bench::OutcomeKind::kFail;
       results[i].exit_code = bench::ExitCode(results[i].outcome);
       results[i].reason = bench::KeptReason(kept[i]->reason);
-      reports[i] = FinishClosedFolder(results[i].dir, results[i], configs.station.results_url,
-                                      configs.station.report_paper);
+      reports[i] = FinishClosedFolder(results[i], configs.station.results_url,
+                                      configs.station.report_paper, report_mode);
     }
+  }
+  const std::vector<app::ClosedReport> made = app::MakeReports(
+      this_run, configs.station.results_url, configs.station.report_paper, report_mode);
+  for (std::size_t j = 0; j < driven_index.size(); ++j) {
+    reports[driven_index[j]] = made[j];
+    app::UploadClosedSession(configs.station.results_url, this_run[j].dir);
   }
   if (auto written = app::WriteFixtureRecord(dir, record, results, HRGBENCH_SOFTWARE_VERSION);
       !written)
@@ -450,7 +441,7 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
   if (event_output) {
     std::string reason;
     for (std::size_t i = 0; i < results.size(); ++i) {
-      event_output->publisher().UnitFinished(i, results[i], reports[i]);
+      event_output->publisher().UnitFinished(i, results[i], reports[i].path);
       reason += (reason.empty() ? "" : ", ") + record.units[i].position + " " +
                 std::string(bench::ToString(results[i].outcome));
     }
@@ -477,7 +468,9 @@ int RunFixture(const bench::BenchConfigs& configs, const std::filesystem::path& 
     std::cout << record.units[i].position << "  " << record.units[i].serial << "  "
               << bench::ToString(results[i].outcome) << ": " << results[i].reason << '\n'
               << "    session: " << results[i].dir.string() << '\n';
-    if (!reports[i].empty()) std::cout << "    report: " << reports[i] << '\n';
+    if (!reports[i].path.empty())
+      std::cout << "    report: " << reports[i].path << (reports[i].job ? " (being written)" : "")
+                << '\n';
   }
   std::cout << "fixture: " << dir.string() << '\n';
   return code;
@@ -623,7 +616,7 @@ int Check(const CheckArgs& args) {
 // `hrg-bench run` on a station with several fitted positions: one session per unit under a new
 // fixture folder.
 int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, bool json,
-                      const EventsRequest& events) {
+                      const EventsRequest& events, app::ReportMode report_mode) {
   auto record = app::PlanFixture(configs.station, args.serials);
   if (!record) {
     std::cerr << record.error() << '\n';
@@ -648,11 +641,11 @@ int RunFixtureCommand(const bench::BenchConfigs& configs, const RunArgs& args, b
     std::cerr << dir.string() << ": not empty; a fixture session needs a new folder\n";
     return kExitBadInput;
   }
-  return RunFixture(configs, dir, *record, args.who, false, json, events);
+  return RunFixture(configs, dir, *record, args.who, false, json, events, report_mode);
 }
 
 // `hrg-bench run`: a new session of one unit, or of a fixture's.
-int Run(const RunArgs& args, bool json, const EventsRequest& events) {
+int Run(const RunArgs& args, bool json, const EventsRequest& events, app::ReportMode report_mode) {
   auto configs = bench::LoadBenchConfigs(args.station, args.sequence, args.limits);
   if (!configs) {
     std::cerr << configs.error().ToString() << '\n';
@@ -665,7 +658,7 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
     }
   }
   if (bench::FittedPositions(configs->station).size() > 1) {
-    return RunFixtureCommand(*configs, args, json, events);
+    return RunFixtureCommand(*configs, args, json, events, report_mode);
   }
   if (args.serials.size() != 1) {
     std::cerr << "--serial: " << args.serials.size() << " serials for station '"
@@ -687,13 +680,14 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events) {
     }
     dir = folder->string();
   }
-  return RunOrResume(*configs, dir, serial, args.who, false, json, events);
+  return RunOrResume(*configs, dir, serial, args.who, false, json, events, report_mode);
 }
 
 // `hrg-bench resume DIR` of a session that closed as PASS or FAIL (killed during its report or
 // upload): the verdict stands and session.json is not rewritten; only the report and the upload
 // are finished.
-int FinishClosed(const std::filesystem::path& dir, bool json, const EventsRequest& events) {
+int FinishClosed(const std::filesystem::path& dir, bool json, const EventsRequest& events,
+                 app::ReportMode report_mode) {
   const auto recorded = session::ReadSessionRecord(dir);
   if (!recorded || !recorded->outcome) {
     std::cerr << dir.string() << ": cannot read the closed record again\n";
@@ -720,15 +714,15 @@ int FinishClosed(const std::filesystem::path& dir, bool json, const EventsReques
                bench::ToString(result.outcome));
   std::ostream& out_text = events.target == "-" ? std::cerr : std::cout;
   if (!json) PrintOutcome(result, out_text);
-  const std::string report_path = FinishClosedFolder(dir, result, results_url, paper);
-  PrintReportLine(result, json, report_path, out_text);
+  const app::ClosedReport report = FinishClosedFolder(result, results_url, paper, report_mode);
+  PrintReportLine(result, json, report, out_text);
   return result.exit_code;
 }
 
 // `hrg-bench resume DIR`: an interrupted session continued, or a fixture's units without a
 // verdict.
 int Resume(const std::string& resume_dir, const OperatorRequest& who, bool json,
-           const EventsRequest& events) {
+           const EventsRequest& events, app::ReportMode report_mode) {
   const std::filesystem::path dir = resume_dir;
   if (!who.operator_id.empty()) {
     if (auto problem = app::OperatorProblem(who.operator_id)) {
@@ -747,19 +741,19 @@ int Resume(const std::string& resume_dir, const OperatorRequest& who, bool json,
       std::cerr << configs.error() << '\n';
       return kExitBadInput;
     }
-    return RunFixture(*configs, dir, *record, who, true, json, events);
+    return RunFixture(*configs, dir, *record, who, true, json, events, report_mode);
   }
   if (auto problem = app::NotStartedProblem(dir)) {
     std::cerr << *problem << '\n';
     return kExitBadInput;
   }
-  if (app::ClosedVerdict(dir)) return FinishClosed(dir, json, events);
+  if (app::ClosedVerdict(dir)) return FinishClosed(dir, json, events, report_mode);
   auto configs = bench::LoadSavedConfigs(dir);
   if (!configs) {
     std::cerr << configs.error() << '\n';
     return kExitBadInput;
   }
-  return RunOrResume(*configs, resume_dir, "", who, true, json, events);
+  return RunOrResume(*configs, resume_dir, "", who, true, json, events, report_mode);
 }
 
 // --events and --events-queue on `run` and `resume`.
@@ -773,6 +767,17 @@ void AddEventsOptions(CLI::App* command, EventsRequest& events) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
 }
 
+// --report on `run` and `resume`.
+void AddReportOption(CLI::App* command, std::string& mode) {
+  command
+      ->add_option("--report", mode,
+                   "the report once the session is closed: wait (written before the program "
+                   "exits; default), background (a report job of its own follows the program's "
+                   "exit: report/job.json says how it goes), none (hrg-report SESSION makes it "
+                   "later)")
+      ->check(CLI::IsMember({"wait", "background", "none"}));
+}
+
 // --prompts on `run` and `resume`.
 void AddPromptsOption(CLI::App* command, OperatorRequest& who) {
   command->add_option("--prompts", who.prompts,
@@ -781,7 +786,8 @@ void AddPromptsOption(CLI::App* command, OperatorRequest& who) {
                       "lines from the panel)");
 }
 
-CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest& events) {
+CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest& events,
+                        std::string& report) {
   CLI::App* run = cli.add_subcommand("run", "run a session");
   run->add_option("--station", args.station, "station config (TOML)")->required();
   run->add_option("--sequence", args.sequence, "sequence config (TOML)")->required();
@@ -799,11 +805,12 @@ CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest&
   AddPromptsOption(run, args.who);
   run->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(run, events);
+  AddReportOption(run, report);
   return run;
 }
 
 CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, OperatorRequest& who, bool& json,
-                           EventsRequest& events) {
+                           EventsRequest& events, std::string& report) {
   CLI::App* resume = cli.add_subcommand("resume", "continue an interrupted session");
   resume->add_option("dir", dir, "session directory")->required();
   resume->add_option("--operator", who.operator_id,
@@ -812,6 +819,7 @@ CLI::App* AddResumeCommand(CLI::App& cli, std::string& dir, OperatorRequest& who
   AddPromptsOption(resume, who);
   resume->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(resume, events);
+  AddReportOption(resume, report);
   return resume;
 }
 
@@ -875,8 +883,9 @@ int main(int argc, char** argv) {
   ReplayArgs replay_args;
   app::PanelOptions panel;
   EventsRequest events;
-  CLI::App* run = AddRunCommand(cli, run_args, json, events);
-  CLI::App* resume = AddResumeCommand(cli, resume_dir, resume_who, json, events);
+  std::string report = "wait";
+  CLI::App* run = AddRunCommand(cli, run_args, json, events, report);
+  CLI::App* resume = AddResumeCommand(cli, resume_dir, resume_who, json, events, report);
   CLI::App* check = AddCheckCommand(cli, check_args);
   CLI::App* replay = AddReplayCommand(cli, replay_args, json);
   CLI::App* serve = AddServeCommand(cli, panel);
@@ -902,8 +911,9 @@ int main(int argc, char** argv) {
     if (*serve) return Serve(panel, argv[0]);
     if (*replay) return Replay(replay_args, json);
     if (*check) return Check(check_args);
-    if (*run) return Run(run_args, json, events);
-    if (*resume) return Resume(resume_dir, resume_who, json, events);
+    const app::ReportMode report_mode = *app::ParseReportMode(report);  // CLI11 checked it
+    if (*run) return Run(run_args, json, events, report_mode);
+    if (*resume) return Resume(resume_dir, resume_who, json, events, report_mode);
     return kExitBadInput;  // require_subcommand(1): not reached
   } catch (const std::exception& error) {
     spdlog::critical("unexpected failure: {}", error.what());

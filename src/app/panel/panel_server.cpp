@@ -21,8 +21,10 @@
 #include "app/panel/panel_gate.hpp"
 #include "app/panel/panel_origin.hpp"
 #include "app/panel/session_process.hpp"
+#include "app/report_job.hpp"
 #include "app/serial_check.hpp"
 #include "app/session_folder.hpp"
+#include "hrgbench/report/html_escape.hpp"
 #include "hrgbench/report/session_report.hpp"
 #include "hrgbench/session/exit_codes.hpp"
 // Last: it brings <httplib.h> and so <resolv.h>, whose `_res` macro breaks Eigen's headers
@@ -485,8 +487,10 @@ class Panel {
       launch.arguments.push_back("--serial");
       launch.arguments.push_back(s);
     }
-    for (const char* a :
-         {"--operator", operator_id.c_str(), "-o", dir.c_str(), "--events", "/dev/fd/3"})
+    // --report background: the station is free for the next unit while this one's report (and
+    // Chromium's PDF) is written; its link answers "being written" until then.
+    for (const char* a : {"--operator", operator_id.c_str(), "-o", dir.c_str(), "--events",
+                          "/dev/fd/3", "--report", "background"})
       launch.arguments.emplace_back(a);
     if (limits != nullptr) {
       launch.arguments.push_back("--limits");
@@ -559,7 +563,7 @@ class Panel {
                        "no readable session.json");
     SessionLaunch launch;
     launch.program = options_.program.string();
-    launch.arguments = {"resume", dir.string(), "--events", "/dev/fd/3"};
+    launch.arguments = {"resume", dir.string(), "--events", "/dev/fd/3", "--report", "background"};
     if (!operator_id.empty()) {
       launch.arguments.push_back("--operator");
       launch.arguments.push_back(operator_id);
@@ -628,8 +632,10 @@ class Panel {
     const fs::path report_dir = fs::canonical(session_dir / "report", ec);
     if (ec || !IsInside(report_dir, sessions_)) return Error(res, 404, "no such session report");
     const fs::path path = fs::canonical(session_dir / "report" / file, ec);
-    if (ec || !IsInside(path, report_dir) || !fs::is_regular_file(path, ec))
+    if (ec || !IsInside(path, report_dir) || !fs::is_regular_file(path, ec)) {
+      if (file == "report.html") return ReportNotYet(report_dir, res);
       return Error(res, 404, "no such session report");
+    }
     auto stream = std::make_shared<ReportStream>();
     stream->in.open(path, std::ios::binary);
     const std::uintmax_t size = fs::file_size(path, ec);
@@ -648,6 +654,33 @@ class Panel {
           // A file that shrank since it was opened: the response is cut (its length was sent).
           return got > 0 && sink.write(stream->buffer.data(), got);
         });
+  }
+
+  // A report not (yet) there: a job still writing it answers 202 with a page that reloads until
+  // it is (an operator who opens the link at the session's end gets the report seconds later);
+  // a job that failed or was killed says why and how to make the report again.
+  static void ReportNotYet(const fs::path& report_dir, httplib::Response& res) {
+    std::error_code ec;
+    const fs::path job_file = fs::canonical(report_dir / "job.json", ec);
+    if (ec || !IsInside(job_file, report_dir)) return Error(res, 404, "no such session report");
+    const auto job = ReadReportJob(report_dir.parent_path());
+    if (!job || !*job) return Error(res, 404, "no such session report");
+    if ((*job)->state == ReportJobState::kRunning) {
+      res.status = 202;
+      res.set_header("Retry-After", "2");
+      res.set_content(
+          "<!doctype html><html><head><meta charset=\"utf-8\"><meta http-equiv=\"refresh\" "
+          "content=\"2\"><title>report being written</title></head><body><p id=\"report-job\" "
+          "data-state=\"running\">The report is being written (job " +
+              std::to_string((*job)->pid) + ", started " + report::HtmlEscape((*job)->started) +
+              "); this page reloads until it is there.</p></body></html>",
+          "text/html; charset=utf-8");
+      return;
+    }
+    Error(res, 404,
+          "the report was not written (" + std::string(ToString((*job)->state)) + ": " +
+              (*job)->reason + "); `hrg-report " + report_dir.parent_path().string() +
+              "` writes it");
   }
 
   struct ReportStream {

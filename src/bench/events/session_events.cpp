@@ -279,6 +279,13 @@ void SessionEventPublisher::ReportWritten(const std::string& report_path) {
   stream_.Publish(std::move(event));
 }
 
+void SessionEventPublisher::ReportBeingWritten(const std::string& report_path, long pid) {
+  nlohmann::json event = Event("report");
+  event["path"] = report_path;
+  event["job"] = {{"state", "running"}, {"pid", pid}};
+  stream_.Publish(std::move(event));
+}
+
 void SessionEventPublisher::FixtureStarted(nlohmann::json units) {
   units_ = units;
   nlohmann::json event = Event("fixture_started");

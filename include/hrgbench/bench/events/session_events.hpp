@@ -77,6 +77,8 @@ class SessionEventPublisher {
   void SessionFinished(const SessionResult& result);
   // After the report was (or was not) written: empty = none.
   void ReportWritten(const std::string& report_path);
+  // The report will be at `report_path` once the job `pid` has written it (report/job.json).
+  void ReportBeingWritten(const std::string& report_path, long pid);
 
   // A fixture's: after SessionStarted, the units by position ({position, serial, session}).
   void FixtureStarted(nlohmann::json units);
