@@ -25,6 +25,7 @@
 #include "app/unit_history.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/report/session_report.hpp"
+#include "hrgbench/session/kill_point.hpp"
 
 namespace {
 
@@ -114,6 +115,7 @@ int Run(Arguments args) {
       // Where the starter sent this job's output (app/report_job.cpp), kept.
       if (auto started = app::ReadReportJob(dir); started && *started) job.log = (*started)->log;
       RecordJob(dir, job);
+      session::KillPoint("report.job");
     }
     std::expected<std::vector<std::string>, std::string> files;
     try {

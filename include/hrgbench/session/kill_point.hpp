@@ -10,7 +10,9 @@
 // HRGBENCH_TEST_KILL_LOG=FILE appends the name of every kill point passed to FILE (to list them).
 // The names (docs/bench/resume.md lists them): fixture.config, fixture.record, record.dirs,
 // record.can_log, record.json, atomic.written (a temporary written, not yet renamed), run.begin,
-// run.end, report (before the report is written). Thread-safe (a counter and a string read once).
+// run.end, report (before the report is written, or its job started), report.job (hrg-report
+// --job: its record says running, nothing written yet). Thread-safe (a counter and a string read
+// once).
 
 #include <string_view>
 

@@ -1041,3 +1041,134 @@ TEST(BenchProgram, PromptsAnsweredAutomaticallyOrFromAPipeAreRecordedWithWhoAndH
   ASSERT_TRUE(record->outcome.has_value());
   EXPECT_EQ(record->outcome->reason, "aborted by OP-Q at prompt 'remove'");
 }
+
+namespace {
+
+// A report job record's state ("" when it has none). Not json::value(): GCC 12 at -O2 reports a
+// false "potential null pointer dereference" in it.
+std::string StateOf(const nlohmann::json& job) {
+  if (!job.is_object()) return {};
+  const auto state = job.find("state");
+  if (state == job.end() || !state->is_string()) return {};
+  return *state->get_ptr<const std::string*>();
+}
+
+// The report job's record as the job left it, once it is no longer "running" (or after `limit`).
+nlohmann::json WaitForReportJob(const fs::path& session, std::chrono::seconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  nlohmann::json job;
+  do {
+    job = ReadJson(session / "report" / "job.json");
+    if (job.is_object() && StateOf(job) != "running") return job;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  } while (std::chrono::steady_clock::now() < until);
+  return job;
+}
+
+// An environment variable for the programs a test starts, restored at scope end.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() { ::unsetenv(name_); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+};
+
+std::string PaperRun(const fs::path& dir, const std::string& serial) {
+  return "run --station " + (kConfigs / "station-sim.toml").string() + " --sequence " +
+         (kConfigs / "sequence-paper.toml").string() + " --serial " + serial + " -o " +
+         dir.string();
+}
+
+}  // namespace
+
+// Issue 27 §4: with --report background the program exits at the outcome (and the upload), and a
+// job of its own writes the report after it. Chromium here is a stand-in that waits for a gate
+// file: the program has exited while the job is provably still inside the report.
+TEST(BenchProgram, AReportInTheBackgroundIsWrittenAfterTheProgramHasExited) {
+  const fs::path work = FreshDir("report-background");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
+  fs::create_directories(work);
+  const fs::path gate = work / "gate";
+  const fs::path chromium = work / "chromium-at-the-gate";
+  std::ofstream(chromium) << "#!/bin/sh\nn=0\nwhile [ ! -e " << gate.string()
+                          << " ] && [ $n -lt 1200 ]; do sleep 0.1; n=$((n+1)); done\nexit 1\n";
+  fs::permissions(chromium, fs::perms::owner_all);
+  const ScopedEnv fake_chromium("HRGBENCH_CHROMIUM", chromium.string());
+  const fs::path dir = work / "session";
+  const JsonOutput run = RunBenchJson(PaperRun(dir, "BG-1") + " --report background --json");
+  ASSERT_FALSE(run.doc.is_discarded()) << run.text;
+  EXPECT_EQ(run.exit_code, 0) << run.doc.dump(1);
+  EXPECT_EQ(run.doc.at("outcome"), "PASS");
+  EXPECT_EQ(run.doc.at("report"), (dir / "report" / "report.html").string());
+  ASSERT_TRUE(run.doc.at("report_job").is_object()) << run.doc.dump(1);
+  const int pid = run.doc.at("report_job").at("pid");
+  EXPECT_EQ(run.doc.at("report_job").at("state_file"), (dir / "report" / "job.json").string());
+  // The program has exited; the job is at Chromium's gate: running, no PDF yet.
+  const nlohmann::json at_exit = ReadJson(dir / "report" / "job.json");
+  ASSERT_TRUE(at_exit.is_object());
+  EXPECT_EQ(at_exit.at("state"), "running");
+  EXPECT_EQ(at_exit.at("pid"), pid);
+  EXPECT_FALSE(fs::exists(dir / "report" / "report.pdf"));
+  const std::string record = ReadText(dir / "session.json");
+  std::ofstream(gate) << "go\n";
+  const nlohmann::json job = WaitForReportJob(dir, std::chrono::seconds(300));
+  ASSERT_EQ(StateOf(job), "written") << job.dump(1);
+  EXPECT_TRUE(fs::is_regular_file(dir / "report" / "report.html"));
+  EXPECT_FALSE(job.at("ended").is_null());
+  const std::string html = (dir / "report" / "report.html").string();
+  const std::vector<std::string> files = job.at("files").get<std::vector<std::string>>();
+  EXPECT_NE(std::find(files.begin(), files.end(), html), files.end()) << job.dump(1);
+  // The job's output (the PDF it could not print is a warning) is where its record says.
+  ASSERT_EQ(job.at("log"), (dir / "report" / "job.log").string());
+  EXPECT_NE(ReadText(dir / "report" / "job.log").find("PDF"), std::string::npos)
+      << ReadText(dir / "report" / "job.log");
+  // The closed record is the job's input, never its output.
+  EXPECT_EQ(ReadText(dir / "session.json"), record);
+
+  // --report none: no report and no job; hrg-report makes it later.
+  const fs::path none = work / "none";
+  const JsonOutput quiet = RunBenchJson(PaperRun(none, "BG-2") + " --report none --json");
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.text;
+  EXPECT_TRUE(quiet.doc.at("report").is_null());
+  EXPECT_TRUE(quiet.doc.at("report_job").is_null());
+  EXPECT_FALSE(fs::exists(none / "report"));
+}
+
+// A report job killed before it wrote anything (kill -9, a power cut) leaves a record that reads
+// as interrupted; resume of the closed session writes the report, and keeps the record as it was.
+TEST(BenchProgram, AReportJobKilledMidwayIsInterruptedAndResumeWritesTheReport) {
+  const fs::path work = FreshDir("report-job-killed");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
+  const fs::path dir = work / "session";
+  int pid = 0;
+  {
+    const ScopedEnv kill_the_job("HRGBENCH_TEST_KILL_AT", "report.job");
+    const ScopedEnv no_pdf("HRGBENCH_CHROMIUM", "/bin/false");
+    const JsonOutput run = RunBenchJson(PaperRun(dir, "BG-3") + " --report background --json");
+    ASSERT_FALSE(run.doc.is_discarded()) << run.text;
+    EXPECT_EQ(run.exit_code, 0) << run.doc.dump(1);
+    ASSERT_TRUE(run.doc.at("report_job").is_object()) << run.doc.dump(1);
+    pid = run.doc.at("report_job").at("pid");
+  }
+  // The job is gone (its parent exited: init reaps it); its record still says "running".
+  for (int i = 0; i < 300 && ::kill(pid, 0) == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_NE(::kill(pid, 0), 0) << "the report job " << pid << " is still running";
+  EXPECT_EQ(ReadJson(dir / "report" / "job.json").at("state"), "running");
+  EXPECT_FALSE(fs::exists(dir / "report" / "report.html"));
+  const std::string record = ReadText(dir / "session.json");
+  const ScopedEnv no_pdf("HRGBENCH_CHROMIUM", "/bin/false");
+  const JsonOutput resumed = RunBenchJson("resume " + dir.string() + " --json");
+  ASSERT_FALSE(resumed.doc.is_discarded()) << resumed.text;
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.doc.dump(1);
+  EXPECT_EQ(resumed.doc.at("report"), (dir / "report" / "report.html").string());
+  EXPECT_TRUE(resumed.doc.at("report_job").is_null());
+  EXPECT_TRUE(fs::is_regular_file(dir / "report" / "report.html"));
+  EXPECT_EQ(ReadText(dir / "session.json"), record);
+}

@@ -904,6 +904,19 @@ def CaseHostile(args, tmp: Path, out: Path) -> None:
         panel.stop()
 
 
+def WaitReportJobs(root: Path, limit_s: float = kWaitS) -> None:
+    """The panel's sessions leave their reports to jobs (hrg-bench --report background) that
+    outlive the panel: the folder is removed only once none of them still writes into it."""
+    deadline = time.monotonic() + limit_s
+    for job_file in root.rglob("job.json"):
+        try:
+            pid = int(json.loads(job_file.read_text()).get("pid", 0))
+        except (OSError, ValueError, AttributeError):
+            continue
+        while pid > 0 and Path(f"/proc/{pid}").exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+
+
 CASES = {"flow": CaseFlow, "abort": CaseAbort, "two-browsers": CaseTwoBrowsers,
          "hostile": CaseHostile, "resume": CaseResume, "traps": CaseTraps, "fixture": CaseFixture}
 
@@ -932,6 +945,7 @@ def main() -> int:
             print("\n".join(log.read_text(errors="replace").splitlines()[-40:]))
         return 1
     finally:
+        WaitReportJobs(tmp)
         shutil.rmtree(tmp, ignore_errors=True)
     print(f"panel_browser.{args.case}: passed")
     return 0

@@ -6,7 +6,9 @@
 #include <linux/netlink.h>
 #include <linux/sock_diag.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -254,6 +256,69 @@ TEST(PanelServer, RefusesAReportLinkOutOfTheSessionsFolder) {
     EXPECT_EQ(folder.status, 404) << folder.body.substr(0, 200);
     EXPECT_EQ(folder.body.find("root:"), std::string::npos);
   }
+  fs::remove_all(dir);
+}
+
+// Issue 27 §4: the panel's sessions leave their report to a job (--report background). Its link,
+// opened before the job is done, answers 202 and reloads; a job that failed or was killed says
+// why and how to make the report. The records are written as the docs give them, by hand.
+TEST(PanelServer, AReportStillBeingWrittenAnswers202AndAFailedOneSaysWhy) {
+  const fs::path dir = FreshDir();
+  pid_t job = 0;
+  {
+    Panel panel(dir);
+    ASSERT_TRUE(panel.Ready());
+    const fs::path sessions = dir / "sessions";
+    const auto record = [&](const std::string& name, const std::string& state, pid_t pid,
+                            const std::string& reason) {
+      fs::create_directories(sessions / name / "report");
+      std::ofstream(sessions / name / "report" / "job.json")
+          << "{\"format\": \"hrgbench-report-job\", \"version\": 1, \"state\": \"" << state
+          << "\", \"pid\": " << pid << ", \"started\": \"2026-11-27T10:00:00Z\", \"reason\": "
+          << (reason.empty() ? "null" : "\"" + reason + "\"") << "}";
+    };
+    // A live job: a process whose program is named hrg-report (a link to sleep).
+    fs::create_symlink("/bin/sleep", dir / "hrg-report");
+    job = ::fork();
+    if (job == 0) {
+      ::execl((dir / "hrg-report").c_str(), (dir / "hrg-report").c_str(), "60", nullptr);
+      ::_exit(127);
+    }
+    ASSERT_GT(job, 0);
+    for (int i = 0; i < 200; ++i) {
+      std::ifstream in("/proc/" + std::to_string(job) + "/cmdline");
+      std::string argv0;
+      if (std::getline(in, argv0, '\0') && fs::path(argv0).filename() == "hrg-report") break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    record("SN1-20260101T000000Z", "running", job, "");
+    record("SN2-20260101T000000Z", "running", 999999999, "");  // no such process: killed
+    record("SN3-20260101T000000Z", "failed", 1, "session.json: outcome: missing");
+    const auto get = [&](const std::string& name) {
+      return Exchange(panel.port(), Get("/sessions/" + name + "/report/report.html", panel.port()));
+    };
+    const Reply running = get("SN1-20260101T000000Z");
+    EXPECT_EQ(running.status, 202) << running.head << running.body;
+    EXPECT_NE(running.head.find("Retry-After: 2"), std::string::npos) << running.head;
+    EXPECT_NE(running.body.find("http-equiv=\"refresh\""), std::string::npos) << running.body;
+    EXPECT_NE(running.body.find("being written (job " + std::to_string(job)), std::string::npos)
+        << running.body;
+    const Reply killed = get("SN2-20260101T000000Z");
+    EXPECT_EQ(killed.status, 404) << killed.body;
+    EXPECT_NE(killed.body.find("interrupted"), std::string::npos) << killed.body;
+    EXPECT_NE(killed.body.find("hrg-report"), std::string::npos) << killed.body;
+    const Reply failed = get("SN3-20260101T000000Z");
+    EXPECT_EQ(failed.status, 404) << failed.body;
+    EXPECT_NE(failed.body.find("outcome: missing"), std::string::npos) << failed.body;
+    // Another file of a report being written is simply not there yet.
+    EXPECT_EQ(Exchange(panel.port(),
+                       Get("/sessions/SN1-20260101T000000Z/report/report.pdf", panel.port()))
+                  .status,
+              404);
+  }
+  ::kill(job, SIGKILL);
+  int status = 0;
+  ::waitpid(job, &status, 0);
   fs::remove_all(dir);
 }
 

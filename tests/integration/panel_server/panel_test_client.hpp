@@ -11,12 +11,14 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <thread>
 
 #include "app/panel/panel_server.hpp"
@@ -120,6 +122,28 @@ inline std::string Get(std::string_view path, int port) {
          "\r\nConnection: close\r\n\r\n";
 }
 
+// The panel's sessions leave their reports to jobs (hrg-bench --report background) that outlive
+// the panel: a test's folder is removed only once none of them still writes into it.
+inline void WaitForReportJobs(const fs::path& sessions) {
+  std::error_code ec;
+  if (!fs::is_directory(sessions, ec)) return;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  for (auto it = fs::recursive_directory_iterator(sessions, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (it->path().filename() != "job.json") continue;
+    std::ifstream in(it->path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string json = text.str();
+    const std::size_t at = json.find("\"pid\":");
+    if (at == std::string::npos) continue;
+    const long pid = std::atol(json.c_str() + at + 6);
+    while (pid > 0 && fs::exists("/proc/" + std::to_string(pid)) &&
+           std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(50ms);
+  }
+}
+
 // A panel on the simulated station's configs, on a free loopback port, stopped at the end.
 class Panel {
  public:
@@ -161,6 +185,7 @@ class Panel {
   ~Panel() {
     stop_ = 1;
     thread_.join();
+    WaitForReportJobs(options_.sessions);
   }
   bool Ready() const {
     const int sock = Connect(port_);

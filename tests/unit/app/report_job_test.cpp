@@ -70,9 +70,10 @@ TEST(ReportJob, NoJobFileIsNoJob) {
 
 TEST(ReportJob, AWrittenJobIsReadWithItsFiles) {
   ScratchDir dir("report_job_written");
-  WriteJobJson(dir.path(), Job("written", 1, ", \"ended\": \"2026-11-27T10:00:09Z\", "
-                                             "\"files\": [\"a/report.html\", \"a/report.pdf\"], "
-                                             "\"log\": \"a/job.log\", \"reason\": null"));
+  WriteJobJson(dir.path(), Job("written", 1,
+                               ", \"ended\": \"2026-11-27T10:00:09Z\", "
+                               "\"files\": [\"a/report.html\", \"a/report.pdf\"], "
+                               "\"log\": \"a/job.log\", \"reason\": null"));
   const auto job = ReadReportJob(dir.path());
   ASSERT_TRUE(job) << job.error();
   ASSERT_TRUE(job->has_value());
