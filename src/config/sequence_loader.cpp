@@ -395,11 +395,22 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     sequence.runs.push_back(*run);
   }
 
+  HRG_TRY(adaptive_table, SubTable(root, "adaptive", false));
+  if (*adaptive_table != nullptr) {
+    TableReader reader(**adaptive_table, "adaptive", source);
+    HRG_TRY(stop, OptionalBool(reader, "stop_when_decided", false));
+    sequence.adaptive.stop_when_decided = *stop;
+    HRG_TRY(min_runs, OptionalInteger(reader, "min_runs", 1,
+                                      static_cast<std::int64_t>(sequence.runs.size()), 1));
+    sequence.adaptive.min_runs = static_cast<int>(*min_runs);
+    HRG_CHECK(reader.Unknown("stop_when_decided, min_runs"));
+  }
+
   if (auto prompts = ReadPrompts(root, sequence, source, file); !prompts)
     return std::unexpected(prompts.error());
   HRG_CHECK(
       root.Unknown("[sequence], [settle], [timeouts], [warmup], [drift], [capture], "
-                   "[defaults], [[runs]], [[prompts]]"));
+                   "[adaptive], [defaults], [[runs]], [[prompts]]"));
   return sequence;
 }
 

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "append_file.hpp"
+#include "hrgbench/session/session_record_keys.hpp"
 
 namespace hrgbench::bench::internal {
 
@@ -95,6 +96,12 @@ json ToJson(const SessionOutcome& outcome) {
            {"failed_parameters", std::move(failed)}};
   if (outcome.estimate) out["estimate"] = *outcome.estimate;
   if (outcome.verdict) out["verdict"] = *outcome.verdict;
+  if (outcome.ended_early) {
+    out[session::keys::kEndedEarly] =
+        json{{session::keys::kAfterRun, outcome.ended_early->after_run},
+             {session::keys::kPlannedRuns, outcome.ended_early->planned_runs},
+             {session::keys::kWhy, outcome.ended_early->why}};
+  }
   return out;
 }
 

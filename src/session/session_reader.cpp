@@ -131,6 +131,17 @@ class Checker {
 
 namespace internal {
 
+std::vector<std::string> RunStatusWarnings(const std::vector<RunEntry>& runs, bool plan_cut_short) {
+  std::vector<std::string> warnings;
+  for (const RunEntry& entry : runs) {
+    if (plan_cut_short && entry.status == "planned") continue;
+    if (entry.status != "complete")
+      warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" + entry.status +
+                         "'");
+  }
+  return warnings;
+}
+
 std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                                      const fs::path& file) {
   Session session;
@@ -324,12 +335,12 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
     entry.status = *status;
     session.runs.push_back(std::move(entry));
   }
-  for (const RunEntry& entry : session.runs) {
-    if (entry.status != "complete") {
-      session.warnings.push_back("run " + std::to_string(entry.id) + " skipped: status '" +
-                                 entry.status + "'");
-    }
-  }
+  // A plan the sequence's [adaptive] cut short (outcome.ended_early): its runs left "planned" were
+  // not needed, and the record says so; no warning for each.
+  const auto outcome = doc.find("outcome");
+  const bool ended_early =
+      outcome != doc.end() && outcome->is_object() && outcome->contains("ended_early");
+  session.warnings = RunStatusWarnings(session.runs, ended_early);
   return session;
 }
 
@@ -348,6 +359,8 @@ std::expected<Session, SessionError> ReadSession(const fs::path& dir, const Read
     if (!text) return std::unexpected(text.error());
     auto session = internal::ReadSessionJson(*text, json_file);
     if (!session) return session;
+    if (options.plan_cut_short)
+      session->warnings = internal::RunStatusWarnings(session->runs, true);
 
     for (const RunEntry& entry : session->runs) {
       if (entry.status != "complete") continue;  // warned by ReadSessionJson

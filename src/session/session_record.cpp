@@ -551,6 +551,14 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
     out.verdict = ReadVerdict(f, *verdict, Join(at, keys::kVerdict));
     out.verdict_json = *verdict;
   }
+  if (const json* early = f.Object(*outcome, at, keys::kEndedEarly)) {
+    const std::string e = Join(at, keys::kEndedEarly);
+    bench::EarlyEnd end;
+    end.after_run = f.Int(*early, e, keys::kAfterRun).value_or(0);
+    end.planned_runs = f.Int(*early, e, keys::kPlannedRuns).value_or(0);
+    end.why = f.String(*early, e, keys::kWhy);
+    out.ended_early = std::move(end);
+  }
   return out;
 }
 

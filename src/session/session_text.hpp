@@ -7,6 +7,7 @@
 #include <expected>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "hrgbench/session/session.hpp"
 
@@ -14,5 +15,9 @@ namespace hrgbench::session::internal {
 
 std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                                      const std::filesystem::path& file);
+
+// "run 3 skipped: status 'aborted'" per run not complete; runs left "planned" of a plan cut short
+// (the sequence's [adaptive]) are not warned about.
+std::vector<std::string> RunStatusWarnings(const std::vector<RunEntry>& runs, bool plan_cut_short);
 
 }  // namespace hrgbench::session::internal

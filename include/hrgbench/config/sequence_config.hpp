@@ -89,6 +89,17 @@ struct CaptureCriteria {
   std::int64_t max_samples_lost = 0;   // samples missing per run
 };
 
+// [adaptive]: a session as short as its verdict allows (issue 27 §1). After each complete run from
+// min_runs on, every unit still measuring is estimated and judged as at the end; a unit whose
+// verdict can no longer change (the fit acceptable on its runs so far, and every limit proven
+// conforming, or one proven non-conforming) takes no further run, and the session ends when no
+// unit needs the next one. A misfit, an undecided or a not-yet-evaluable limit never ends a
+// session early. Off unless stop_when_decided.
+struct AdaptiveStop {
+  bool stop_when_decided = false;
+  int min_runs = 1;  // complete runs before the first decision, 1 … the sequence's runs
+};
+
 // [[prompts]]: what the operator must do at a point of the sequence (mount the unit, close the
 // lid, connect a cable), shown as a dialog on the panel or a line on the terminal and answered
 // "confirm" or "abort". While one is open the table is at zero rate and every gyro stopped; who
@@ -124,6 +135,7 @@ struct SequenceConfig {
   WarmupCriteria warmup;
   DriftCriteria drift;
   CaptureCriteria capture;
+  AdaptiveStop adaptive;
   std::vector<SequenceRun> runs;        // in order: run ids 1, 2, ...
   std::vector<SequencePrompt> prompts;  // in file order; asked in that order at each point
 

@@ -126,6 +126,9 @@ struct ReadOptions {
   // kept (what the estimate needs; each extra column is 8 bytes per sample), the extra values
   // still checked as the format requires.
   bool extra_columns = true;
+  // The caller cut the plan short (the sequence's [adaptive], before the record says so): runs
+  // left "planned" are not warned about. A record whose outcome.ended_early says so needs no flag.
+  bool plan_cut_short = false;
 };
 
 // Reads `dir`/session.json, validates every key this reader uses, then (options.load_samples) the

@@ -71,6 +71,14 @@ struct FailedParameter {
   double max = std::numeric_limits<double>::infinity();   // (non-finite: no bound; JSON null)
 };
 
+// A session that ended before its plan because its verdict could no longer change (the
+// sequence's [adaptive]): after which run, of how many planned, and why.
+struct EarlyEnd {
+  int after_run = 0;     // the last run made (its id)
+  int planned_runs = 0;  // the sequence's runs
+  std::string why;       // "every limit decided", "delta2 proven non-conforming"
+};
+
 struct SessionOutcome {
   OutcomeKind kind = OutcomeKind::kError;
   // One line a production operator can act on: "run 3: table rate not stable within 30 s",
@@ -79,6 +87,7 @@ struct SessionOutcome {
   std::vector<FailedParameter> failed_parameters;  // FAIL: at least one; other kinds: usually none
   std::optional<nlohmann::json> estimate;          // the estimate as the estimator reported it
   std::optional<nlohmann::json> verdict;           // every limit and fit check (verdict_json.hpp)
+  std::optional<EarlyEnd> ended_early;             // none: every planned run was made (or tried)
 };
 
 }  // namespace hrgbench::bench

@@ -244,6 +244,7 @@ struct OutcomeRecord {
   std::vector<bench::FailedParameter> failed_parameters;
   std::optional<EstimateRecord> estimate;
   std::optional<VerdictRecord> verdict;
+  std::optional<bench::EarlyEnd> ended_early;  // the sequence's [adaptive] ended it early
   // The estimate and verdict objects verbatim (null when absent), for pages that show them whole.
   nlohmann::json estimate_json;
   nlohmann::json verdict_json;

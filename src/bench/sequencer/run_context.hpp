@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -36,7 +37,9 @@ struct UnitLane {
   std::string label;        // "A SN-1: " before its log lines when the table carries several
   std::set<int> remaining;  // run ids still to make
   bool ended = false;       // its session is closed; it takes no further part
-  SessionResult result;     // its warnings as they come; the rest once it ends
+  // Its verdict could no longer change (the sequence's [adaptive]): it took no further run.
+  std::optional<EarlyEnd> ended_early;
+  SessionResult result;  // its warnings as they come; the rest once it ends
   std::vector<LoggedCanFrame> logged_scratch;
 
   bool Takes(int run_id) const { return !ended && remaining.contains(run_id); }

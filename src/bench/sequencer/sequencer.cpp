@@ -188,42 +188,117 @@ SessionResult Finish(SessionResult result) {
   return result;
 }
 
-// Estimates every complete run of the lane as recorded on disk (so the verdict is about exactly
-// what the record holds), judges it against the limits, and closes the unit's session.
-void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
-  SessionResult& result = lane.result;
-  result.dir = lane.dir;
-  SessionOutcome outcome;
+// A unit's complete runs as recorded on disk, estimated and judged against the limits: what its
+// session closes with, and (the sequence's [adaptive]) what it would close with now.
+struct LaneJudgement {
+  std::optional<std::string> error;  // the record cannot be read back, or has no complete run
+  int complete_runs = 0;
+  RecordedEstimate estimate;
+  std::optional<SessionJudgement> judgement;
+};
+
+LaneJudgement JudgeLane(const SessionContext& ctx, const UnitLane& lane) {
+  LaneJudgement out;
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
   read.extra_columns = false;  // the estimate reads t_s and y only
+  read.plan_cut_short = lane.ended_early.has_value();
   auto recorded = session::ReadSession(lane.dir, read);
   // The same document typed by the record's one reader (no second read of the file).
   std::expected<session::SessionRecord, session::SessionError> record =
       recorded ? session::ReadSessionRecord(recorded->document, lane.dir / "session.json")
                : std::unexpected(recorded.error());
   if (!record) {
+    out.error = "the record cannot be read back: " + record.error().ToString();
+    return out;
+  }
+  out.complete_runs = static_cast<int>(recorded->loaded_samples.size());
+  if (recorded->loaded_samples.empty()) {
+    out.error = "no complete run to estimate from";
+    return out;
+  }
+  out.estimate = EstimateRecordedSession(std::move(*recorded), *record, ctx.configs->limits.fit);
+  out.judgement = JudgeRecordedSession(out.estimate.method.summary, *record, ctx.configs->limits);
+  return out;
+}
+
+// Why a verdict can no longer change with more runs, or nothing: every δ and ξ estimated (none
+// held: an estimate conditional on a held value has a std that leaves out the held value's error,
+// and after one run of the production sequence it "proved" δ4 of a good unit out of its limits),
+// the fit acceptable on the runs so far, and a limit proven non-conforming (the unit fails
+// whatever else), or every limit proven conforming or not. An undecided limit (inside a guard
+// band), a limit not yet evaluable, a misfit or no limits at all: more runs may change it.
+std::optional<std::string> DecidedWhy(const estimator::EstimateSummary& estimate,
+                                      const std::optional<Verdict>& verdict) {
+  if (!verdict || !verdict->fit_acceptable || verdict->results.empty()) return std::nullopt;
+  for (const bool estimated : estimate.delta_estimated)
+    if (!estimated) return std::nullopt;
+  for (const bool estimated : estimate.xi_estimated)
+    if (!estimated) return std::nullopt;
+  for (const LimitResult& r : verdict->results) {
+    if (r.zone == DecisionZone::kNonConforming)
+      return std::string(ToString(r.quantity)) + " proven non-conforming";
+  }
+  for (const LimitResult& r : verdict->results) {
+    if (r.status == LimitStatus::kNotEvaluated || r.zone == DecisionZone::kUndecided)
+      return std::nullopt;
+  }
+  return std::string("every limit decided");
+}
+
+// The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
+// longer change takes no further run (RunPlanned then skips the runs nobody needs).
+void DecideEarly(SessionContext& ctx, int run_id) {
+  const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
+  if (!adaptive.stop_when_decided) return;
+  const int planned = static_cast<int>(ctx.configs->sequence.runs.size());
+  for (UnitLane& lane : ctx.lanes) {
+    if (lane.ended || lane.remaining.empty()) continue;
+    const LaneJudgement now = JudgeLane(ctx, lane);
+    if (now.error || now.complete_runs < adaptive.min_runs || !now.judgement) continue;
+    const std::optional<std::string> why =
+        DecidedWhy(now.estimate.method.summary, now.judgement->verdict);
+    if (!why) {
+      ctx.Log(lane, "after run " + std::to_string(run_id) + ": not decided yet (" +
+                        now.judgement->reason + ")");
+      continue;
+    }
+    lane.ended_early = EarlyEnd{run_id, planned, *why};
+    ctx.Log(lane, "decided after run " + std::to_string(run_id) + " of " + std::to_string(planned) +
+                      " (" + *why + "): " + std::to_string(lane.remaining.size()) +
+                      " planned run(s) not needed");
+    lane.remaining.clear();
+  }
+}
+
+// Estimates every complete run of the lane as recorded on disk (so the verdict is about exactly
+// what the record holds), judges it against the limits, and closes the unit's session.
+void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
+  SessionResult& result = lane.result;
+  result.dir = lane.dir;
+  SessionOutcome outcome;
+  LaneJudgement judged = JudgeLane(ctx, lane);
+  result.complete_runs = judged.complete_runs;
+  if (judged.error) {
     outcome.kind = OutcomeKind::kError;
-    outcome.reason = "the record cannot be read back: " + record.error().ToString();
+    outcome.reason = *judged.error;
   } else {
-    result.complete_runs = static_cast<int>(recorded->loaded_samples.size());
-    if (recorded->loaded_samples.empty()) {
-      outcome.kind = OutcomeKind::kError;
-      outcome.reason = "no complete run to estimate from";
-    } else {
-      RecordedEstimate recorded_estimate =
-          EstimateRecordedSession(std::move(*recorded), *record, ctx.configs->limits.fit);
-      MethodResult& estimated = recorded_estimate.method;
-      std::vector<std::string> warnings = std::move(recorded_estimate.warnings);
-      result.estimate_json = std::move(recorded_estimate.report);
-      for (const std::string& w : estimated.summary.warnings) warnings.push_back(w);
-      result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
-      SessionJudgement judgement =
-          JudgeRecordedSession(estimated.summary, *record, ctx.configs->limits);
-      outcome = judgement.ToOutcome(result.estimate_json);
-      result.verdict = std::move(judgement.verdict);
-      result.engineering = std::move(judgement.engineering);
-      result.estimate = std::move(estimated.summary);
+    MethodResult& estimated = judged.estimate.method;
+    std::vector<std::string> warnings = std::move(judged.estimate.warnings);
+    result.estimate_json = std::move(judged.estimate.report);
+    for (const std::string& w : estimated.summary.warnings) warnings.push_back(w);
+    result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
+    SessionJudgement& judgement = *judged.judgement;
+    outcome = judgement.ToOutcome(result.estimate_json);
+    result.verdict = std::move(judgement.verdict);
+    result.engineering = std::move(judgement.engineering);
+    result.estimate = std::move(estimated.summary);
+    if (lane.ended_early) {
+      outcome.ended_early = lane.ended_early;
+      const std::string early = "decided after run " + std::to_string(lane.ended_early->after_run) +
+                                " of " + std::to_string(lane.ended_early->planned_runs) + " (" +
+                                lane.ended_early->why + ")";
+      outcome.reason = outcome.reason.empty() ? early : outcome.reason + "; " + early;
     }
   }
   result.outcome = outcome.kind;
@@ -256,6 +331,7 @@ std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int
     if (needed) {
       step = internal::AskOperator(ctx, PromptPoint::kBeforeRun, ids[i]);
       if (step.ok()) step = internal::RunOne(ctx, run, ids[i]);
+      if (step.ok() && i + 1 < ids.size()) DecideEarly(ctx, ids[i]);
     } else {
       ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
     }
@@ -454,8 +530,8 @@ std::vector<SessionResult> RunSessions(const BenchConfigs& configs, const BenchH
     if (!problem.empty()) {
       const std::string reason = "record of " + units[i].serial + ": " + problem;
       for (SessionRecorder& made : recorders) {
-        (void)made.Close(
-            SessionOutcome{OutcomeKind::kError, reason, {}, std::nullopt, std::nullopt});
+        (void)made.Close(SessionOutcome{
+            OutcomeKind::kError, reason, {}, std::nullopt, std::nullopt, std::nullopt});
       }
       std::vector<SessionResult> results = RefuseAll(hw, units, reason);
       results[i].reason = problem;

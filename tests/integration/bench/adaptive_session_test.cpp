@@ -1,0 +1,111 @@
+// Issue 27 §1: a session as short as its verdict allows (the sequence's [adaptive]). On the
+// simulated station, whose truth is set in its config: a good unit ends once every limit is proven
+// conforming, with the estimate still agreeing with the truth; a unit proven out of a limit ends
+// early as a FAIL naming it; a unit whose fit is outside the model (the carrier station's
+// tracking reference without its report) never ends early: it runs its whole plan and is flagged.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "bench_test_support.hpp"
+#include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
+
+namespace hrgbench::testing {
+namespace {
+
+void Adaptive(bench::BenchConfigs& configs, int min_runs) {
+  configs.sequence.adaptive.stop_when_decided = true;
+  configs.sequence.adaptive.min_runs = min_runs;
+}
+
+// The record's outcome as its one typed reader reads it.
+session::OutcomeRecord RecordedOutcome(const std::filesystem::path& dir) {
+  auto recorded = session::ReadSessionRecord(dir);
+  EXPECT_TRUE(recorded) << recorded.error().ToString();
+  if (!recorded || !recorded->outcome) return {};
+  return *recorded->outcome;
+}
+
+TEST(BenchAdaptive, AGoodUnitEndsOnceEveryLimitIsProvenConforming) {
+  const BenchRun run =
+      RunOnSimulatedStation("sequence-production.toml", "limits-example.toml",
+                            [](bench::BenchConfigs& c) { Adaptive(c, 2); });
+  ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  ASSERT_TRUE(run.result.verdict.has_value());
+  for (const bench::LimitResult& limit : run.result.verdict->results)
+    EXPECT_EQ(limit.zone, bench::DecisionZone::kConforming) << limit.message;
+  // Fewer runs than the six planned, at least the two asked for.
+  EXPECT_GE(run.result.complete_runs, 2);
+  EXPECT_LT(run.result.complete_runs, 6);
+  const session::OutcomeRecord outcome = RecordedOutcome(run.dir);
+  ASSERT_TRUE(outcome.ended_early.has_value());
+  EXPECT_EQ(outcome.ended_early->after_run, run.result.complete_runs);
+  EXPECT_EQ(outcome.ended_early->planned_runs, 6);
+  EXPECT_EQ(outcome.ended_early->why, "every limit decided");
+  EXPECT_NE(run.result.reason.find("decided after run"), std::string::npos) << run.result.reason;
+  // Shorter, not worse: every parameter still within 4 of its reported std of the truth.
+  ASSERT_TRUE(run.result.estimate.has_value());
+  const nlohmann::json& truth = run.result.estimate_json.at("truth");
+  const estimator::EstimateSummary& s = *run.result.estimate;
+  for (int j = 0; j < 6; ++j) {
+    const double t = truth.at("delta").at(static_cast<std::size_t>(j)).get<double>();
+    EXPECT_NEAR(s.delta[j], t, 4 * s.delta_std[j]) << "delta" << j + 1;
+  }
+  for (int k = 0; k < 4; ++k) {
+    if (!s.xi_estimated[static_cast<std::size_t>(k)]) continue;
+    const double t = truth.at("xi").at(static_cast<std::size_t>(k)).get<double>();
+    EXPECT_NEAR(s.xi[k], t, 4 * s.xi_std[k]) << "xi" << k + 1;
+  }
+  // The runs not needed are in the record's plan, never begun.
+  auto session = session::ReadSession(run.dir);
+  ASSERT_TRUE(session) << session.error().ToString();
+  EXPECT_EQ(session->loaded_run_ids.size(), static_cast<std::size_t>(run.result.complete_runs));
+}
+
+TEST(BenchAdaptive, AUnitProvenOutOfALimitEndsEarlyAsAFailNamingIt) {
+  // The simulated unit's δ2 is 0.3: limits it is far outside of.
+  const BenchRun run = RunOnSimulatedStation(
+      "sequence-production.toml", "limits-example.toml", [](bench::BenchConfigs& c) {
+        Adaptive(c, 1);
+        for (bench::ParameterLimit& limit : c.limits.limits) {
+          if (limit.quantity == bench::LimitedQuantity::kDelta2) {
+            limit.min = 0.31;
+            limit.max = 0.4;
+          }
+        }
+        std::erase_if(c.limits.limits, [](const bench::ParameterLimit& limit) {
+          return limit.quantity ==
+                 bench::LimitOf(estimator::EngineeringQuantity::kAngularGain);  // δ2 again
+        });
+      });
+  ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kFail) << run.result.reason;
+  EXPECT_LT(run.result.complete_runs, 6);
+  const session::OutcomeRecord outcome = RecordedOutcome(run.dir);
+  ASSERT_TRUE(outcome.ended_early.has_value()) << run.result.reason;
+  EXPECT_EQ(outcome.ended_early->why, "delta2 proven non-conforming");
+  ASSERT_EQ(outcome.failed_parameters.size(), 1u);
+  EXPECT_EQ(outcome.failed_parameters[0].name, "delta2");
+}
+
+TEST(BenchAdaptive, AFitOutsideTheModelNeverEndsASessionEarly) {
+  const BenchRun run = RunOnSimulatedStation(
+      "sequence-production.toml", "limits-example.toml",
+      [](bench::BenchConfigs& c) {
+        Adaptive(c, 1);
+        c.station.simulated.carrier.tracking_reference = true;
+        c.station.simulated.carrier.pll_bandwidth_hz = 2.0;
+        c.station.simulated.carrier.report_reference_phase = false;
+      },
+      {}, {}, "station-sim-carrier.toml");
+  EXPECT_NE(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
+  ASSERT_TRUE(run.result.verdict.has_value()) << run.result.reason;
+  EXPECT_FALSE(run.result.verdict->fit_acceptable);
+  EXPECT_EQ(run.result.complete_runs, 6);
+  EXPECT_FALSE(RecordedOutcome(run.dir).ended_early.has_value());
+}
+
+}  // namespace
+}  // namespace hrgbench::testing
