@@ -30,9 +30,8 @@ session::OutcomeRecord RecordedOutcome(const std::filesystem::path& dir) {
 }
 
 TEST(BenchAdaptive, AGoodUnitEndsOnceEveryLimitIsProvenConforming) {
-  const BenchRun run =
-      RunOnSimulatedStation("sequence-production.toml", "limits-example.toml",
-                            [](bench::BenchConfigs& c) { Adaptive(c, 2); });
+  const BenchRun run = RunOnSimulatedStation("sequence-production.toml", "limits-example.toml",
+                                             [](bench::BenchConfigs& c) { Adaptive(c, 2); });
   ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
   ASSERT_TRUE(run.result.verdict.has_value());
   for (const bench::LimitResult& limit : run.result.verdict->results)

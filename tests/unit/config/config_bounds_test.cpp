@@ -57,6 +57,36 @@ TEST(ConfigBounds, TheBaseSequenceLoads) {
   EXPECT_TRUE(sequence) << sequence.error().ToString();
 }
 
+// [adaptive] (issue 27 §1): off unless asked; min_runs within the sequence's runs.
+TEST(ConfigBounds, AdaptiveStopIsReadAndItsMinimumRunsBounded) {
+  auto plain = ParseSequenceConfig(kSequenceHead + kRun, kFile);
+  ASSERT_TRUE(plain) << plain.error().ToString();
+  EXPECT_FALSE(plain->adaptive.stop_when_decided);
+  EXPECT_EQ(plain->adaptive.min_runs, 1);
+  const std::string two_runs = kSequenceHead + kRun + kRun;
+  auto on = ParseSequenceConfig(two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 2\n",
+                                kFile);
+  ASSERT_TRUE(on) << on.error().ToString();
+  EXPECT_TRUE(on->adaptive.stop_when_decided);
+  EXPECT_EQ(on->adaptive.min_runs, 2);
+  auto beyond = ParseSequenceConfig(two_runs + "\n[adaptive]\nmin_runs = 3\n", kFile);
+  ASSERT_FALSE(beyond);
+  EXPECT_EQ(beyond.error().key, "adaptive.min_runs") << beyond.error().ToString();
+  EXPECT_EQ(beyond.error().value, "3") << beyond.error().ToString();
+  EXPECT_NE(beyond.error().message.find("out of range"), std::string::npos)
+      << beyond.error().ToString();
+  auto zero = ParseSequenceConfig(two_runs + "\n[adaptive]\nmin_runs = 0\n", kFile);
+  ASSERT_FALSE(zero);
+  EXPECT_EQ(zero.error().key, "adaptive.min_runs") << zero.error().ToString();
+  auto unknown = ParseSequenceConfig(two_runs + "\n[adaptive]\nstop_early = true\n", kFile);
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.error().ToString().find("stop_when_decided, min_runs"), std::string::npos)
+      << unknown.error().ToString();
+  auto not_bool = ParseSequenceConfig(two_runs + "\n[adaptive]\nstop_when_decided = 1\n", kFile);
+  ASSERT_FALSE(not_bool);
+  EXPECT_EQ(not_bool.error().key, "adaptive.stop_when_decided") << not_bool.error().ToString();
+}
+
 TEST(ConfigBounds, NulInANameIsRefused) {
   auto limits = ParseLimitsConfig("[limits]\nname = \"l\\u0000x\"\n", kFile);
   ASSERT_FALSE(limits);
