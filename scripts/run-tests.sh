@@ -41,6 +41,8 @@ fi
 # The tests' scratch space is a folder of this run's own (TMPDIR), removed at the end: what a test
 # leaves behind is said, not piled up in /tmp run after run (sessions are ~120 MB each).
 test_tmp="$(mktemp -d "${TMPDIR:-/tmp}/hrgbench-tests.XXXXXX")"
+# As /tmp is: the PostgreSQL tests run initdb and the server as the user postgres, in here.
+chmod 1777 "$test_tmp"
 export TMPDIR="$test_tmp"
 disk_free() { df -h --output=avail "$1" | tail -n 1 | tr -d ' '; }
 echo "run-tests: scratch $test_tmp; free: $(disk_free "$build") beside the build, $(disk_free "$test_tmp") for scratch"
