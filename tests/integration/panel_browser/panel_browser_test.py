@@ -138,7 +138,7 @@ def StationText(source: Path, shipped: str, offers: str) -> str:
 # What the test stations offer: the short sequence by default, which is not the first by name
 # (sequence-long.toml is), so a page that merely selects the first shows the wrong one.
 kOffers = """[offers]
-sequences = ["sequence-long.toml", "sequence-short.toml"]
+sequences = ["sequence-long.toml", "sequence-short.toml", "sequence-endless.toml"]
 default_sequence = "sequence-short.toml"
 limits = ["limits-example.toml"]
 default_limits = "limits-example.toml"
@@ -165,7 +165,9 @@ LID_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60">'
 def WriteConfigs(source: Path, folder: Path, shipped: str = "station-sim.toml",
                  offers: str = kOffers, prompts: bool = False) -> Path:
     """The station (paced 4x) and what it offers: sequence-short (3 x 4 s), sequence-long (3 x 40 s,
-    for abort and two browsers), the example limits."""
+    for a resume), sequence-endless (3 x 400 s: what abort and two browsers stop; a loaded machine
+    took longer than sequence-long's 30 s of wall time to reach the abort, and the session had
+    ended as PASS), the example limits."""
     folder.mkdir(parents=True)
     station = StationText(source, shipped, offers)
     station = station.replace("faster_than_real_time = true",
@@ -182,6 +184,8 @@ def WriteConfigs(source: Path, folder: Path, shipped: str = "station-sim.toml",
         (folder / "pictures" / "lid.svg").write_text(LID_SVG)
     (folder / "sequence-long.toml").write_text(
         SHORT.replace("FREE_RUN", "40.0").replace("panel-short", "panel-long"))
+    (folder / "sequence-endless.toml").write_text(
+        SHORT.replace("FREE_RUN", "400.0").replace("panel-short", "panel-endless"))
     shutil.copy(source / "bench_configs" / "limits-example.toml", folder / "limits-example.toml")
     return folder / "station-panel.toml"
 
@@ -665,7 +669,7 @@ def CaseAbort(args, tmp: Path, out: Path) -> None:
     browser = Browser(out)
     try:
         browser.open(panel.base)
-        browser.start("SN-ABORT-1", "panel-long")
+        browser.start("SN-ABORT-1", "panel-endless")
         WaitCapture(browser, 1)
         browser.wait(lambda: int(browser.data("samples", "samples") or 0) > 100,
                      "the capture never got going")
@@ -773,7 +777,7 @@ def CaseTwoBrowsers(args, tmp: Path, out: Path) -> None:
     second = None
     try:
         first.open(panel.base)
-        first.start("SN-TWO-1", "panel-long")
+        first.start("SN-TWO-1", "panel-endless")
         WaitCapture(first, 1)
         second = Browser(out / "second")
         second.open(panel.base)
