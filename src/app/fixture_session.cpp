@@ -1,13 +1,13 @@
 #include "app/fixture_session.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <system_error>
 
 #include "app/serial_check.hpp"
+#include "app/utc_now.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
 #include "hrgbench/session/kill_point.hpp"
 #include "hrgbench/session/session.hpp"
@@ -19,15 +19,6 @@ namespace {
 
 std::string FixtureFileName(const std::filesystem::path& dir) {
   return (dir / kFixtureFile).string();
-}
-
-std::string UtcNow() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
 }
 
 // A string field of an object, or an error naming it.
@@ -153,8 +144,8 @@ std::expected<void, std::string> WriteFixtureRecord(
   doc["version"] = 1;
   doc["station"] = record.station;
   doc["software"] = software_version;
-  if (!doc.contains("started")) doc["started"] = UtcNow();
-  doc["updated"] = UtcNow();
+  if (!doc.contains("started")) doc["started"] = UtcNowText();
+  doc["updated"] = UtcNowText();
   nlohmann::json units = nlohmann::json::array();
   for (std::size_t i = 0; i < record.units.size(); ++i) {
     const FixtureUnit& unit = record.units[i];

@@ -23,6 +23,7 @@
 #include "app/memory_policy.hpp"
 #include "app/report_job.hpp"
 #include "app/unit_history.hpp"
+#include "app/utc_now.hpp"
 #include "hrgbench/config/station_config.hpp"
 #include "hrgbench/report/session_report.hpp"
 #include "hrgbench/session/kill_point.hpp"

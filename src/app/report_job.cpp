@@ -6,14 +6,13 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <chrono>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
 
+#include "app/utc_now.hpp"
 #include "hrgbench/session/session.hpp"
 
 extern char** environ;
@@ -70,15 +69,6 @@ std::optional<ReportMode> ParseReportMode(std::string_view text) {
 }
 
 fs::path ReportJobFile(const fs::path& session_dir) { return session_dir / "report" / "job.json"; }
-
-std::string UtcNowText() {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
 
 std::expected<void, std::string> WriteReportJob(const fs::path& session_dir, const ReportJob& job) {
   // An interrupted job is what a reader concludes, never what a job writes.

@@ -65,7 +65,4 @@ std::expected<pid_t, std::string> StartReportJob(
     const std::vector<std::filesystem::path>& session_dirs, const std::string& results_url,
     const std::filesystem::path& log);
 
-// The job's UTC time stamps.
-std::string UtcNowText();
-
 }  // namespace hrgbench::app

@@ -136,25 +136,38 @@ TEST(GyroTrafficReplay, RebuildsEveryLiveSampleWithTheSameGapsAndRetries) {
   EXPECT_EQ(replay.frames_matched, host_frames);
 }
 
-TEST(GyroTrafficReplay, ASecondHostProcessIsFollowed) {
-  // Two host processes one after the other (a resumed session): each driver counts its tokens
-  // from 0, the second starts while the electronics are still configured.
+// Two host processes one after the other (a resumed session): each driver counts its tokens
+// from 0, the second starts while the electronics are still configured. Their runs of `first` and
+// `second` samples, and the log of both.
+struct TwoHosts {
+  LiveRun first, second;
+  std::vector<PlaybackFrame> log;
+};
+
+TwoHosts RecordTwoHosts(std::size_t first, std::size_t second) {
   GyroRigOptions options;
   options.sim.sigma = 1e-4;
   RecordedRig recorded(options);
-  const LiveRun first = recorded.Run(500);
+  TwoHosts out;
+  out.first = recorded.Run(first);
   auto restarted = drivers::gyro_can::GyroCanDevice::Create(*recorded.rig.host_endpoint, [&] {
     drivers::gyro_can::GyroCanDeviceConfig config;
     config.clock = &recorded.rig.clock;
     return config;
   }());
-  ASSERT_TRUE(restarted.has_value());
+  EXPECT_TRUE(restarted.has_value());
+  if (!restarted) return out;
   recorded.rig.device = std::move(*restarted);
-  const LiveRun second = recorded.Run(700);
+  out.second = recorded.Run(second);
+  recorded.Drain(out.log);
+  return out;
+}
 
-  std::vector<PlaybackFrame> log;
-  recorded.Drain(log);
-  const GyroReplay replay = Replay(log);
+TEST(GyroTrafficReplay, ASecondHostProcessIsFollowed) {
+  const TwoHosts recorded = RecordTwoHosts(500, 700);
+  const LiveRun& first = recorded.first;
+  const LiveRun& second = recorded.second;
+  const GyroReplay replay = Replay(recorded.log);
   ASSERT_FALSE(replay.divergence) << *replay.divergence;
   EXPECT_EQ(replay.host_starts, 2);
   ASSERT_EQ(replay.runs.size(), 2u);
@@ -167,20 +180,10 @@ TEST(GyroTrafficReplay, ASecondHostProcessIsFollowed) {
 // not resend a Configure the recording does not have (BenchProgram.FixtureKilledMidRunResumes-
 // EveryUnit diverged so at load 8-13, on the resumed host's first Configure).
 TEST(GyroTrafficReplay, AnAckStampedPastTheDeadlineThatTheHostTookIsFollowed) {
-  GyroRigOptions options;
-  options.sim.sigma = 1e-4;
-  RecordedRig recorded(options);
-  const LiveRun first = recorded.Run(400);
-  auto restarted = drivers::gyro_can::GyroCanDevice::Create(*recorded.rig.host_endpoint, [&] {
-    drivers::gyro_can::GyroCanDeviceConfig config;
-    config.clock = &recorded.rig.clock;
-    return config;
-  }());
-  ASSERT_TRUE(restarted.has_value());
-  recorded.rig.device = std::move(*restarted);
-  const LiveRun second = recorded.Run(400);
-  std::vector<PlaybackFrame> log;
-  recorded.Drain(log);
+  TwoHosts recorded = RecordTwoHosts(400, 400);
+  const LiveRun& first = recorded.first;
+  const LiveRun& second = recorded.second;
+  std::vector<PlaybackFrame>& log = recorded.log;
   // The second host's Configure: its Ack stamped three ack timeouts late.
   const std::int64_t timeout_ns = drivers::gyro_can::GyroCanDeviceConfig{}.ack_timeout_ns;
   std::size_t configures = 0;
