@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "app/report_job.hpp"
 #include "hrgbench/results/results_store.hpp"
 #include "hrgbench/session/session_record.hpp"
 
@@ -12,6 +13,14 @@ namespace hrgbench::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A report there, or one a report job is writing (its link answers "being written" until then).
+bool HasReport(const fs::path& session_dir) {
+  std::error_code ec;
+  if (fs::exists(session_dir / "report" / "report.html", ec)) return true;
+  const auto job = ReadReportJob(session_dir);
+  return job && *job && (*job)->state == ReportJobState::kRunning;
+}
 
 std::vector<fs::path> Matching(const fs::path& dir, std::string_view prefix) {
   std::vector<fs::path> files;
@@ -172,7 +181,7 @@ std::expected<nlohmann::json, std::string> RecentSessionsFromStore(const std::st
                    {"outcome", it->outcome},
                    {"reason", it->reason},
                    {"started", it->started_utc},
-                   {"report", ours && fs::exists(folder / "report" / "report.html", ec)
+                   {"report", ours && HasReport(folder)
                                   ? nlohmann::json("sessions/" + name + "/report/report.html")
                                   : nlohmann::json(nullptr)}});
   }
@@ -217,9 +226,8 @@ nlohmann::json RecentSessions(const fs::path& sessions_dir, std::size_t count) {
                          : nlohmann::json(nullptr);
     row["reason"] = outcome != nullptr ? nlohmann::json(outcome->reason) : nlohmann::json(nullptr);
     row["started"] = record->started ? text_or_null(record->started->utc) : nlohmann::json(nullptr);
-    row["report"] = fs::exists(f.dir / "report" / "report.html", ec)
-                        ? nlohmann::json("sessions/" + name + "/report/report.html")
-                        : nlohmann::json(nullptr);
+    row["report"] = HasReport(f.dir) ? nlohmann::json("sessions/" + name + "/report/report.html")
+                                     : nlohmann::json(nullptr);
     out.push_back(std::move(row));
   }
   return out;

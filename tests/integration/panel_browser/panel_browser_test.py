@@ -587,10 +587,20 @@ def CaseFixture(args, tmp: Path, out: Path) -> None:
                   f"{unit['folder']}: prompts {answered}")
             Check((fixtures[0] / unit["folder"] / "config" / "pictures" / "lid.svg").exists(),
                   f"{unit['folder']}: the prompt's picture is not in the session's config copy")
+            # The panel's sessions leave their reports to a job (--report background): the link
+            # answers 202 "being written" (and reloads) until the report is there.
             href = browser.js(f"return document.querySelector('{row} a').href")
-            with urllib.request.urlopen(href, timeout=30) as response:
-                Check(response.status == 200 and b"<html" in response.read(2000).lower(),
-                      f"{unit['position']}: the report link does not open")
+            deadline = time.monotonic() + kWaitS
+            while True:
+                with urllib.request.urlopen(href, timeout=30) as response:
+                    status, head = response.status, response.read(4000).lower()
+                Check(b"<html" in head and status in (200, 202),
+                      f"{unit['position']}: the report link does not open ({status})")
+                if status == 200:
+                    break
+                Check(b"being written" in head and time.monotonic() < deadline,
+                      f"{unit['position']}: the report was never written")
+                time.sleep(0.5)
         Check(StoreOperators(tmp / "configs" / "results.sqlite") == ["OP-FIX"] * 4,
               f"the store: {StoreOperators(tmp / 'configs' / 'results.sqlite')}")
         Check(kind in ("PASS", "FAIL", "ERROR"), f"the fixture's outcome: {kind}")
