@@ -87,7 +87,9 @@ struct SessionOutcome {
   std::vector<FailedParameter> failed_parameters;  // FAIL: at least one; other kinds: usually none
   std::optional<nlohmann::json> estimate;          // the estimate as the estimator reported it
   std::optional<nlohmann::json> verdict;           // every limit and fit check (verdict_json.hpp)
-  std::optional<EarlyEnd> ended_early;             // none: every planned run was made (or tried)
+  // none: every planned run was made (or tried). Initialised, so the brace-initialised outcomes
+  // written before it (five members) stay free of -Wmissing-field-initializers.
+  std::optional<EarlyEnd> ended_early{};
 };
 
 }  // namespace hrgbench::bench
