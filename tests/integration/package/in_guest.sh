@@ -140,6 +140,14 @@ check "the session PASSed: exit code 0" python3 -c "
 import json; s = json.load(open('$out/state-after.json'))['session']
 assert s['exit'] == {'exit_code': 0}, s"
 dir=/var/lib/hrgbench/sessions/$session
+# The panel's sessions leave their report to a job of their own (hrg-bench --report background):
+# report/job.json says "written" once it is there.
+report_written() {
+  python3 -c "
+import json, sys; j = json.load(open('$dir/report/job.json'))
+sys.exit(0 if j['state'] == 'written' else 1)"
+}
+check "the report job wrote the report (report/job.json; hang guard 600 s)" wait_for 600 report_written
 check "the session's record and report are in the state folder, owned by hrgbench" sh -c "
   [ \"\$(stat -c %U '$dir/session.json')\" = hrgbench ] && [ -s '$dir/report/report.html' ]"
 check "the report's PDF was printed by Chromium inside the service" [ -s "$dir/report/report.pdf" ]

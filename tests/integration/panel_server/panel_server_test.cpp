@@ -315,10 +315,11 @@ TEST(PanelServer, AReportStillBeingWrittenAnswers202AndAFailedOneSaysWhy) {
                        Get("/sessions/SN1-20260101T000000Z/report/report.pdf", panel.port()))
                   .status,
               404);
+    // Gone before the panel's end, which waits for its sessions' running report jobs.
+    ::kill(job, SIGKILL);
+    int status = 0;
+    ::waitpid(job, &status, 0);
   }
-  ::kill(job, SIGKILL);
-  int status = 0;
-  ::waitpid(job, &status, 0);
   fs::remove_all(dir);
 }
 

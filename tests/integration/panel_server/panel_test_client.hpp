@@ -136,7 +136,7 @@ inline void WaitForReportJobs(const fs::path& sessions) {
     text << in.rdbuf();
     const std::string json = text.str();
     const std::size_t at = json.find("\"pid\":");
-    if (at == std::string::npos) continue;
+    if (at == std::string::npos || json.find("\"running\"") == std::string::npos) continue;
     const long pid = std::atol(json.c_str() + at + 6);
     while (pid > 0 && fs::exists("/proc/" + std::to_string(pid)) &&
            std::chrono::steady_clock::now() < until)
