@@ -34,7 +34,6 @@ using namespace hrgbench;
 
 struct Arguments {
   std::vector<std::string> dirs;
-  std::string dir;  // the one being written
   bool job = false;
   int job_start_fd = -1;
   std::string output;
@@ -48,9 +47,9 @@ struct Arguments {
 
 // The PDF's sheet: --paper; else what the session's station declared ([report] paper in its copy
 // config/station.toml, so a report regenerated later prints as the station did); else A4.
-report::PaperSize Paper(const Arguments& args) {
+report::PaperSize Paper(const Arguments& args, const std::string& dir) {
   if (!args.paper.empty()) return *report::ParsePaperSize(args.paper);  // CLI11 checked it
-  const std::filesystem::path copy = std::filesystem::path(args.dir) / "config" / "station.toml";
+  const std::filesystem::path copy = std::filesystem::path(dir) / "config" / "station.toml";
   std::error_code ec;
   if (!std::filesystem::exists(copy, ec)) return report::PaperSize::kA4;
   const auto station = bench::LoadStationConfig(copy);
@@ -62,16 +61,17 @@ report::PaperSize Paper(const Arguments& args) {
 }
 
 // One session's report; its files, or the reason it was not written (on stderr too).
-std::expected<std::vector<std::string>, std::string> WriteOne(const Arguments& args) {
+std::expected<std::vector<std::string>, std::string> WriteOne(const Arguments& args,
+                                                              const std::string& dir) {
   report::ReportOptions options;
   options.output = args.output;
   options.pdf = !args.no_pdf;
-  options.paper = Paper(args);
+  options.paper = Paper(args, dir);
   options.figures = !args.no_figures;
   options.refit = args.refit;
   options.chart_js = args.chart_js;
-  options.unit_history = app::ReadUnitHistory(args.results_url, args.dir);
-  const auto written = report::WriteSessionReport(args.dir, options);
+  options.unit_history = app::ReadUnitHistory(args.results_url, dir);
+  const auto written = report::WriteSessionReport(dir, options);
   if (!written) {
     // The message alone on stderr, so scripts can match it (it names the file and field).
     std::cerr << written.error().ToString() << '\n';
@@ -92,7 +92,7 @@ void RecordJob(const std::string& dir, app::ReportJob job) {
     spdlog::error("report job: {}", written.error());
 }
 
-int Run(Arguments args) {
+int Run(const Arguments& args) {
   if (!args.output.empty() && args.dirs.size() != 1) {
     std::cerr << "-o/--output: names one session's report; give one SESSION_DIR\n";
     return kExitBadInput;
@@ -108,7 +108,6 @@ int Run(Arguments args) {
     spdlog::warn("report job: cannot lower its priority: {}", std::strerror(errno));
   int code = kExitOk;
   for (const std::string& dir : args.dirs) {
-    args.dir = dir;
     app::ReportJob job;
     job.pid = ::getpid();
     job.started = app::UtcNowText();
@@ -120,7 +119,7 @@ int Run(Arguments args) {
     }
     std::expected<std::vector<std::string>, std::string> files;
     try {
-      files = WriteOne(args);
+      files = WriteOne(args, dir);
     } catch (const std::exception& error) {
       files = std::unexpected(std::string("the report failed: ") + error.what());
       std::cerr << files.error() << '\n';
@@ -187,5 +186,5 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(3, 1023));
   hrgbench::app::AddCommonFlags(cli, &quiet);
   return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-report", quiet,
-                                    [&] { return Run(std::move(args)); });
+                                    [&] { return Run(args); });
 }
