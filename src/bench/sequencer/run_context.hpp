@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -15,6 +16,8 @@
 #include "hrgbench/session/session_recorder.hpp"
 
 namespace hrgbench::bench::internal {
+
+struct LaneJudgement;  // sequencer.cpp: a unit's recorded runs estimated and judged
 
 // Why a step stopped. kNone: go on. A step returns the table's (every unit's) stop; a unit's own
 // stop ends only its lane (SessionContext::EndUnit).
@@ -39,6 +42,9 @@ struct UnitLane {
   bool ended = false;       // its session is closed; it takes no further part
   // Its verdict could no longer change (the sequence's [adaptive]): it took no further run.
   std::optional<EarlyEnd> ended_early;
+  // The estimate and verdict that decided it: its record takes no further run, so the session
+  // closes with them instead of estimating the same runs again.
+  std::shared_ptr<LaneJudgement> decided;
   SessionResult result;  // its warnings as they come; the rest once it ends
   std::vector<LoggedCanFrame> logged_scratch;
 

@@ -188,21 +188,29 @@ SessionResult Finish(SessionResult result) {
   return result;
 }
 
+}  // namespace
+
 // A unit's complete runs as recorded on disk, estimated and judged against the limits: what its
 // session closes with, and (the sequence's [adaptive]) what it would close with now.
-struct LaneJudgement {
+struct internal::LaneJudgement {
   std::optional<std::string> error;  // the record cannot be read back, or has no complete run
   int complete_runs = 0;
   RecordedEstimate estimate;
   std::optional<SessionJudgement> judgement;
 };
 
-LaneJudgement JudgeLane(const SessionContext& ctx, const UnitLane& lane) {
+namespace {
+
+using internal::LaneJudgement;
+
+// `plan_cut_short`: runs still planned are not a defect of the record (the unit ended early, or
+// the session is still going).
+LaneJudgement JudgeLane(const SessionContext& ctx, const UnitLane& lane, bool plan_cut_short) {
   LaneJudgement out;
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
   read.extra_columns = false;  // the estimate reads t_s and y only
-  read.plan_cut_short = lane.ended_early.has_value();
+  read.plan_cut_short = plan_cut_short;
   auto recorded = session::ReadSession(lane.dir, read);
   // The same document typed by the record's one reader (no second read of the file).
   std::expected<session::SessionRecord, session::SessionError> record =
@@ -254,7 +262,7 @@ void DecideEarly(SessionContext& ctx, int run_id) {
   const int planned = static_cast<int>(ctx.configs->sequence.runs.size());
   for (UnitLane& lane : ctx.lanes) {
     if (lane.ended || lane.remaining.empty()) continue;
-    const LaneJudgement now = JudgeLane(ctx, lane);
+    LaneJudgement now = JudgeLane(ctx, lane, /*plan_cut_short=*/true);
     if (now.error || now.complete_runs < adaptive.min_runs || !now.judgement) continue;
     const std::optional<std::string> why =
         DecidedWhy(now.estimate.method.summary, now.judgement->verdict);
@@ -268,6 +276,7 @@ void DecideEarly(SessionContext& ctx, int run_id) {
                       " (" + *why + "): " + std::to_string(lane.remaining.size()) +
                       " planned run(s) not needed");
     lane.remaining.clear();
+    lane.decided = std::make_shared<LaneJudgement>(std::move(now));
   }
 }
 
@@ -277,7 +286,9 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   SessionResult& result = lane.result;
   result.dir = lane.dir;
   SessionOutcome outcome;
-  LaneJudgement judged = JudgeLane(ctx, lane);
+  LaneJudgement judged =
+      lane.decided ? std::move(*lane.decided) : JudgeLane(ctx, lane, lane.ended_early.has_value());
+  lane.decided.reset();
   result.complete_runs = judged.complete_runs;
   if (judged.error) {
     outcome.kind = OutcomeKind::kError;

@@ -3,11 +3,14 @@
 // conforming, with the estimate still agreeing with the truth; a unit proven out of a limit ends
 // early as a FAIL naming it; a unit whose fit is outside the model (the carrier station's
 // tracking reference without its report) never ends early: it runs its whole plan and is flagged.
+// On a fixture the table makes a run only while a unit on it still needs one.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "bench_test_support.hpp"
 #include "hrgbench/session/session.hpp"
@@ -104,6 +107,43 @@ TEST(BenchAdaptive, AFitOutsideTheModelNeverEndsASessionEarly) {
   EXPECT_FALSE(run.result.verdict->fit_acceptable);
   EXPECT_EQ(run.result.complete_runs, 6);
   EXPECT_FALSE(RecordedOutcome(run.dir).ended_early.has_value());
+}
+
+TEST(BenchAdaptive, AFixtureStopsTakingRunsOnceEveryUnitOnItIsDecided) {
+  // station-sim-fixture.toml: four good units, each with its own truth and bus.
+  const FixtureRun run =
+      RunFixtureOnSimulatedStation("sequence-production.toml", "limits-example.toml",
+                                   [](bench::BenchConfigs& c) { Adaptive(c, 2); });
+  ASSERT_EQ(run.results.size(), 4u);
+  int table_runs = 0;  // the runs the table made: the last unit's decision ends them
+  for (const bench::SessionResult& result : run.results) {
+    SCOPED_TRACE(result.dir.filename().string());
+    EXPECT_EQ(result.outcome, bench::OutcomeKind::kPass) << result.reason;
+    EXPECT_GE(result.complete_runs, 2);
+    EXPECT_LT(result.complete_runs, 6);
+    table_runs = std::max(table_runs, result.complete_runs);
+    const session::OutcomeRecord outcome = RecordedOutcome(result.dir);
+    ASSERT_TRUE(outcome.ended_early.has_value()) << result.reason;
+    EXPECT_EQ(outcome.ended_early->after_run, result.complete_runs);
+    EXPECT_EQ(outcome.ended_early->planned_runs, 6);
+  }
+  ASSERT_LT(table_runs, 6);
+  // In every unit's record the runs after the last decision are still planned: never begun for
+  // anyone (a decided unit is not waited for, and no unit is left that needs them).
+  for (const bench::SessionResult& result : run.results) {
+    SCOPED_TRACE(result.dir.filename().string());
+    session::ReadOptions read;
+    read.load_samples = false;
+    auto session = session::ReadSession(result.dir, read);
+    ASSERT_TRUE(session) << session.error().ToString();
+    ASSERT_EQ(session->runs.size(), 6u);
+    for (std::size_t r = 0; r < 6; ++r) {
+      const bool made = static_cast<int>(r) < result.complete_runs;
+      EXPECT_EQ(session->runs[r].status, made ? "complete" : "planned") << "run " << r + 1;
+    }
+    EXPECT_TRUE(session->warnings.empty()) << session->warnings.front();
+  }
+  EXPECT_GT(table_runs, 0);
 }
 
 }  // namespace
