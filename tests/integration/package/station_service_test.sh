@@ -52,6 +52,7 @@ echo "package test: built $(basename "$deb") ($(du -k "$deb" | cut -f1) kB)"
 dpkg-deb --contents "$deb" | awk '{print $6}' | sed 's|^\./|/|' >"$artifacts/contents.txt"
 for path in /usr/bin/hrg-bench /usr/bin/hrg-results /usr/bin/hrg-report /usr/bin/hrg-estimate \
   /etc/hrgbench/station.toml /etc/hrgbench/sequence-production.toml \
+  /etc/hrgbench/sequence-production-adaptive.toml \
   /etc/hrgbench/limits-example.toml /lib/systemd/system/hrgbench.service \
   /usr/lib/sysusers.d/hrgbench.conf /usr/share/doc/hrgbench/copyright \
   /usr/share/doc/hrgbench/changelog.gz /usr/share/doc/hrgbench/station-install.md; do
@@ -62,8 +63,9 @@ if grep -E '^/var/|^/(home|root|tmp)/' "$artifacts/contents.txt"; then
 fi
 dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles >"$artifacts/conffiles.txt"
 diff <(sort "$artifacts/conffiles.txt") <(printf '%s\n' /etc/hrgbench/limits-example.toml \
-  /etc/hrgbench/sequence-production.toml /etc/hrgbench/station.toml) ||
-  fail "the conffiles are not the station's three files (above)"
+  /etc/hrgbench/sequence-production-adaptive.toml /etc/hrgbench/sequence-production.toml \
+  /etc/hrgbench/station.toml) ||
+  fail "the conffiles are not the station's four files (above)"
 dpkg-deb --field "$deb" Depends >"$artifacts/depends.txt"
 grep -q 'libjs-chart.js' "$artifacts/depends.txt" || fail "Depends lacks libjs-chart.js"
 grep -q 'libc6' "$artifacts/depends.txt" || fail "Depends has no shared-library dependencies"

@@ -144,5 +144,33 @@ TEST(ShippedConfigs, ProductionSequenceIsTheChosenDesign) {
   EXPECT_EQ(sequence->TotalFreeRunS(), 600.0);
 }
 
+// The production design cut into passes a session can stop between: the same six rates and wave
+// states, 20 s each then 80 s each, 600 s of free run in all (what the full sequence measures
+// when no decision comes), ended once the unit's verdict is decided.
+TEST(ShippedConfigs, AdaptiveProductionSequenceIsTheProductionDesignInTwoPasses) {
+  auto production = LoadSequenceConfig(kConfigDir / "sequence-production.toml");
+  auto adaptive = LoadSequenceConfig(kConfigDir / "sequence-production-adaptive.toml");
+  ASSERT_TRUE(production.has_value()) << production.error().ToString();
+  ASSERT_TRUE(adaptive.has_value()) << adaptive.error().ToString();
+  ASSERT_EQ(adaptive->runs.size(), 12u);
+  for (std::size_t i = 0; i < 12; ++i) {
+    const SequenceRun& run = adaptive->runs[i];
+    const SequenceRun& design = production->runs[i % 6];
+    EXPECT_EQ(run.omega_rad_s, design.omega_rad_s) << "run " << i + 1;
+    EXPECT_EQ(run.theta_rad, design.theta_rad) << "run " << i + 1;
+    EXPECT_EQ(run.b, design.b) << "run " << i + 1;
+    EXPECT_EQ(run.a, design.a) << "run " << i + 1;
+    EXPECT_EQ(run.sample_rate_hz, design.sample_rate_hz) << "run " << i + 1;
+    EXPECT_EQ(run.free_run_s, i < 6 ? 20.0 : 80.0) << "run " << i + 1;
+  }
+  EXPECT_EQ(adaptive->TotalFreeRunS(), production->TotalFreeRunS());
+  EXPECT_TRUE(adaptive->adaptive.stop_when_decided);
+  EXPECT_EQ(adaptive->adaptive.min_runs, 2);
+  // Everything else as production's: settling, warm-up, drift and capture criteria.
+  EXPECT_EQ(adaptive->warmup.min_s, production->warmup.min_s);
+  EXPECT_EQ(adaptive->settle.rate_tolerance_rad_s, production->settle.rate_tolerance_rad_s);
+  EXPECT_EQ(adaptive->prompts.size(), production->prompts.size());
+}
+
 }  // namespace
 }  // namespace hrgbench::bench
