@@ -3,9 +3,10 @@
 // physics, each measured twice on the simulated station through bench::RunSession exactly as
 // `hrg-bench run` drives it: with the full production sequence (sequence-production.toml) and
 // with the adaptive one (sequence-production-adaptive.toml: the same design in two passes,
-// stopped once the unit's verdict is decided). Per unit: the table time (the simulated clock's, from
-// the start to the table at rest before the estimate: what a real table would take), the runs made,
-// the outcome and every limit's decision zone under the limits' rule (guarded acceptance, k = 2).
+// stopped once the unit's verdict is decided). Per unit: the table time (the simulated clock's,
+// from the start to the table at rest before the estimate: what a real table would take), the runs
+// made, the outcome and every limit's decision zone under the limits' rule (guarded acceptance, k =
+// 2).
 //
 //   adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] [--carrier-every C]
 //   adaptive_session_table --summary FILE...
@@ -78,10 +79,10 @@ void AtTheEdge(Unit& unit, std::mt19937_64& rng, double beyond) {
   std::uniform_int_distribution<int> which(0, 5);
   const int parameter = which(rng);
   const double widths[] = {5e-4, 5e-6, 2e-5};
-  const double relative = std::isnan(beyond)
-                              ? widths[parameter / 2] *
-                                    std::uniform_real_distribution<double>(-1.0, 1.0)(rng)
-                              : beyond;
+  const double relative =
+      std::isnan(beyond)
+          ? widths[parameter / 2] * std::uniform_real_distribution<double>(-1.0, 1.0)(rng)
+          : beyond;
   switch (parameter) {
     case 0:
       unit.resonator.decay_time_s = 500.0 * (1.0 - relative);
@@ -177,8 +178,7 @@ char ZoneLetter(const bench::LimitResult& limit) {
   }
 }
 
-Measured Measure(const Unit& unit, const std::string& sequence,
-                 const std::filesystem::path& dir) {
+Measured Measure(const Unit& unit, const std::string& sequence, const std::filesystem::path& dir) {
   const std::filesystem::path configs_dir =
       std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
   auto configs = bench::LoadBenchConfigs(
@@ -395,15 +395,16 @@ int Summary(const std::vector<std::string>& files) {
             break;
         }
       }
-      std::printf("| %s | %s | %zu | %.0f / %.0f | %.0f / %.0f | %.0f (%d) | %.0f | %d | %d | %d |\n",
-                  physics.c_str(), cls.c_str(), it->second.size(), Quantile(full_t, 0.5),
-                  Quantile(full_t, 0.95), Quantile(adaptive_t, 0.5), Quantile(adaptive_t, 0.95),
-                  Quantile(runs, 0.5), max_runs, Quantile(free_run, 0.5), same, band,
-                  contradicted);
+      std::printf(
+          "| %s | %s | %zu | %.0f / %.0f | %.0f / %.0f | %.0f (%d) | %.0f | %d | %d | %d |\n",
+          physics.c_str(), cls.c_str(), it->second.size(), Quantile(full_t, 0.5),
+          Quantile(full_t, 0.95), Quantile(adaptive_t, 0.5), Quantile(adaptive_t, 0.95),
+          Quantile(runs, 0.5), max_runs, Quantile(free_run, 0.5), same, band, contradicted);
     }
   }
   std::printf(
-      "\n| units per table | full, warm-up on the table | adaptive | ratio | full, units soaked warm "
+      "\n| units per table | full, warm-up on the table | adaptive | ratio | full, units soaked "
+      "warm "
       "before mounting | adaptive | ratio |\n|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const int n : {1, 4, 8}) {
     const double f = UnitsPerTableHour(rows, false, n, false);
@@ -413,15 +414,17 @@ int Summary(const std::vector<std::string>& files) {
     std::printf("| %d | %.1f | %.1f | %.2f× | %.1f | %.1f | %.2f× |\n", n, f, a, a / f, fs, as,
                 as / fs);
   }
-  std::printf("\nOutcomes (full → adaptive), units:\n\n| full | adaptive | units |\n|---|---|---:|\n");
+  std::printf(
+      "\nOutcomes (full → adaptive), units:\n\n| full | adaptive | units |\n|---|---|---:|\n");
   std::map<std::string, int> pairs;
   for (const Row& row : rows) {
     auto name = [](const Measured& m) { return m.outcome + (m.retest ? " (retest)" : ""); };
     pairs[name(row.full) + " | " + name(row.adaptive)]++;
   }
   for (const auto& [pair, n] : pairs) std::printf("| %s | %d |\n", pair.c_str(), n);
-  std::printf("\nEvery unit whose verdicts differ:\n\n| unit | class | physics | what | full | "
-              "adaptive (runs) | limits full / adaptive |\n|---:|---|---|---|---|---|---|\n");
+  std::printf(
+      "\nEvery unit whose verdicts differ:\n\n| unit | class | physics | what | full | "
+      "adaptive (runs) | limits full / adaptive |\n|---:|---|---|---|---|---|---|\n");
   for (const Row& row : rows) {
     if (Compare(row.full, row.adaptive) == Agreement::kSame) continue;
     std::printf("| %d | %s | %s | %s | %s%s | %s%s (%d) | %s / %s |\n", row.index,
