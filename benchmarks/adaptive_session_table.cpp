@@ -157,6 +157,7 @@ struct Measured {
   double table_s = 0.0;   // start to the table at rest before the estimate
   std::string zones;      // one letter per limit, in the file's order: C, N, U (undecided), -
   double cpu_s = 0.0;
+  std::string reason;  // the outcome's (on the log, not in the rows)
 };
 
 double CpuSeconds() {
@@ -229,6 +230,7 @@ Measured Measure(const Unit& unit, const std::string& sequence, const std::files
   if (m.table_s == 0.0) m.table_s = static_cast<double>(hardware.clock->NowNs() - start_ns) * 1e-9;
   m.outcome = std::string(bench::ToString(result.outcome));
   m.runs = result.complete_runs;
+  m.reason = result.reason;
   const std::vector<bench::SequenceRun>& runs = configs->sequence.runs;
   for (int i = 0; i < m.runs && i < static_cast<int>(runs.size()); ++i)
     m.free_run_s += runs[static_cast<std::size_t>(i)].free_run_s;
@@ -323,9 +325,10 @@ double Quantile(std::vector<double> v, double q) {
 
 // Agreement of the adaptive verdict with the full one: the same outcome; a different outcome
 // where no limit is proven conforming by one and non-conforming by the other (an undecided
-// limit, inside its guard band, against a decided one: the guard band explains it); or a
-// contradiction (a limit proven on both sides).
-enum class Agreement { kSame, kGuardBand, kContradiction };
+// limit, inside its guard band, against a decided one: the guard band explains it); one of the
+// two not judged at all (ERROR: a fit outside its model, or the bench's fault; the log says
+// which); or a contradiction (a limit proven on both sides).
+enum class Agreement { kSame, kGuardBand, kOneNotJudged, kContradiction };
 
 Agreement Compare(const Measured& full, const Measured& adaptive) {
   for (std::size_t i = 0; i < std::min(full.zones.size(), adaptive.zones.size()); ++i) {
@@ -333,6 +336,7 @@ Agreement Compare(const Measured& full, const Measured& adaptive) {
     if ((f == 'C' && a == 'N') || (f == 'N' && a == 'C')) return Agreement::kContradiction;
   }
   if (full.outcome == adaptive.outcome && full.retest == adaptive.retest) return Agreement::kSame;
+  if ((full.outcome == "ERROR") != (adaptive.outcome == "ERROR")) return Agreement::kOneNotJudged;
   return Agreement::kGuardBand;
 }
 
@@ -365,7 +369,9 @@ int Summary(const std::vector<std::string>& files) {
   std::printf(
       "| physics | class | units | full: table s, median / p95 | adaptive: table s, median / p95 "
       "| adaptive runs, median (max) | free run s, median | same verdict | differ in the guard "
-      "band | contradicted |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "band | one not judged | contradicted "
+      "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+      "\n");
   std::map<std::string, std::vector<const Row*>> groups;
   for (const Row& row : rows) {
     groups[row.physics + "/" + row.unit_class].push_back(&row);
@@ -376,7 +382,7 @@ int Summary(const std::vector<std::string>& files) {
       const auto it = groups.find(physics + "/" + cls);
       if (it == groups.end()) continue;
       std::vector<double> full_t, adaptive_t, runs, free_run;
-      int same = 0, band = 0, contradicted = 0, max_runs = 0;
+      int same = 0, band = 0, not_judged = 0, contradicted = 0, max_runs = 0;
       for (const Row* row : it->second) {
         full_t.push_back(row->full.table_s);
         adaptive_t.push_back(row->adaptive.table_s);
@@ -390,16 +396,20 @@ int Summary(const std::vector<std::string>& files) {
           case Agreement::kGuardBand:
             ++band;
             break;
+          case Agreement::kOneNotJudged:
+            ++not_judged;
+            break;
           case Agreement::kContradiction:
             ++contradicted;
             break;
         }
       }
       std::printf(
-          "| %s | %s | %zu | %.0f / %.0f | %.0f / %.0f | %.0f (%d) | %.0f | %d | %d | %d |\n",
+          "| %s | %s | %zu | %.0f / %.0f | %.0f / %.0f | %.0f (%d) | %.0f | %d | %d | %d | %d |\n",
           physics.c_str(), cls.c_str(), it->second.size(), Quantile(full_t, 0.5),
           Quantile(full_t, 0.95), Quantile(adaptive_t, 0.5), Quantile(adaptive_t, 0.95),
-          Quantile(runs, 0.5), max_runs, Quantile(free_run, 0.5), same, band, contradicted);
+          Quantile(runs, 0.5), max_runs, Quantile(free_run, 0.5), same, band, not_judged,
+          contradicted);
     }
   }
   std::printf(
@@ -507,6 +517,10 @@ int main(int argc, char** argv) {
                  kClassNames[unit.unit_class], unit.carrier ? "carrier" : "slow",
                  full.outcome.c_str(), full.runs, full.table_s, adaptive.outcome.c_str(),
                  adaptive.runs, adaptive.table_s);
+    for (const Measured* m : {&full, &adaptive}) {
+      if (m->outcome != "PASS" && m->outcome != "FAIL")
+        std::fprintf(stderr, "  %s: %s\n", m == &full ? "full" : "adaptive", m->reason.c_str());
+    }
   }
   std::filesystem::remove_all(work);
   return 0;
