@@ -9,6 +9,7 @@
 // 2).
 //
 //   adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] [--carrier-every C]
+//                          [--excite-s S] [--settle-time-constant-s S] [--keep]
 //   adaptive_session_table --summary FILE...
 //
 // The first form measures the units whose index i (0 … N−1) has i % M == K and writes one CSV row
@@ -16,13 +17,14 @@
 // docs/measurements/ from the rows of every shard.
 //
 // Realistic table times: the station's simulated excitation takes 5 s and the table settles with
-// a 1 s time constant (station-sim.toml's 0.2 s and 0.05 s are for fast tests); the sequences'
-// own warm-up (600 s), settling dwell (1 s) and free runs are as shipped. The warm-up is
-// reported apart: a line that soaks its units warm before mounting them does not spend it on the
-// table. A fixture of N units is the N units in index order on one table: the table makes each
-// run while a unit on it still needs it, so its time is one warm-up plus the longest of its units'
-// measuring times (bench_adaptive_test's fixture case shows the table stopping at the last
-// unit's decision; fixture_throughput_table that the units' excitations overlap).
+// a 1 s time constant (--excite-s, --settle-time-constant-s) (station-sim.toml's 0.2 s and 0.05 s
+// are for fast tests); the sequences' own warm-up (600 s), settling dwell (1 s) and free runs are
+// as shipped. The warm-up is reported apart: a line that soaks its units warm before mounting them
+// does not spend it on the table. A fixture of N units is the N units in index order on one table:
+// the table makes each run while a unit on it still needs it, so its time is one warm-up plus the
+// longest of its units' measuring times (bench_adaptive_test's fixture case shows the table
+// stopping at the last unit's decision; fixture_throughput_table that the units' excitations
+// overlap).
 //
 // The truth, per unit (index i; class by i % 4: 0, 1 good, 2 marginal, 3 bad; physics carrier
 // when i % C == C − 1, default C = 5; otherwise the slow model's δ and ξ of the same physical
@@ -179,7 +181,15 @@ char ZoneLetter(const bench::LimitResult& limit) {
   }
 }
 
-Measured Measure(const Unit& unit, const std::string& sequence, const std::filesystem::path& dir) {
+// The station's simulated excitation time and the table's settling time constant, s.
+struct StationTimes {
+  double excite_s = 5.0;
+  double settle_time_constant_s = 1.0;
+  bool keep = false;  // --keep: the session folders stay (their paths on the log)
+};
+
+Measured Measure(const Unit& unit, const StationTimes& times, const std::string& sequence,
+                 const std::filesystem::path& dir) {
   const std::filesystem::path configs_dir =
       std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
   auto configs = bench::LoadBenchConfigs(
@@ -192,8 +202,8 @@ Measured Measure(const Unit& unit, const std::string& sequence, const std::files
   configs->station.results_url.clear();
   bench::SimulatedStationConfig& sim = configs->station.simulated;
   sim.seed = unit.seed;
-  sim.excite_time_s = 5.0;
-  sim.table_settle_time_constant_s = 1.0;
+  sim.excite_time_s = times.excite_s;
+  sim.table_settle_time_constant_s = times.settle_time_constant_s;
   if (unit.carrier) {
     sim.carrier.resonator = unit.resonator;
     sim.carrier.pickoff = unit.pickoff;
@@ -238,7 +248,7 @@ Measured Measure(const Unit& unit, const std::string& sequence, const std::files
     m.retest = result.verdict->retest;
     for (const bench::LimitResult& limit : result.verdict->results) m.zones += ZoneLetter(limit);
   }
-  std::filesystem::remove_all(dir);
+  if (!times.keep) std::filesystem::remove_all(dir);
   return m;
 }
 
@@ -459,6 +469,7 @@ int main(int argc, char** argv) {
   int units = 200, carrier_every = 5, shard = 0, shards = 1;
   std::uint64_t seed = 1;
   std::string rows_file;
+  StationTimes times;
   std::vector<std::string> summary;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -473,6 +484,12 @@ int main(int argc, char** argv) {
       units = std::stoi(next());
     } else if (arg == "--seed") {
       seed = std::stoull(next());
+    } else if (arg == "--excite-s") {
+      times.excite_s = std::stod(next());
+    } else if (arg == "--settle-time-constant-s") {
+      times.settle_time_constant_s = std::stod(next());
+    } else if (arg == "--keep") {
+      times.keep = true;
     } else if (arg == "--carrier-every") {
       carrier_every = std::stoi(next());
     } else if (arg == "--shard") {
@@ -487,9 +504,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--summary") {
       while (i + 1 < argc) summary.emplace_back(argv[++i]);
     } else {
-      std::fprintf(stderr,
-                   "usage: adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] "
-                   "[--carrier-every C] | --summary FILE...\n");
+      std::fprintf(
+          stderr,
+          "usage: adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] "
+          "[--carrier-every C] [--excite-s S] [--settle-time-constant-s S] [--keep] | --summary "
+          "FILE...\n");
       return 2;
     }
   }
@@ -505,8 +524,11 @@ int main(int argc, char** argv) {
       std::filesystem::temp_directory_path() / ("hrgbench-adaptive-table-" + std::to_string(rd()));
   for (int i = shard; i < units; i += shards) {
     const Unit unit = Draw(i, carrier_every, seed);
-    const Measured full = Measure(unit, "sequence-production.toml", work / "full");
-    const Measured adaptive = Measure(unit, "sequence-production-adaptive.toml", work / "adaptive");
+    const std::string name = "unit-" + std::to_string(i);
+    const Measured full = Measure(unit, times, "sequence-production.toml", work / name / "full");
+    const Measured adaptive =
+        Measure(unit, times, "sequence-production-adaptive.toml", work / name / "adaptive");
+    if (times.keep) std::fprintf(stderr, "kept %s\n", (work / name).c_str());
     out << i << ',' << kClassNames[unit.unit_class] << ',' << (unit.carrier ? "carrier" : "slow")
         << ',' << (unit.what.empty() ? "-" : unit.what) << ',';
     WriteMeasured(out, full);
@@ -522,6 +544,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "  %s: %s\n", m == &full ? "full" : "adaptive", m->reason.c_str());
     }
   }
-  std::filesystem::remove_all(work);
+  if (!times.keep) std::filesystem::remove_all(work);
   return 0;
 }
