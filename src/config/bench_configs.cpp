@@ -227,6 +227,17 @@ std::expected<void, ConfigError> CheckIdentifiable(const BenchConfigs& configs) 
   return {};
 }
 
+// An interim decision of [adaptive] may not be less sure than the final one.
+std::expected<void, ConfigError> CheckAdaptive(const BenchConfigs& configs) {
+  const std::optional<double>& interim = configs.sequence.adaptive.interim_coverage_factor;
+  const double k = configs.limits.decision.coverage_factor;
+  if (!interim || *interim >= k) return {};
+  return std::unexpected(ConfigError{
+      configs.sequence.file, 0, "adaptive.interim_coverage_factor", Shortest(*interim),
+      "is below the coverage factor k = " + Shortest(k) + " of " + configs.limits.file.string() +
+          ": an interim decision may not be less sure than the final one"});
+}
+
 }  // namespace
 
 std::string Percent(double share) {
@@ -258,6 +269,7 @@ std::vector<PlannedBusLoad> EachBusLoad(const BenchConfigs& configs) {
 
 std::expected<void, ConfigError> CheckBenchConfigs(const BenchConfigs& configs) {
   if (auto ok = CheckRuns(configs); !ok) return ok;
+  if (auto ok = CheckAdaptive(configs); !ok) return ok;
   return CheckIdentifiable(configs);
 }
 

@@ -10,6 +10,7 @@
 
 #include "count_text.hpp"
 #include "hrgbench/config/config_bounds.hpp"
+#include "hrgbench/config/decision_rule.hpp"
 #include "hrgbench/config/sequence_config.hpp"
 #include "hrgbench/config/sha256.hpp"
 #include "hrgbench/config/toml_reader.hpp"
@@ -403,7 +404,12 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     HRG_TRY(min_runs, OptionalInteger(reader, "min_runs", 1,
                                       static_cast<std::int64_t>(sequence.runs.size()), 1));
     sequence.adaptive.min_runs = static_cast<int>(*min_runs);
-    HRG_CHECK(reader.Unknown("stop_when_decided, min_runs"));
+    // The limits' k is not known here (another file): that the interim k is not below it is
+    // checked where both are (CheckAdaptiveAgainstLimits).
+    HRG_TRY(interim, MaybeNumber(reader, "interim_coverage_factor",
+                                 {kMinCoverageFactor, kMaxCoverageFactor, true, "in [1, 6]"}));
+    sequence.adaptive.interim_coverage_factor = *interim;
+    HRG_CHECK(reader.Unknown("stop_when_decided, min_runs, interim_coverage_factor"));
   }
 
   if (auto prompts = ReadPrompts(root, sequence, source, file); !prompts)

@@ -101,6 +101,10 @@ json ToJson(const SessionOutcome& outcome) {
         json{{session::keys::kAfterRun, outcome.ended_early->after_run},
              {session::keys::kPlannedRuns, outcome.ended_early->planned_runs},
              {session::keys::kWhy, outcome.ended_early->why}};
+    if (std::isfinite(outcome.ended_early->interim_coverage_factor)) {
+      out[session::keys::kEndedEarly][session::keys::kInterimCoverageFactor] =
+          outcome.ended_early->interim_coverage_factor;
+    }
   }
   return out;
 }

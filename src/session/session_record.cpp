@@ -557,6 +557,7 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
     end.after_run = f.Int(*early, e, keys::kAfterRun).value_or(0);
     end.planned_runs = f.Int(*early, e, keys::kPlannedRuns).value_or(0);
     end.why = f.String(*early, e, keys::kWhy);
+    end.interim_coverage_factor = f.Number(*early, e, keys::kInterimCoverageFactor);
     out.ended_early = std::move(end);
   }
   return out;

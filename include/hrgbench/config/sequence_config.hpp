@@ -95,9 +95,17 @@ struct CaptureCriteria {
 // conforming, or one proven non-conforming) takes no further run, and the session ends when no
 // unit needs the next one. A misfit, an undecided or a not-yet-evaluable limit never ends a
 // session early. Off unless stop_when_decided.
+//
+// Each look before the last planned run is an interim decision: it is taken with a larger coverage
+// factor than the limits file's k, so that looking after every run does not multiply the chance
+// of a wrong decision (bench/sequencer/interim_looks.hpp). The verdict a decided unit closes with
+// is judged with the file's k, as any other.
 struct AdaptiveStop {
   bool stop_when_decided = false;
   int min_runs = 1;  // complete runs before the first decision, 1 … the sequence's runs
+  // k of the interim looks, in [the limits' k, 6]; absent: derived from the limits' k and the
+  // number of interim looks (InterimCoverageFactor).
+  std::optional<double> interim_coverage_factor;
 };
 
 // [[prompts]]: what the operator must do at a point of the sequence (mount the unit, close the

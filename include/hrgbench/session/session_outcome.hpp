@@ -72,11 +72,13 @@ struct FailedParameter {
 };
 
 // A session that ended before its plan because its verdict could no longer change (the
-// sequence's [adaptive]): after which run, of how many planned, and why.
+// sequence's [adaptive]): after which run, of how many planned, why, and with which coverage
+// factor that interim decision was taken (the closing verdict is judged with the limits' own).
 struct EarlyEnd {
   int after_run = 0;     // the last run made (its id)
   int planned_runs = 0;  // the sequence's runs
   std::string why;       // "every limit decided", "delta2 proven non-conforming"
+  double interim_coverage_factor = std::numeric_limits<double>::quiet_NaN();  // NaN: not recorded
 };
 
 struct SessionOutcome {

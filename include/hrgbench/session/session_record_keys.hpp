@@ -93,11 +93,13 @@ inline constexpr const char* kExitCode = "exit_code";
 inline constexpr const char* kFailedParameters = "failed_parameters";
 inline constexpr const char* kEstimate = "estimate";
 inline constexpr const char* kVerdict = "verdict";
-// outcome.ended_early: {after_run, planned_runs, why} (session_outcome.hpp EarlyEnd).
+// outcome.ended_early: {after_run, planned_runs, why, interim_coverage_factor}
+// (session_outcome.hpp EarlyEnd).
 inline constexpr const char* kEndedEarly = "ended_early";
 inline constexpr const char* kAfterRun = "after_run";
 inline constexpr const char* kPlannedRuns = "planned_runs";
 inline constexpr const char* kWhy = "why";
+inline constexpr const char* kInterimCoverageFactor = "interim_coverage_factor";
 // The estimate of record's nuisance per run (what the report needs to draw the recorded fit).
 inline constexpr const char* kFittedRuns = "fitted_runs";
 

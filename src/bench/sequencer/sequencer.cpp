@@ -11,6 +11,7 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
+#include "hrgbench/analysis/interim_looks.hpp"
 #include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/analysis/recorded_frequency.hpp"
@@ -196,6 +197,7 @@ struct internal::LaneJudgement {
   std::optional<std::string> error;  // the record cannot be read back, or has no complete run
   int complete_runs = 0;
   RecordedEstimate estimate;
+  std::optional<session::SessionRecord> record;  // what the estimate was judged with
   std::optional<SessionJudgement> judgement;
 };
 
@@ -204,8 +206,8 @@ namespace {
 using internal::LaneJudgement;
 
 // `plan_cut_short`: runs still planned are not a defect of the record (the unit ended early, or
-// the session is still going).
-LaneJudgement JudgeLane(const SessionContext& ctx, const UnitLane& lane, bool plan_cut_short) {
+// the session is still going). Judged against `limits` (the file's, or an interim look's).
+LaneJudgement JudgeLane(const UnitLane& lane, bool plan_cut_short, const LimitsConfig& limits) {
   LaneJudgement out;
   session::ReadOptions read;
   read.min_samples_per_run = MinimumSamples(Method::kMl);
@@ -225,8 +227,9 @@ LaneJudgement JudgeLane(const SessionContext& ctx, const UnitLane& lane, bool pl
     out.error = "no complete run to estimate from";
     return out;
   }
-  out.estimate = EstimateRecordedSession(std::move(*recorded), *record, ctx.configs->limits.fit);
-  out.judgement = JudgeRecordedSession(out.estimate.method.summary, *record, ctx.configs->limits);
+  out.estimate = EstimateRecordedSession(std::move(*recorded), *record, limits.fit);
+  out.judgement = JudgeRecordedSession(out.estimate.method.summary, *record, limits);
+  out.record = std::move(*record);
   return out;
 }
 
@@ -255,25 +258,31 @@ std::optional<std::string> DecidedWhy(const estimator::EstimateSummary& estimate
 }
 
 // The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
-// longer change takes no further run (RunPlanned then skips the runs nobody needs).
+// longer change takes no further run (RunPlanned then skips the runs nobody needs). An interim
+// look decides with the interim coverage factor (analysis/interim_looks.hpp), never the file's k.
 void DecideEarly(SessionContext& ctx, int run_id) {
   const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
   if (!adaptive.stop_when_decided) return;
   const int planned = static_cast<int>(ctx.configs->sequence.runs.size());
+  LimitsConfig interim = ctx.configs->limits;
+  interim.decision.coverage_factor = adaptive.interim_coverage_factor.value_or(
+      InterimCoverageFactor(interim.decision.coverage_factor, planned - adaptive.min_runs));
+  char k_text[48];
+  std::snprintf(k_text, sizeof k_text, "interim k = %.3g", interim.decision.coverage_factor);
   for (UnitLane& lane : ctx.lanes) {
     if (lane.ended || lane.remaining.empty()) continue;
-    LaneJudgement now = JudgeLane(ctx, lane, /*plan_cut_short=*/true);
+    LaneJudgement now = JudgeLane(lane, /*plan_cut_short=*/true, interim);
     if (now.error || now.complete_runs < adaptive.min_runs || !now.judgement) continue;
     const std::optional<std::string> why =
         DecidedWhy(now.estimate.method.summary, now.judgement->verdict);
     if (!why) {
-      ctx.Log(lane, "after run " + std::to_string(run_id) + ": not decided yet (" +
-                        now.judgement->reason + ")");
+      ctx.Log(lane, "after run " + std::to_string(run_id) + ": not decided yet at " + k_text +
+                        " (" + now.judgement->reason + ")");
       continue;
     }
-    lane.ended_early = EarlyEnd{run_id, planned, *why};
+    lane.ended_early = EarlyEnd{run_id, planned, *why, interim.decision.coverage_factor};
     ctx.Log(lane, "decided after run " + std::to_string(run_id) + " of " + std::to_string(planned) +
-                      " (" + *why + "): " + std::to_string(lane.remaining.size()) +
+                      " (" + *why + ", " + k_text + "): " + std::to_string(lane.remaining.size()) +
                       " planned run(s) not needed");
     lane.remaining.clear();
     lane.decided = std::make_shared<LaneJudgement>(std::move(now));
@@ -286,9 +295,16 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   SessionResult& result = lane.result;
   result.dir = lane.dir;
   SessionOutcome outcome;
-  LaneJudgement judged =
-      lane.decided ? std::move(*lane.decided) : JudgeLane(ctx, lane, lane.ended_early.has_value());
+  LaneJudgement judged = lane.decided
+                             ? std::move(*lane.decided)
+                             : JudgeLane(lane, lane.ended_early.has_value(), ctx.configs->limits);
   lane.decided.reset();
+  // A unit decided at an interim look closes with the verdict of the file's k on that estimate
+  // (the interim k is larger: what it proved, the file's k proves too).
+  if (judged.record && judged.judgement && lane.ended_early) {
+    judged.judgement =
+        JudgeRecordedSession(judged.estimate.method.summary, *judged.record, ctx.configs->limits);
+  }
   result.complete_runs = judged.complete_runs;
   if (judged.error) {
     outcome.kind = OutcomeKind::kError;

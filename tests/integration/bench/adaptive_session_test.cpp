@@ -48,6 +48,11 @@ TEST(BenchAdaptive, AGoodUnitEndsOnceEveryLimitIsProvenConforming) {
   EXPECT_EQ(outcome.ended_early->planned_runs, 6);
   EXPECT_EQ(outcome.ended_early->why, "every limit decided");
   EXPECT_NE(run.result.reason.find("decided after run"), std::string::npos) << run.result.reason;
+  // Decided at an interim look with the larger k of 4 looks (after runs 2…5) at the file's k = 2
+  // (Python's NormalDist: inv_cdf(1 − (1 − cdf(2)) / 4)); closed with the file's k.
+  EXPECT_NEAR(outcome.ended_early->interim_coverage_factor, 2.530960494008706, 1e-9);
+  for (const bench::LimitResult& limit : run.result.verdict->results)
+    EXPECT_EQ(limit.coverage_factor, 2.0) << limit.message;
   // Shorter, not worse: every parameter still within 4 of its reported std of the truth.
   ASSERT_TRUE(run.result.estimate.has_value());
   const nlohmann::json& truth = run.result.estimate_json.at("truth");

@@ -133,5 +133,24 @@ TEST(BusLoadPlan, TheSimulatedStationIsJudgedAtItsBussRates) {
   EXPECT_EQ(BusiestRunLoad(configs).bus, "the simulated bus at 1000 kbit/s, FD data 5000 kbit/s");
 }
 
+// An interim decision of [adaptive] less sure than the final one is refused, naming the sequence's
+// key, its value and the limits file's k.
+TEST(AdaptivePlan, AnInterimCoverageFactorBelowTheLimitsOneIsRefused) {
+  BenchConfigs configs = Production(RealStation(""));
+  configs.limits.file = "limits.toml";
+  configs.limits.decision.coverage_factor = 2.5;
+  configs.sequence.adaptive.stop_when_decided = true;
+  configs.sequence.adaptive.interim_coverage_factor = 2.0;
+  auto refused = CheckBenchConfigs(configs);
+  ASSERT_FALSE(refused.has_value());
+  EXPECT_EQ(refused.error().key, "adaptive.interim_coverage_factor") << refused.error().ToString();
+  EXPECT_EQ(refused.error().value, "2") << refused.error().ToString();
+  EXPECT_NE(refused.error().message.find("k = 2.5 of limits.toml"), std::string::npos)
+      << refused.error().ToString();
+  configs.sequence.adaptive.interim_coverage_factor = 2.5;
+  EXPECT_TRUE(CheckBenchConfigs(configs).has_value())
+      << CheckBenchConfigs(configs).error().ToString();
+}
+
 }  // namespace
 }  // namespace hrgbench::bench

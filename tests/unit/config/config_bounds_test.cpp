@@ -85,6 +85,18 @@ TEST(ConfigBounds, AdaptiveStopIsReadAndItsMinimumRunsBounded) {
   auto not_bool = ParseSequenceConfig(two_runs + "\n[adaptive]\nstop_when_decided = 1\n", kFile);
   ASSERT_FALSE(not_bool);
   EXPECT_EQ(not_bool.error().key, "adaptive.stop_when_decided") << not_bool.error().ToString();
+  // The interim looks' coverage factor: absent unless written, and within [1, 6].
+  EXPECT_FALSE(on->adaptive.interim_coverage_factor.has_value());
+  auto interim =
+      ParseSequenceConfig(two_runs + "\n[adaptive]\ninterim_coverage_factor = 3\n", kFile);
+  ASSERT_TRUE(interim) << interim.error().ToString();
+  EXPECT_EQ(interim->adaptive.interim_coverage_factor, 3.0);
+  auto too_large =
+      ParseSequenceConfig(two_runs + "\n[adaptive]\ninterim_coverage_factor = 7\n", kFile);
+  ASSERT_FALSE(too_large);
+  EXPECT_EQ(too_large.error().key, "adaptive.interim_coverage_factor")
+      << too_large.error().ToString();
+  EXPECT_EQ(too_large.error().value, "7") << too_large.error().ToString();
 }
 
 TEST(ConfigBounds, NulInANameIsRefused) {
