@@ -66,8 +66,8 @@ double OverlappingAllanEdf(RateNoise noise, std::size_t samples, int m) {
     case RateNoise::kWhiteAngle:
       return (n + 1.0) * (n - 2.0 * mm) / (2.0 * (n - mm));
     case RateNoise::kFlickerAngle:
-      return std::exp(
-          std::sqrt(std::log((n - 1.0) / (2.0 * mm)) * std::log((2.0 * mm + 1.0) * (n - 1.0) / 4.0)));
+      return std::exp(std::sqrt(std::log((n - 1.0) / (2.0 * mm)) *
+                                std::log((2.0 * mm + 1.0) * (n - 1.0) / 4.0)));
     case RateNoise::kWhiteRate:
       return (3.0 * (n - 1.0) / (2.0 * mm) - 2.0 * (n - 2.0) / n) * 4.0 * mm * mm /
              (4.0 * mm * mm + 5.0);
@@ -82,9 +82,8 @@ double OverlappingAllanEdf(RateNoise noise, std::size_t samples, int m) {
 
 std::vector<int> OctaveFactors(std::size_t samples, std::size_t min_differences) {
   std::vector<int> factors;
-  for (std::size_t m = 1; 2 * m <= samples && samples - 2 * m + 1 >= std::max<std::size_t>(
-                                                                        min_differences, 1);
-       m *= 2)
+  for (std::size_t m = 1;
+       2 * m <= samples && samples - 2 * m + 1 >= std::max<std::size_t>(min_differences, 1); m *= 2)
     factors.push_back(static_cast<int>(m));
   return factors;
 }
@@ -113,9 +112,9 @@ std::vector<AllanPoint> OverlappingAllanDeviation(std::span<const double> rate, 
       const long double d = angle[j + 2 * step] - 2.0L * angle[j + step] + angle[j];
       sum += d * d;
     }
-    const double variance =
-        static_cast<double>(sum / (2.0L * static_cast<long double>(differences) *
-                                   static_cast<long double>(step) * static_cast<long double>(step)));
+    const double variance = static_cast<double>(
+        sum / (2.0L * static_cast<long double>(differences) * static_cast<long double>(step) *
+               static_cast<long double>(step)));
     AllanPoint point;
     point.m = factor;
     point.tau_s = factor * tau0_s;

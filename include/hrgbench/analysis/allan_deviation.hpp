@@ -28,19 +28,19 @@ namespace hrgbench::analysis {
 // The noise that dominates at the τ an interval is asked for (SP 1065 Table 5's five power laws,
 // named for a gyro: the rate is "frequency").
 enum class RateNoise {
-  kWhiteAngle,    // white phase: readout quantisation of the angle
-  kFlickerAngle,  // flicker phase
-  kWhiteRate,     // white frequency: angle random walk (N)
-  kFlickerRate,   // flicker frequency: bias instability (B)
+  kWhiteAngle,      // white phase: readout quantisation of the angle
+  kFlickerAngle,    // flicker phase
+  kWhiteRate,       // white frequency: angle random walk (N)
+  kFlickerRate,     // flicker frequency: bias instability (B)
   kRateRandomWalk,  // random-walk frequency: rate random walk (K)
 };
 
 struct AllanPoint {
-  int m = 0;             // averaging factor
-  double tau_s = 0.0;    // m · τ0
+  int m = 0;               // averaging factor
+  double tau_s = 0.0;      // m · τ0
   double deviation = 0.0;  // σ(τ), the samples' unit
-  double edf = 0.0;      // equivalent degrees of freedom of σ²(τ)
-  double lower = 0.0;    // the interval's bounds on σ(τ) at the confidence asked for
+  double edf = 0.0;        // equivalent degrees of freedom of σ²(τ)
+  double lower = 0.0;      // the interval's bounds on σ(τ) at the confidence asked for
   double upper = 0.0;
 };
 

@@ -134,6 +134,21 @@ void SessionEventPublisher::Attach(RunnerOptions& options) {
     }
     stream_.Publish(std::move(event));
   };
+  auto decided = options.on_decided;
+  options.on_decided = [this, decided](std::size_t unit, const EarlyEnd& end) {
+    if (decided) decided(unit, end);
+    nlohmann::json event = Event("decided");
+    event["unit"] = unit;
+    if (unit < units_.size()) {
+      event["position"] = units_[unit].value("position", "");
+      event["serial"] = units_[unit].value("serial", "");
+    }
+    event["after_run"] = end.after_run;
+    event["planned_runs"] = end.planned_runs;
+    event["why"] = end.why;
+    event["interim_coverage_factor"] = Number(end.interim_coverage_factor);
+    stream_.Publish(std::move(event));
+  };
 }
 
 void SessionEventPublisher::OnProgress(const Progress& p) {

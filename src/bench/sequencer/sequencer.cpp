@@ -281,6 +281,9 @@ void DecideEarly(SessionContext& ctx, int run_id) {
       continue;
     }
     lane.ended_early = EarlyEnd{run_id, planned, *why, interim.decision.coverage_factor};
+    if (ctx.options->on_decided)
+      ctx.options->on_decided(static_cast<std::size_t>(&lane - ctx.lanes.data()),
+                              *lane.ended_early);
     ctx.Log(lane, "decided after run " + std::to_string(run_id) + " of " + std::to_string(planned) +
                       " (" + *why + ", " + k_text + "): " + std::to_string(lane.remaining.size()) +
                       " planned run(s) not needed");

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_test_support.hpp"
@@ -70,6 +71,41 @@ TEST(BenchAdaptive, AGoodUnitEndsOnceEveryLimitIsProvenConforming) {
   auto session = session::ReadSession(run.dir);
   ASSERT_TRUE(session) << session.error().ToString();
   EXPECT_EQ(session->loaded_run_ids.size(), static_cast<std::size_t>(run.result.complete_runs));
+}
+
+TEST(BenchAdaptive, TheDecisionIsAnnouncedAsItIsTaken) {
+  std::unique_ptr<app::Station> station;
+  auto configs = OpenShippedStation("station-sim.toml", "sequence-production-adaptive.toml",
+                                    "limits-example.toml", {}, station);
+  ASSERT_TRUE(configs);
+  ConfirmEveryPrompt confirm;
+  bench::RunnerOptions options;
+  options.unit_serial = "TEST-DECIDED";
+  options.software_version = "test";
+  options.simulation = station->simulation();
+  options.prompts = &confirm;
+  std::vector<std::pair<std::size_t, bench::EarlyEnd>> decided;
+  int runs_when_decided = -1, runs_ended = 0;
+  options.on_run_end = [&](int, const bench::RunEnd&, std::uint64_t) { ++runs_ended; };
+  options.on_decided = [&](std::size_t unit, const bench::EarlyEnd& end) {
+    decided.emplace_back(unit, end);
+    runs_when_decided = runs_ended;
+  };
+  const std::filesystem::path dir = FreshDir("decided");
+  const RemovedAtEnd removes(dir);
+  const bench::SessionResult result =
+      bench::RunSession(*configs, station->hardware(), dir, options);
+  ASSERT_EQ(result.outcome, bench::OutcomeKind::kPass) << result.reason;
+  ASSERT_EQ(decided.size(), 1u);
+  EXPECT_EQ(decided[0].first, 0u);
+  EXPECT_EQ(decided[0].second.after_run, result.complete_runs);
+  EXPECT_EQ(decided[0].second.planned_runs, 12);
+  // Announced after the run that decided it, before the session closed; no run after it.
+  EXPECT_EQ(runs_when_decided, result.complete_runs);
+  EXPECT_EQ(runs_ended, result.complete_runs);
+  // The shipped adaptive sequence's 10 interim looks at the example limits' k = 2 (Python's
+  // NormalDist: inv_cdf(1 − (1 − cdf(2)) / 10)).
+  EXPECT_NEAR(decided[0].second.interim_coverage_factor, 2.8372759804564556, 1e-9);
 }
 
 TEST(BenchAdaptive, AUnitProvenOutOfALimitEndsEarlyAsAFailNamingIt) {

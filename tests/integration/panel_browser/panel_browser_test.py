@@ -931,8 +931,45 @@ def WaitReportJobs(root: Path, limit_s: float = kWaitS) -> None:
             time.sleep(0.1)
 
 
+def CaseAdaptive(args, tmp: Path, out: Path) -> None:
+    """Issue 27 §1 on the panel: a sequence with [adaptive] ends once the unit is decided; the plan
+    says the runs left are not needed and why, as the record does."""
+    offers = kOffers.replace('"sequence-endless.toml"]',
+                             '"sequence-endless.toml", "sequence-adaptive.toml"]')
+    station = WriteConfigs(args.source_dir, tmp / "configs", offers=offers)
+    (tmp / "configs" / "sequence-adaptive.toml").write_text(
+        SHORT.replace("FREE_RUN", "4.0").replace("panel-short", "panel-adaptive")
+        .replace("[defaults]", "[adaptive]\nstop_when_decided = true\nmin_runs = 2\n[defaults]"))
+    sessions = tmp / "sessions"
+    panel = Panel(args.bin_dir, station, sessions, tmp / "serve.log")
+    browser = Browser(out)
+    try:
+        browser.open(panel.base)
+        browser.start("SN-ADAPT-1", "panel-adaptive")
+        kind = WaitOutcome(browser)
+        name = browser.text("session-name").split(" ")[0]
+        record = SessionJson(sessions, name)
+        early = record["outcome"].get("ended_early")
+        Check(early is not None and early.get("after_run") == 2 and early.get("planned_runs") == 3,
+              f"the record's ended_early: {early} (outcome {kind}: {record['outcome']['reason']})")
+        status = {run: browser.js("return document.querySelector('#plan tr[data-step=\"run "
+                                  + str(run) + "\"]').dataset.status") for run in (1, 2, 3)}
+        Check(status == {1: "complete", 2: "complete", 3: "not needed"},
+              f"the plan's runs: {status}")
+        note = browser.js("return document.querySelector('#plan tr[data-step=\"run 3\"]')"
+                          ".cells[2].textContent")
+        Check(f"decided after run 2 of 3: {early['why']}" in note, f"run 3 says {note!r}")
+        browser.shot("adaptive")
+        errors = browser.console_errors()
+        Check(not errors, f"console errors: {errors}")
+    finally:
+        browser.quit()
+        panel.stop()
+
+
 CASES = {"flow": CaseFlow, "abort": CaseAbort, "two-browsers": CaseTwoBrowsers,
-         "hostile": CaseHostile, "resume": CaseResume, "traps": CaseTraps, "fixture": CaseFixture}
+         "hostile": CaseHostile, "resume": CaseResume, "traps": CaseTraps, "fixture": CaseFixture,
+         "adaptive": CaseAdaptive}
 
 
 def main() -> int:

@@ -112,8 +112,8 @@ TEST(AllanDeviation, TheIntervalOfARateRandomWalkHoldsTheTruthAsOftenAsItClaims)
     for (double& v : y) v = walk += gauss(rng);  // q = 1
     return y;
   };
-  const std::vector<double> held = Coverage(
-      kRecords, 4096, m, RateNoise::kRateRandomWalk, make, [](int mm) {
+  const std::vector<double> held =
+      Coverage(kRecords, 4096, m, RateNoise::kRateRandomWalk, make, [](int mm) {
         const double k = mm;
         return std::sqrt(k / 3.0 + 1.0 / (6.0 * k));
       });
@@ -121,9 +121,9 @@ TEST(AllanDeviation, TheIntervalOfARateRandomWalkHoldsTheTruthAsOftenAsItClaims)
     EXPECT_NEAR(held[i], kConfidence, kCoverageTolerance) << "m = " << m[i];
   // The wrong noise model claims a narrower interval at long τ than the walk allows: its coverage
   // falls short (the edf is the interval's assumption, not a detail).
-  const std::vector<double> white_assumed = Coverage(
-      kRecords, 4096, {64}, RateNoise::kWhiteRate, make,
-      [](int mm) { return std::sqrt(mm / 3.0 + 1.0 / (6.0 * mm)); });
+  const std::vector<double> white_assumed =
+      Coverage(kRecords, 4096, {64}, RateNoise::kWhiteRate, make,
+               [](int mm) { return std::sqrt(mm / 3.0 + 1.0 / (6.0 * mm)); });
   EXPECT_LT(white_assumed[0], kConfidence - kCoverageTolerance);
 }
 

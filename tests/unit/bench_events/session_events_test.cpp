@@ -313,5 +313,23 @@ TEST(SessionEvents, APromptIsAnnouncedWithItsPictureThenItsAnswer) {
   EXPECT_EQ(answered[0]["how"], "panel");
 }
 
+TEST(SessionEvents, AUnitDecidedEarlyIsAnnouncedWithWhyAndItsInterimK) {
+  Capture capture;
+  SessionEventPublisher publisher(capture.stream());
+  RunnerOptions runner;
+  publisher.AttachFixture(runner, nlohmann::json::array({{{"position", "A"}, {"serial", "SN-A"}},
+                                                         {{"position", "B"}, {"serial", "SN-B"}}}));
+  runner.on_decided(1, EarlyEnd{2, 12, "every limit decided", 2.837});
+  const auto decided = OfType(capture.Events(), "decided");
+  ASSERT_EQ(decided.size(), 1u);  // once, though a fixture's publisher wraps the unit callbacks
+  EXPECT_EQ(decided[0]["unit"], 1);
+  EXPECT_EQ(decided[0]["position"], "B");
+  EXPECT_EQ(decided[0]["serial"], "SN-B");
+  EXPECT_EQ(decided[0]["after_run"], 2);
+  EXPECT_EQ(decided[0]["planned_runs"], 12);
+  EXPECT_EQ(decided[0]["why"], "every limit decided");
+  EXPECT_EQ(decided[0]["interim_coverage_factor"], 2.837);
+}
+
 }  // namespace
 }  // namespace hrgbench::bench

@@ -129,6 +129,9 @@ struct RunnerOptions {
   PromptAnswers* prompts = nullptr;
   // A prompt shown (reply null) and answered (reply set), for the event stream. May be empty.
   std::function<void(const PromptRequest&, const PromptReply* reply)> on_prompt;
+  // Unit `unit` (the index into the session's units; 0 for RunSession) decided at an interim look
+  // of the sequence's [adaptive]: it takes no further run. May be empty.
+  std::function<void(std::size_t unit, const EarlyEnd& decided)> on_decided;
 };
 
 struct SessionResult {

@@ -203,7 +203,7 @@ const Station = (() => {
   }
   function unitsPhase(e) {
     for (const row of byId("units").tBodies[0].rows) {
-      if (row.dataset.ended === "true") continue;
+      if (row.dataset.ended === "true" || row.dataset.decided === "true") continue;
       row.cells[2].textContent = e.run > 0 ? "run " + e.run_id + ": " + e.phase : e.phase;
       row.dataset.state = e.phase;
     }
@@ -282,6 +282,28 @@ const Station = (() => {
         setStep("fit " + e.run + " " + e.name, e.status, general(e.value) + " (max " +
                 general(e.max) + ")");
         break;
+      case "decided": {
+        // The sequence's [adaptive]: this unit's verdict can no longer change; it takes no
+        // further run. The runs after it are not needed once no unit on the table needs them.
+        const note = "decided after run " + e.after_run + " of " + e.planned_runs + ": " + e.why;
+        if (session && session.fixture) {
+          const row = unitRow(e.position);
+          if (row) {
+            row.dataset.decided = "true";
+            row.cells[2].textContent = note;
+          }
+        }
+        const units = session && session.fixture ? byId("units").tBodies[0].rows : [];
+        const waiting = Array.from(units).some((r) => r.dataset.decided !== "true" &&
+                                                      r.dataset.ended !== "true");
+        if (!waiting) {
+          for (let run = e.after_run + 1; run <= e.planned_runs; ++run) {
+            const row = byId("plan").querySelector('tr[data-step="run ' + run + '"]');
+            if (row && row.dataset.status === "planned") setStep("run " + run, "not needed", note);
+          }
+        }
+        break;
+      }
       case "unit_outcome": {
         const row = unitRow(e.position);
         if (!row) break;
