@@ -27,6 +27,9 @@ struct ThreadRecord {
   bool woken_by_output = false;
   std::int64_t woken_at_ns = 0;
   pid_t tid = 0;  // the kernel's id of the thread, to ask whether it is blocked (see MayPark)
+  // Inside Wait: once woken (kRunning) it is only re-taking the clock's lock to return, which
+  // its kernel state shows as 'S' while another thread holds it: never parked then.
+  bool in_wait = false;
 };
 
 // True unless the kernel says the thread is runnable ('R': running, or waiting for a CPU on a
@@ -49,9 +52,20 @@ bool MayPark(pid_t tid) {
 struct VirtualTimeClock::Core {
   explicit Core(const VirtualTimeClockOptions& o) : options(o), now_ns(o.start_ns) {}
 
+  // Locks `mutex` for a thread coming to the clock. While it waits for the lock its kernel state
+  // is 'S' (a futex), which the park check (run with the lock held) would read as "blocked
+  // elsewhere" and park a thread that is only queueing for the clock itself: so it is counted as
+  // entering, and no thread is parked while one is (the check looks again a park period later).
+  std::unique_lock<std::mutex> Enter() {
+    entering.fetch_add(1, std::memory_order_acq_rel);
+    std::unique_lock lock(mutex);
+    entering.fetch_sub(1, std::memory_order_acq_rel);
+    return lock;
+  }
+
   void Detach(std::thread::id id) {
     {
-      std::lock_guard lock(mutex);
+      const auto lock = Enter();
       threads.erase(id);
     }
     cv.notify_all();  // the remaining threads may all be waiting now
@@ -87,6 +101,7 @@ struct VirtualTimeClock::Core {
 
   const VirtualTimeClockOptions options;
   std::mutex mutex;
+  std::atomic<int> entering{0};  // threads waiting for `mutex` in Enter()
   std::condition_variable cv;
   std::atomic<std::int64_t> now_ns;
   std::atomic<std::uint64_t> epoch{0};
@@ -207,7 +222,7 @@ void VirtualTimeClock::NotifyOutput() {
   Core& core = *core_;
   bool woke = false;
   {
-    std::lock_guard lock(core.mutex);
+    const auto lock = core.Enter();
     const std::uint64_t epoch = core.epoch.fetch_add(1, std::memory_order_acq_rel) + 1;
     ++core.statistics.outputs;
     woke = core.WakeDue(epoch);
@@ -219,7 +234,7 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
                             std::uint64_t seen_epoch) {
   Core& core = *core_;
   const std::thread::id id = std::this_thread::get_id();
-  std::unique_lock lock(core.mutex);
+  std::unique_lock lock = core.Enter();
   auto [it, inserted] = core.threads.try_emplace(id);
   if (inserted) {
     t_attachments.cores.push_back(core_);
@@ -234,6 +249,7 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
     return;
   }
   self.state = ThreadRecord::State::kWaiting;
+  self.in_wait = true;
   self.deadline_ns = deadline_ns;
   self.wake_on_output = wake_on_output;
   self.seen_epoch = seen_epoch;
@@ -254,40 +270,42 @@ void VirtualTimeClock::Wait(std::int64_t deadline_ns, bool wake_on_output,
     if (core.cv.wait_until(lock, park_at) == std::cv_status::timeout) {
       const auto wall_now = WallClock::now();
       for (auto& [other_id, record] : core.threads) {
-        if (record.state != ThreadRecord::State::kRunning ||
+        if (record.state != ThreadRecord::State::kRunning || record.in_wait ||
             wall_now < record.running_since + park_after)
           continue;
-        if (MayPark(record.tid)) {
+        if (core.entering.load(std::memory_order_acquire) == 0 && MayPark(record.tid)) {
           record.state = ThreadRecord::State::kParked;
           ++core.statistics.parks;
         } else {
-          // Working, or waiting for a CPU: look again after another park_after_wall_ns.
+          // Working, waiting for a CPU, or (any thread) queueing for this clock's lock: look
+          // again after another park_after_wall_ns.
           record.running_since = wall_now;
           ++core.statistics.park_deferrals;
         }
       }
     }
   }
+  self.in_wait = false;
   self.running_since = WallClock::now();
 }
 
 void VirtualTimeClock::AddParticipant(sim::SimulationParticipant* participant) {
-  std::lock_guard lock(core_->mutex);
+  const auto lock = core_->Enter();
   core_->participants.push_back(participant);
 }
 
 void VirtualTimeClock::RemoveParticipant(sim::SimulationParticipant* participant) {
-  std::lock_guard lock(core_->mutex);
+  const auto lock = core_->Enter();
   std::erase(core_->participants, participant);
 }
 
 void VirtualTimeClock::WithParticipantsLocked(const std::function<void()>& f) {
-  std::lock_guard lock(core_->mutex);
+  const auto lock = core_->Enter();
   f();
 }
 
 void VirtualTimeClock::AttachCurrentThread() {
-  std::lock_guard lock(core_->mutex);
+  const auto lock = core_->Enter();
   auto [it, inserted] = core_->threads.try_emplace(std::this_thread::get_id());
   if (inserted) {
     t_attachments.cores.push_back(core_);

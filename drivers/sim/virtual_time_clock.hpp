@@ -25,8 +25,10 @@
 //     on the clock it is PARKED (counted in Statistics().parks) and time goes on without it until
 //     its next wait, but only if the kernel says it is asleep: a thread that is runnable (working,
 //     or starved of a CPU on a loaded machine) or in uninterruptible I/O (fsync) is not parked
-//     (Statistics().park_deferrals) and time keeps waiting for it. So a loaded machine makes a
-//     simulation slower, never different; parks happen around a join or a wait off the clock.
+//     (Statistics().park_deferrals) and time keeps waiting for it. Nor is a thread queueing for
+//     this clock's own lock (asleep on its futex, it looks blocked): one woken inside a wait, or
+//     any thread while another is entering the clock. So a loaded machine makes a simulation
+//     slower, never different; parks happen around a join or a wait off the clock.
 //   - Pacing (time_scale > 0): before each advance, wait until the wall clock catches up:
 //     simulated elapsed = time_scale × wall elapsed, counted from the first advance. A simulation
 //     that falls behind (a loaded machine, threads working off the clock) makes up at most 20 ms
