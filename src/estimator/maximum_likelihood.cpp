@@ -742,9 +742,14 @@ struct FitInformation {
 };
 
 // The recorded Ω of run r against what the data alone say (RunFitDiagnostics::omega_offset_*).
+// `noise_correlation` (≥ 1): how much less the data know than the white-noise information says,
+// the run's integrated noise correlation in samples when the noise is coloured (an Ω offset is a
+// slow drift of the pattern: its information is the noise spectrum's at low frequency, the white
+// level times that factor).
 void DiagnoseOmegaOffset(std::size_t r, const internal::RunNuisance& n,
                          const internal::NuisanceModel& model, const internal::NormalEquations& ne,
-                         const FitInformation& info, RunFitDiagnostics* d) {
+                         const FitInformation& info, double noise_correlation,
+                         RunFitDiagnostics* d) {
   // The fitted offset is a compromise between the prior (variance v_p = σ̂²/w) and the data
   // (variance v_d); the data's own offset is m = offset·(1/v_p + 1/v_d)·v_d, and under "the
   // recorded Ω is right within its std" m ~ N(0, v_p + v_d). v_d comes from the posterior variance
@@ -766,8 +771,11 @@ void DiagnoseOmegaOffset(std::size_t r, const internal::RunNuisance& n,
     if (information_data > 0.0) v_d = 1.0 / information_data;
   }
   if (std::isfinite(v_d)) {
+    // The fit weighed prior and data as if the noise were white: that is how its offset is
+    // undone into the data's own; the data's own then scatters as coloured noise makes it.
     d->omega_offset_data_rad_s = d->omega_offset_rad_s * (1.0 / v_p + 1.0 / v_d) * v_d;
-    d->omega_offset_in_std = d->omega_offset_data_rad_s / std::sqrt(v_p + v_d);
+    d->omega_offset_in_std =
+        d->omega_offset_data_rad_s / std::sqrt(v_p + std::max(1.0, noise_correlation) * v_d);
   } else {
     d->omega_offset_in_std = d->omega_offset_rad_s / std::sqrt(v_p);
   }
@@ -812,7 +820,19 @@ RunFitDiagnostics DiagnoseRun(std::size_t r, const RunData& run, const RunEviden
   if (model.phase_degree >= 1) d.common_frequency_rad_s = n[internal::NuisanceModel::PhaseIndex(1)];
   if (model.phase_degree >= 2)
     d.common_frequency_drift_rad_s2 = 2.0 * n[internal::NuisanceModel::PhaseIndex(2)];
-  if (model.OmegaFree(r)) DiagnoseOmegaOffset(r, n, model, state.ne, info, &d);
+  // Coloured noise (declared, or a sandwich asked for): the Ω offset's data std is the white one
+  // times √(integrated correlation), as the parameters' std are the sandwich's. Without it the
+  // carrier station's output filter made the check's statistic about 1.6 times too wide (RMS
+  // 1.58 over good units' runs) and flagged good carrier units' fits as outside the model
+  // (docs/measurements/2026-11-27-adaptive-sessions.md).
+  const bool coloured_covariance =
+      options.covariance == MlOptions::Covariance::kSandwich ||
+      (options.covariance == MlOptions::Covariance::kAuto && !options.noise_shape.IsWhite());
+  const double noise_correlation =
+      coloured_covariance && std::isfinite(stats.integrated_correlation_samples)
+          ? stats.integrated_correlation_samples
+          : 1.0;
+  if (model.OmegaFree(r)) DiagnoseOmegaOffset(r, n, model, state.ne, info, noise_correlation, &d);
   return d;
 }
 
