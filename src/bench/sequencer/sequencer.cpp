@@ -298,13 +298,15 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   SessionResult& result = lane.result;
   result.dir = lane.dir;
   SessionOutcome outcome;
-  LaneJudgement judged = lane.decided
+  const bool decided_at_interim_look = lane.decided != nullptr;
+  LaneJudgement judged = decided_at_interim_look
                              ? std::move(*lane.decided)
                              : JudgeLane(lane, lane.ended_early.has_value(), ctx.configs->limits);
   lane.decided.reset();
   // A unit decided at an interim look closes with the verdict of the file's k on that estimate
-  // (the interim k is larger: what it proved, the file's k proves too).
-  if (judged.record && judged.judgement && lane.ended_early) {
+  // (the interim k is larger: what it proved, the file's k proves too); any other judgement was
+  // already the file's.
+  if (decided_at_interim_look && judged.record && judged.judgement) {
     judged.judgement =
         JudgeRecordedSession(judged.estimate.method.summary, *judged.record, ctx.configs->limits);
   }
