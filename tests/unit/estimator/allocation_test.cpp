@@ -9,6 +9,7 @@
 #include "allocation_counter.hpp"  // the counting operator new (this binary only)
 #include "estimator/output_error_problem.hpp"
 #include "hrgbench/estimator/simulation.hpp"
+#include "hrgbench/estimator/whole_angle_control.hpp"
 
 namespace hrgbench::estimator {
 namespace {
@@ -57,6 +58,22 @@ TEST(AllocationTest, PassesOverTheDataAllocateIndependentlyOfTheSampleCount) {
   const long long_count = CountPass(long_runs);
   EXPECT_EQ(short_count, long_count);
   EXPECT_GT(short_count, 0);  // the counter works: the passes do allocate their result buffers
+}
+
+// The electronics' control step (u = V(y, p)) runs at the sample rate inside the gyro: it must not
+// allocate at all.
+TEST(AllocationTest, TheWholeAngleControlStepDoesNotAllocate) {
+  CompensationSet p = IdentityCompensation(0.3, -1e-3);
+  p.xi << 0.01, -0.002, 0.003, 0.004;
+  WholeAngleControl control(p, {}, 1e-3);
+  const long before = hrgbench::testing::process_allocation_count.load();
+  double angle = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    const double theta = 1e-3 * k;
+    angle = control.Step(Observation(std::cos(theta), 0.0, std::sin(theta), 0.0)).angle_rad;
+  }
+  EXPECT_EQ(hrgbench::testing::process_allocation_count.load() - before, 0);
+  EXPECT_NEAR(angle, 0.999, 0.02);  // it did run: the readout followed the wave
 }
 
 }  // namespace
