@@ -36,7 +36,8 @@ WholeAngleSample WholeAngleControl::Step(const Observation& y) noexcept {
     // the turning wave back by g·h/2 of its turn (operating-mode.md "The sampled loop's drag").
     const double turn_rate = 0.5 * (two_theta_ - previous) / h_ / (1.0 - 0.5 * held_effort_ * h_);
     out.rate_rad_s =
-        -(turn_rate - CompensatedDrift(p_, mid_angle)) / (2.0 * p_.delta[kScaleFactor]);
+        -(turn_rate - CompensatedDrift(p_, mid_angle)) / (2.0 * p_.delta[kScaleFactor]) -
+        p_.rate_bias_rad_s;
   }
   started_ = true;
 

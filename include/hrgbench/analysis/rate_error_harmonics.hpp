@@ -6,14 +6,21 @@
 //
 //   Ω̂ − Ω = b + Σ_{n=1}^{N} (c_n·cos 2nθ + s_n·sin 2nθ) + noise.
 //
-// The samples are first averaged in consecutive windows (the rate of a window is its angle's
-// increment over its length, so the angle's white readout noise falls as 1/window), then fitted by
-// least squares on the windows' mean angles. The std are the fit's with the residuals' own scatter,
-// taking the windows as independent: two windows that share an end share its angle noise, which
-// makes neighbouring windows' errors anti-correlated; the stated std then errs on the large side
-// for the bias and the low harmonics. The angle should cover whole turns of 2θ, or the harmonics
-// and the bias are not orthogonal (the fit still separates them; their std say how well). Pure;
-// allocates its result.
+// How it is fitted depends on the noise that dominates, which the caller names (as for the Allan
+// deviation):
+//   - white angle noise (the pick-off's noise read through the angle: each rate sample is a
+//     difference of two noisy angles, so neighbouring rates are anti-correlated): the fit is made
+//     on the integrated error, the gyro's angle against the table's, E_k = h·Σ_{i≤k}(Ω̂_i − Ω),
+//     whose noise is the angle's own and white, with the regressors integrated alike (h·k for the
+//     bias, h·Σ cos 2nθ_i, h·Σ sin 2nθ_i) and a free constant;
+//   - white rate noise (angle random walk): the fit is made on the mean rate of each window.
+// Either way the samples are averaged in windows of `window` first (the regressors vary slowly over
+// a window) and the std are least squares' with the residuals' own scatter, windows taken as
+// independent, which holds for the named noise. Under the other noise they are wrong: fitted as
+// white angle, a rate random walk's std are understated; fitted as white rate, an angle noise's are
+// overstated by up to √windows. The angle should cover whole turns of 2θ, or the harmonics and the
+// bias are not orthogonal (the fit still separates them; their std say how well).
+// Pure; allocates its result.
 
 #include <cstddef>
 #include <span>
@@ -21,6 +28,11 @@
 #include <vector>
 
 namespace hrgbench::analysis {
+
+enum class RateErrorNoise {
+  kWhiteAngle,  // the pick-off's noise through the angle readout (the simulated bench's case)
+  kWhiteRate,   // angle random walk
+};
 
 struct RateErrorHarmonics {
   bool ok = false;
@@ -32,15 +44,19 @@ struct RateErrorHarmonics {
   // √(Σ (c_n² + s_n²)/2): the RMS over a turn of the angle-dependent part (the paper's criterion's
   // norm, taken over the angle).
   double angle_dependent_rms_rad_s = 0.0;
-  double residual_rms_rad_s = 0.0;  // what the harmonics leave, per window
-  double angle_span_rad = 0.0;      // how far 2θ turned over the windows, rad
+  // What the fit leaves per window: rad (the integrated error) for white angle noise, rad/s (the
+  // window's rate) for white rate noise.
+  double residual_rms = 0.0;
+  double angle_span_rad = 0.0;  // how far 2θ turned over the windows, rad
   std::size_t windows = 0;
 };
 
-// `angle_rad` θ̂ (electrical, unwrapped) and `rate_error_rad_s` Ω̂ − Ω per sample, equal lengths;
-// `window` samples per window (≥ 1); `harmonics` N in 1 … 8. Needs at least 2N + 3 windows.
+// `angle_rad` θ̂ (electrical, unwrapped) and `rate_error_rad_s` Ω̂ − Ω per sample, equal lengths,
+// the rate of sample k being over the period that ends at it; `sample_period_s` h > 0; `window`
+// samples per window (≥ 1); `harmonics` N in 1 … 8. Needs at least 2N + 4 windows.
 RateErrorHarmonics FitRateErrorHarmonics(std::span<const double> angle_rad,
                                          std::span<const double> rate_error_rad_s,
-                                         std::size_t window, int harmonics);
+                                         double sample_period_s, std::size_t window, int harmonics,
+                                         RateErrorNoise noise = RateErrorNoise::kWhiteAngle);
 
 }  // namespace hrgbench::analysis

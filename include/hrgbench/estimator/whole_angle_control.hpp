@@ -18,11 +18,11 @@
 //
 // The wave angle is free (whole-angle mode): under a rate Ω it turns at θ' = −2δ2·Ω + d(θ), the
 // drift d(θ) = δ4·cos2θ − δ3·sin2θ of the damping anisotropy (with K at zero). The rate output of
-// the period ending at sample k is Ω̂ = −((θ̂_k − θ̂_{k−1})/h − d̂(θ̂_mid))/(2·δ̂2), θ̂ unwrapped, with
-// p's δ̂2, δ̂3, δ̂4; θ̂ is the electrical angle (the pattern on the shell turns at half of it, n = 2).
-// The turn is first divided by (1 − g·h/2): the energy loop's force, held over a period along the
-// wave as it was at the period's start, drags the turning wave back by that much (0.5 ppm of the
-// rate at g = 1e-3 1/s, h = 1 ms; operating-mode.md "The sampled loop's drag").
+// the period ending at sample k is Ω̂ = −((θ̂_k − θ̂_{k−1})/h − d̂(θ̂_mid))/(2·δ̂2) − b̂, θ̂ unwrapped,
+// with p's δ̂2, δ̂3, δ̂4 and bias b̂; θ̂ is the electrical angle (the pattern on the shell turns at half
+// of it, n = 2). The turn is first divided by (1 − g·h/2): the energy loop's force, held over a
+// period along the wave as it was at the period's start, drags the turning wave back by that much
+// (0.5 ppm of the rate at g = 1e-3 1/s, h = 1 ms; operating-mode.md "The sampled loop's drag").
 //
 // Real-time: no allocation, no exception; Step is O(1).
 
