@@ -119,27 +119,64 @@ bool RefineCompensation(const CompensationSet& p, std::span<const VerificationHo
     return false;
   }
   CompensationRefinement r;
-  r.refined = p;
-  // c0 = −Δδ4/(2δ2), s0 = Δδ3/(2δ2), b0 = the bias p leaves (Δ = operating mode − p).
-  r.refined.delta[kDampingAnisotropySin] = p.delta[kDampingAnisotropySin] - two_gain * c[0];
-  r.refined.delta[kDampingAnisotropyCos] = p.delta[kDampingAnisotropyCos] + two_gain * s[0];
-  r.refined.rate_bias_rad_s = p.rate_bias_rad_s + b[0];
-  // The refined values come from the table's data alone: their errors are the intercepts', and
-  // independent of the free runs' (the rows and columns of the free runs' δ3, δ4 are replaced).
-  for (const int i : {kDampingAnisotropyCos, kDampingAnisotropySin, kCompensationBias}) {
-    r.refined.covariance.row(i).setZero();
-    r.refined.covariance.col(i).setZero();
-    r.refined.estimated[static_cast<std::size_t>(i)] = true;
-  }
-  r.refined.covariance(kDampingAnisotropySin, kDampingAnisotropySin) =
-      two_gain * two_gain * c_cov(0, 0);
-  r.refined.covariance(kDampingAnisotropyCos, kDampingAnisotropyCos) =
-      two_gain * two_gain * s_cov(0, 0);
-  r.refined.covariance(kCompensationBias, kCompensationBias) = b_cov(0, 0);
   // Slopes: c1 = −2Δξ1, s1 = −2Δξ4, b1 = δ2/δ̂2 − 1.
   r.slope_check << -0.5 * c[1], -0.5 * s[1], b[1];
   r.slope_check_std << 0.5 * std::sqrt(c_cov(1, 1)), 0.5 * std::sqrt(s_cov(1, 1)),
       std::sqrt(b_cov(1, 1));
+
+  // The slopes as measurements z = H·p_true + noise of ξ1, ξ4 and δ2, combined with p by the linear
+  // (Kalman) update: p' = p + K·(z − H·p), Σ' = Σ − K·H·Σ, K = Σ·Hᵀ·(H·Σ·Hᵀ + R)⁻¹. A component p
+  // holds exactly (zero variance) is not moved.
+  const double gain = p.delta[kScaleFactor];
+  Eigen::Matrix<double, 3, kCompensationSize> h =
+      Eigen::Matrix<double, 3, kCompensationSize>::Zero();
+  h(0, kCompensationXi + kGainMismatch) = 1.0;
+  h(1, kCompensationXi + kPickoffAngle) = 1.0;
+  h(2, kScaleFactor) = 1.0;
+  const Eigen::Vector3d innovation(r.slope_check[0], r.slope_check[1], gain * r.slope_check[2]);
+  const Eigen::Vector3d noise_std(r.slope_check_std[0], r.slope_check_std[1],
+                                  std::abs(gain) * r.slope_check_std[2]);
+  const Eigen::Matrix3d innovation_cov =
+      h * p.covariance * h.transpose() + Eigen::Matrix3d(noise_std.cwiseAbs2().asDiagonal());
+  const Eigen::Matrix<double, kCompensationSize, 3> k =
+      p.covariance * h.transpose() * innovation_cov.inverse();
+  CompensationVector v = p.AsVector() + k * innovation;
+  CompensationCovariance cov = p.covariance - k * h * p.covariance;
+
+  // c0 = −Δδ4/(2δ2), s0 = Δδ3/(2δ2), b0 = the bias p leaves (Δ = operating mode − p): the operating
+  // mode's drift and bias from the table's data alone, their errors the intercepts' (the free runs'
+  // δ3, δ4 rows replaced). Each intercept is correlated with its own slope (not for holds symmetric
+  // in Ω), hence with what that slope moved: cov(δ4', p'_i) = −2δ2·K_i1·cov(c0, −c1/2), and so on.
+  v[kDampingAnisotropySin] = p.delta[kDampingAnisotropySin] - two_gain * c[0];
+  v[kDampingAnisotropyCos] = p.delta[kDampingAnisotropyCos] + two_gain * s[0];
+  v[kCompensationBias] = p.rate_bias_rad_s + b[0];
+  for (const int i : {kDampingAnisotropyCos, kDampingAnisotropySin, kCompensationBias}) {
+    cov.row(i).setZero();
+    cov.col(i).setZero();
+  }
+  cov(kDampingAnisotropySin, kDampingAnisotropySin) = two_gain * two_gain * c_cov(0, 0);
+  cov(kDampingAnisotropyCos, kDampingAnisotropyCos) = two_gain * two_gain * s_cov(0, 0);
+  cov(kCompensationBias, kCompensationBias) = b_cov(0, 0);
+  const CompensationVector with_delta4 = -two_gain * k.col(0) * (-0.5 * c_cov(0, 1));
+  const CompensationVector with_delta3 = two_gain * k.col(1) * (-0.5 * s_cov(0, 1));
+  const CompensationVector with_bias = k.col(2) * (gain * b_cov(0, 1));
+  for (int i = 0; i < kCompensationSize; ++i) {
+    if (i == kDampingAnisotropyCos || i == kDampingAnisotropySin || i == kCompensationBias) {
+      continue;
+    }
+    cov(i, kDampingAnisotropySin) = cov(kDampingAnisotropySin, i) = with_delta4[i];
+    cov(i, kDampingAnisotropyCos) = cov(kDampingAnisotropyCos, i) = with_delta3[i];
+    cov(i, kCompensationBias) = cov(kCompensationBias, i) = with_bias[i];
+  }
+
+  r.refined = p;
+  r.refined.delta = v.head<6>();
+  r.refined.xi = v.segment<4>(kCompensationXi);
+  r.refined.rate_bias_rad_s = v[kCompensationBias];
+  r.refined.covariance = 0.5 * (cov + cov.transpose());
+  for (const int i : {kDampingAnisotropyCos, kDampingAnisotropySin, kCompensationBias}) {
+    r.refined.estimated[static_cast<std::size_t>(i)] = true;
+  }
   if (!r.refined.AsVector().allFinite() || !r.refined.covariance.allFinite()) return false;
   *out = r;
   return true;

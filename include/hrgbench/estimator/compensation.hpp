@@ -86,10 +86,13 @@ struct VerificationHold {
 // What the holds say, fitted against Ω by weighted least squares (operating-mode.md "What free runs
 // cannot see"): each of c, s and the bias as an intercept (what does not scale with Ω: drift and
 // bias) plus a slope (what does: −2Δξ1, −2Δξ4 and the scale factor's error δ2/δ̂2 − 1).
+// The intercepts replace p's δ̂3, δ̂4 and b̂ (the operating mode's drift and bias, which free runs
+// cannot see); the slopes measure ξ1, ξ4 and δ2 again, independently of the free runs, and are
+// combined with p's by a linear update (p's correlated entries follow), so the refined p uses both.
 struct CompensationRefinement {
-  CompensationSet refined;  // p with δ̂3, δ̂4 and b̂ from the intercepts, their covariance
-  // The slopes, a check of p's ξ̂1, ξ̂4 and δ̂2 against the table (not applied: free runs determine
-  // them far better): Δξ1, Δξ4 and δ2/δ̂2 − 1 with their std.
+  CompensationSet refined;
+  // The slopes as measurements of p's errors: Δξ1, Δξ4 and δ2/δ̂2 − 1, with their std (a check of
+  // the free runs against the table: each within a few std of zero).
   Eigen::Vector3d slope_check = Eigen::Vector3d::Zero();
   Eigen::Vector3d slope_check_std = Eigen::Vector3d::Zero();
 };

@@ -121,8 +121,24 @@ TEST(CompensationTest, RefinesTheDriftAndBiasFromHoldsAtTwoRatesAndChecksTheSlop
   EXPECT_NEAR(r.refined.covariance(10, 10), 4e-18 * var_intercept, 1e-26);
   EXPECT_EQ(r.refined.covariance(2, 6), 0.0);  // the table's data, not the free runs'
   EXPECT_TRUE(r.refined.estimated[10]);
-  EXPECT_EQ(r.refined.xi, p.xi);  // ξ and δ2 are checked, not changed
+  EXPECT_EQ(r.refined.xi, p.xi);  // ξ and δ2 held exactly by p (zero variance): not moved
   EXPECT_EQ(r.refined.delta[1], p.delta[1]);
+
+  // With ξ1 known as well by p as by the slope, the two are averaged and the variance halved; an
+  // entry correlated with ξ1 follows (δ1 here, with a correlation of 0.5).
+  CompensationSet q = p;
+  const double slope_std = 0.5 * std::sqrt(1e-16 * 1.0 / (3.0 * 1.18 - 1.0) * 3.0);
+  // (the slope's variance: σ²·n/(n·ΣΩ² − (ΣΩ)²) for c, halved for Δξ1 = −c1/2)
+  q.covariance(6, 6) = slope_std * slope_std;
+  q.covariance(0, 0) = 4.0 * slope_std * slope_std;
+  q.covariance(0, 6) = q.covariance(6, 0) = 0.5 * 2.0 * slope_std * slope_std;
+  ASSERT_TRUE(RefineCompensation(q, holds, &r));
+  EXPECT_NEAR(r.slope_check_std[0], slope_std, 1e-6 * slope_std);
+  EXPECT_NEAR(r.refined.xi[0], q.xi[0] + 0.5 * d_xi1, 1e-6 * d_xi1);
+  EXPECT_NEAR(r.refined.covariance(6, 6), 0.5 * slope_std * slope_std,
+              1e-6 * slope_std * slope_std);
+  // δ1 moves by cov(δ1, ξ1)/(var(ξ1) + var(slope))·Δξ1 = 0.5·Δξ1.
+  EXPECT_NEAR(r.refined.delta[0], q.delta[0] + 0.5 * d_xi1, 1e-6 * d_xi1);
 
   // One rate cannot separate what scales with Ω from what does not; a zero std is not a claim.
   EXPECT_FALSE(RefineCompensation(p, std::span(holds).first(1), &r));

@@ -298,8 +298,8 @@ ControlledResonatorTruth DrawUnit(std::mt19937_64& draw, std::uint64_t seed) {
 // A verification of eight turns at each of ±0.3 rad/s, with the pick-off's noise, read with p
 // (bias and harmonics of the integrated error), refines p's drift and bias; checked noise-free at
 // ±0.3 rad/s the bias falls at least 4× further on every unit, the angle-dependent RMS on every
-// unit and 4× over the units (what is left is mostly the free runs' ξ̂ error, 2Ω·Δξ, which the
-// table's holds do not correct), and at 0.5 rad/s, a rate
+// unit and 4× over the units (13× measured: what is left is mostly ξ̂'s error, 2Ω·Δξ, which the
+// holds' slopes only halve), and at 0.5 rad/s, a rate
 // the holds did not visit, the (b, c, s) left are what the refined covariance predicts:
 // Σ (b, c, s)·Σ_pred⁻¹·(b, c, s)ᵀ over 10 units within the χ²(30) distribution's central 99.8 %
 // ([11.5, 59.8], Wilson–Hilferty); the slopes' check of ξ̂1, ξ̂4 within 4 std.
