@@ -35,6 +35,8 @@ const char* CommandName(Command command) {
       return "stop";
     case Command::kStatusRequest:
       return "status request";
+    case Command::kParameter:
+      return "parameter";
   }
   return "?";
 }
@@ -479,6 +481,132 @@ std::expected<void, GyroError> GyroCanDevice::Stop() {
   }
   SetState(GyroMode::kStopped);
   return {};
+}
+
+std::expected<std::uint32_t, GyroError> GyroCanDevice::ParameterTransact(ParameterOp op,
+                                                                         std::uint8_t index,
+                                                                         std::uint16_t value) {
+  auto ack = Transact(Command::kParameter, [this, op, index, value](std::uint8_t token) {
+    return EncodeParameter(config_.node, {token, op, index, value});
+  });
+  if (!ack) return std::unexpected(ack.error());
+  return ack->arg;
+}
+
+std::expected<ParameterBlockWords, GyroError> GyroCanDevice::ReadParameterWords(ParameterOp op) {
+  ParameterBlockWords words{};
+  for (int i = 0; i < kParameterBlockWords; ++i) {
+    const auto index = static_cast<std::uint8_t>(i);
+    auto arg = ParameterTransact(op, index, 0);
+    if (!arg) return std::unexpected(arg.error());
+    if ((*arg >> 16) != index) {
+      return Fail(
+          GyroErrorCode::kReadBackMismatch,
+          hw::ErrorText("parameter read: asked for word ", i, ", answered word ", *arg >> 16));
+    }
+    words[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(*arg & 0xFFFFu);
+  }
+  return words;
+}
+
+std::expected<ParameterValues, GyroError> GyroCanDevice::ReadParameters() {
+  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
+                             "read parameters");
+      !ok) {
+    return std::unexpected(ok.error());
+  }
+  auto words = ReadParameterWords(ParameterOp::kReadActive);
+  if (!words) return std::unexpected(words.error());
+  ParameterValues values{};
+  if (const auto status = DecodeParameterBlock(*words, &values);
+      status != ParameterBlockStatus::kOk) {
+    return Fail(
+        GyroErrorCode::kReadBackMismatch,
+        hw::ErrorText("read parameters: the active block is not valid: ", ToString(status)));
+  }
+  return values;
+}
+
+std::expected<ParameterWriteOutcome, GyroError> GyroCanDevice::WriteParameters(
+    const ParameterValues& values) {
+  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
+                             "write parameters");
+      !ok) {
+    return std::unexpected(ok.error());
+  }
+  const ParameterBlockWords block = EncodeParameterBlock(values);
+  ParameterValues check{};
+  if (DecodeParameterBlock(block, &check) != ParameterBlockStatus::kOk) {
+    return Fail(GyroErrorCode::kInvalidArgument, "write parameters: a value is not finite");
+  }
+  ParameterWriteOutcome outcome;
+  // What the unit held before, so that the record can restore it.
+  if (auto before = ReadParameterWords(ParameterOp::kReadActive); !before) {
+    return std::unexpected(before.error());
+  } else if (ParameterValues previous{};
+             DecodeParameterBlock(*before, &previous) == ParameterBlockStatus::kOk) {
+    outcome.previous = previous;
+  }
+  if (auto begun = ParameterTransact(ParameterOp::kBegin, 0, kParameterBlockWords); !begun) {
+    return std::unexpected(begun.error());
+  }
+  for (int i = 0; i < kParameterBlockWords; ++i) {
+    auto written = ParameterTransact(ParameterOp::kWrite, static_cast<std::uint8_t>(i),
+                                     block[static_cast<std::size_t>(i)]);
+    if (!written) return std::unexpected(written.error());
+  }
+  // Read back what the electronics staged before anything is committed: a word changed on the way
+  // (or in their memory) leaves the committed block as it was.
+  auto staged = ReadParameterWords(ParameterOp::kReadStaged);
+  if (!staged) return std::unexpected(staged.error());
+  for (int i = 0; i < kParameterBlockWords; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if ((*staged)[k] != block[k]) {
+      return Fail(GyroErrorCode::kReadBackMismatch,
+                  hw::ErrorText("write parameters: staged word ", i, " reads ", (*staged)[k],
+                                ", written ", block[k], "; nothing committed"));
+    }
+  }
+  auto generation = ParameterTransact(ParameterOp::kCommit, 0, 0);
+  if (!generation) {
+    // No confirmed commit (a power loss shows as no Ack, or as a retry the restarted electronics
+    // refuse): say which block they hold now, as far as they can be read.
+    GyroError error = generation.error();
+    auto held = ReadParameterWords(ParameterOp::kReadActive);
+    ParameterValues held_values{};
+    if (!held) {
+      error.message += "; what the electronics hold could not be read: " + held.error().message;
+    } else if (*held == block) {
+      error.message += "; the electronics hold the new block all the same";
+    } else if (DecodeParameterBlock(*held, &held_values) != ParameterBlockStatus::kOk) {
+      error.message += "; the electronics hold no valid block";
+    } else if (outcome.previous && held_values == *outcome.previous) {
+      error.message += "; the electronics hold the block before, unchanged";
+    } else {
+      error.message +=
+          "; the electronics hold a block that is neither the new one nor the one before";
+    }
+    return std::unexpected(error);
+  }
+  outcome.generation = *generation;
+  // And what the non-volatile memory now holds.
+  auto active = ReadParameterWords(ParameterOp::kReadActive);
+  if (!active) return std::unexpected(active.error());
+  if (*active != block) {
+    return Fail(GyroErrorCode::kReadBackMismatch,
+                hw::ErrorText("write parameters: committed generation ", outcome.generation,
+                              " but the active block differs from the one written"));
+  }
+  return outcome;
+}
+
+std::expected<std::uint32_t, GyroError> GyroCanDevice::RestorePreviousParameters() {
+  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
+                             "restore parameters");
+      !ok) {
+    return std::unexpected(ok.error());
+  }
+  return ParameterTransact(ParameterOp::kRestore, 0, 0);
 }
 
 hw::GyroReadResult GyroCanDevice::ReadSamples(std::span<hw::GyroSample> out,

@@ -27,9 +27,11 @@
 #include <expected>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "gyro_can/gyro_codec.hpp"
+#include "gyro_can/parameter_block.hpp"
 #include "gyro_can/sample_stream_decoder.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
@@ -58,6 +60,13 @@ struct GyroCanDeviceConfig {
   bool IsValid(std::string* why) const;
 };
 
+// What WriteParameters did: the block the electronics held before (nullopt when none was valid),
+// and the generation of the block it committed.
+struct ParameterWriteOutcome {
+  std::optional<ParameterValues> previous;
+  std::uint32_t generation = 0;
+};
+
 class GyroCanDevice final : public hw::GyroElectronics {
  public:
   // Sets the bus filters to its node's electronics ids and allocates all receive storage.
@@ -84,6 +93,19 @@ class GyroCanDevice final : public hw::GyroElectronics {
   // kBusOff puts the device in kFaulted). Same thread rules as the commands.
   hw::CanStatus ProcessIncoming(std::int64_t timeout_ns) noexcept;
 
+  // The compensation parameter block (parameter_block.hpp, README "Parameter block"), in Idle,
+  // Configured or Stopped only (never while a wave is driven or free). ReadParameters: the block
+  // the electronics run with. WriteParameters: reads the active block (the outcome's `previous`),
+  // stages the new one word by word, reads every staged word back and commits only when all
+  // match (kReadBackMismatch otherwise, nothing committed), then reads the committed block back.
+  // A timeout during the commit (a power loss) leaves whichever block the electronics' memory
+  // then holds: read it. RestorePreviousParameters makes the other slot active again and returns
+  // its generation.
+  std::expected<ParameterValues, hw::GyroError> ReadParameters();
+  std::expected<ParameterWriteOutcome, hw::GyroError> WriteParameters(
+      const ParameterValues& values);
+  std::expected<std::uint32_t, hw::GyroError> RestorePreviousParameters();
+
   FrameFormat frame_format() const noexcept { return format_; }
   std::uint32_t sample_rate_hz() const noexcept { return sample_rate_hz_; }
 
@@ -97,6 +119,9 @@ class GyroCanDevice final : public hw::GyroElectronics {
   // bus status that ended the wait (kOk when done() became true, kTimeout at the deadline).
   template <typename Done>
   hw::CanStatus PumpUntil(std::int64_t deadline_ns, Done done) noexcept;
+  std::expected<std::uint32_t, hw::GyroError> ParameterTransact(ParameterOp op, std::uint8_t index,
+                                                                std::uint16_t value);
+  std::expected<ParameterBlockWords, hw::GyroError> ReadParameterWords(ParameterOp op);
   void ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept;
   void OnBusOff() noexcept;
   void SetState(hw::GyroMode mode) noexcept { state_.store(mode, std::memory_order_release); }

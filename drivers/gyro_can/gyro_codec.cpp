@@ -60,7 +60,7 @@ DecodeStatus Check(const CanFrame& frame, std::uint32_t id, std::uint8_t length,
 
 bool IsCommand(std::uint8_t value) noexcept {
   return value >= static_cast<std::uint8_t>(Command::kConfigure) &&
-         value <= static_cast<std::uint8_t>(Command::kStatusRequest);
+         value <= static_cast<std::uint8_t>(Command::kParameter);
 }
 bool IsMode(std::uint32_t value) noexcept {
   return value <= static_cast<std::uint8_t>(hw::GyroMode::kFaulted);
@@ -113,6 +113,15 @@ CanFrame EncodeSimpleCommand(NodeId node, const SimpleCommand& command) noexcept
   CanFrame frame =
       Begin(NodeMessageId(CommandMessage(command.command), node), length::kSimpleCommand);
   frame.data[0] = command.token;
+  return Seal(frame);
+}
+
+CanFrame EncodeParameter(NodeId node, const ParameterCommand& command) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kParameter, node), length::kParameter);
+  frame.data[0] = command.token;
+  frame.data[1] = static_cast<std::uint8_t>(command.op);
+  frame.data[2] = command.index;
+  PutUnsigned(frame, 3, 2, command.value);
   return Seal(frame);
 }
 
@@ -203,6 +212,22 @@ DecodeStatus DecodeSimpleCommand(const CanFrame& frame, NodeId node, SimpleComma
   if (status != DecodeStatus::kOk) return status;
   out->command = command;
   out->token = frame.data[0];
+  return DecodeStatus::kOk;
+}
+
+DecodeStatus DecodeParameter(const CanFrame& frame, NodeId node, ParameterCommand* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kParameter, node), length::kParameter, false);
+  if (status != DecodeStatus::kOk) return status;
+  if (frame.data[1] < static_cast<std::uint8_t>(ParameterOp::kBegin) ||
+      frame.data[1] > static_cast<std::uint8_t>(ParameterOp::kRestore) || frame.data[5] != 0 ||
+      frame.data[6] != 0) {
+    return DecodeStatus::kBadValue;
+  }
+  out->token = frame.data[0];
+  out->op = static_cast<ParameterOp>(frame.data[1]);
+  out->index = frame.data[2];
+  out->value = static_cast<std::uint16_t>(GetUnsigned(frame, 3, 2));
   return DecodeStatus::kOk;
 }
 

@@ -64,6 +64,14 @@ struct SimpleCommand {
   std::uint8_t token = 0;
 };
 
+// One word of the compensation parameter block (parameter_block.hpp, README "Parameter block").
+struct ParameterCommand {
+  std::uint8_t token = 0;
+  ParameterOp op = ParameterOp::kReadActive;
+  std::uint8_t index = 0;   // word index 0 … kParameterBlockWords − 1 (Begin: 0)
+  std::uint16_t value = 0;  // Write: the word; Begin: the block's word count; else 0
+};
+
 struct Ack {
   Command command = Command::kStatusRequest;  // which command this answers
   std::uint8_t token = 0;                     // the command's token
@@ -71,7 +79,8 @@ struct Ack {
   hw::GyroMode mode = hw::GyroMode::kIdle;  // the electronics' mode after the command
   // Command-specific, 24 bits: Configure: the accepted sample rate (Hz); Release: µs elapsed
   // between the release instant and this Ack's transmission (0 on the first Ack; larger on a
-  // repeated Ack after a lost one) — the host subtracts it from the Ack's receive stamp.
+  // repeated Ack after a lost one) — the host subtracts it from the Ack's receive stamp;
+  // Parameter: (word index << 16) | word value, Commit: the committed block's generation.
   std::uint32_t arg = 0;
 };
 
@@ -120,6 +129,7 @@ constexpr double DequantiseY(std::int32_t raw) noexcept { return raw * kSampleLs
 hw::CanFrame EncodeConfigure(NodeId node, const ConfigureCommand& command) noexcept;
 hw::CanFrame EncodeExcite(NodeId node, const ExciteCommand& command) noexcept;
 hw::CanFrame EncodeSimpleCommand(NodeId node, const SimpleCommand& command) noexcept;
+hw::CanFrame EncodeParameter(NodeId node, const ParameterCommand& command) noexcept;
 hw::CanFrame EncodeAck(NodeId node, const Ack& ack) noexcept;
 hw::CanFrame EncodeStatus(NodeId node, const StatusMessage& status) noexcept;
 hw::CanFrame EncodeSampleHalf(NodeId node, const SampleHalf& half) noexcept;
@@ -132,6 +142,8 @@ DecodeStatus DecodeConfigure(const hw::CanFrame& frame, NodeId node,
 DecodeStatus DecodeExcite(const hw::CanFrame& frame, NodeId node, ExciteCommand* out) noexcept;
 DecodeStatus DecodeSimpleCommand(const hw::CanFrame& frame, NodeId node,
                                  SimpleCommand* out) noexcept;
+DecodeStatus DecodeParameter(const hw::CanFrame& frame, NodeId node,
+                             ParameterCommand* out) noexcept;
 DecodeStatus DecodeAck(const hw::CanFrame& frame, NodeId node, Ack* out) noexcept;
 DecodeStatus DecodeStatusMessage(const hw::CanFrame& frame, NodeId node,
                                  StatusMessage* out) noexcept;
@@ -143,7 +155,7 @@ DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, NodeId node,
 // True for the identifiers this protocol defines in the given direction, of any node.
 constexpr bool IsCommandId(std::uint32_t id) noexcept {
   const std::uint32_t message = MessageOf(id);
-  return message == can_id::kStop ||
+  return message == can_id::kStop || message == can_id::kParameter ||
          (message >= can_id::kConfigure && message <= can_id::kStatusRequest);
 }
 constexpr bool IsElectronicsId(std::uint32_t id) noexcept {

@@ -32,7 +32,9 @@ inline constexpr std::uint32_t kNodeIdMask = 0x00F;
 // Messages: node 0's identifier, the high 7 bits of every node's. Lower id wins arbitration:
 // Stop before everything, then the other commands, their answers, and the sample stream last.
 namespace can_id {
-inline constexpr std::uint32_t kStop = 0x020;           // host → electronics
+inline constexpr std::uint32_t kStop = 0x020;  // host → electronics
+// host → electronics: one word of the compensation parameter block (README "Parameter block")
+inline constexpr std::uint32_t kParameter = 0x030;
 inline constexpr std::uint32_t kConfigure = 0x040;      // host → electronics
 inline constexpr std::uint32_t kExcite = 0x050;         // host → electronics
 inline constexpr std::uint32_t kRelease = 0x060;        // host → electronics
@@ -63,6 +65,7 @@ namespace length {
 inline constexpr std::uint8_t kConfigure = 8;
 inline constexpr std::uint8_t kExcite = 8;
 inline constexpr std::uint8_t kSimpleCommand = 2;  // release, stop, status request
+inline constexpr std::uint8_t kParameter = 8;
 inline constexpr std::uint8_t kAck = 8;
 inline constexpr std::uint8_t kStatus = 8;
 inline constexpr std::uint8_t kSample = 8;
@@ -78,6 +81,7 @@ enum class Command : std::uint8_t {
   kRelease = 0x42,
   kStop = 0x43,
   kStatusRequest = 0x44,
+  kParameter = 0x45,  // added in 2026-11 (version 2): not a version 1 identifier
 };
 
 constexpr std::uint32_t CommandMessage(Command command) noexcept {
@@ -92,6 +96,8 @@ constexpr std::uint32_t CommandMessage(Command command) noexcept {
       return can_id::kStop;
     case Command::kStatusRequest:
       return can_id::kStatusRequest;
+    case Command::kParameter:
+      return can_id::kParameter;
   }
   return can_id::kStatusRequest;
 }
@@ -101,6 +107,18 @@ enum class AckResult : std::uint8_t {
   kBadState = 1,     // not allowed in the electronics' current mode
   kBadArgument = 2,  // a value out of range
   kFaulted = 3,      // a fault is latched: only Stop is accepted
+};
+
+// What a Parameter command does with the compensation parameter block (README "Parameter block").
+// Every one is answered by an Ack whose arg is (word index << 16) | word value, except Commit's
+// (the committed block's generation).
+enum class ParameterOp : std::uint8_t {
+  kBegin = 1,       // clear the staging block; value = the block's word count
+  kWrite = 2,       // staging[index] = value
+  kReadStaged = 3,  // answer staging[index]
+  kReadActive = 4,  // answer the active block's word [index] from non-volatile memory
+  kCommit = 5,      // check the staged block (layout, CRC-32) and write it to the other slot
+  kRestore = 6,     // make the other slot active again, if it holds a valid block
 };
 
 enum class FrameFormat : std::uint8_t {

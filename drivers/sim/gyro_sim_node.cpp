@@ -34,14 +34,19 @@ GyroSimNode::GyroSimNode(hw::CanBus& bus, const hw::Clock& clock, const GyroSimO
       omega_(std::move(omega)),
       short_bus_(std::move(short_bus)),
       source_(MakeSource(options)) {
-  // The electronics' acceptance filter: their node's commands (Stop 0x02n; the others 0x04n …
-  // 0x07n). HandleFrame checks the node too, for a transport that cannot filter.
+  // The electronics' acceptance filter: their node's commands (Stop 0x02n, Parameter 0x03n; the
+  // others 0x04n … 0x07n). HandleFrame checks the node too, for a transport that cannot filter.
   static_assert(gyro_can::can_id::kStatusRequest == (gyro_can::can_id::kConfigure | 0x030));
-  const std::array<hw::CanFilter, 2> commands = {
+  const std::array<hw::CanFilter, 3> commands = {
       hw::CanFilter{gyro_can::NodeMessageId(gyro_can::can_id::kStop, options_.node), 0x7FF, false},
+      hw::CanFilter{gyro_can::NodeMessageId(gyro_can::can_id::kParameter, options_.node), 0x7FF,
+                    false},
       hw::CanFilter{gyro_can::NodeMessageId(gyro_can::can_id::kConfigure, options_.node), 0x7CF,
                     false}};
   (void)bus_.SetFilters(commands);
+  // Out of the factory: the design's compensation in slot 0.
+  parameter_slots_[0] = {true, 1, gyro_can::EncodeParameterBlock(options_.factory_parameters)};
+  active_slot_ = 0;
   const std::int64_t now = clock_.NowNs();
   power_on_ns_ = now;
   next_poll_ns_ = now;
@@ -130,6 +135,11 @@ void GyroSimNode::HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) no
     gyro_can::ExciteCommand c;
     status = gyro_can::DecodeExcite(frame, options_.node, &c);
     command = Command::kExcite;
+    token = c.token;
+  } else if (message == gyro_can::can_id::kParameter) {
+    gyro_can::ParameterCommand c;
+    status = gyro_can::DecodeParameter(frame, options_.node, &c);
+    command = Command::kParameter;
     token = c.token;
   } else {
     gyro_can::SimpleCommand c;
@@ -230,6 +240,19 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
       break;
     case Command::kStatusRequest:
       break;
+    case Command::kParameter: {
+      gyro_can::ParameterCommand c;
+      gyro_can::DecodeParameter(frame, options_.node, &c);
+      if (faulted) {
+        ack.result = AckResult::kFaulted;
+      } else if (mode_ != GyroMode::kIdle && mode_ != GyroMode::kConfigured &&
+                 mode_ != GyroMode::kStopped) {
+        ack.result = AckResult::kBadState;  // never while a wave is driven or free
+      } else if (!ExecuteParameter(c, &ack)) {
+        return;  // power lost: no Ack, the electronics restart
+      }
+      break;
+    }
   }
   ack.mode = mode_;
   last_ack_ = ack;
@@ -239,6 +262,137 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
   Send(gyro_can::EncodeAck(options_.node, ack));
   if (command == Command::kStatusRequest) SendStatus();
   Advance(now_ns);
+}
+
+bool GyroSimNode::ExecuteParameter(const gyro_can::ParameterCommand& c,
+                                   gyro_can::Ack* ack) noexcept {
+  using gyro_can::ParameterOp;
+  const bool index_ok = c.index < gyro_can::kParameterBlockWords;
+  const auto word = [](std::uint8_t index, std::uint16_t value) {
+    return (static_cast<std::uint32_t>(index) << 16) | value;
+  };
+  switch (c.op) {
+    case ParameterOp::kBegin:
+      if (c.value != gyro_can::kParameterBlockWords) {
+        ack->result = AckResult::kBadArgument;
+      } else {
+        staging_ = {};
+        staging_open_ = true;
+        ack->arg = c.value;
+      }
+      break;
+    case ParameterOp::kWrite:
+      if (!staging_open_) {
+        ack->result = AckResult::kBadState;
+      } else if (!index_ok) {
+        ack->result = AckResult::kBadArgument;
+      } else {
+        const bool corrupt = options_.faults.corrupt_parameter_word == c.index;
+        staging_[c.index] = corrupt ? static_cast<std::uint16_t>(c.value ^ 1u) : c.value;
+        ack->arg = word(c.index, c.value);
+      }
+      break;
+    case ParameterOp::kReadStaged:
+      if (!staging_open_) {
+        ack->result = AckResult::kBadState;
+      } else if (!index_ok) {
+        ack->result = AckResult::kBadArgument;
+      } else {
+        ack->arg = word(c.index, staging_[c.index]);
+      }
+      break;
+    case ParameterOp::kReadActive:
+      if (active_slot_ < 0) {
+        ack->result = AckResult::kBadState;
+      } else if (!index_ok) {
+        ack->result = AckResult::kBadArgument;
+      } else {
+        ack->arg =
+            word(c.index, parameter_slots_[static_cast<std::size_t>(active_slot_)].words[c.index]);
+      }
+      break;
+    case ParameterOp::kCommit: {
+      if (!staging_open_) {
+        ack->result = AckResult::kBadState;
+        break;
+      }
+      if (gyro_can::DecodeParameterBlock(staging_, nullptr) !=
+          gyro_can::ParameterBlockStatus::kOk) {
+        ack->result = AckResult::kBadArgument;  // refused: nothing written
+        break;
+      }
+      const std::size_t target = active_slot_ == 0 ? 1 : 0;
+      const std::uint32_t generation =
+          active_slot_ < 0
+              ? 1
+              : parameter_slots_[static_cast<std::size_t>(active_slot_)].generation + 1;
+      ParameterSlot& slot = parameter_slots_[target];
+      slot.written = true;
+      slot.generation = generation;
+      if (options_.faults.power_loss_on_commit > 0) {
+        --options_.faults.power_loss_on_commit;
+        // Power fails with half of the slot written over the older block it held: the slot's CRC
+        // no longer holds, so at power-on the other slot (the block before) is the active one.
+        for (std::size_t i = 0; i < staging_.size() / 2; ++i) slot.words[i] = staging_[i];
+        slot.words.back() = static_cast<std::uint16_t>(~staging_.back());
+        ++statistics_.power_losses;
+        mode_ = GyroMode::kIdle;
+        fault_bits_ = 0;
+        staging_open_ = false;
+        have_last_ = false;
+        SelectActiveParameterSlot();
+        return false;
+      }
+      slot.words = staging_;
+      active_slot_ = static_cast<int>(target);
+      staging_open_ = false;
+      ack->arg = generation;
+      break;
+    }
+    case ParameterOp::kRestore: {
+      const std::size_t other = active_slot_ == 0 ? 1 : 0;
+      const ParameterSlot& slot = parameter_slots_[other];
+      if (active_slot_ < 0 || !slot.written ||
+          gyro_can::DecodeParameterBlock(slot.words, nullptr) !=
+              gyro_can::ParameterBlockStatus::kOk) {
+        ack->result = AckResult::kBadArgument;  // no valid block to go back to
+      } else {
+        active_slot_ = static_cast<int>(other);
+        ack->arg = slot.generation;
+      }
+      break;
+    }
+  }
+  return true;
+}
+
+void GyroSimNode::SelectActiveParameterSlot() noexcept {
+  active_slot_ = -1;
+  for (std::size_t i = 0; i < parameter_slots_.size(); ++i) {
+    const ParameterSlot& slot = parameter_slots_[i];
+    if (!slot.written || gyro_can::DecodeParameterBlock(slot.words, nullptr) !=
+                             gyro_can::ParameterBlockStatus::kOk) {
+      continue;
+    }
+    if (active_slot_ < 0 ||
+        slot.generation > parameter_slots_[static_cast<std::size_t>(active_slot_)].generation) {
+      active_slot_ = static_cast<int>(i);
+    }
+  }
+}
+
+std::optional<gyro_can::ParameterValues> GyroSimNode::ActiveParameters() const noexcept {
+  if (active_slot_ < 0) return std::nullopt;
+  gyro_can::ParameterValues values{};
+  if (gyro_can::DecodeParameterBlock(parameter_slots_[static_cast<std::size_t>(active_slot_)].words,
+                                     &values) != gyro_can::ParameterBlockStatus::kOk) {
+    return std::nullopt;
+  }
+  return values;
+}
+
+std::uint32_t GyroSimNode::ActiveParameterGeneration() const noexcept {
+  return active_slot_ < 0 ? 0 : parameter_slots_[static_cast<std::size_t>(active_slot_)].generation;
 }
 
 void GyroSimNode::Advance(std::int64_t now_ns) noexcept {

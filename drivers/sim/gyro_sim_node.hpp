@@ -23,6 +23,7 @@
 // Threads: one thread drives the node (Service or Run) and calls every other method; only `stop`
 // may be set from another thread.
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -51,6 +52,7 @@ struct GyroSimStatistics {
   std::uint64_t frames_corrupted = 0;  // by the corrupt failure mode
   std::uint64_t send_failures = 0;     // Send() did not return kOk
   std::uint64_t runs = 0;              // releases
+  std::uint64_t power_losses = 0;      // by the power-loss-on-commit failure mode
 };
 
 class GyroSimNode final : public SimulationParticipant {
@@ -73,12 +75,19 @@ class GyroSimNode final : public SimulationParticipant {
   estimator::Orbit commanded_orbit() const noexcept { return orbit_; }
   // The physics behind the samples (for tests and diagnostics).
   const FreeRunSource& source() const noexcept { return *source_; }
+  // The compensation parameter block the electronics would boot with now (the newest valid slot
+  // of their non-volatile memory) and its generation; nullopt when no slot is valid.
+  std::optional<gyro_can::ParameterValues> ActiveParameters() const noexcept;
+  std::uint32_t ActiveParameterGeneration() const noexcept;
 
  private:
   void HandleFrame(const hw::CanFrame& frame, std::int64_t now_ns) noexcept;
   void Execute(gyro_can::Command command, std::uint8_t token, const hw::CanFrame& frame,
                std::int64_t now_ns) noexcept;
   void Advance(std::int64_t now_ns) noexcept;
+  // A Parameter command in a mode that allows it; false when power was lost (no Ack, restarted).
+  bool ExecuteParameter(const gyro_can::ParameterCommand& command, gyro_can::Ack* ack) noexcept;
+  void SelectActiveParameterSlot() noexcept;  // at power-on: the newest slot whose CRC holds
   void EmitSample(std::int64_t t_ns) noexcept;
   void SendSampleFrame(hw::CanFrame frame) noexcept;
   void SendStatus() noexcept;
@@ -117,6 +126,18 @@ class GyroSimNode final : public SimulationParticipant {
   gyro_can::Command last_command_ = gyro_can::Command::kStatusRequest;
   std::uint8_t last_token_ = 0;
   gyro_can::Ack last_ack_;
+
+  // Non-volatile memory: two slots, written alternately, the newest valid one active (a commit
+  // that loses power tears only the slot being written); and the staging block in RAM.
+  struct ParameterSlot {
+    bool written = false;
+    std::uint32_t generation = 0;
+    gyro_can::ParameterBlockWords words{};
+  };
+  std::array<ParameterSlot, 2> parameter_slots_{};
+  int active_slot_ = -1;
+  gyro_can::ParameterBlockWords staging_{};
+  bool staging_open_ = false;
 
   std::int64_t next_status_ns_ = 0;
   std::int64_t next_poll_ns_ = 0;

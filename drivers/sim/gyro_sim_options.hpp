@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gyro_can/gyro_protocol.hpp"
+#include "gyro_can/parameter_block.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "sim/carrier_options.hpp"
 
@@ -33,6 +34,11 @@ struct GyroSimFaults {
   std::uint8_t fault_bits = 0;              // when ≠ 0: latch these gyro_fault bits, mode Faulted
   bool never_ready = false;                 // Excite is acknowledged but the wave never reaches
                                             // its target (mode stays Exciting, ready never set)
+  // The compensation parameter block (README "Parameter block"):
+  std::uint32_t power_loss_on_commit = 0;    // the next N Commits lose power half-way through
+                                             // writing the slot: no Ack, the node restarts (Idle),
+                                             // the torn slot fails its CRC, the old block stays
+  std::int32_t corrupt_parameter_word = -1;  // staging memory flips bit 0 of this word on Write
 };
 
 // Where the free-run samples come from (free_run_source.hpp).
@@ -62,6 +68,11 @@ struct GyroSimOptions {
   double temperature_drift_c_per_s = 0.0;
   bool supports_fd = true;                // accept FrameFormat::kFd (when the bus is FD too)
   std::int64_t poll_period_ns = 200'000;  // firmware loop: commands are answered within this
+
+  // The compensation parameter block the electronics leave the factory with (the paper's p before
+  // tuning: the design's decay and angular gain, nothing else; parameter_block.hpp's order).
+  gyro_can::ParameterValues factory_parameters = {-1e-3, 0.3, 0.0, 0.0, 0.0, 0.0,
+                                                  0.0,   0.0, 0.0, 0.0, 0.0};
 
   GyroSimFaults faults;
 

@@ -142,6 +142,7 @@ TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
       {can_id::kRelease, length::kSimpleCommand},
       {can_id::kStop, length::kSimpleCommand},
       {can_id::kStatusRequest, length::kSimpleCommand},
+      {can_id::kParameter, length::kParameter},
       {can_id::kAck, length::kAck},
       {can_id::kStatus, length::kStatus},
       {can_id::kSampleA, length::kSample},
@@ -194,7 +195,11 @@ TEST(DbcConsistencyTest, VersionAndEnumerations) {
   EXPECT_EQ(results.size(), static_cast<std::size_t>(AckResult::kFaulted) + 1);
   const auto& commands = TheDbc().value_tables.at({can_id::kAck, "Command"});
   EXPECT_EQ(commands.begin()->first, static_cast<long>(Command::kConfigure));
-  EXPECT_EQ(commands.rbegin()->first, static_cast<long>(Command::kStatusRequest));
+  EXPECT_EQ(commands.rbegin()->first, static_cast<long>(Command::kParameter));
+  const auto& ops = TheDbc().value_tables.at({can_id::kParameter, "Op"});
+  EXPECT_EQ(ops.begin()->first, static_cast<long>(ParameterOp::kBegin));
+  EXPECT_EQ(ops.rbegin()->first, static_cast<long>(ParameterOp::kRestore));
+  EXPECT_EQ(ops.size(), 6u);
 }
 
 TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
@@ -220,6 +225,14 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kAck, "Mode", ack), 3);
   EXPECT_EQ(Signal(can_id::kAck, "Arg", ack), 123456);
   EXPECT_EQ(Signal(can_id::kAck, "Crc", ack), ack.data[7]);
+
+  const hw::CanFrame parameter =
+      EncodeParameter(kNode, {.token = 5, .op = ParameterOp::kWrite, .index = 46, .value = 0xC9FF});
+  EXPECT_EQ(Signal(can_id::kParameter, "Token", parameter), 5);
+  EXPECT_EQ(Signal(can_id::kParameter, "Op", parameter), 2);
+  EXPECT_EQ(Signal(can_id::kParameter, "WordIndex", parameter), 46);
+  EXPECT_EQ(Signal(can_id::kParameter, "Value", parameter), 0xC9FF);
+  EXPECT_EQ(Signal(can_id::kParameter, "Reserved", parameter), 0);
 
   const hw::CanFrame status =
       EncodeStatus(kNode, {.mode = hw::GyroMode::kFreeRun,

@@ -48,3 +48,17 @@ def pattern(seq, count):
     return p
 print("fd_full0", frame(0x120, pattern(0x1234,5), fd=True))
 print("fd_part9", frame(0x129, pattern(0xFFFF,2), fd=True))
+# Parameter (0x03n): token, op, word index, value u16, two reserved zero bytes.
+print("par_begin0", frame(0x030, [0x0C, 1, 0] + le(48,2) + [0, 0]))
+print("par_write6", frame(0x036, [0x0D, 2, 17] + le(0xBEEF,2) + [0, 0]))
+print("par_commit0", frame(0x030, [0x0E, 5, 0] + le(0,2) + [0, 0]))
+print("ack_par_read0", frame(0x080, [0x45, 0x0F, 0, 1] + le((17 << 16) | 0xBEEF,3)))
+# The parameter block: layout 1, count 11, eleven binary64 little-endian as 16-bit words, CRC-32
+# (zlib's, IEEE 802.3) of the 92 bytes before it, low word first.
+import struct, zlib
+values = [-1e-3, 0.29, 3e-5, -2e-5, 2e-4, -1e-4, 0.01, 0.002, -0.003, 0.004, 1.5e-6]
+body = struct.pack("<HH", 1, 11) + b"".join(struct.pack("<d", v) for v in values)
+crc = zlib.crc32(body)
+print("block_crc %08X" % crc)
+words = struct.unpack("<46H", body) + (crc & 0xFFFF, crc >> 16)
+print("block_words", " ".join("%04X" % w for w in words))
