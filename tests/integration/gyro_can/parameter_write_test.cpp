@@ -6,7 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <vector>
+
 #include "gyro_rig.hpp"
+#include "hrgbench/estimator/compensation.hpp"
+#include "hrgbench/estimator/maximum_likelihood.hpp"
+#include "hrgbench/estimator/simulation.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
@@ -120,6 +126,37 @@ TEST(ParameterWriteTest, TheElectronicsRefuseAnInvalidBlockAndAnythingWhileAWave
   EXPECT_EQ(send_and_ack({token++, ParameterOp::kBegin, 0, kParameterBlockWords}).result,
             AckResult::kBadState);
   EXPECT_EQ(rig.node->ActiveParameters(), kFactory);
+}
+
+// The block's eleven values are p's vector, in its order (compensation.hpp, parameter_block.hpp).
+static_assert(estimator::kCompensationSize == kParameterValueCount);
+
+TEST(ParameterWriteTest, ACompensationFromAnEstimateReachesTheElectronicsBitForBit) {
+  std::vector<estimator::RunPlan> plans;
+  const double omegas[] = {0.1, -0.1, 0.3, -0.3, 1.0, -1.0};
+  for (int r = 0; r < 6; ++r) {
+    plans.push_back({omegas[r], 1.0, 0.1, r * 0.26, 0.0, 100.0, 20.0});
+  }
+  estimator::SimulationOptions truth;
+  truth.delta << -1e-3, 0.29, 3e-5, -2e-5, 2e-4, -1e-4;
+  truth.xi << 0.01, 0.002, -0.003, 0.004;
+  truth.sigma = 1e-4;
+  const auto estimate = estimator::EstimateMaximumLikelihood(estimator::SimulateRuns(plans, truth));
+  estimator::CompensationSet p;
+  ASSERT_TRUE(estimator::CompensationFromEstimate(estimate, &p)) << estimate.message;
+
+  ParameterValues values{};
+  const estimator::CompensationVector v = p.AsVector();
+  for (int i = 0; i < kParameterValueCount; ++i) values[static_cast<std::size_t>(i)] = v[i];
+  GyroRig rig(GyroRigOptions{});
+  ASSERT_TRUE(rig.device->WriteParameters(values).has_value());
+  const auto held = rig.node->ActiveParameters();
+  ASSERT_TRUE(held.has_value());
+  for (int i = 0; i < kParameterValueCount; ++i) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>((*held)[static_cast<std::size_t>(i)]),
+              std::bit_cast<std::uint64_t>(v[i]))
+        << "value " << i;
+  }
 }
 
 }  // namespace
