@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 
 #include "hrgbench/hw/can_frame.hpp"
@@ -35,6 +36,13 @@ inline ::testing::AssertionResult SameFrame(const hw::CanFrame& expected,
   if (same) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "expected " << hw::CanFrameToString(expected) << ", got "
                                        << hw::CanFrameToString(actual);
+}
+
+// A frame from its can-utils text (a golden frame), failing the test when the text is not one.
+inline hw::CanFrame FrameFromText(const char* text) {
+  const std::optional<hw::CanFrame> frame = hw::ParseCanFrame(text);
+  EXPECT_TRUE(frame.has_value()) << text;
+  return frame.value_or(hw::CanFrame{});
 }
 
 }  // namespace hrgbench::testing

@@ -14,16 +14,13 @@
 #include <set>
 #include <string>
 
+#include "can_frame_assertions.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
 
-hw::CanFrame Frame(const char* text) {
-  const std::optional<hw::CanFrame> frame = hw::ParseCanFrame(text);
-  EXPECT_TRUE(frame.has_value()) << text;
-  return frame.value_or(hw::CanFrame{});
-}
+hw::CanFrame Frame(const char* text) { return testing::FrameFromText(text); }
 
 TEST(GyroCodecTest, CrcMatchesTheCatalogueCheckValue) {
   // The id bytes are fed first (little-endian): id 0x3231 contributes "1", "2".

@@ -11,17 +11,14 @@
 #include <limits>
 #include <sstream>
 
+#include "can_frame_assertions.hpp"
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/hw/can_frame_text.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 namespace {
 
-hw::CanFrame Frame(const char* text) {
-  const std::optional<hw::CanFrame> frame = hw::ParseCanFrame(text);
-  EXPECT_TRUE(frame.has_value()) << text;
-  return frame.value_or(hw::CanFrame{});
-}
+hw::CanFrame Frame(const char* text) { return testing::FrameFromText(text); }
 
 constexpr ParameterValues kValues = {-1e-3, 0.29,  3e-5,   -2e-5, 2e-4,  -1e-4,
                                      0.01,  0.002, -0.003, 0.004, 1.5e-6};
