@@ -18,8 +18,11 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <complex>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "hrgbench/analysis/rate_error_harmonics.hpp"
@@ -36,6 +39,13 @@ using estimator::Delta;
 using estimator::Xi;
 constexpr double kH = 1e-3;  // the electronics' sample period, s
 constexpr double kPi = std::numbers::pi;
+
+// A figure for RecordProperty, to three significant digits.
+std::string Figure(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 struct Trace {
   std::vector<double> angle_rad;
@@ -241,6 +251,7 @@ TEST(OperatingModeTest, TuningFromTheFreeRunsEstimateLeavesWhatItsCovariancePred
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const double omega = 0.3;
   double chi_square = 0.0;
+  double worst_ratio = std::numeric_limits<double>::infinity();
   for (int u = 0; u < 20; ++u) {
     ControlledResonatorTruth truth;
     truth.delta << -1e-3 * (1.0 + 0.2 * unit(draw)), 0.295 + 0.015 * unit(draw), 5e-5 * unit(draw),
@@ -262,6 +273,8 @@ TEST(OperatingModeTest, TuningFromTheFreeRunsEstimateLeavesWhatItsCovariancePred
     const auto after = Harmonics(RunAsGyro(verification, p, omega, 2.0));
     EXPECT_LT(after.angle_dependent_rms_rad_s, before.angle_dependent_rms_rad_s / 100.0)
         << "unit " << u;
+    worst_ratio =
+        std::min(worst_ratio, before.angle_dependent_rms_rad_s / after.angle_dependent_rms_rad_s);
 
     const double two_gain = 2.0 * truth.delta[1];
     const double c =
@@ -276,6 +289,8 @@ TEST(OperatingModeTest, TuningFromTheFreeRunsEstimateLeavesWhatItsCovariancePred
     const Eigen::Vector2d measured(after.cos_rad_s[0], after.sin_rad_s[0]);
     chi_square += measured.dot(predicted.ldlt().solve(measured));
   }
+  RecordProperty("chi_square_40", Figure(chi_square));
+  RecordProperty("smallest_before_over_after", Figure(worst_ratio));
   EXPECT_GT(chi_square, 17.9);
   EXPECT_LT(chi_square, 73.4);
 }
@@ -360,6 +375,9 @@ TEST(OperatingModeTest, AVerificationOnTheTableRemovesWhatFreeRunsCannotSee) {
     const Eigen::Vector3d measured(after.bias_rad_s, after.cos_rad_s[0], after.sin_rad_s[0]);
     chi_square += measured.dot(predicted.ldlt().solve(measured));
   }
+  RecordProperty("rms_before_rad_s", Figure(std::sqrt(squares_before / 20.0)));
+  RecordProperty("rms_after_rad_s", Figure(std::sqrt(squares_after / 20.0)));
+  RecordProperty("chi_square_30", Figure(chi_square));
   EXPECT_LT(std::sqrt(squares_after), std::sqrt(squares_before) / 4.0);
   EXPECT_GT(chi_square, 11.5);
   EXPECT_LT(chi_square, 59.8);
