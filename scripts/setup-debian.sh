@@ -21,6 +21,7 @@ packages=(
   chromium                 # hrg-report: the page printed to PDF (headless); the browser test
   chromium-driver          # the browser test drives Chromium (tests/integration/report_browser)
   python3-selenium         # the browser test's WebDriver client (Debian's /usr/bin/python3)
+  python3-canmatrix        # the gyro CAN DBC read by a tool not ours (tests/unit/gyro_can)
   poppler-utils            # the browser test checks the report's PDF (pdfinfo, pdftotext)
   libsqlite3-dev sqlite3   # results database (src/results): SQLite engine; sqlite3 in its tests
   libpq-dev                # results database: PostgreSQL engine (libpq)
