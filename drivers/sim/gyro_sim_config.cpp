@@ -126,9 +126,15 @@ std::expected<void, ConfigError> ReadFaults(TableReader& reader, GyroSimFaults* 
   HRG_TRY(bus_off,
           ReadInteger(reader, "bus_off_after_samples", -1, kInt64Max, &f->bus_off_after_samples));
   HRG_TRY(bits, ReadInteger(reader, "fault_bits", 0, 255, &f->fault_bits));
+  HRG_TRY(power_loss,
+          ReadInteger(reader, "power_loss_on_commit", 0, kUint32Max, &f->power_loss_on_commit));
+  HRG_TRY(corrupt_word,
+          ReadInteger(reader, "corrupt_parameter_word", -1, gyro_can::kParameterBlockWords - 1,
+                      &f->corrupt_parameter_word));
   HRG_CHECK(reader.Unknown(
       "drop_sample_frames, drop_every_nth_frame, corrupt_sample_frames, stall_after_samples, "
-      "ignore_commands, no_reply, bus_off_after_samples, fault_bits"));
+      "ignore_commands, no_reply, bus_off_after_samples, fault_bits, power_loss_on_commit, "
+      "corrupt_parameter_word"));
   return {};
 }
 

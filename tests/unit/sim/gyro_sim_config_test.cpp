@@ -102,6 +102,19 @@ TEST(GyroSimConfigTest, FaultsAndOmegaAreRead) {
   EXPECT_EQ(config->options.faults.fault_bits, 5);
 }
 
+TEST(GyroSimConfigTest, TheParameterBlockFaultsAreReadAndBounded) {
+  const auto config = ParseGyroSimConfig(
+      "[faults]\npower_loss_on_commit = 2\ncorrupt_parameter_word = 47\n", "sim.toml");
+  ASSERT_TRUE(config.has_value()) << config.error().ToString();
+  EXPECT_EQ(config->options.faults.power_loss_on_commit, 2u);
+  EXPECT_EQ(config->options.faults.corrupt_parameter_word, 47);
+  const auto beyond = ParseGyroSimConfig("[faults]\ncorrupt_parameter_word = 48\n", "sim.toml");
+  ASSERT_FALSE(beyond.has_value());
+  EXPECT_NE(beyond.error().ToString().find("sim.toml:2: key 'faults.corrupt_parameter_word' = 48"),
+            std::string::npos)
+      << beyond.error().ToString();
+}
+
 TEST(GyroSimConfigTest, ErrorsNameFileLineKeyAndValue) {
   const auto unknown = ParseGyroSimConfig("[model]\nsigma = 1e-4\nsigmaa = 2\n", "sim.toml");
   ASSERT_FALSE(unknown.has_value());
