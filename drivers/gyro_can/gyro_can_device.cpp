@@ -100,9 +100,10 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
   // The node's Ack and Status (0x08n, 0x09n), samples and reference phase (0x10n … 0x13n).
   static_assert(can_id::kStatus == (can_id::kAck | 0x010) &&
                 can_id::kReferencePhase == (can_id::kSampleA | 0x030));
-  const std::array<hw::CanFilter, 2> filters = {
+  const std::array<hw::CanFilter, 3> filters = {
       hw::CanFilter{NodeMessageId(can_id::kAck, config.node), 0x7EF, false},
-      hw::CanFilter{NodeMessageId(can_id::kSampleA, config.node), 0x7CF, false}};
+      hw::CanFilter{NodeMessageId(can_id::kSampleA, config.node), 0x7CF, false},
+      hw::CanFilter{NodeMessageId(can_id::kOperatingSample, config.node), 0x7FF, false}};
   if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
     return Fail(GyroErrorCode::kTransport,
                 hw::ErrorText("setting CAN filters failed: ", hw::ToString(status)));
@@ -111,7 +112,11 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
 }
 
 GyroCanDevice::GyroCanDevice(hw::CanBus& bus, const GyroCanDeviceConfig& config)
-    : bus_(bus), config_(config), clock_(*config.clock), decoder_(config.sample_buffer_capacity) {}
+    : bus_(bus),
+      config_(config),
+      clock_(*config.clock),
+      decoder_(config.sample_buffer_capacity),
+      operating_buffer_(std::max<std::size_t>(config.sample_buffer_capacity, 1)) {}
 
 std::expected<void, GyroError> GyroCanDevice::RequireState(std::initializer_list<GyroMode> allowed,
                                                            const char* what) const {
@@ -186,6 +191,17 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
         return;
       }
       decoder_.OnReferencePhase(report, info.timestamp_ns);
+      return;
+    }
+  } else if (message == can_id::kOperatingSample) {
+    OperatingSampleFrame sample;
+    status = DecodeOperatingSample(frame, node, &sample);
+    if (status == DecodeStatus::kOk) {
+      if (!streaming_ || !whole_angle_) {
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+        return;
+      }
+      OnOperatingSample(sample);
       return;
     }
   } else if (message == can_id::kAck) {
@@ -328,7 +344,8 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
       .token = 0,
       .sample_rate_hz = static_cast<std::uint16_t>(config.sample_rate_hz),
       .format = format,
-      .status_rate_hz = config_.status_rate_hz};
+      .status_rate_hz = config_.status_rate_hz,
+      .run_mode = config.whole_angle ? RunMode::kWholeAngle : RunMode::kFreeRun};
   auto ack = Transact(Command::kConfigure, [&](std::uint8_t token) {
     ConfigureCommand c = command;
     c.token = token;
@@ -343,6 +360,7 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
   }
   format_ = format;
   sample_rate_hz_ = config.sample_rate_hz;
+  whole_angle_ = config.whole_angle;
   SetState(GyroMode::kConfigured);
   return {};
 }
@@ -446,6 +464,9 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
     return std::unexpected(ok.error());
   // Samples may follow the Ack immediately (or precede a repeated Ack): be ready for them first.
   decoder_.Start(format_, sample_rate_hz_);
+  operating_count_ = 0;
+  operating_head_ = 0;
+  operating_started_ = false;
   streaming_ = true;
   auto ack = Transact(Command::kRelease, [this](std::uint8_t token) {
     return EncodeSimpleCommand(config_.node, {Command::kRelease, token});
@@ -454,14 +475,16 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
     streaming_ = false;
     return std::unexpected(ack.error());
   }
-  if (ack->mode != GyroMode::kFreeRun) {
+  const GyroMode expected = whole_angle_ ? GyroMode::kOperating : GyroMode::kFreeRun;
+  if (ack->mode != expected) {
     streaming_ = false;
     return Fail(GyroErrorCode::kReadBackMismatch,
-                hw::ErrorText("release: acknowledged in mode ", hw::ToString(ack->mode)));
+                hw::ErrorText("release: acknowledged in mode ", hw::ToString(ack->mode),
+                              ", expected ", hw::ToString(expected)));
   }
   const std::int64_t t0_ns = ack_stamp_ns_ - static_cast<std::int64_t>(ack->arg) * 1000;
   decoder_.SetReleaseTime(t0_ns);
-  SetState(GyroMode::kFreeRun);
+  SetState(expected);
   return t0_ns;
 }
 
@@ -481,6 +504,58 @@ std::expected<void, GyroError> GyroCanDevice::Stop() {
   }
   SetState(GyroMode::kStopped);
   return {};
+}
+
+void GyroCanDevice::OnOperatingSample(const OperatingSampleFrame& frame) noexcept {
+  // The sample's number from its 8-bit counter: the first at or after the one expected (a loss of
+  // 256 samples in a row would alias; the operating stream is checked by its angle, not its y).
+  std::uint64_t index = 0;
+  if (operating_started_) {
+    const auto step = static_cast<std::uint8_t>(frame.seq - operating_last_seq_);
+    if (step == 0) {
+      counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);  // a repeat
+      return;
+    }
+    index = operating_last_index_ + step;
+    if (step != 1) counters_.sequence_gaps.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    index = frame.seq;
+  }
+  operating_started_ = true;
+  operating_last_seq_ = frame.seq;
+  operating_last_index_ = index;
+  if (operating_count_ == operating_buffer_.size()) {
+    counters_.buffer_overruns.fetch_add(1, std::memory_order_relaxed);  // the oldest is lost
+    operating_head_ = (operating_head_ + 1) % operating_buffer_.size();
+    --operating_count_;
+  }
+  OperatingSample& out =
+      operating_buffer_[(operating_head_ + operating_count_) % operating_buffer_.size()];
+  out.index = index;
+  out.angle_output_rad = frame.angle_output_raw * kAngleOutputLsbRad;
+  out.wave_angle_rad = frame.wave_angle_raw * kWaveAngleLsbRad;
+  ++operating_count_;
+}
+
+std::size_t GyroCanDevice::ReadOperatingSamples(std::span<OperatingSample> out,
+                                                std::int64_t timeout_ns) noexcept {
+  const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
+  std::size_t n = 0;
+  while (n < out.size()) {
+    while (n < out.size() && operating_count_ > 0) {
+      out[n++] = operating_buffer_[operating_head_];
+      operating_head_ = (operating_head_ + 1) % operating_buffer_.size();
+      --operating_count_;
+    }
+    if (n == out.size() || !streaming_) break;
+    const CanStatus status =
+        PumpUntil(deadline_ns, [this] { return operating_count_ > 0 || !streaming_; });
+    if (status != CanStatus::kOk) {
+      if (status == CanStatus::kBusOff) OnBusOff();
+      break;
+    }
+  }
+  return n;
 }
 
 std::expected<std::uint32_t, GyroError> GyroCanDevice::ParameterTransact(ParameterOp op,

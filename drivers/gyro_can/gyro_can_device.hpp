@@ -28,7 +28,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "gyro_can/gyro_codec.hpp"
 #include "gyro_can/parameter_block.hpp"
@@ -62,6 +64,14 @@ struct GyroCanDeviceConfig {
 
 // What WriteParameters did: the block the electronics held before (nullopt when none was valid),
 // and the generation of the block it committed.
+// One sample of the operating mode: the gyro's angle output ∫Ω̂ dt and the wave's electrical angle
+// modulo π, as the electronics computed them with their parameter block.
+struct OperatingSample {
+  std::uint64_t index = 0;  // sample number since release (from the 8-bit counter)
+  double angle_output_rad = 0.0;
+  double wave_angle_rad = 0.0;  // [0, π)
+};
+
 struct ParameterWriteOutcome {
   std::optional<ParameterValues> previous;
   std::uint32_t generation = 0;
@@ -106,6 +116,13 @@ class GyroCanDevice final : public hw::GyroElectronics {
       const ParameterValues& values);
   std::expected<std::uint32_t, hw::GyroError> RestorePreviousParameters();
 
+  // The operating mode (Configure with whole_angle, then Release: state kOperating): up to
+  // out.size() samples of the angle output, waiting at most `timeout_ns` for them; fewer when the
+  // wait ends or the stream stops. Lost samples are counted as sequence gaps, a full buffer as an
+  // overrun (the oldest sample is dropped). Same thread as the commands.
+  std::size_t ReadOperatingSamples(std::span<OperatingSample> out,
+                                   std::int64_t timeout_ns) noexcept;
+
   FrameFormat frame_format() const noexcept { return format_; }
   std::uint32_t sample_rate_hz() const noexcept { return sample_rate_hz_; }
 
@@ -122,6 +139,7 @@ class GyroCanDevice final : public hw::GyroElectronics {
   std::expected<std::uint32_t, hw::GyroError> ParameterTransact(ParameterOp op, std::uint8_t index,
                                                                 std::uint16_t value);
   std::expected<ParameterBlockWords, hw::GyroError> ReadParameterWords(ParameterOp op);
+  void OnOperatingSample(const OperatingSampleFrame& frame) noexcept;
   void ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept;
   void OnBusOff() noexcept;
   void SetState(hw::GyroMode mode) noexcept { state_.store(mode, std::memory_order_release); }
@@ -137,6 +155,15 @@ class GyroCanDevice final : public hw::GyroElectronics {
   std::uint32_t sample_rate_hz_ = 0;
   std::uint8_t next_token_ = 0;
   bool streaming_ = false;
+  bool whole_angle_ = false;  // the configured run mode
+
+  // The operating mode's samples: a ring allocated at construction.
+  std::vector<OperatingSample> operating_buffer_;
+  std::size_t operating_head_ = 0;
+  std::size_t operating_count_ = 0;
+  bool operating_started_ = false;
+  std::uint8_t operating_last_seq_ = 0;
+  std::uint64_t operating_last_index_ = 0;
 
   // The command being waited for, and what ProcessFrame found.
   bool awaiting_ack_ = false;

@@ -63,7 +63,7 @@ bool IsCommand(std::uint8_t value) noexcept {
          value <= static_cast<std::uint8_t>(Command::kParameter);
 }
 bool IsMode(std::uint32_t value) noexcept {
-  return value <= static_cast<std::uint8_t>(hw::GyroMode::kFaulted);
+  return value <= static_cast<std::uint8_t>(hw::GyroMode::kOperating);
 }
 
 }  // namespace
@@ -97,6 +97,7 @@ CanFrame EncodeConfigure(NodeId node, const ConfigureCommand& command) noexcept 
   PutUnsigned(frame, 1, 2, command.sample_rate_hz);
   frame.data[3] = static_cast<std::uint8_t>(command.format);
   frame.data[4] = command.status_rate_hz;
+  frame.data[5] = static_cast<std::uint8_t>(command.run_mode);
   return Seal(frame);
 }
 
@@ -122,6 +123,14 @@ CanFrame EncodeParameter(NodeId node, const ParameterCommand& command) noexcept 
   frame.data[1] = static_cast<std::uint8_t>(command.op);
   frame.data[2] = command.index;
   PutUnsigned(frame, 3, 2, command.value);
+  return Seal(frame);
+}
+
+CanFrame EncodeOperatingSample(NodeId node, const OperatingSampleFrame& sample) noexcept {
+  CanFrame frame = Begin(NodeMessageId(can_id::kOperatingSample, node), length::kOperatingSample);
+  frame.data[0] = sample.seq;
+  PutUnsigned(frame, 1, 4, static_cast<std::uint32_t>(sample.angle_output_raw));
+  PutUnsigned(frame, 5, 2, sample.wave_angle_raw);
   return Seal(frame);
 }
 
@@ -175,14 +184,15 @@ DecodeStatus DecodeConfigure(const CanFrame& frame, NodeId node, ConfigureComman
   const DecodeStatus status =
       Check(frame, NodeMessageId(can_id::kConfigure, node), length::kConfigure, false);
   if (status != DecodeStatus::kOk) return status;
-  if (frame.data[3] > static_cast<std::uint8_t>(FrameFormat::kFd) || frame.data[5] != 0 ||
-      frame.data[6] != 0) {
+  if (frame.data[3] > static_cast<std::uint8_t>(FrameFormat::kFd) ||
+      frame.data[5] > static_cast<std::uint8_t>(RunMode::kWholeAngle) || frame.data[6] != 0) {
     return DecodeStatus::kBadValue;
   }
   out->token = frame.data[0];
   out->sample_rate_hz = static_cast<std::uint16_t>(GetUnsigned(frame, 1, 2));
   out->format = static_cast<FrameFormat>(frame.data[3]);
   out->status_rate_hz = frame.data[4];
+  out->run_mode = static_cast<RunMode>(frame.data[5]);
   return DecodeStatus::kOk;
 }
 
@@ -228,6 +238,17 @@ DecodeStatus DecodeParameter(const CanFrame& frame, NodeId node, ParameterComman
   out->op = static_cast<ParameterOp>(frame.data[1]);
   out->index = frame.data[2];
   out->value = static_cast<std::uint16_t>(GetUnsigned(frame, 3, 2));
+  return DecodeStatus::kOk;
+}
+
+DecodeStatus DecodeOperatingSample(const CanFrame& frame, NodeId node,
+                                   OperatingSampleFrame* out) noexcept {
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(can_id::kOperatingSample, node), length::kOperatingSample, false);
+  if (status != DecodeStatus::kOk) return status;
+  out->seq = frame.data[0];
+  out->angle_output_raw = static_cast<std::int32_t>(GetUnsigned(frame, 1, 4));
+  out->wave_angle_raw = static_cast<std::uint16_t>(GetUnsigned(frame, 5, 2));
   return DecodeStatus::kOk;
 }
 

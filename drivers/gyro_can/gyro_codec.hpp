@@ -48,6 +48,7 @@ struct ConfigureCommand {
   std::uint16_t sample_rate_hz = 1000;
   FrameFormat format = FrameFormat::kClassic;
   std::uint8_t status_rate_hz = kDefaultStatusRateHz;  // 0: status only on request
+  RunMode run_mode = RunMode::kFreeRun;
 };
 
 struct ExciteCommand {
@@ -113,6 +114,13 @@ struct ReferencePhaseReport {
   std::uint32_t phase_raw = 0;  // χ mod 2π in units of 2π/2^32 rad
 };
 
+// One sample of the operating mode (OperatingSample).
+struct OperatingSampleFrame {
+  std::uint8_t seq = 0;               // sample number modulo 256
+  std::int32_t angle_output_raw = 0;  // ∫Ω̂ dt in kAngleOutputLsbRad (wraps at ±1024 rad)
+  std::uint16_t wave_angle_raw = 0;   // θ̂ mod π in kWaveAngleLsbRad
+};
+
 // χ (rad, any value) ↔ the phase word: χ mod 2π rounded to the nearest LSB (wraps at 2π).
 std::uint32_t QuantiseReferencePhase(double chi_rad) noexcept;
 constexpr double DequantiseReferencePhase(std::uint32_t raw) noexcept {
@@ -136,6 +144,7 @@ hw::CanFrame EncodeSampleHalf(NodeId node, const SampleHalf& half) noexcept;
 hw::CanFrame EncodeSampleFd(NodeId node, const SampleFdBlock& block) noexcept;  // FD with BRS
 hw::CanFrame EncodeReferencePhase(NodeId node,
                                   const ReferencePhaseReport& report) noexcept;  // classic
+hw::CanFrame EncodeOperatingSample(NodeId node, const OperatingSampleFrame& sample) noexcept;
 
 DecodeStatus DecodeConfigure(const hw::CanFrame& frame, NodeId node,
                              ConfigureCommand* out) noexcept;
@@ -151,6 +160,8 @@ DecodeStatus DecodeSampleHalf(const hw::CanFrame& frame, NodeId node, SampleHalf
 DecodeStatus DecodeSampleFd(const hw::CanFrame& frame, NodeId node, SampleFdBlock* out) noexcept;
 DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, NodeId node,
                                   ReferencePhaseReport* out) noexcept;
+DecodeStatus DecodeOperatingSample(const hw::CanFrame& frame, NodeId node,
+                                   OperatingSampleFrame* out) noexcept;
 
 // True for the identifiers this protocol defines in the given direction, of any node.
 constexpr bool IsCommandId(std::uint32_t id) noexcept {
@@ -161,7 +172,7 @@ constexpr bool IsCommandId(std::uint32_t id) noexcept {
 constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
   const std::uint32_t message = MessageOf(id);
   return message == can_id::kAck || message == can_id::kStatus ||
-         (message >= can_id::kSampleA && message <= can_id::kReferencePhase);
+         (message >= can_id::kSampleA && message <= can_id::kOperatingSample);
 }
 
 }  // namespace hrgbench::drivers::gyro_can

@@ -47,6 +47,8 @@ inline constexpr std::uint32_t kSampleFd = 0x120;  // electronics → host (CAN 
 // electronics → host: the demodulation reference's phase at every kReferencePhaseInterval-th
 // sample (optional: electronics that do not report it never send it; README "Reference phase")
 inline constexpr std::uint32_t kReferencePhase = 0x130;
+// electronics → host, in the operating mode: the gyro's angle output and the wave's angle
+inline constexpr std::uint32_t kOperatingSample = 0x140;
 }  // namespace can_id
 
 // Node `node`'s identifier of `message` (a can_id constant), and the reverse.
@@ -71,6 +73,7 @@ inline constexpr std::uint8_t kStatus = 8;
 inline constexpr std::uint8_t kSample = 8;
 inline constexpr std::uint8_t kSampleFd = 64;
 inline constexpr std::uint8_t kReferencePhase = 8;
+inline constexpr std::uint8_t kOperatingSample = 8;
 }  // namespace length
 
 // The command a frame carries (its message: CommandMessage), echoed in the Ack's byte 0. The codes
@@ -120,6 +123,17 @@ enum class ParameterOp : std::uint8_t {
   kCommit = 5,      // check the staged block (layout, CRC-32) and write it to the other slot
   kRestore = 6,     // make the other slot active again, if it holds a valid block
 };
+
+// What Release starts (Configure byte 5).
+enum class RunMode : std::uint8_t {
+  kFreeRun = 0,     // control off, the wave decays: the y samples stream
+  kWholeAngle = 1,  // the loops closed with the active parameter block: OperatingSample streams
+};
+
+// OperatingSample: the gyro's angle output ∫Ω̂ dt (rad) as int32 with LSB 2^-21 rad (±1024 rad),
+// and the wave's electrical angle θ̂ modulo π as uint16 with LSB π/2^16 (the forms repeat every π).
+inline constexpr double kAngleOutputLsbRad = 1.0 / 2097152.0;
+inline constexpr double kWaveAngleLsbRad = 3.14159265358979323846 / 65536.0;
 
 enum class FrameFormat : std::uint8_t {
   kClassic = 0,  // two 8-byte frames per sample (SampleA, SampleB)

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "sim/carrier_source.hpp"
 #include "sim/slow_model_source.hpp"
@@ -71,7 +73,9 @@ std::int64_t GyroSimNode::StatusPeriodNs() const noexcept {
 std::int64_t GyroSimNode::NextTimedEventNs() const noexcept {
   std::int64_t next = status_rate_hz_ == 0 ? kNever : next_status_ns_;
   const bool stalled = Stalled(options_.faults);
-  if (mode_ == GyroMode::kFreeRun && !stalled) next = std::min(next, SampleDueNs(next_sample_));
+  if ((mode_ == GyroMode::kFreeRun || mode_ == GyroMode::kOperating) && !stalled) {
+    next = std::min(next, SampleDueNs(next_sample_));
+  }
   if (mode_ == GyroMode::kExciting && !options_.faults.never_ready) {
     next = std::min(next, excite_done_ns_);
   }
@@ -188,10 +192,13 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
                  mode_ != GyroMode::kStopped) {
         ack.result = AckResult::kBadState;
       } else if (c.sample_rate_hz < 1 || c.sample_rate_hz > max_rate ||
-                 (c.format == FrameFormat::kFd && !fd_ok)) {
-        ack.result = AckResult::kBadArgument;
+                 (c.format == FrameFormat::kFd && !fd_ok) ||
+                 (c.run_mode == gyro_can::RunMode::kWholeAngle &&
+                  options_.physics != GyroPhysics::kSlow)) {
+        ack.result = AckResult::kBadArgument;  // the operating mode: slow physics only, so far
       } else {
         sample_rate_hz_ = c.sample_rate_hz;
+        run_mode_ = c.run_mode;
         format_ = c.format;
         status_rate_hz_ = c.status_rate_hz;
         next_status_ns_ = now_ns;
@@ -222,6 +229,16 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
         ack.result = AckResult::kFaulted;
       } else if (mode_ != GyroMode::kReady) {
         ack.result = AckResult::kBadState;
+      } else if (run_mode_ == gyro_can::RunMode::kWholeAngle) {
+        release_ns_ = now_ns;
+        next_sample_ = 0;
+        sample_frames_ = 0;
+        if (StartOperating()) {
+          mode_ = GyroMode::kOperating;
+          ++statistics_.runs;
+        } else {
+          ack.result = AckResult::kBadState;  // no valid compensation to run with
+        }
       } else {
         // The release instant is now: sample 0 is x0 itself, sent right after this Ack.
         mode_ = GyroMode::kFreeRun;
@@ -405,14 +422,19 @@ void GyroSimNode::Advance(std::int64_t now_ns) noexcept {
   if (mode_ == GyroMode::kExciting && now_ns >= excite_done_ns_ && !faults.never_ready) {
     mode_ = GyroMode::kReady;
   }
-  while (mode_ == GyroMode::kFreeRun && SampleDueNs(next_sample_) <= now_ns) {
+  while ((mode_ == GyroMode::kFreeRun || mode_ == GyroMode::kOperating) &&
+         SampleDueNs(next_sample_) <= now_ns) {
     if (Stalled(faults)) break;
     if (faults.bus_off_after_samples >= 0 && !bus_shorted_ &&
         next_sample_ >= static_cast<std::uint64_t>(faults.bus_off_after_samples)) {
       bus_shorted_ = true;
       if (short_bus_) short_bus_();
     }
-    EmitSample(SampleDueNs(next_sample_));
+    if (mode_ == GyroMode::kOperating) {
+      EmitOperatingSample();
+    } else {
+      EmitSample(SampleDueNs(next_sample_));
+    }
   }
   if (status_rate_hz_ != 0 && now_ns >= next_status_ns_) {
     SendStatus();
@@ -449,6 +471,53 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
     SendSampleFrame(gyro_can::EncodeSampleFd(options_.node, fd_block_));
     fd_block_ = {};
   }
+}
+
+bool GyroSimNode::StartOperating() noexcept {
+  const std::optional<gyro_can::ParameterValues> values = ActiveParameters();
+  if (!values) return false;
+  estimator::CompensationSet p;
+  for (int i = 0; i < 6; ++i) p.delta[i] = (*values)[static_cast<std::size_t>(i)];
+  for (int i = 0; i < 4; ++i) p.xi[i] = (*values)[static_cast<std::size_t>(6 + i)];
+  p.rate_bias_rad_s = (*values)[10];
+  if (p.delta[estimator::kScaleFactor] == 0.0) return false;
+  ControlledResonatorTruth truth;
+  truth.delta = options_.delta;
+  truth.xi = options_.xi;
+  truth.sigma = options_.sigma;
+  truth.seed = options_.seed + statistics_.runs;
+  const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);
+  plant_ = std::make_unique<ControlledResonator>(truth, omega_ ? omega_() : 0.0, h,
+                                                 estimator::OrbitToState(orbit_));
+  estimator::WholeAngleLoopGains gains;
+  gains.energy_setpoint = orbit_.a * orbit_.a + orbit_.b * orbit_.b;
+  control_ = std::make_unique<estimator::WholeAngleControl>(p, gains, h);
+  command_.setZero();
+  angle_output_rad_ = 0.0;
+  return true;
+}
+
+void GyroSimNode::EmitOperatingSample() noexcept {
+  const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);
+  plant_->SetOmega(omega_ ? omega_() : 0.0);
+  const estimator::WholeAngleSample s = control_->Step(plant_->Observe(command_));
+  command_ = s.u;
+  plant_->Advance(command_);
+  if (std::isfinite(s.rate_rad_s)) angle_output_rad_ += s.rate_rad_s * h;
+  const std::uint64_t k = next_sample_++;
+  ++statistics_.samples;
+  // The angle output wraps at ±1024 rad on the wire (int32 of 2^-21 rad), the wave angle at π.
+  const double turns = std::floor(angle_output_rad_ / 2048.0 + 0.5);
+  const auto output_raw = static_cast<std::int64_t>(
+      std::llround((angle_output_rad_ - 2048.0 * turns) / gyro_can::kAngleOutputLsbRad));
+  const double wave =
+      std::fmod(std::fmod(s.angle_rad, std::numbers::pi) + std::numbers::pi, std::numbers::pi);
+  const auto wave_raw = static_cast<std::uint32_t>(std::llround(wave / gyro_can::kWaveAngleLsbRad));
+  SendSampleFrame(gyro_can::EncodeOperatingSample(
+      options_.node,
+      {static_cast<std::uint8_t>(k & 0xFFu),
+       static_cast<std::int32_t>(std::clamp<std::int64_t>(output_raw, INT32_MIN, INT32_MAX)),
+       static_cast<std::uint16_t>(wave_raw & 0xFFFFu)}));
 }
 
 void GyroSimNode::SendSampleFrame(hw::CanFrame frame) noexcept {

@@ -32,8 +32,10 @@
 
 #include "gyro_can/gyro_codec.hpp"
 #include "hrgbench/estimator/simulation.hpp"
+#include "hrgbench/estimator/whole_angle_control.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
+#include "sim/controlled_resonator.hpp"
 #include "sim/free_run_source.hpp"
 #include "sim/gyro_sim_options.hpp"
 #include "sim/simulation_clock.hpp"
@@ -89,6 +91,8 @@ class GyroSimNode final : public SimulationParticipant {
   bool ExecuteParameter(const gyro_can::ParameterCommand& command, gyro_can::Ack* ack) noexcept;
   void SelectActiveParameterSlot() noexcept;  // at power-on: the newest slot whose CRC holds
   void EmitSample(std::int64_t t_ns) noexcept;
+  void EmitOperatingSample() noexcept;  // the operating mode's next sample
+  bool StartOperating() noexcept;       // false when no valid parameter block is active
   void SendSampleFrame(hw::CanFrame frame) noexcept;
   void SendStatus() noexcept;
   void Send(const hw::CanFrame& frame) noexcept;
@@ -114,6 +118,14 @@ class GyroSimNode final : public SimulationParticipant {
   std::uint8_t status_rate_hz_ = gyro_can::kDefaultStatusRateHz;
   estimator::Orbit orbit_;
   std::int64_t excite_done_ns_ = 0;
+
+  // Operating mode (Configure's run mode): the resonator with the control in it, run by the
+  // whole-angle loops with the active parameter block (slow physics only).
+  gyro_can::RunMode run_mode_ = gyro_can::RunMode::kFreeRun;
+  std::unique_ptr<ControlledResonator> plant_;
+  std::unique_ptr<estimator::WholeAngleControl> control_;
+  Eigen::Vector4d command_ = Eigen::Vector4d::Zero();
+  double angle_output_rad_ = 0.0;
 
   // Free run.
   std::int64_t release_ns_ = 0;

@@ -39,6 +39,9 @@ enum class GyroMode : std::uint8_t {
   kFreeRun = 4,     // control off, the wave decays freely; samples are streaming
   kStopped = 5,     // safe state: drive off, wave damped, no samples
   kFaulted = 6,     // a fault (see fault bits) or a lost bus: only Stop() leaves it
+  // the gyro as a gyro (whole-angle): the energy and quadrature loops closed with the unit's
+  // compensation parameters, the wave free to turn, the angle output streaming
+  kOperating = 7,
 };
 
 constexpr std::string_view ToString(GyroMode mode) noexcept {
@@ -57,6 +60,8 @@ constexpr std::string_view ToString(GyroMode mode) noexcept {
       return "stopped";
     case GyroMode::kFaulted:
       return "faulted";
+    case GyroMode::kOperating:
+      return "operating";
   }
   return "?";
 }
@@ -93,6 +98,9 @@ struct WaveState {
 
 struct GyroConfig {
   std::uint32_t sample_rate_hz = 1000;  // 1 … the transport's limit (below)
+  // What Release does: let the wave decay freely (a free run, the measurement), or close the
+  // whole-angle loops and stream the gyro's angle output (the operating mode).
+  bool whole_angle = false;
 };
 
 // What the gyro link can carry, whatever electronics sit behind it (the CAN protocol v2;

@@ -57,6 +57,8 @@ expect = {
     "par_begin0": ("CmdParameter", {"Op": 1, "Value": 48, "Reserved": 0}),
     "ack_par_read0": ("Ack", {"Command": 0x45, "Mode": 1, "Arg": (17 << 16) | 0xBEEF}),
     "ack_cfg0": ("Ack", {"Command": 0x40, "Arg": 1000}),
+    "cfg0wa": ("CmdConfigure", {"RunMode": 1, "SampleRate": 1000, "Reserved": 0}),
+    "op4": ("OperatingSample", {"Seq": 0x2A, "AngleOutput": -3 * 2**21, "WaveAngle": 32768}),
 }
 for name, (message, fields) in expect.items():
     if name not in decoded:

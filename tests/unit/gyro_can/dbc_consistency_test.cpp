@@ -148,7 +148,8 @@ TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
       {can_id::kSampleA, length::kSample},
       {can_id::kSampleB, length::kSample},
       {can_id::kSampleFd, length::kSampleFd},
-      {can_id::kReferencePhase, length::kReferencePhase}};
+      {can_id::kReferencePhase, length::kReferencePhase},
+      {can_id::kOperatingSample, length::kOperatingSample}};
   ASSERT_EQ(TheDbc().messages.size(), expected.size());
   for (const auto& [id, len] : expected) {
     const auto it = TheDbc().messages.find(id);
@@ -180,7 +181,7 @@ TEST(DbcConsistencyTest, VersionAndEnumerations) {
   EXPECT_EQ(TheDbc().attributes.at("NodeIdMask"), std::to_string(kNodeIdMask));
   for (std::uint32_t id : {can_id::kAck, can_id::kStatus}) {
     const auto& modes = TheDbc().value_tables.at({id, "Mode"});
-    ASSERT_EQ(modes.size(), 7u);
+    ASSERT_EQ(modes.size(), 8u);
     for (const auto& [value, name] : modes) {
       // "FreeRun" vs ToString "free-run": compare letters only, case-insensitively.
       std::string a, b;
@@ -225,6 +226,17 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_EQ(Signal(can_id::kAck, "Mode", ack), 3);
   EXPECT_EQ(Signal(can_id::kAck, "Arg", ack), 123456);
   EXPECT_EQ(Signal(can_id::kAck, "Crc", ack), ack.data[7]);
+
+  const hw::CanFrame operating = EncodeOperatingSample(
+      kNode, {.seq = 7, .angle_output_raw = -2097152 * 3, .wave_angle_raw = 32768});
+  EXPECT_EQ(Signal(can_id::kOperatingSample, "Seq", operating), 7);
+  EXPECT_DOUBLE_EQ(Signal(can_id::kOperatingSample, "AngleOutput", operating), -3.0);
+  EXPECT_NEAR(Signal(can_id::kOperatingSample, "WaveAngle", operating), std::numbers::pi / 2,
+              1e-12);
+  const hw::CanFrame whole_angle = EncodeConfigure(
+      kNode, {.token = 1, .sample_rate_hz = 1000, .run_mode = RunMode::kWholeAngle});
+  EXPECT_EQ(Signal(can_id::kConfigure, "RunMode", whole_angle), 1);
+  EXPECT_EQ(Signal(can_id::kConfigure, "Reserved", whole_angle), 0);
 
   const hw::CanFrame parameter =
       EncodeParameter(kNode, {.token = 5, .op = ParameterOp::kWrite, .index = 46, .value = 0xC9FF});

@@ -48,6 +48,10 @@ def pattern(seq, count):
     return p
 print("fd_full0", frame(0x120, pattern(0x1234,5), fd=True))
 print("fd_part9", frame(0x129, pattern(0xFFFF,2), fd=True))
+# Configure in the whole-angle run mode (byte 5), and an operating sample: seq, the angle output
+# int32 of 2^-21 rad (-3 rad), the wave angle uint16 of pi/2^16 (pi/2).
+print("cfg0wa", frame(0x040, [0x10] + le(1000,2) + [0, 10, 1, 0]))
+print("op4", frame(0x144, [0x2A] + le(-3 * 2**21, 4) + le(32768, 2)))
 # Parameter (0x03n): token, op, word index, value u16, two reserved zero bytes.
 print("par_begin0", frame(0x030, [0x0C, 1, 0] + le(48,2) + [0, 0]))
 print("par_write6", frame(0x036, [0x0D, 2, 17] + le(0xBEEF,2) + [0, 0]))

@@ -48,6 +48,29 @@ TEST(GyroCodecTest, ConfigureGolden) {
   EXPECT_EQ(decoded.status_rate_hz, 0);
 }
 
+TEST(GyroCodecTest, OperatingModeGolden) {
+  // Configure's byte 5 starts the operating mode at Release; run mode 0 is version 1's frame.
+  const ConfigureCommand whole_angle{.token = 0x10,
+                                     .sample_rate_hz = 1000,
+                                     .format = FrameFormat::kClassic,
+                                     .status_rate_hz = 10,
+                                     .run_mode = RunMode::kWholeAngle};
+  EXPECT_EQ(hw::CanFrameToString(EncodeConfigure(0, whole_angle)), "040#10E803000A010092");
+  ConfigureCommand decoded;
+  ASSERT_EQ(DecodeConfigure(Frame("040#10E803000A010092"), 0, &decoded), DecodeStatus::kOk);
+  EXPECT_EQ(decoded.run_mode, RunMode::kWholeAngle);
+  // The angle output −3 rad, the wave angle π/2.
+  const OperatingSampleFrame sample{
+      .seq = 0x2A, .angle_output_raw = -3 * 2097152, .wave_angle_raw = 32768};
+  EXPECT_EQ(hw::CanFrameToString(EncodeOperatingSample(4, sample)), "144#2A0000A0FF008082");
+  OperatingSampleFrame read;
+  ASSERT_EQ(DecodeOperatingSample(Frame("144#2A0000A0FF008082"), 4, &read), DecodeStatus::kOk);
+  EXPECT_EQ(read.seq, 0x2A);
+  EXPECT_DOUBLE_EQ(read.angle_output_raw * kAngleOutputLsbRad, -3.0);
+  EXPECT_DOUBLE_EQ(read.wave_angle_raw * kWaveAngleLsbRad, std::numbers::pi / 2);
+  EXPECT_TRUE(IsElectronicsId(0x144));
+}
+
 TEST(GyroCodecTest, ExciteGolden) {
   // a = 1, b = -0.4, θ = π/7 (the paper's run 2 design) in 1e-4 units.
   ExciteCommand command{.token = 0x08, .a_raw = 10000, .b_raw = -4000, .theta_raw = 4488};
