@@ -484,6 +484,8 @@ bool GyroSimNode::StartOperating() noexcept {
   ControlledResonatorTruth truth;
   truth.delta = options_.delta;
   truth.xi = options_.xi;
+  truth.forcer_gain = options_.forcer_gain;
+  truth.feed_through = options_.feed_through;
   truth.sigma = options_.sigma;
   truth.seed = options_.seed + statistics_.runs;
   const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);

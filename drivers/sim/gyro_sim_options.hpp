@@ -5,6 +5,7 @@
 // failure modes (STYLE rule 6). Plain data with in-class defaults; the program reads it from TOML
 // (gyro_sim_config.hpp).
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 
@@ -53,7 +54,11 @@ struct GyroSimOptions {
   // 1/s, δ2 = 0.3.
   estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
   estimator::Xi xi = estimator::Xi::Zero();
-  double sigma = 0.0;      // noise std per channel of y (amplitude units); the paper's 1e-4
+  double sigma = 0.0;  // noise std per channel of y (amplitude units); the paper's 1e-4
+  // The operating mode's forcers (slow physics): their complex gain F = I + B(ε) and the command's
+  // feed-through D into the pick-off (sim/controlled_resonator.hpp). Free runs never see them.
+  Eigen::Matrix2cd forcer_gain = Eigen::Matrix2cd::Identity();
+  Eigen::Matrix2cd feed_through = Eigen::Matrix2cd::Zero();
   std::uint64_t seed = 1;  // run r (0-based, per release) uses NormalGenerator(seed + r)
   // physics = kCarrier: the mode, the pick-off path and the electronics (seeded with seed + r as
   // well). Its frequency is what Status reports (resonant_frequency_hz is the slow physics').
