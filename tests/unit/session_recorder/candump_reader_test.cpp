@@ -21,9 +21,23 @@ namespace {
 namespace fs = std::filesystem;
 using testing::SameFrame;
 
+// This process's scratch folder, removed when the process ends (each test runs as its own
+// process: a folder left per test piled up in the scratch space, 20 per pass of the suite).
+const fs::path& ScratchDir() {
+  struct Scratch {
+    fs::path dir =
+        fs::temp_directory_path() / ("hrgbench_candump_read_" + std::to_string(::getpid()));
+    ~Scratch() {
+      std::error_code ignored;
+      fs::remove_all(dir, ignored);
+    }
+  };
+  static const Scratch scratch;
+  return scratch.dir;
+}
+
 fs::path TempFile(const std::string& name, const std::string& text) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("hrgbench_candump_read_" + std::to_string(::getpid()));
+  const fs::path& dir = ScratchDir();
   fs::create_directories(dir);
   const fs::path path = dir / name;
   std::ofstream(path, std::ios::binary) << text;
