@@ -14,6 +14,11 @@ using hw::GyroError;
 using hw::GyroErrorCode;
 using hw::GyroMode;
 
+// Where nothing drives the wave or reads it: a run may be configured and the parameter block read
+// or written (never under a wave the electronics are using it for).
+constexpr std::array<GyroMode, 3> kNoWaveModes = {GyroMode::kIdle, GyroMode::kConfigured,
+                                                  GyroMode::kStopped};
+
 std::string Hex2(unsigned value) {
   static constexpr char kHex[] = "0123456789ABCDEF";
   return {kHex[(value >> 4) & 0xFu], kHex[value & 0xFu]};
@@ -118,7 +123,7 @@ GyroCanDevice::GyroCanDevice(hw::CanBus& bus, const GyroCanDeviceConfig& config)
       decoder_(config.sample_buffer_capacity),
       operating_buffer_(std::max<std::size_t>(config.sample_buffer_capacity, 1)) {}
 
-std::expected<void, GyroError> GyroCanDevice::RequireState(std::initializer_list<GyroMode> allowed,
+std::expected<void, GyroError> GyroCanDevice::RequireState(std::span<const GyroMode> allowed,
                                                            const char* what) const {
   const GyroMode now = State();
   if (std::find(allowed.begin(), allowed.end(), now) != allowed.end()) return {};
@@ -325,9 +330,7 @@ std::expected<Ack, GyroError> GyroCanDevice::Transact(Command command, Encode en
 }
 
 std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& config) {
-  if (auto ok =
-          RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped}, "configure");
-      !ok) {
+  if (auto ok = RequireState(kNoWaveModes, "configure"); !ok) {
     return ok;
   }
   const FrameFormat format =
@@ -366,7 +369,8 @@ std::expected<void, GyroError> GyroCanDevice::Configure(const hw::GyroConfig& co
 }
 
 std::expected<void, GyroError> GyroCanDevice::Excite(const hw::WaveState& target) {
-  if (auto ok = RequireState({GyroMode::kConfigured, GyroMode::kReady}, "excite"); !ok) return ok;
+  if (auto ok = RequireState(std::array{GyroMode::kConfigured, GyroMode::kReady}, "excite"); !ok)
+    return ok;
   const double a_max = 65535 * kExciteLsb;
   const double bt_max = 32767 * kExciteLsb;
   if (!std::isfinite(target.a) || !std::isfinite(target.b) || !std::isfinite(target.theta_rad) ||
@@ -419,7 +423,8 @@ std::expected<hw::GyroStatus, GyroError> GyroCanDevice::RequestStatus() {
 }
 
 std::expected<hw::GyroStatus, GyroError> GyroCanDevice::WaitReady(std::int64_t timeout_ns) {
-  if (auto ok = RequireState({GyroMode::kExciting, GyroMode::kReady}, "wait ready"); !ok) {
+  if (auto ok = RequireState(std::array{GyroMode::kExciting, GyroMode::kReady}, "wait ready");
+      !ok) {
     return std::unexpected(ok.error());
   }
   const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
@@ -460,7 +465,7 @@ CanStatus GyroCanDevice::ProcessIncoming(std::int64_t timeout_ns) noexcept {
 }
 
 std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
-  if (auto ok = RequireState({GyroMode::kReady}, "release"); !ok)
+  if (auto ok = RequireState(std::array{GyroMode::kReady}, "release"); !ok)
     return std::unexpected(ok.error());
   // Samples may follow the Ack immediately (or precede a repeated Ack): be ready for them first.
   decoder_.Start(format_, sample_rate_hz_);
@@ -529,7 +534,7 @@ void GyroCanDevice::OnOperatingSample(const OperatingSampleFrame& frame) noexcep
     operating_head_ = (operating_head_ + 1) % operating_buffer_.size();
     --operating_count_;
   }
-  OperatingSample& out =
+  hw::OperatingSample& out =
       operating_buffer_[(operating_head_ + operating_count_) % operating_buffer_.size()];
   out.index = index;
   out.angle_output_rad = frame.angle_output_raw * kAngleOutputLsbRad;
@@ -537,7 +542,7 @@ void GyroCanDevice::OnOperatingSample(const OperatingSampleFrame& frame) noexcep
   ++operating_count_;
 }
 
-std::size_t GyroCanDevice::ReadOperatingSamples(std::span<OperatingSample> out,
+std::size_t GyroCanDevice::ReadOperatingSamples(std::span<hw::OperatingSample> out,
                                                 std::int64_t timeout_ns) noexcept {
   const std::int64_t deadline_ns = clock_.NowNs() + std::max<std::int64_t>(timeout_ns, 0);
   std::size_t n = 0;
@@ -585,9 +590,7 @@ std::expected<ParameterBlockWords, GyroError> GyroCanDevice::ReadParameterWords(
 }
 
 std::expected<ParameterValues, GyroError> GyroCanDevice::ReadParameters() {
-  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
-                             "read parameters");
-      !ok) {
+  if (auto ok = RequireState(kNoWaveModes, "read parameters"); !ok) {
     return std::unexpected(ok.error());
   }
   auto words = ReadParameterWords(ParameterOp::kReadActive);
@@ -602,11 +605,9 @@ std::expected<ParameterValues, GyroError> GyroCanDevice::ReadParameters() {
   return values;
 }
 
-std::expected<ParameterWriteOutcome, GyroError> GyroCanDevice::WriteParameters(
+std::expected<hw::CompensationWrite, GyroError> GyroCanDevice::WriteParameters(
     const ParameterValues& values) {
-  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
-                             "write parameters");
-      !ok) {
+  if (auto ok = RequireState(kNoWaveModes, "write parameters"); !ok) {
     return std::unexpected(ok.error());
   }
   const ParameterBlockWords block = EncodeParameterBlock(values);
@@ -614,7 +615,7 @@ std::expected<ParameterWriteOutcome, GyroError> GyroCanDevice::WriteParameters(
   if (DecodeParameterBlock(block, &check) != ParameterBlockStatus::kOk) {
     return Fail(GyroErrorCode::kInvalidArgument, "write parameters: a value is not finite");
   }
-  ParameterWriteOutcome outcome;
+  hw::CompensationWrite outcome;
   // What the unit held before, so that the record can restore it.
   if (auto before = ReadParameterWords(ParameterOp::kReadActive); !before) {
     return std::unexpected(before.error());
@@ -676,9 +677,7 @@ std::expected<ParameterWriteOutcome, GyroError> GyroCanDevice::WriteParameters(
 }
 
 std::expected<std::uint32_t, GyroError> GyroCanDevice::RestorePreviousParameters() {
-  if (auto ok = RequireState({GyroMode::kIdle, GyroMode::kConfigured, GyroMode::kStopped},
-                             "restore parameters");
-      !ok) {
+  if (auto ok = RequireState(kNoWaveModes, "restore parameters"); !ok) {
     return std::unexpected(ok.error());
   }
   return ParameterTransact(ParameterOp::kRestore, 0, 0);

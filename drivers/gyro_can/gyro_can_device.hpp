@@ -38,6 +38,7 @@
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/operating_gyro.hpp"
 
 namespace hrgbench::drivers::gyro_can {
 
@@ -62,22 +63,7 @@ struct GyroCanDeviceConfig {
   bool IsValid(std::string* why) const;
 };
 
-// What WriteParameters did: the block the electronics held before (nullopt when none was valid),
-// and the generation of the block it committed.
-// One sample of the operating mode: the gyro's angle output ∫Ω̂ dt and the wave's electrical angle
-// modulo π, as the electronics computed them with their parameter block.
-struct OperatingSample {
-  std::uint64_t index = 0;  // sample number since release (from the 8-bit counter)
-  double angle_output_rad = 0.0;
-  double wave_angle_rad = 0.0;  // [0, π)
-};
-
-struct ParameterWriteOutcome {
-  std::optional<ParameterValues> previous;
-  std::uint32_t generation = 0;
-};
-
-class GyroCanDevice final : public hw::GyroElectronics {
+class GyroCanDevice final : public hw::GyroElectronics, public hw::OperatingGyro {
  public:
   // Sets the bus filters to its node's electronics ids and allocates all receive storage.
   // Failure: kInvalidArgument (config), kTransport (filters refused).
@@ -111,17 +97,17 @@ class GyroCanDevice final : public hw::GyroElectronics {
   // A timeout during the commit (a power loss) leaves whichever block the electronics' memory
   // then holds: read it. RestorePreviousParameters makes the other slot active again and returns
   // its generation.
-  std::expected<ParameterValues, hw::GyroError> ReadParameters();
-  std::expected<ParameterWriteOutcome, hw::GyroError> WriteParameters(
-      const ParameterValues& values);
-  std::expected<std::uint32_t, hw::GyroError> RestorePreviousParameters();
+  std::expected<ParameterValues, hw::GyroError> ReadParameters() override;
+  std::expected<hw::CompensationWrite, hw::GyroError> WriteParameters(
+      const ParameterValues& values) override;
+  std::expected<std::uint32_t, hw::GyroError> RestorePreviousParameters() override;
 
   // The operating mode (Configure with whole_angle, then Release: state kOperating): up to
   // out.size() samples of the angle output, waiting at most `timeout_ns` for them; fewer when the
   // wait ends or the stream stops. Lost samples are counted as sequence gaps, a full buffer as an
   // overrun (the oldest sample is dropped). Same thread as the commands.
-  std::size_t ReadOperatingSamples(std::span<OperatingSample> out,
-                                   std::int64_t timeout_ns) noexcept;
+  std::size_t ReadOperatingSamples(std::span<hw::OperatingSample> out,
+                                   std::int64_t timeout_ns) noexcept override;
 
   FrameFormat frame_format() const noexcept { return format_; }
   std::uint32_t sample_rate_hz() const noexcept { return sample_rate_hz_; }
@@ -143,7 +129,7 @@ class GyroCanDevice final : public hw::GyroElectronics {
   void ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept;
   void OnBusOff() noexcept;
   void SetState(hw::GyroMode mode) noexcept { state_.store(mode, std::memory_order_release); }
-  std::expected<void, hw::GyroError> RequireState(std::initializer_list<hw::GyroMode> allowed,
+  std::expected<void, hw::GyroError> RequireState(std::span<const hw::GyroMode> allowed,
                                                   const char* what) const;
   void SyncDecoderCounters() noexcept;
 
@@ -158,7 +144,7 @@ class GyroCanDevice final : public hw::GyroElectronics {
   bool whole_angle_ = false;  // the configured run mode
 
   // The operating mode's samples: a ring allocated at construction.
-  std::vector<OperatingSample> operating_buffer_;
+  std::vector<hw::OperatingSample> operating_buffer_;
   std::size_t operating_head_ = 0;
   std::size_t operating_count_ = 0;
   bool operating_started_ = false;

@@ -20,12 +20,17 @@
 #include <cstdint>
 #include <string_view>
 
+#include "hrgbench/hw/operating_gyro.hpp"
+
 namespace hrgbench::drivers::gyro_can {
 
 inline constexpr std::uint16_t kParameterLayoutVersion = 1;
-inline constexpr int kParameterValueCount = 11;
+inline constexpr int kParameterValueCount = hw::kCompensationValueCount;
 inline constexpr int kParameterBlockWords = 48;
-using ParameterValues = std::array<double, kParameterValueCount>;
+// The block's values are hw's (hw/operating_gyro.hpp): the wire carries exactly what the interface
+// hands over.
+using ParameterValues = hw::CompensationValues;
+static_assert(kParameterValueCount == 11, "the layout below holds 11 values");
 using ParameterBlockWords = std::array<std::uint16_t, kParameterBlockWords>;
 
 enum class ParameterBlockStatus : std::uint8_t {

@@ -476,10 +476,8 @@ void GyroSimNode::EmitSample(std::int64_t t_ns) noexcept {
 bool GyroSimNode::StartOperating() noexcept {
   const std::optional<gyro_can::ParameterValues> values = ActiveParameters();
   if (!values) return false;
-  estimator::CompensationSet p;
-  for (int i = 0; i < 6; ++i) p.delta[i] = (*values)[static_cast<std::size_t>(i)];
-  for (int i = 0; i < 4; ++i) p.xi[i] = (*values)[static_cast<std::size_t>(6 + i)];
-  p.rate_bias_rad_s = (*values)[10];
+  const estimator::CompensationSet p = estimator::CompensationFromVector(
+      Eigen::Map<const estimator::CompensationVector>(values->data()));
   if (p.delta[estimator::kScaleFactor] == 0.0) return false;
   ControlledResonatorTruth truth;
   truth.delta = options_.delta;
@@ -489,6 +487,7 @@ bool GyroSimNode::StartOperating() noexcept {
   truth.sigma = options_.sigma;
   truth.seed = options_.seed + statistics_.runs;
   const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);
+  operating_period_s_ = h;
   plant_ = std::make_unique<ControlledResonator>(truth, omega_ ? omega_() : 0.0, h,
                                                  estimator::OrbitToState(orbit_));
   estimator::WholeAngleLoopGains gains;
@@ -500,7 +499,7 @@ bool GyroSimNode::StartOperating() noexcept {
 }
 
 void GyroSimNode::EmitOperatingSample() noexcept {
-  const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);
+  const double h = operating_period_s_;
   plant_->SetOmega(omega_ ? omega_() : 0.0);
   const estimator::WholeAngleSample s = control_->Step(plant_->Observe(command_));
   command_ = s.u;

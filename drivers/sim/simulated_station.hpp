@@ -40,6 +40,7 @@
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/operating_gyro.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 #include "sim/clocked_can_endpoint.hpp"
 #include "sim/gyro_sim_node.hpp"
@@ -64,6 +65,9 @@ class SimulatedStation {
   std::size_t unit_count() const noexcept { return units_.size(); }
   hw::RateTable& table() noexcept { return *table_; }
   hw::GyroElectronics& gyro(std::size_t i = 0) noexcept { return *units_[i].device; }
+  // The same electronics as a gyro: their parameter block and angle output (same thread as
+  // gyro(i)).
+  hw::OperatingGyro& operating_gyro(std::size_t i = 0) noexcept { return *units_[i].device; }
   hw::Clock& clock() noexcept { return *clock_; }
   // The raw-frame tap: every frame of unit i's node id on its bus, host's and electronics', in bus
   // order, stamped on the station's clock. One reader thread. Frames not read pile up to

@@ -43,6 +43,7 @@
 #include "app/session_replay.hpp"
 #include "app/session_upload.hpp"
 #include "app/station_factory.hpp"
+#include "app/tune_command.hpp"
 #include "app/unit_history.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/analysis/session_judge.hpp"
@@ -531,6 +532,7 @@ struct RunArgs {
   std::string station, sequence, limits, out_dir;
   OperatorRequest who;
   std::vector<std::string> serials;
+  bool tune = false;  // a PASS unit tuned at once (`hrg-bench tune DIR` with its defaults)
 };
 
 // `hrg-bench replay`'s command line.
@@ -658,6 +660,11 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events, app::Report
     }
   }
   if (bench::FittedPositions(configs->station).size() > 1) {
+    if (args.tune) {
+      std::cerr << "--tune: tunes one unit's session; tune a fixture's units with hrg-bench tune "
+                   "UNIT_DIR each\n";
+      return kExitBadInput;
+    }
     return RunFixtureCommand(*configs, args, json, events, report_mode);
   }
   if (args.serials.size() != 1) {
@@ -680,7 +687,15 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events, app::Report
     }
     dir = folder->string();
   }
-  return RunOrResume(*configs, dir, serial, args.who, false, json, events, report_mode);
+  const int exit_code =
+      RunOrResume(*configs, dir, serial, args.who, false, json, events, report_mode);
+  if (!args.tune || exit_code != kExitOk || g_interrupts.load() > 0) return exit_code;
+  // The unit passed: its compensation, written and verified, in one command (issue 28).
+  app::TuneOptions tune;
+  tune.dir = dir;
+  tune.json = json;
+  tune.interrupts = &g_interrupts;
+  return app::Tune(tune);
 }
 
 // `hrg-bench resume DIR` of a session that closed as PASS or FAIL (killed during its report or
@@ -806,6 +821,9 @@ CLI::App* AddRunCommand(CLI::App& cli, RunArgs& args, bool& json, EventsRequest&
   run->add_flag("--json", json, "print the result as one JSON object");
   AddEventsOptions(run, events);
   AddReportOption(run, report);
+  run->add_flag("--tune", args.tune,
+                "a unit that passes is tuned at once: its compensation written, refined and "
+                "verified on the table (hrg-bench tune DIR; one unit's station)");
   return run;
 }
 
@@ -846,6 +864,33 @@ CLI::App* AddReplayCommand(CLI::App& cli, ReplayArgs& args, bool& json) {
   return replay;
 }
 
+CLI::App* AddTuneCommand(CLI::App& cli, app::TuneOptions& tune) {
+  CLI::App* command = cli.add_subcommand(
+      "tune",
+      "a unit's PASS session made into its compensation, written to its electronics, refined "
+      "and verified on the table (DIR/tune.json)");
+  command->add_option("dir", tune.dir, "the unit's closed session folder")->required();
+  command
+      ->add_option("--rates", tune.rates_rad_s,
+                   "the verification's table rates, rad/s, both signs (default 0.3 -0.3)")
+      ->check(CLI::Range(-10.0, 10.0))
+      ->expected(2, 16);
+  command
+      ->add_option("--verify-turns", tune.verify_turns, "turns of the wave per verification hold")
+      ->check(CLI::Range(0.5, 100.0));
+  command->add_option("--refine-turns", tune.refine_turns, "turns of the wave per refinement hold")
+      ->check(CLI::Range(0.5, 100.0));
+  command->add_option("--sample-rate", tune.sample_rate_hz, "the angle output's rate, Hz")
+      ->check(CLI::Range(10u, 2000u));
+  command
+      ->add_option("--zero-rate-hold", tune.zero_rate_hold_s,
+                   "seconds at zero rate after the verification: the Allan deviation (ARW, bias "
+                   "instability)")
+      ->check(CLI::Range(0.0, 3600.0));
+  command->add_flag("--json", tune.json, "print tune.json");
+  return command;
+}
+
 CLI::App* AddServeCommand(CLI::App& cli, app::PanelOptions& panel) {
   CLI::App* serve = cli.add_subcommand("serve", "the operator panel in the browser");
   serve
@@ -870,7 +915,7 @@ int main(int argc, char** argv) {
       "estimated and judged.\n"
       "run, resume: the session's outcome (a fixture: its worst unit's). replay: 1 the log does "
       "not rebuild the record. check, serve: 4 a config or option refused; serve: 2 the port is "
-      "taken.\n" +
+      "taken. tune: 0 tuned, 1 the rate error missed its bound.\n" +
       std::string(kExitCodesHelp)};
   cli.require_subcommand(1);
   bool quiet = false;
@@ -889,6 +934,9 @@ int main(int argc, char** argv) {
   CLI::App* check = AddCheckCommand(cli, check_args);
   CLI::App* replay = AddReplayCommand(cli, replay_args, json);
   CLI::App* serve = AddServeCommand(cli, panel);
+  app::TuneOptions tune;
+  tune.interrupts = &g_interrupts;
+  CLI::App* tune_command = AddTuneCommand(cli, tune);
 
   try {
     cli.parse(argc, argv);
@@ -903,7 +951,7 @@ int main(int argc, char** argv) {
   // run and resume: the handlers before anything that takes time (configs, the station, the
   // event pipe), so that an early interrupt is the session's first check and a second one exits.
   // The other commands keep the default dispositions.
-  if (*run || *resume)
+  if (*run || *resume || *tune_command)
     InstallSignalHandlers();
   else if (!*serve)
     UnblockInterrupts();
@@ -911,6 +959,7 @@ int main(int argc, char** argv) {
     if (*serve) return Serve(panel, argv[0]);
     if (*replay) return Replay(replay_args, json);
     if (*check) return Check(check_args);
+    if (*tune_command) return app::Tune(tune);
     const app::ReportMode report_mode = *app::ParseReportMode(report);  // CLI11 checked it
     if (*run) return Run(run_args, json, events, report_mode);
     if (*resume) return Resume(resume_dir, resume_who, json, events, report_mode);

@@ -26,6 +26,7 @@ class SimulatedStationAdapter final : public Station {
     for (std::size_t i = 0; i < fitted.size(); ++i) {
       bench::UnitHardware unit;
       unit.gyro = &station_->gyro(i);
+      unit.operating = &station_->operating_gyro(i);
       unit.monitor = &station_->monitor(i);
       unit.can_interface = fitted[i]->can_interface;
       unit.can_node = fitted[i]->can_node;
@@ -225,6 +226,7 @@ std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::Stati
   for (std::size_t i = 0; i < fitted.size(); ++i) {
     bench::UnitHardware unit;
     unit.gyro = station->units[i].gyro.get();
+    unit.operating = station->units[i].gyro.get();
     unit.monitor = station->units[i].monitor.get();
     unit.monitor_stamps_on_bench_clock = false;  // SocketCAN: software = realtime
     unit.can_interface = fitted[i]->can_interface;

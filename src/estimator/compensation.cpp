@@ -11,6 +11,14 @@ CompensationVector CompensationSet::AsVector() const {
   return v;
 }
 
+CompensationSet CompensationFromVector(const CompensationVector& values) noexcept {
+  CompensationSet p;
+  p.delta = values.head<6>();
+  p.xi = values.segment<4>(kCompensationXi);
+  p.rate_bias_rad_s = values[kCompensationBias];
+  return p;
+}
+
 CompensationSet IdentityCompensation(double nominal_angular_gain, double nominal_damping_per_s) {
   CompensationSet p;
   p.delta[kDamping] = nominal_damping_per_s;

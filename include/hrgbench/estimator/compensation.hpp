@@ -50,6 +50,10 @@ struct CompensationSet {
   CompensationVector AsVector() const;
 };
 
+// The values of a vector in AsVector's order (a block the electronics hold, read back): nothing in
+// it is flagged as estimated and its covariance is zero.
+CompensationSet CompensationFromVector(const CompensationVector& values) noexcept;
+
 // What an untuned unit's electronics run with: no pick-off inverse, no drift removed, the design's
 // angular gain and decay, no split fed forward.
 CompensationSet IdentityCompensation(double nominal_angular_gain, double nominal_damping_per_s);

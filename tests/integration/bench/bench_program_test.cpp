@@ -874,6 +874,42 @@ TEST(BenchProgram, ResumeOfAFolderWithoutARecordSaysNothingRan) {
   EXPECT_NE(resumed.out.find("nothing was run"), std::string::npos) << resumed.out;
 }
 
+// Issue 28's one command: a unit that passes is tuned at once (its compensation written over CAN,
+// refined and verified on the table), tune.json beside its record; `tune` refuses a folder that
+// is not a PASS session before anything moves.
+TEST(BenchProgram, RunWithTuneTunesAPassingUnitAndTuneRefusesWhatIsNotAPass) {
+  const fs::path work = FreshDir("tune");
+  const hrgbench::testing::RemovedAtEnd removes_work(work);
+  const fs::path dir = work / "unit";
+  const Output run =
+      RunBench("run --station " + (kConfigs / "station-sim.toml").string() + " --sequence " +
+               (kConfigs / "sequence-production.toml").string() + " --limits " +
+               (kConfigs / "limits-example.toml").string() +
+               " --serial TUNE-1 --prompts confirm --report none --tune -o " + dir.string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("TUNED"), std::string::npos) << run.out;
+  const nlohmann::json tune = ReadJson(dir / "tune.json");
+  ASSERT_FALSE(tune.is_discarded());
+  EXPECT_EQ(tune.at("format"), "hrgbench-tune");
+  EXPECT_EQ(tune.at("ok"), true) << tune.at("why");
+  EXPECT_EQ(tune.at("block_at_end"), "refined");
+  ASSERT_EQ(tune.at("verification").at("rates").size(), 2u);
+  for (const nlohmann::json& rate : tune.at("verification").at("rates")) {
+    EXPECT_EQ(rate.at("met"), true);
+    EXPECT_LT(rate.at("after_rms_rad_s").get<double>(),
+              rate.at("before_rms_rad_s").get<double>() / 100.0);
+  }
+  // The session's own record is untouched by the tuning: still a PASS.
+  EXPECT_EQ(ReadJson(dir / "session.json").at("outcome").at("kind"), "PASS");
+
+  fs::create_directories(work / "empty");
+  const Output refused = RunBench("tune " + (work / "empty").string());
+  EXPECT_EQ(refused.exit_code, 4) << refused.out;
+  const Output one_sign = RunBench("tune " + dir.string() + " --rates 0.3 1.0");
+  EXPECT_EQ(one_sign.exit_code, 4) << one_sign.out;
+  EXPECT_NE(one_sign.out.find("both signs"), std::string::npos) << one_sign.out;
+}
+
 TEST(BenchProgram, FixtureSerialsMustMatchItsPositions) {
   const std::string run = "run --station " + (kConfigs / "station-sim-fixture.toml").string() +
                           " --sequence " + (kConfigs / "sequence-paper.toml").string();

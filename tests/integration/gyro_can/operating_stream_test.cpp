@@ -13,6 +13,7 @@
 
 #include "gyro_rig.hpp"
 #include "hrgbench/analysis/rate_error_harmonics.hpp"
+#include "hrgbench/bench/tuning/tune_unit.hpp"
 #include "hrgbench/estimator/compensation.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 
@@ -36,7 +37,7 @@ analysis::RateErrorHarmonics RunAsGyro(GyroRig& rig, double delta2, double omega
   EXPECT_EQ(rig.device->State(), hw::GyroMode::kOperating);
   const auto n = static_cast<std::size_t>(turns * 2.0 * std::numbers::pi /
                                           (4.0 * delta2 * std::abs(omega)) * kRateHz);
-  std::vector<OperatingSample> samples(n);
+  std::vector<hw::OperatingSample> samples(n);
   std::size_t got = 0;
   while (got < n) {
     const std::size_t read =
@@ -156,12 +157,7 @@ TEST(OperatingStreamTest, AnUntunedUnitIsEstimatedCompensatedAndVerifiedOverCan)
   ASSERT_TRUE(estimate.Converged()) << estimate.message;
   estimator::CompensationSet p;
   ASSERT_TRUE(estimator::CompensationFromEstimate(estimate, &p));
-  const auto to_block = [](const estimator::CompensationSet& set) {
-    ParameterValues values{};
-    const estimator::CompensationVector v = set.AsVector();
-    for (int i = 0; i < kParameterValueCount; ++i) values[static_cast<std::size_t>(i)] = v[i];
-    return values;
-  };
+  const auto to_block = bench::ToCompensationValues;
   ASSERT_TRUE(rig.device->WriteParameters(to_block(p)).has_value());
 
   // Holds read with p, p refined, written.

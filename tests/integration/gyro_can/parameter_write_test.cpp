@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gyro_rig.hpp"
+#include "hrgbench/bench/tuning/tune_unit.hpp"
 #include "hrgbench/estimator/compensation.hpp"
 #include "hrgbench/estimator/maximum_likelihood.hpp"
 #include "hrgbench/estimator/simulation.hpp"
@@ -145,9 +146,8 @@ TEST(ParameterWriteTest, ACompensationFromAnEstimateReachesTheElectronicsBitForB
   estimator::CompensationSet p;
   ASSERT_TRUE(estimator::CompensationFromEstimate(estimate, &p)) << estimate.message;
 
-  ParameterValues values{};
+  const ParameterValues values = bench::ToCompensationValues(p);
   const estimator::CompensationVector v = p.AsVector();
-  for (int i = 0; i < kParameterValueCount; ++i) values[static_cast<std::size_t>(i)] = v[i];
   GyroRig rig(GyroRigOptions{});
   ASSERT_TRUE(rig.device->WriteParameters(values).has_value());
   const auto held = rig.node->ActiveParameters();

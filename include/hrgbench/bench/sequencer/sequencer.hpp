@@ -40,6 +40,7 @@
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/operating_gyro.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 #include "hrgbench/session/session_outcome.hpp"
 #include "hrgbench/session/session_record_types.hpp"
@@ -49,6 +50,9 @@ namespace hrgbench::bench {
 // One gyro on the table: its electronics and the tap on its bus. Not owned.
 struct UnitHardware {
   hw::GyroElectronics* gyro = nullptr;
+  // The same electronics as a gyro (their compensation block, their angle output), for tuning;
+  // null when they have no operating mode.
+  hw::OperatingGyro* operating = nullptr;
   // Optional tap that receives every frame on the gyro's bus (a second socket on the interface, or
   // the virtual bus's monitor endpoint): everything it receives goes to the unit's candump log.
   hw::CanBus* monitor = nullptr;

@@ -1,0 +1,68 @@
+#pragma once
+// OperatingGyro: the electronics as a gyro (issue 28), the part of them a tuning step needs beside
+// GyroElectronics: the compensation block p they hold in non-volatile memory, and the angle output
+// they stream once Release closes the whole-angle loops (GyroConfig::whole_angle, mode
+// kOperating). Concrete: GyroCanDevice (drivers/gyro_can, the Parameter and OperatingSample frames
+// of hrg_gyro_v2.dbc); the simulated electronics answer the same frames.
+//
+// The block's values are the paper's p in the estimator's order (estimator/compensation.hpp
+// CompensationVector): δ1 … δ6, ξ1 … ξ4, b̂, SI units (1/s, -, 1/s, 1/s, rad/s, rad/s, -, -, -,
+// -, rad/s).
+//
+// Threads: the same one thread as the GyroElectronics it belongs to. Not real-time except
+// ReadOperatingSamples (no allocation, bounded wait, noexcept).
+// Failure modes are values (GyroError); the block calls are refused (kInvalidState) while a wave
+// is driven, free or operating.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <expected>
+#include <optional>
+#include <span>
+
+#include "hrgbench/hw/gyro_electronics.hpp"
+
+namespace hrgbench::hw {
+
+inline constexpr int kCompensationValueCount = 11;
+using CompensationValues = std::array<double, kCompensationValueCount>;
+
+// What a write did: the block the electronics held before (nullopt when none was valid) and the
+// generation of the block committed.
+struct CompensationWrite {
+  std::optional<CompensationValues> previous;
+  std::uint32_t generation = 0;
+};
+
+// One sample of the operating mode: the gyro's angle output ∫Ω̂ dt and the wave's electrical angle
+// modulo π, as the electronics computed them with the block they hold.
+struct OperatingSample {
+  std::uint64_t index = 0;  // sample number since release
+  double angle_output_rad = 0.0;
+  double wave_angle_rad = 0.0;  // [0, π)
+};
+
+class OperatingGyro {
+ public:
+  virtual ~OperatingGyro() = default;
+
+  // The block the electronics run with. Failure: kInvalidState, kTimeout, kRejected, kBusOff,
+  // kTransport, kReadBackMismatch (a block whose layout, count or CRC is wrong: named).
+  virtual std::expected<CompensationValues, GyroError> ReadParameters() = 0;
+  // Writes `values` as the active block: reads the active one (the result's `previous`), stages
+  // the new one, reads every staged word back and commits only when all match, then reads the
+  // committed block back. kReadBackMismatch: nothing committed. A lost commit (a power loss)
+  // leaves whichever block the electronics' memory then holds, and the error says which.
+  virtual std::expected<CompensationWrite, GyroError> WriteParameters(
+      const CompensationValues& values) = 0;
+  // Makes the block held before the last commit active again; returns its generation.
+  virtual std::expected<std::uint32_t, GyroError> RestorePreviousParameters() = 0;
+  // Up to out.size() samples of the angle output (state kOperating), waiting at most
+  // `timeout_ns`; fewer when the wait ends or the stream stops. Lost samples are counted in
+  // GyroCounters (sequence gaps), never filled in.
+  virtual std::size_t ReadOperatingSamples(std::span<OperatingSample> out,
+                                           std::int64_t timeout_ns) noexcept = 0;
+};
+
+}  // namespace hrgbench::hw

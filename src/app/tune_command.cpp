@@ -1,0 +1,170 @@
+#include "app/tune_command.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <thread>
+
+#include "app/station_factory.hpp"
+#include "hrgbench/analysis/recorded_estimate.hpp"
+#include "hrgbench/bench/sequencer/sequencer.hpp"
+#include "hrgbench/bench/tuning/tune_unit.hpp"
+#include "hrgbench/config/site.hpp"
+#include "hrgbench/estimator/compensation.hpp"
+#include "hrgbench/session/exit_codes.hpp"
+#include "hrgbench/session/session.hpp"
+#include "hrgbench/session/session_record.hpp"
+
+namespace hrgbench::app {
+namespace {
+
+// The unit's p from its record: its complete runs estimated again as the bench did at its close
+// (bit for bit the recorded estimate: `hrg-bench replay` checks the same).
+std::expected<estimator::CompensationSet, std::string> CompensationFromRecord(
+    const std::filesystem::path& dir, const session::SessionRecord& record,
+    const bench::BenchConfigs& configs) {
+  session::ReadOptions read;
+  read.min_samples_per_run = bench::MinimumSamples(bench::Method::kMl);
+  read.extra_columns = false;
+  auto recorded = session::ReadSession(dir, read);
+  if (!recorded) return std::unexpected(recorded.error().ToString());
+  const bench::RecordedEstimate estimate =
+      bench::EstimateRecordedSession(std::move(*recorded), record, configs.limits.fit);
+  const estimator::EstimateSummary& summary = estimate.method.summary;
+  estimator::CompensationSet p;
+  if (!estimator::CompensationFromEstimate(summary, &p))
+    return std::unexpected("the estimate gives no compensation: " + summary.message);
+  return p;
+}
+
+constexpr double kDegPerHour = 180.0 / 3.141592653589793 * 3600.0;
+
+void PrintText(const bench::TuneResult& r, std::ostream& out) {
+  out << (r.ok ? "TUNED" : "NOT TUNED") << (r.ok ? "" : ": " + r.why) << '\n';
+  for (const bench::VerifiedRate& v : r.verified) {
+    out << "  Ω " << v.omega_rad_s << " rad/s: angle-dependent rate error "
+        << v.before_rms_rad_s * kDegPerHour << " °/h before, " << v.after_rms_rad_s * kDegPerHour
+        << " °/h after (predicted " << v.predicted_rms_rad_s * kDegPerHour << " °/h)"
+        << (v.met ? "" : "  MISSED") << '\n';
+  }
+  if (r.chi2_dof > 0)
+    out << "  after vs predicted: χ² " << r.chi2 << " on " << r.chi2_dof << " (limit "
+        << r.chi2_limit << ")" << (r.consistent ? "" : "  INCONSISTENT") << '\n';
+  const analysis::ScaleFactorFit& sf = r.scale_factor;
+  if (sf.ok) {
+    out << "  over the rates: bias " << sf.bias_rad_s * kDegPerHour << " ± "
+        << sf.bias_std_rad_s * kDegPerHour << " °/h, scale-factor error "
+        << sf.scale_factor_error * 1e6 << " ± " << sf.scale_factor_error_std * 1e6 << " ppm";
+    if (sf.nonlinearity_known) out << ", nonlinearity " << sf.nonlinearity * 1e6 << " ppm";
+    out << '\n';
+  }
+  if (r.stability) {
+    const bench::ZeroRateStability& z = *r.stability;
+    // IEEE 952: N in °/√h (rad/√s × 180/π × 60), B in °/h.
+    constexpr double kDegPerSqrtHour = 180.0 / 3.141592653589793 * 60.0;
+    if (z.arw_known)
+      out << "  zero rate: angle random walk " << z.arw_rad_per_sqrt_s * kDegPerSqrtHour
+          << " °/√h [" << z.arw_lower * kDegPerSqrtHour << ", " << z.arw_upper * kDegPerSqrtHour
+          << "]";
+    out << "  bias instability " << (z.bias_instability_reached ? "" : "below ")
+        << z.bias_instability_rad_s * kDegPerHour << " °/h ["
+        << z.bias_instability_lower * kDegPerHour << ", " << z.bias_instability_upper * kDegPerHour
+        << "] at τ " << z.bias_instability_tau_s << " s"
+        << (z.bias_instability_reached ? "" : " (no floor within the hold)") << "\n";
+  }
+  out << "  the electronics hold the block " << r.block_at_end << '\n';
+}
+
+}  // namespace
+
+int Tune(const TuneOptions& options) {
+  const std::filesystem::path& dir = options.dir;
+  const bool plus = std::any_of(options.rates_rad_s.begin(), options.rates_rad_s.end(),
+                                [](double omega) { return omega > 0.0; });
+  const bool minus = std::any_of(options.rates_rad_s.begin(), options.rates_rad_s.end(),
+                                 [](double omega) { return omega < 0.0; });
+  if (!plus || !minus) {
+    std::cerr << "--rates: the verification needs rates of both signs (the refinement separates "
+                 "what scales with the rate from what does not)\n";
+    return kExitBadInput;
+  }
+  auto record = session::ReadSessionRecord(dir);
+  if (!record) {
+    std::cerr << record.error().ToString() << '\n';
+    return kExitBadInput;
+  }
+  if (!record->outcome || record->outcome->kind != bench::OutcomeKind::kPass) {
+    std::cerr << dir.string() << ": tunes a unit whose session closed as PASS; this one "
+              << (record->outcome
+                      ? "closed as " + std::string(bench::ToString(record->outcome->kind))
+                      : std::string("is not closed"))
+              << '\n';
+    return kExitBadInput;
+  }
+  auto configs = bench::LoadSavedConfigs(dir);
+  if (!configs) {
+    std::cerr << configs.error() << '\n';
+    return kExitBadInput;
+  }
+  if (bench::FittedPositions(configs->station).size() != 1) {
+    std::cerr << dir.string() << ": tune takes one unit's session (a fixture's unit folder)\n";
+    return kExitBadInput;
+  }
+  auto p = CompensationFromRecord(dir, *record, *configs);
+  if (!p) {
+    std::cerr << dir.string() << ": " << p.error() << '\n';
+    return kExitBadInput;
+  }
+  auto station = OpenStation(configs->station);
+  if (!station) {
+    spdlog::error("{}", station.error());
+    return kExitError;
+  }
+  bench::TunePlan plan;
+  plan.rates_rad_s = options.rates_rad_s;
+  plan.verify_turns = options.verify_turns;
+  plan.refine_turns = options.refine_turns;
+  plan.hold.sample_rate_hz = options.sample_rate_hz;
+  plan.zero_rate_hold_s = options.zero_rate_hold_s;
+  // The table settles as the session's sequence says.
+  plan.hold.stable.tolerance_rad_s = configs->sequence.settle.rate_tolerance_rad_s;
+  plan.hold.stable.dwell_s = configs->sequence.settle.dwell_s;
+  plan.hold.stable.poll_period_s = configs->sequence.settle.poll_period_s;
+  plan.hold.settle_timeout_s = configs->sequence.timeouts.settle_s;
+  // The interrupt counter, seen as the stop request the tuning checks between reads.
+  std::atomic<bool> stop{false};
+  std::atomic<bool> done{false};
+  std::thread watch([&] {
+    while (!done.load()) {
+      if (options.interrupts != nullptr && options.interrupts->load() > 0) stop = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  const bench::BenchHardware& hardware = (*station)->hardware();
+  const bench::TuneResult result = bench::TuneUnit(
+      hardware, hardware.units.front(), *p, plan, bench::EarthRateOnAxisRadS(configs->station.site),
+      &stop, [](std::string_view line) { spdlog::info("{}", line); });
+  done = true;
+  watch.join();
+  nlohmann::json doc = bench::TuneResultJson(result);
+  doc["format"] = "hrgbench-tune";
+  doc["version"] = 1;
+  doc["session"] = dir.filename().string();
+  if (auto written = session::WriteFileAtomic(dir / "tune.json", doc.dump(2) + "\n"); !written) {
+    spdlog::error("{}", written.error().ToString());
+    return kExitError;
+  }
+  if (options.json) {
+    std::cout << doc.dump() << '\n';
+  } else {
+    PrintText(result, std::cout);
+  }
+  if (result.ok) return kExitOk;
+  if (stop.load()) return kExitAborted;
+  return result.verified.empty() ? kExitError : kExitFail;
+}
+
+}  // namespace hrgbench::app

@@ -1,0 +1,159 @@
+// Issue 28's chain as the bench runs it on the in-process simulated station: the production
+// session's estimate → p → written over CAN → holds on the table in the operating mode → refined →
+// written → verified; the table at zero at the end, whatever happened.
+//
+// The truth is set in the simulated unit (station config [simulated]); the "before" and "after"
+// rate errors are measured from the electronics' angle output against the table's own measured
+// rate, never from the code that computed p. Bounds: issue 28's (100× or the prediction), and the
+// after residuals' χ² against the refined p's predicted covariance.
+
+#include "hrgbench/bench/tuning/tune_unit.hpp"
+
+#include <atomic>
+#include <cmath>
+
+#include "bench_test_support.hpp"
+#include "hrgbench/config/site.hpp"
+
+namespace hrgbench::testing {
+namespace {
+
+// A unit with everything free runs see: a damping split and its axis, a frequency split, the
+// pick-off's gain and angle errors.
+void UntunedUnit(bench::BenchConfigs& configs, double* earth_rate_rad_s) {
+  configs.station.simulated.delta << -1e-3, 0.29, 3e-5, -2e-5, 2e-4, -1e-4;
+  configs.station.simulated.xi << 0.01, 0.002, -0.003, 0.004;
+  *earth_rate_rad_s = bench::EarthRateOnAxisRadS(configs.station.site);
+}
+
+// The station with that unit, no session run (the tests that need no estimate).
+bool OpenUntunedStation(std::unique_ptr<app::Station>& station, double* earth_rate_rad_s) {
+  return OpenShippedStation(
+             "station-sim.toml", "sequence-production.toml", "",
+             [&](bench::BenchConfigs& c) { UntunedUnit(c, earth_rate_rad_s); }, station)
+      .has_value();
+}
+
+bench::TunePlan ShortPlan() {
+  bench::TunePlan plan;
+  plan.rates_rad_s = {0.3, -0.3};
+  plan.verify_turns = 2.0;
+  plan.refine_turns = 4.0;
+  return plan;
+}
+
+TEST(TuneUnit, AnUntunedUnitIsTunedFromItsSessionAndVerifiedOnTheTable) {
+  double earth = 0.0;
+  BenchRun run = RunOnSimulatedStation("sequence-production.toml", "limits-example.toml",
+                                       [&](bench::BenchConfigs& c) { UntunedUnit(c, &earth); });
+  ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
+  estimator::CompensationSet p;
+  ASSERT_TRUE(estimator::CompensationFromEstimate(*run.result.estimate, &p));
+
+  const bench::BenchHardware& hardware = run.station->hardware();
+  bench::TunePlan plan = ShortPlan();
+  plan.zero_rate_hold_s = 20.0;
+  const bench::TuneResult tuned = bench::TuneUnit(hardware, hardware.units[0], p, plan, earth);
+  ASSERT_TRUE(tuned.ok) << tuned.why;
+  ASSERT_TRUE(tuned.held_before.has_value());
+  // The factory block (the simulated electronics' default): design gain 0.3, decay 1e-3.
+  EXPECT_EQ((*tuned.held_before)[1], 0.3);
+  ASSERT_EQ(tuned.verified.size(), 2u);
+  for (const bench::VerifiedRate& v : tuned.verified) {
+    // The angle-dependent rate error before: the pick-off's −2Ω·ξ1, 2Ω·ξ4 and the damping split's
+    // drift, ~6e-3 rad/s at 0.3 rad/s; after: 100× lower at least.
+    EXPECT_GT(v.before_rms_rad_s, 1e-3) << "Ω = " << v.omega_rad_s;
+    EXPECT_LT(v.after_rms_rad_s, v.before_rms_rad_s / 100.0) << "Ω = " << v.omega_rad_s;
+    EXPECT_TRUE(v.met) << "Ω = " << v.omega_rad_s;
+    RecordProperty(v.omega_rad_s > 0 ? "improvement_plus" : "improvement_minus",
+                   std::to_string(v.before_rms_rad_s / v.after_rms_rad_s));
+  }
+  // Measured and predicted residuals agree: χ²(6) below its 0.999 quantile (22.46).
+  EXPECT_TRUE(tuned.consistent) << "chi2 " << tuned.chi2 << " on " << tuned.chi2_dof;
+  EXPECT_NEAR(tuned.chi2_limit, 22.458, 0.01);
+  RecordProperty("chi2", std::to_string(tuned.chi2));
+
+  // What the electronics hold is the refined p, bit for bit, and the table is at rest.
+  EXPECT_EQ(tuned.block_at_end, "refined");
+  EXPECT_FALSE(tuned.restored);
+  auto held = hardware.units[0].operating->ReadParameters();
+  ASSERT_TRUE(held.has_value()) << held.error().ToString();
+  EXPECT_EQ(*held, bench::ToCompensationValues(tuned.refinement.refined));
+  auto status = hardware.table->ReadStatus();
+  ASSERT_TRUE(status.has_value());
+  EXPECT_EQ(status->commanded_rate_rad_s, 0.0);
+  // Every hold covered its turns with no sample lost.
+  for (const auto* holds : {&tuned.before, &tuned.refine, &tuned.after}) {
+    for (const bench::OperatingHold& hold : *holds) {
+      EXPECT_EQ(hold.sequence_gaps, 0u);
+      EXPECT_GT(hold.fit.angle_span_rad, 2.0 * std::numbers::pi * 1.9);
+      EXPECT_EQ(hold.omega_source, "angle");
+      EXPECT_NEAR(hold.omega_rad_s, hold.omega_set_rad_s + earth, 1e-6);
+    }
+  }
+  // Over the rates, the refined gain leaves no scale-factor error the holds can see.
+  ASSERT_TRUE(tuned.scale_factor.ok) << tuned.scale_factor.why;
+  EXPECT_LT(std::abs(tuned.scale_factor.scale_factor_error),
+            4.0 * tuned.scale_factor.scale_factor_error_std);
+  EXPECT_LT(tuned.scale_factor.scale_factor_error_std, 1e-6);  // below 1 ppm
+  // The zero-rate hold: the simulated electronics' angle output carries the pick-off's white noise
+  // through the readout and no rate noise, so the Allan deviation of its rate falls as 1/τ (white
+  // phase noise, NIST SP 1065 Table 2) at every τ the hold resolves well, and N is read at 1 s.
+  ASSERT_TRUE(tuned.stability.has_value());
+  const bench::ZeroRateStability& z = *tuned.stability;
+  EXPECT_TRUE(z.arw_known);
+  ASSERT_GE(z.allan.size(), 10u);
+  for (std::size_t i = 1; i < z.allan.size(); ++i) {
+    if (z.allan[i].tau_s > 0.3) break;  // the intervals widen: 1/τ within them, not within 10 %
+    const double ratio = z.allan[i].deviation / z.allan[i - 1].deviation;
+    EXPECT_NEAR(ratio * z.allan[i].tau_s / z.allan[i - 1].tau_s, 1.0, 0.1)
+        << "τ " << z.allan[i].tau_s;
+  }
+  EXPECT_FALSE(z.bias_instability_reached);  // σ still falls at the longest τ of 20 s
+  const nlohmann::json record = bench::TuneResultJson(tuned);
+  EXPECT_EQ(record.at("block_at_end"), "refined");
+  EXPECT_EQ(record.at("holds").at("after").size(), 2u);
+  EXPECT_EQ(record.at("refined").at("covariance").size(), 11u);
+}
+
+TEST(TuneUnit, AStopRequestEndsItWithTheTableCommandedToZeroAndTheBlockNamed) {
+  double earth = 0.0;
+  std::unique_ptr<app::Station> station;
+  ASSERT_TRUE(OpenUntunedStation(station, &earth));
+  const bench::BenchHardware& hardware = station->hardware();
+  estimator::CompensationSet p = estimator::IdentityCompensation(0.29, -1e-3);
+  std::atomic<bool> stop{false};
+  int logged = 0;
+  // Stopped once p is written: during the first refinement hold.
+  const bench::TuneResult result = bench::TuneUnit(
+      hardware, hardware.units[0], p, ShortPlan(), earth, &stop, [&](std::string_view line) {
+        ++logged;
+        if (line.find("written") != std::string_view::npos) stop = true;
+      });
+  EXPECT_FALSE(result.ok);
+  EXPECT_NE(result.why.find("stopped"), std::string::npos) << result.why;
+  EXPECT_EQ(result.block_at_end, "from the estimate");
+  EXPECT_GT(logged, 2);
+  auto status = hardware.table->ReadStatus();
+  ASSERT_TRUE(status.has_value());
+  EXPECT_EQ(status->commanded_rate_rad_s, 0.0);
+  EXPECT_EQ(hardware.units[0].gyro->State(), hw::GyroMode::kStopped);
+}
+
+TEST(TuneUnit, APlanWithoutBothSignsIsRefusedBeforeAnythingMoves) {
+  double earth = 0.0;
+  std::unique_ptr<app::Station> station;
+  ASSERT_TRUE(OpenUntunedStation(station, &earth));
+  const bench::BenchHardware& hardware = station->hardware();
+  bench::TunePlan plan = ShortPlan();
+  plan.rates_rad_s = {0.3, 1.0};
+  const bench::TuneResult result = bench::TuneUnit(
+      hardware, hardware.units[0], estimator::IdentityCompensation(0.3, -1e-3), plan, earth);
+  EXPECT_FALSE(result.ok);
+  EXPECT_NE(result.why.find("both signs"), std::string::npos) << result.why;
+  EXPECT_FALSE(result.first_write.has_value());
+  EXPECT_EQ(hardware.units[0].gyro->State(), hw::GyroMode::kIdle);
+}
+
+}  // namespace
+}  // namespace hrgbench::testing
