@@ -40,79 +40,21 @@ Value ValueOf(const estimator::EstimateSummary& s,
 }
 
 // The decision of one finite value v with standard uncertainty u (NaN: none reported) against
-// its limit under `rule` (decision_rule.hpp); fills the result's status, zone, interval, message.
+// its limit under `rule` (decision.hpp); fills the result's status, zone, interval, message.
 void Decide(const ParameterLimit& limit, const DecisionRule& rule, double v, double u,
             const std::string& shown, const std::string& range, LimitResult* result) {
-  const double k = rule.coverage_factor;
-  const bool has_u = std::isfinite(u) && u >= 0.0;
-  const double expanded = has_u ? k * u : 0.0;
   // The low side is a tolerance only above the physical bound (a magnitude's 0 is not one).
-  const bool guard_min = limit.min > PhysicalMinimum(limit.quantity);
-  const bool guarded = rule.kind != DecisionRuleKind::kSimpleAcceptance;
-  if (has_u) {
-    result->expanded_uncertainty = expanded;
-    result->interval_min = v - expanded;
-    result->interval_max = v + expanded;
-  }
-  result->acceptance_min = guarded && guard_min ? limit.min + expanded : limit.min;
-  result->acceptance_max = guarded ? limit.max - expanded : limit.max;
-  const std::string with_k = has_u ? " (k = " + Number(k) + ", U = " + Number(expanded) + ")"
-                                   : std::string(" (no uncertainty reported: its value judged)");
-  // Non-conformance proven: the whole interval beyond a limit. A physical bound is never crossed
-  // by the truth, so only a guarded min can be proven violated from below.
-  const double beyond_max = (v - expanded) - limit.max;
-  const double below_min = limit.min - (v + expanded);
-  if (beyond_max > 0.0 || (below_min > 0.0 && (guard_min || !has_u))) {
-    result->zone = DecisionZone::kNonConforming;
-    result->status = LimitStatus::kFail;
-    result->message = shown + " outside " + range +
-                      (beyond_max > 0.0 ? " (" + Number(v - limit.max) + " above max"
-                                        : " (" + Number(limit.min - v) + " below min") +
-                      (has_u ? ", its whole interval ±" + Number(expanded) + " outside)" : ")") +
-                      with_k;
-    return;
-  }
-  if (!guarded) {
-    const double width = limit.max - limit.min;
-    if (has_u && expanded > rule.max_uncertainty_ratio * width) {
-      result->message = shown + ": not evaluated, too uncertain to judge against " + range +
-                        " (U = " + Number(expanded) + " at k = " + Number(k) + " is above " +
-                        Number(rule.max_uncertainty_ratio) +
-                        " of the limit's width: the sequence does not determine it well enough)";
-      return;
-    }
-    const bool inside = v >= limit.min && v <= limit.max;
-    result->zone = inside ? DecisionZone::kConforming : DecisionZone::kNonConforming;
-    result->status = inside ? LimitStatus::kPass : LimitStatus::kFail;
-    result->message = shown +
-                      (inside ? " in " + range
-                              : " outside " + range + " (" +
-                                    (v > limit.max ? Number(v - limit.max) + " above max"
-                                                   : Number(limit.min - v) + " below min") +
-                                    ")") +
-                      " by simple acceptance" + with_k;
-    return;
-  }
-  if (result->acceptance_min > result->acceptance_max) {
-    // 2·U is wider than the tolerance: no value, however central, proves conformance.
-    result->message = shown + ": not evaluated, its interval ±" + Number(expanded) +
-                      " at k = " + Number(k) + " is wider than " + range +
-                      " allows, so conformance cannot be proven (the sequence does not "
-                      "determine it well enough)";
-    return;
-  }
-  if (v >= result->acceptance_min && v <= result->acceptance_max) {
-    result->zone = DecisionZone::kConforming;
-    result->status = LimitStatus::kPass;
-    result->message = shown + " in " + range + with_k;
-    return;
-  }
-  result->zone = DecisionZone::kUndecided;
-  result->status = LimitStatus::kFail;
-  result->retest = rule.kind == DecisionRuleKind::kGuardedAcceptanceRetest;
-  result->message = shown + " not accepted: its interval [" + Number(v - expanded) + ", " +
-                    Number(v + expanded) + "] straddles " + range + with_k + ", " +
-                    (result->retest ? "retest the unit" : "rejected by guarded acceptance");
+  const Decision d = bench::Decide(v, u, limit.min, limit.max,
+                                   limit.min > PhysicalMinimum(limit.quantity), rule, shown, range);
+  result->status = d.status;
+  result->zone = d.zone;
+  result->expanded_uncertainty = d.expanded_uncertainty;
+  result->interval_min = d.interval_min;
+  result->interval_max = d.interval_max;
+  result->acceptance_min = d.acceptance_min;
+  result->acceptance_max = d.acceptance_max;
+  result->retest = d.retest;
+  result->message = d.message;
 }
 
 LimitResult Evaluate(const ParameterLimit& limit, const DecisionRule& rule,
@@ -227,32 +169,6 @@ std::vector<FitCheck> JudgeFit(const estimator::FitQualityLimits& limits,
 }
 
 }  // namespace
-
-std::string_view ToString(LimitStatus status) noexcept {
-  switch (status) {
-    case LimitStatus::kPass:
-      return "PASS";
-    case LimitStatus::kFail:
-      return "FAIL";
-    case LimitStatus::kNotEvaluated:
-      return "NOT EVALUATED";
-  }
-  return "?";
-}
-
-std::string_view ToString(DecisionZone zone) noexcept {
-  switch (zone) {
-    case DecisionZone::kNotJudged:
-      return "not_judged";
-    case DecisionZone::kConforming:
-      return "conforming";
-    case DecisionZone::kNonConforming:
-      return "non_conforming";
-    case DecisionZone::kUndecided:
-      return "undecided";
-  }
-  return "?";
-}
 
 std::vector<std::string_view> Verdict::FailedNames() const {
   std::vector<std::string_view> names;

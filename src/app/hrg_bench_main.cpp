@@ -915,7 +915,7 @@ int main(int argc, char** argv) {
       "estimated and judged.\n"
       "run, resume: the session's outcome (a fixture: its worst unit's). replay: 1 the log does "
       "not rebuild the record. check, serve: 4 a config or option refused; serve: 2 the port is "
-      "taken. tune: 0 tuned, 1 the rate error missed its bound.\n" +
+      "taken. tune: the tuning's verdict (0 PASS, 1 FAIL, 2 ERROR, 3 ABORTED).\n" +
       std::string(kExitCodesHelp)};
   cli.require_subcommand(1);
   bool quiet = false;

@@ -12,6 +12,7 @@
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/bench/tuning/tune_unit.hpp"
+#include "hrgbench/bench/tuning/tune_verdict.hpp"
 #include "hrgbench/config/site.hpp"
 #include "hrgbench/estimator/compensation.hpp"
 #include "hrgbench/session/exit_codes.hpp"
@@ -42,8 +43,9 @@ std::expected<estimator::CompensationSet, std::string> CompensationFromRecord(
 
 constexpr double kDegPerHour = 180.0 / 3.141592653589793 * 3600.0;
 
-void PrintText(const bench::TuneResult& r, std::ostream& out) {
-  out << (r.ok ? "TUNED" : "NOT TUNED") << (r.ok ? "" : ": " + r.why) << '\n';
+void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, std::ostream& out) {
+  out << "tune " << bench::ToString(verdict.outcome)
+      << (verdict.reason.empty() ? "" : ": " + verdict.reason) << '\n';
   for (const bench::VerifiedRate& v : r.verified) {
     out << "  Ω " << v.omega_rad_s << " rad/s: angle-dependent rate error "
         << v.before_rms_rad_s * kDegPerHour << " °/h before, " << v.after_rms_rad_s * kDegPerHour
@@ -75,6 +77,8 @@ void PrintText(const bench::TuneResult& r, std::ostream& out) {
         << "] at τ " << z.bias_instability_tau_s << " s"
         << (z.bias_instability_reached ? "" : " (no floor within the hold)") << "\n";
   }
+  for (const bench::TuneCheck& check : verdict.checks)
+    out << "  " << bench::ToString(check.decision.status) << "  " << check.decision.message << '\n';
   out << "  the electronics hold the block " << r.block_at_end << '\n';
 }
 
@@ -129,6 +133,7 @@ int Tune(const TuneOptions& options) {
   plan.refine_turns = options.refine_turns;
   plan.hold.sample_rate_hz = options.sample_rate_hz;
   plan.zero_rate_hold_s = options.zero_rate_hold_s;
+  plan.min_improvement = configs->limits.tune.min_improvement;
   // The table settles as the session's sequence says.
   plan.hold.stable.tolerance_rad_s = configs->sequence.settle.rate_tolerance_rad_s;
   plan.hold.stable.dwell_s = configs->sequence.settle.dwell_s;
@@ -149,10 +154,14 @@ int Tune(const TuneOptions& options) {
       &stop, [](std::string_view line) { spdlog::info("{}", line); });
   done = true;
   watch.join();
+  const bench::TuneVerdict verdict = bench::JudgeTune(result, configs->limits, stop.load());
   nlohmann::json doc = bench::TuneResultJson(result);
   doc["format"] = "hrgbench-tune";
   doc["version"] = 1;
   doc["session"] = dir.filename().string();
+  doc["limits"] =
+      configs->limits.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(configs->limits.name);
+  doc["verdict"] = bench::TuneVerdictJson(verdict);
   if (auto written = session::WriteFileAtomic(dir / "tune.json", doc.dump(2) + "\n"); !written) {
     spdlog::error("{}", written.error().ToString());
     return kExitError;
@@ -160,11 +169,9 @@ int Tune(const TuneOptions& options) {
   if (options.json) {
     std::cout << doc.dump() << '\n';
   } else {
-    PrintText(result, std::cout);
+    PrintText(result, verdict, std::cout);
   }
-  if (result.ok) return kExitOk;
-  if (stop.load()) return kExitAborted;
-  return result.verified.empty() ? kExitError : kExitFail;
+  return bench::ExitCode(verdict.outcome);
 }
 
 }  // namespace hrgbench::app

@@ -3,8 +3,10 @@
 // electronics, refined on the table and verified (bench/tuning/tune_unit.hpp); DIR/tune.json
 // records it. The station is the one the session ran on (its saved config).
 //
-// Exit codes (session/exit_codes.hpp): 0 tuned; 1 the rate error did not fall to its bound;
-// 2 the bench's fault (a hold, a write, the table); 3 interrupted; 4 the folder or an option.
+// Exit codes (session/exit_codes.hpp), the tuning's verdict (bench/tuning/tune_verdict.hpp):
+// 0 PASS; 1 FAIL (a rate error that did not fall to its bound, a [tune] limit not met); 2 ERROR
+// (a step that did not finish, residuals the prediction does not explain, a limit not judged);
+// 3 ABORTED (Ctrl-C); 4 the folder or an option.
 
 #include <atomic>
 #include <filesystem>

@@ -1,6 +1,7 @@
 // Loader of limits files.
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -116,7 +117,35 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     }
     HRG_CHECK(decision.Unknown("rule, coverage_factor, max_uncertainty_ratio"));
   }
-  HRG_CHECK(root.Unknown("[limits], [fit], [decision]"));
+  HRG_TRY(tune_table, SubTable(root, "tune", false));
+  if (*tune_table != nullptr) {
+    TableReader tune(**tune_table, "tune", source);
+    limits.tune.line = LineOf(**tune_table);
+    // Bounds: 1e6 °/h is 280 °/s, 1e6 ppm a scale factor of 2: no gyro's limit is beyond either.
+    static constexpr Range kRate{0.0, 1e6, false, "in (0, 1e6]"};
+    const auto optional = [&tune](std::string_view key,
+                                  std::optional<double>& into) -> std::optional<ConfigError> {
+      const toml::node* node = tune.Find(key);
+      if (node == nullptr) return std::nullopt;
+      auto value = NumberFrom(tune, *node, key, kRate);
+      if (!value) return std::move(value).error();
+      into = *value;
+      return std::nullopt;
+    };
+    HRG_CHECK(optional("rate_error_deg_h", limits.tune.rate_error_deg_h));
+    HRG_CHECK(optional("bias_deg_h", limits.tune.bias_deg_h));
+    HRG_CHECK(optional("scale_factor_ppm", limits.tune.scale_factor_ppm));
+    HRG_CHECK(optional("arw_deg_per_sqrt_h", limits.tune.arw_deg_per_sqrt_h));
+    HRG_CHECK(optional("bias_instability_deg_h", limits.tune.bias_instability_deg_h));
+    static constexpr Range kImprovement{1.0, 1e9, true, "in [1, 1e9]"};
+    HRG_TRY(improvement,
+            OptionalNumber(tune, "min_improvement", kImprovement, limits.tune.min_improvement));
+    limits.tune.min_improvement = *improvement;
+    HRG_CHECK(
+        tune.Unknown("rate_error_deg_h, bias_deg_h, scale_factor_ppm, arw_deg_per_sqrt_h, "
+                     "bias_instability_deg_h, min_improvement"));
+  }
+  HRG_CHECK(root.Unknown("[limits], [fit], [decision], [tune]"));
   return limits;
 }
 

@@ -12,7 +12,8 @@
 // limit is judged: each becomes NOT EVALUATED (saying what it would have been) and the verdict is
 // NOT EVALUATED. A poor fit is never a PASS, and never a FAIL the unit did not earn.
 //
-// Each limit is decided by the limits file's rule ([decision], config/decision_rule.hpp) with the
+// Each limit is decided by the limits file's rule ([decision], config/decision_rule.hpp; applied by
+// decision.hpp) with the
 // value's combined standard uncertainty u (the estimate's std of δ and ξ; u_c of an engineering
 // quantity) and the file's coverage factor k, U = k·u:
 //   guarded acceptance   PASS when [v − U, v + U] is inside the limits (conforming), FAIL when it
@@ -36,21 +37,13 @@
 #include <string_view>
 #include <vector>
 
+#include "hrgbench/analysis/decision.hpp"
 #include "hrgbench/config/decision_rule.hpp"
 #include "hrgbench/config/limits_config.hpp"
 #include "hrgbench/estimator/engineering_quantities.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::bench {
-
-enum class LimitStatus { kPass, kFail, kNotEvaluated };
-
-std::string_view ToString(LimitStatus status) noexcept;  // "PASS", "FAIL", "NOT EVALUATED"
-
-// Where the value's expanded interval lies against the limit (JCGM 106 §8).
-enum class DecisionZone { kNotJudged, kConforming, kNonConforming, kUndecided };
-// "not_judged", "conforming", "non_conforming", "undecided": the record's spelling.
-std::string_view ToString(DecisionZone zone) noexcept;
 
 struct LimitResult {
   LimitedQuantity quantity = LimitedQuantity::kDelta1;

@@ -11,6 +11,8 @@
 //
 // [decision] (optional) declares the decision rule and its coverage factor (decision_rule.hpp).
 //
+// [tune] (optional) limits the tuned gyro's rate error on the table (TuneLimits).
+//
 // Loading is strict (STYLE rule 10); errors name file, line, key and value. Not thread-safe; not
 // for real-time use. Loaders return std::expected, never throw (except std::bad_alloc).
 
@@ -79,6 +81,22 @@ struct ParameterLimit {
   std::size_t line = 0;  // where the limit was written
 };
 
+// [tune] (optional): the limits `hrg-bench tune` judges its verification against
+// (bench/tuning/tune_verdict.hpp), in the field's units, each a maximum; an absent key is not
+// judged. The rate error and the stability figures are magnitudes (their low side is the physical
+// bound, not guarded); the bias and the scale-factor error are signed and judged in [−max, max].
+struct TuneLimits {
+  std::optional<double> rate_error_deg_h;    // the angle-dependent rate error after, at every rate
+  std::optional<double> bias_deg_h;          // the rate output's bias over the verification's rates
+  std::optional<double> scale_factor_ppm;    // its scale-factor error
+  std::optional<double> arw_deg_per_sqrt_h;  // angle random walk (the zero-rate hold's)
+  std::optional<double> bias_instability_deg_h;  // bias instability (the zero-rate hold's)
+  // At every rate the angle-dependent rate error falls by this factor, or to within what the
+  // estimate's uncertainty predicts, whichever is larger (issue 28's bound; always judged).
+  double min_improvement = 100.0;
+  std::size_t line = 0;  // where [tune] was written; 0 = not in the file
+};
+
 struct LimitsConfig {
   std::filesystem::path file;  // where it was loaded from; empty: no limits file
   std::string sha256_hex;      // SHA-256 of the file's bytes; empty: no limits file
@@ -97,6 +115,7 @@ struct LimitsConfig {
   // How a value with its uncertainty is accepted or rejected ([decision]; the defaults when
   // absent: guarded acceptance with retest, k = 2).
   DecisionRule decision;
+  TuneLimits tune;  // [tune]; the defaults when absent
 };
 
 std::expected<LimitsConfig, config_file::ConfigError> LoadLimitsConfig(

@@ -887,12 +887,18 @@ TEST(BenchProgram, RunWithTuneTunesAPassingUnitAndTuneRefusesWhatIsNotAPass) {
                (kConfigs / "limits-example.toml").string() +
                " --serial TUNE-1 --prompts confirm --report none --tune -o " + dir.string());
   ASSERT_EQ(run.exit_code, 0) << run.out;
-  EXPECT_NE(run.out.find("TUNED"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("tune PASS"), std::string::npos) << run.out;
   const nlohmann::json tune = ReadJson(dir / "tune.json");
   ASSERT_FALSE(tune.is_discarded());
   EXPECT_EQ(tune.at("format"), "hrgbench-tune");
   EXPECT_EQ(tune.at("ok"), true) << tune.at("why");
   EXPECT_EQ(tune.at("block_at_end"), "refined");
+  // limits-example.toml's [tune]: the rate error at both rates, the bias and the scale factor,
+  // each judged with its guard band and met.
+  EXPECT_EQ(tune.at("verdict").at("outcome"), "PASS") << tune.at("verdict").dump();
+  ASSERT_EQ(tune.at("verdict").at("checks").size(), 4u);
+  for (const nlohmann::json& check : tune.at("verdict").at("checks"))
+    EXPECT_EQ(check.at("status"), "PASS") << check.at("message");
   ASSERT_EQ(tune.at("verification").at("rates").size(), 2u);
   for (const nlohmann::json& rate : tune.at("verification").at("rates")) {
     EXPECT_EQ(rate.at("met"), true);

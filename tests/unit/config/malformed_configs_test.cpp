@@ -107,6 +107,14 @@ rule = "guarded_acceptance_retest"
 coverage_factor = 2.0
 )";
 
+// The same with the tuning's limits (LimitsConfig::tune).
+const std::string kLimitsTuneText = kLimitsText + R"(
+[tune]
+rate_error_deg_h = 1.0
+scale_factor_ppm = 10.0
+min_improvement = 100
+)";
+
 enum class Kind { kStation, kSequence, kLimits };
 
 struct Case {
@@ -158,6 +166,17 @@ TEST(MalformedConfigs, BasesAreValid) {
   EXPECT_TRUE(Parse(Kind::kStation, kSimStationText, "s.toml").has_value());
   EXPECT_TRUE(Parse(Kind::kSequence, kSequenceText, "q.toml").has_value());
   EXPECT_TRUE(Parse(Kind::kLimits, kLimitsText, "l.toml").has_value());
+  auto tune = ParseLimitsConfig(kLimitsTuneText, "l.toml");
+  ASSERT_TRUE(tune.has_value()) << tune.error().ToString();
+  EXPECT_EQ(tune->tune.rate_error_deg_h, 1.0);
+  EXPECT_EQ(tune->tune.scale_factor_ppm, 10.0);
+  EXPECT_FALSE(tune->tune.bias_deg_h.has_value());
+  EXPECT_EQ(tune->tune.min_improvement, 100.0);
+  EXPECT_EQ(tune->tune.line, 7u);
+  auto plain = ParseLimitsConfig(kLimitsText, "l.toml");
+  ASSERT_TRUE(plain.has_value());
+  EXPECT_EQ(plain->tune.line, 0u);  // absent: nothing judged but the issue's 100x
+  EXPECT_EQ(plain->tune.min_improvement, 100.0);
   EXPECT_TRUE(Parse(Kind::kLimits, kLimitsDecisionText, "l.toml").has_value());
 }
 
@@ -247,6 +266,15 @@ const std::vector<Case>& Cases() {
        "decision.max_uncertainty_ratio", "1.5", "in (0, 1]", 9},
       {"LimitsDecisionUnknownKey", Kind::kLimits, &kLimitsDecisionText, "coverage_factor = 2.0",
        "k = 2.0", "decision.k", "2.0", "unknown key"},
+      // The tuning's limits.
+      {"LimitsTuneRateErrorZero", Kind::kLimits, &kLimitsTuneText, "rate_error_deg_h = 1.0",
+       "rate_error_deg_h = 0", "tune.rate_error_deg_h", "0", "in (0, 1e6]"},
+      {"LimitsTuneScaleFactorIsARange", Kind::kLimits, &kLimitsTuneText, "scale_factor_ppm = 10.0",
+       "scale_factor_ppm = [-10, 10]", "tune.scale_factor_ppm", "[-10, 10]", "wrong type"},
+      {"LimitsTuneImprovementBelowOne", Kind::kLimits, &kLimitsTuneText, "min_improvement = 100",
+       "min_improvement = 0.5", "tune.min_improvement", "0.5", "in [1, 1e9]"},
+      {"LimitsTuneUnknownKey", Kind::kLimits, &kLimitsTuneText, "min_improvement = 100",
+       "drift_deg_h = 1", "tune.drift_deg_h", "1", "unknown key"},
       // Keys that do not apply to the station's kind or transport.
       {"StationRtuKeyWithTcp", Kind::kStation, &kStationText, "port = 502", "baud = 9600",
        "table.baud", "9600", "only to transport = \"rtu\""},
