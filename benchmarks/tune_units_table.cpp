@@ -59,8 +59,9 @@ int main(int argc, char** argv) {
       std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
   const std::filesystem::path work =
       std::filesystem::temp_directory_path() / ("tune_units_table-" + std::to_string(::getpid()));
-  std::printf("| unit | session | before +0.3 (°/h) | after +0.3 | before −0.3 | after −0.3 | "
-              "smallest factor | χ² (6 dof) | tuned |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| unit | session | before +0.3 (°/h) | after +0.3 | before −0.3 | after −0.3 | "
+      "smallest factor | χ² (6 dof) | tuned |\n|---|---|---|---|---|---|---|---|---|\n");
   double chi2_sum = 0.0;
   int dof = 0, tuned_units = 0;
   double smallest = INFINITY;
