@@ -1,6 +1,7 @@
 #include "app/station_factory.hpp"
 
 #include <array>
+#include <complex>
 
 #include "gyro_can/gyro_can_device.hpp"
 #include "modbus_rate_table/modbus_rate_table.hpp"
@@ -19,8 +20,9 @@ std::string Where(const bench::StationConfig& config) { return config.file.strin
 class SimulatedStationAdapter final : public Station {
  public:
   SimulatedStationAdapter(std::unique_ptr<drivers::sim_station::SimulatedStation> station,
-                          const std::vector<const bench::FixturePosition*>& fitted)
-      : station_(std::move(station)) {
+                          const std::vector<const bench::FixturePosition*>& fitted,
+                          const std::array<double, 5>& forcer_errors)
+      : station_(std::move(station)), forcer_errors_(forcer_errors) {
     hardware_.table = &station_->table();
     hardware_.clock = &station_->clock();
     for (std::size_t i = 0; i < fitted.size(); ++i) {
@@ -51,11 +53,16 @@ class SimulatedStationAdapter final : public Station {
     j["sigma"] = truth.sigma;
     j["seed"] = truth.seed;
     j["earth_rate_rad_s"] = truth.earth_rate_rad_s;
+    // What the operating mode acts through (not seen by free runs; the tuning's refinement sees
+    // it): β1, β2, β3, β4, b.
+    if (!truth.carrier)
+      j["forcer_errors"] = std::vector<double>(forcer_errors_.begin(), forcer_errors_.end());
     return j;
   }
 
  private:
   std::unique_ptr<drivers::sim_station::SimulatedStation> station_;
+  std::array<double, 5> forcer_errors_;
   bench::BenchHardware hardware_;
 };
 
@@ -86,6 +93,14 @@ drivers::sim::GyroSimOptions MapSimulatedUnit(const bench::SimulatedStationConfi
   }
   o.delta = sim.delta;
   o.xi = sim.xi;
+  // F = I + β1·σz + β4·σx − i·(β2·σz + β3·σx) + b·J (config/station_config.hpp forcer_errors).
+  const auto& [beta1, beta2, beta3, beta4, b] = sim.forcer_errors;
+  const std::complex<double> gain(beta1, -beta2), angle(beta4, -beta3);
+  o.forcer_gain = Eigen::Matrix2cd::Identity();
+  o.forcer_gain(0, 0) += gain;
+  o.forcer_gain(1, 1) -= gain;
+  o.forcer_gain(0, 1) += angle - b;
+  o.forcer_gain(1, 0) += angle + b;
   o.sigma = sim.sigma;
   o.seed = sim.seed;
   o.excite_time_s = sim.excite_time_s;
@@ -154,8 +169,8 @@ std::expected<std::unique_ptr<Station>, std::string> OpenSimulated(
   if (!station) return std::unexpected(Where(config) + "simulated station: " + station.error());
   if (auto connected = (*station)->table().Connect(); !connected)
     return std::unexpected(Where(config) + "simulated table: " + connected.error().ToString());
-  return std::make_unique<SimulatedStationAdapter>(std::move(*station),
-                                                   bench::FittedPositions(config));
+  return std::make_unique<SimulatedStationAdapter>(
+      std::move(*station), bench::FittedPositions(config), config.simulated.forcer_errors);
 }
 
 std::expected<std::unique_ptr<Station>, std::string> OpenReal(const bench::StationConfig& config) {

@@ -46,11 +46,17 @@ constexpr double kDegPerHour = 180.0 / 3.141592653589793 * 3600.0;
 void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, std::ostream& out) {
   out << "tune " << bench::ToString(verdict.outcome)
       << (verdict.reason.empty() ? "" : ": " + verdict.reason) << '\n';
-  for (const bench::VerifiedRate& v : r.verified) {
+  for (std::size_t i = 0; i < r.verified.size(); ++i) {
+    const bench::VerifiedRate& v = r.verified[i];
     out << "  Ω " << v.omega_rad_s << " rad/s: angle-dependent rate error "
-        << v.before_rms_rad_s * kDegPerHour << " °/h before, " << v.after_rms_rad_s * kDegPerHour
-        << " °/h after (predicted " << v.predicted_rms_rad_s * kDegPerHour << " °/h)"
-        << (v.met ? "" : "  MISSED") << '\n';
+        << v.before_rms_rad_s * kDegPerHour << " °/h before, ";
+    // What the free runs' p leaves (the refine holds): the forcers' part, which only the table
+    // shows.
+    if (i < r.refine.size())
+      out << r.refine[i].fit.angle_dependent_rms_rad_s * kDegPerHour
+          << " °/h with p from the free runs, ";
+    out << v.after_rms_rad_s * kDegPerHour << " °/h after (predicted "
+        << v.predicted_rms_rad_s * kDegPerHour << " °/h)" << (v.met ? "" : "  MISSED") << '\n';
   }
   if (r.chi2_dof > 0)
     out << "  after vs predicted: χ² " << r.chi2 << " on " << r.chi2_dof << " (limit "

@@ -403,6 +403,15 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
         Forbid(reader, "carrier", "[simulated.carrier] applies only to physics = \"carrier\""));
   }
   HRG_CHECK(ReadSimulatedUnit(reader, sim, 1));
+  if (carrier) {
+    HRG_CHECK(Forbid(reader, "forcer_errors",
+                     "applies only to physics = \"slow\" (the operating mode's slow model)"));
+  } else if (reader.table().get("forcer_errors") != nullptr) {
+    // 0.1 is a forcer 10 % off or turned 6°: far beyond any trimmed electronics.
+    HRG_TRY(forcer,
+            RequiredVector<5>(reader, "forcer_errors", {-0.1, 0.1, true, "in [-0.1, 0.1]"}));
+    for (int i = 0; i < 5; ++i) sim.forcer_errors[static_cast<std::size_t>(i)] = (*forcer)(i);
+  }
   HRG_TRY(tau, OptionalNumber(reader, "table_settle_time_constant_s",
                               {0.0, 60.0, false, "in (0, 60]"}, sim.table_settle_time_constant_s));
   sim.table_settle_time_constant_s = *tau;
@@ -432,7 +441,8 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
   }
   HRG_CHECK(reader.Unknown(
       "faster_than_real_time, time_scale, physics, delta, xi, sigma, seed, resonant_frequency_hz, "
-      "temperature_c, temperature_drift_c_per_s, excite_time_s, table_settle_time_constant_s, "
+      "forcer_errors, temperature_c, temperature_drift_c_per_s, excite_time_s, "
+      "table_settle_time_constant_s, "
       "table_noise_rad_s, table_encoder_counts_per_rev, table_encoder_noise_rad, "
       "table_stable_tolerance_rad_s, table_stable_hold_s, [simulated.carrier], "
       "[simulated.faults]"));

@@ -9,6 +9,7 @@
 
 #include "hrgbench/bench/tuning/tune_unit.hpp"
 
+#include <Eigen/Core>
 #include <atomic>
 #include <cmath>
 
@@ -114,6 +115,50 @@ TEST(TuneUnit, AnUntunedUnitIsTunedFromItsSessionAndVerifiedOnTheTable) {
   EXPECT_EQ(record.at("block_at_end"), "refined");
   EXPECT_EQ(record.at("holds").at("after").size(), 2u);
   EXPECT_EQ(record.at("refined").at("covariance").size(), 11u);
+}
+
+// What free runs cannot see (issue 28 §4), at the bench: forcers with gain, angle and frame errors
+// (station [simulated] forcer_errors). Read with p from the free runs, the refine holds show the
+// drift and bias the forcers add through the energy loop's effort g = −δ1, as derived in
+// docs/estimator/operating-mode.md (terms 4 and 5: Δδ3 = g·β1, Δδ4 = g·β4, a bias −g·b/(2δ2);
+// c = −Δδ4/(2δ2), s = Δδ3/(2δ2)), and the refined p removes them.
+TEST(TuneUnit, TheRefinementRemovesWhatTheForcersAddAndFreeRunsCannotSee) {
+  const double beta1 = 5e-3, beta4 = -4e-3, b = 3e-3, delta1 = -1e-3, delta2 = 0.29;
+  double earth = 0.0;
+  BenchRun run = RunOnSimulatedStation(
+      "sequence-production.toml", "limits-example.toml", [&](bench::BenchConfigs& c) {
+        UntunedUnit(c, &earth);
+        c.station.simulated.forcer_errors = {beta1, 0.0, 0.0, beta4, b};
+      });
+  ASSERT_TRUE(run.result.estimate.has_value()) << run.result.reason;
+  estimator::CompensationSet p;
+  ASSERT_TRUE(estimator::CompensationFromEstimate(*run.result.estimate, &p));
+  const bench::BenchHardware& hardware = run.station->hardware();
+  const bench::TuneResult tuned =
+      bench::TuneUnit(hardware, hardware.units[0], p, ShortPlan(), earth);
+  ASSERT_TRUE(tuned.ok) << tuned.why;
+  ASSERT_EQ(tuned.refine.size(), 2u);
+  const double g = -delta1;
+  const double c = -g * beta4 / (2.0 * delta2), s = g * beta1 / (2.0 * delta2);
+  const double bias = -g * b / (2.0 * delta2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const analysis::RateErrorHarmonics& f = tuned.refine[i].fit;
+    // p's own errors (from the free runs) add their predicted spread; 5 σ of both.
+    const Eigen::Matrix3d predicted =
+        estimator::PredictedRateErrorCovariance(p, tuned.refine[i].omega_rad_s);
+    EXPECT_NEAR(f.cos_rad_s[0], c,
+                5.0 * std::sqrt(f.cos_std_rad_s[0] * f.cos_std_rad_s[0] + predicted(1, 1)))
+        << "Ω " << tuned.refine[i].omega_rad_s;
+    EXPECT_NEAR(f.sin_rad_s[0], s,
+                5.0 * std::sqrt(f.sin_std_rad_s[0] * f.sin_std_rad_s[0] + predicted(2, 2)));
+    EXPECT_NEAR(f.bias_rad_s, bias,
+                5.0 * std::sqrt(f.bias_std_rad_s * f.bias_std_rad_s + predicted(0, 0)));
+    // Removed by the refinement: the after hold at the same rate is at its noise.
+    EXPECT_LT(tuned.after[i].fit.angle_dependent_rms_rad_s,
+              tuned.refine[i].fit.angle_dependent_rms_rad_s / 3.0);
+    EXPECT_LT(std::abs(tuned.after[i].fit.bias_rad_s), std::abs(bias) / 3.0);
+  }
+  EXPECT_TRUE(tuned.consistent) << "chi2 " << tuned.chi2 << " on " << tuned.chi2_dof;
 }
 
 TEST(TuneUnit, AStopRequestEndsItWithTheTableCommandedToZeroAndTheBlockNamed) {
