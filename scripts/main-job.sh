@@ -2,7 +2,9 @@
 # The main job: a full bench session on the built-in simulated station (in-process simulated gyro
 # electronics and rate table, the real gyro driver and protocol on a virtual CAN bus, faster than
 # real time): the production sequence (6 runs at ±0.1, ±0.3, ±1 rad/s, 100 s at 1 kHz), recorded to
-# build/out/, estimated and judged against the example limits. Then, for comparison with the paper,
+# build/out/, estimated and judged against the example limits; a unit that passes is then tuned
+# (hrg-bench tune: its compensation written over CAN, refined and verified as a rate error on the
+# table, with a zero-rate hold's Allan deviation). Then, for comparison with the paper,
 # its experiment simulated and estimated with the paper's methods and with maximum likelihood.
 # Expects a build (the README's main command builds first); BUILD_DIR overrides the build folder.
 set -euo pipefail
@@ -27,6 +29,11 @@ status=0
 "$bin/hrg-bench" run --station "$configs/station-sim.toml" \
   --sequence "$configs/sequence-production.toml" --limits "$configs/limits-example.toml" \
   --serial SIM-0001 -o "$session" --prompts confirm || status=$?
+if [ "$status" -eq 0 ]; then
+  echo
+  echo "== the unit tuned: its compensation written, refined and verified on the table =="
+  "$bin/hrg-bench" tune "$session" --zero-rate-hold 30 || status=$?
+fi
 if [ -x "$bin/hrg-results" ]; then
   echo
   echo "== the unit's history in the results database (build/out/results.sqlite) =="
