@@ -971,7 +971,10 @@ TEST(BenchProgram, TheOperatorIsRecordedByRunFixtureAndResume) {
                   " --serial F1 --serial F2 --serial F3 --serial F4 --operator OP-18 -o " +
                   fixture.string());
   ASSERT_TRUE(four.exit_code >= 0 && four.exit_code <= 2) << four.out;
-  for (const auto& unit : ReadJson(fixture / "fixture.json").at("units"))
+  // The document bound first: a range-for over .at() of a temporary reads freed memory (the
+  // full sanitized run found it).
+  const nlohmann::json fixture_record = ReadJson(fixture / "fixture.json");
+  for (const auto& unit : fixture_record.at("units"))
     EXPECT_EQ(
         ReadJson(fixture / unit.at("folder").get<std::string>() / "session.json").at("operator"),
         "OP-18")
