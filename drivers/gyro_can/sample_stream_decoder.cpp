@@ -41,7 +41,13 @@ SampleStreamDecoder::Placement SampleStreamDecoder::Place(
   // sample by a wrap (0.5 s at 500 Hz) and pair the halves of different samples. The tolerance (a
   // quarter of a wrap) covers t0's own lateness and the electronics' crystal against the host's
   // clock (64 samples of the 8-bit counter: 100 ppm over 640 000 samples).
-  const double elapsed_s = stamp_ns > t0_ns_ ? static_cast<double>(stamp_ns - t0_ns_) * 1e-9 : 0.0;
+  // In unsigned arithmetic: any two stamps (a fuzzed frame's too) differ by less than 2^64, which
+  // the signed difference cannot always hold (the full sanitized run's finding).
+  const double elapsed_s = stamp_ns > t0_ns_
+                               ? static_cast<double>(static_cast<std::uint64_t>(stamp_ns) -
+                                                     static_cast<std::uint64_t>(t0_ns_)) *
+                                     1e-9
+                               : 0.0;
   const double bound =
       elapsed_s * static_cast<double>(sample_rate_hz_) * static_cast<double>(scale) +
       static_cast<double>(offset) + static_cast<double>(modulo / 4);
