@@ -2,11 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iostream>
-#include <thread>
 
 #include "app/station_factory.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
@@ -92,13 +89,10 @@ void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, st
 
 int Tune(const TuneOptions& options) {
   const std::filesystem::path& dir = options.dir;
-  const bool plus = std::any_of(options.rates_rad_s.begin(), options.rates_rad_s.end(),
-                                [](double omega) { return omega > 0.0; });
-  const bool minus = std::any_of(options.rates_rad_s.begin(), options.rates_rad_s.end(),
-                                 [](double omega) { return omega < 0.0; });
-  if (!plus || !minus) {
-    std::cerr << "--rates: the verification needs rates of both signs (the refinement separates "
-                 "what scales with the rate from what does not)\n";
+  bench::TunePlan plan;
+  plan.rates_rad_s = options.rates_rad_s;
+  if (auto problem = bench::TunePlanProblem(plan)) {
+    std::cerr << "--rates: " << *problem << '\n';
     return kExitBadInput;
   }
   auto record = session::ReadSessionRecord(dir);
@@ -133,8 +127,6 @@ int Tune(const TuneOptions& options) {
     spdlog::error("{}", station.error());
     return kExitError;
   }
-  bench::TunePlan plan;
-  plan.rates_rad_s = options.rates_rad_s;
   plan.verify_turns = options.verify_turns;
   plan.refine_turns = options.refine_turns;
   plan.hold.sample_rate_hz = options.sample_rate_hz;
@@ -145,22 +137,13 @@ int Tune(const TuneOptions& options) {
   plan.hold.stable.dwell_s = configs->sequence.settle.dwell_s;
   plan.hold.stable.poll_period_s = configs->sequence.settle.poll_period_s;
   plan.hold.settle_timeout_s = configs->sequence.timeouts.settle_s;
-  // The interrupt counter, seen as the stop request the tuning checks between reads.
-  std::atomic<bool> stop{false};
-  std::atomic<bool> done{false};
-  std::thread watch([&] {
-    while (!done.load()) {
-      if (options.interrupts != nullptr && options.interrupts->load() > 0) stop = true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  });
+  // The tuning checks the program's interrupt count between its reads.
   const bench::BenchHardware& hardware = (*station)->hardware();
   const bench::TuneResult result = bench::TuneUnit(
       hardware, hardware.units.front(), *p, plan, bench::EarthRateOnAxisRadS(configs->station.site),
-      &stop, [](std::string_view line) { spdlog::info("{}", line); });
-  done = true;
-  watch.join();
-  const bench::TuneVerdict verdict = bench::JudgeTune(result, configs->limits, stop.load());
+      options.interrupts, [](std::string_view line) { spdlog::info("{}", line); });
+  const bool stopped = options.interrupts != nullptr && options.interrupts->load() > 0;
+  const bench::TuneVerdict verdict = bench::JudgeTune(result, configs->limits, stopped);
   nlohmann::json doc = bench::TuneResultJson(result);
   doc["format"] = "hrgbench-tune";
   doc["version"] = 1;

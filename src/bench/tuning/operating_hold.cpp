@@ -22,8 +22,8 @@ OperatingHold Failed(OperatingHold hold, std::string why) {
   return hold;
 }
 
-bool Stopped(const std::atomic<bool>* stop) {
-  return stop != nullptr && stop->load(std::memory_order_acquire);
+bool Stopped(const std::atomic<int>* stop) {
+  return stop != nullptr && stop->load(std::memory_order_acquire) != 0;
 }
 
 std::int64_t Ns(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
@@ -32,7 +32,7 @@ std::int64_t Ns(double seconds) { return static_cast<std::int64_t>(std::llround(
 
 OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware& unit,
                                const OperatingHoldPlan& plan, double earth_rate_rad_s,
-                               const std::atomic<bool>* stop) {
+                               const std::atomic<int>* stop) {
   OperatingHold hold;
   hold.omega_set_rad_s = plan.omega_rad_s;
   if (hardware.table == nullptr || hardware.clock == nullptr || unit.gyro == nullptr ||

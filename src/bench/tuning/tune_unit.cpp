@@ -26,7 +26,7 @@ std::string Rate(double rad_s) {
 // Holds at every rate of the plan, `turns` each; false (and result.why) at the first failure.
 bool HoldAtEveryRate(const BenchHardware& hardware, const UnitHardware& unit, const TunePlan& plan,
                      double turns, double angular_gain, double earth_rate_rad_s,
-                     const std::atomic<bool>* stop, const char* role,
+                     const std::atomic<int>* stop, const char* role,
                      std::vector<OperatingHold>& holds, TuneResult& result,
                      const std::function<void(std::string_view)>& on_log) {
   for (const double omega : plan.rates_rad_s) {
@@ -99,20 +99,24 @@ ZeroRateStability ZeroRateStabilityOf(const std::vector<double>& rate_error_rad_
 
 }  // namespace
 
+std::optional<std::string> TunePlanProblem(const TunePlan& plan) {
+  const auto& rates = plan.rates_rad_s;
+  const bool plus = std::any_of(rates.begin(), rates.end(), [](double w) { return w > 0.0; });
+  const bool minus = std::any_of(rates.begin(), rates.end(), [](double w) { return w < 0.0; });
+  if (plus && minus) return std::nullopt;
+  return "the verification needs rates of both signs (the refinement separates what scales with "
+         "the rate from what does not)";
+}
+
 hw::CompensationValues ToCompensationValues(const estimator::CompensationSet& p) {
   hw::CompensationValues values{};
   Eigen::Map<estimator::CompensationVector>(values.data()) = p.AsVector();
   return values;
 }
 
-estimator::CompensationSet FromCompensationValues(const hw::CompensationValues& values) {
-  return estimator::CompensationFromVector(
-      Eigen::Map<const estimator::CompensationVector>(values.data()));
-}
-
 TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
                     const estimator::CompensationSet& from_estimate, const TunePlan& plan,
-                    double earth_rate_rad_s, const std::atomic<bool>* stop,
+                    double earth_rate_rad_s, const std::atomic<int>* stop,
                     const std::function<void(std::string_view)>& on_log) {
   TuneResult result;
   result.from_estimate = from_estimate;
@@ -133,10 +137,7 @@ TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
   };
   if (unit.operating == nullptr || unit.gyro == nullptr || hardware.table == nullptr)
     return refuse("the station gives no operating-mode access to this unit's electronics");
-  int signs = 0;
-  for (const double omega : plan.rates_rad_s) signs |= omega > 0.0 ? 1 : omega < 0.0 ? 2 : 0;
-  if (plan.rates_rad_s.size() < 2 || signs != 3)
-    return refuse("the verification needs rates of both signs");
+  if (auto problem = TunePlanProblem(plan)) return refuse(*problem);
   if (!(from_estimate.delta[estimator::kScaleFactor] != 0.0))
     return refuse("p from the estimate has no angular gain");
   hw::OperatingGyro& operating = *unit.operating;
@@ -213,17 +214,10 @@ TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
     result.zero_rate = std::move(hold);
   }
   if (auto stopped = hardware.table->Stop(); !stopped) return fail(stopped.error().ToString());
-  {
-    std::vector<analysis::RateHoldMean> means;
-    for (const OperatingHold& after : result.after) {
-      const estimator::VerificationHold m = AsVerification(after);
-      means.push_back({after.omega_rad_s, m.bias_rad_s, m.bias_std_rad_s});
-    }
-    result.scale_factor = analysis::FitScaleFactor(means);
-  }
 
   result.ok = true;
   std::string missed;
+  std::vector<analysis::RateHoldMean> means;  // the mean rate errors, for the scale factor
   for (std::size_t i = 0; i < result.after.size(); ++i) {
     const OperatingHold& after = result.after[i];
     const analysis::RateErrorHarmonics& f = after.fit;
@@ -233,6 +227,7 @@ TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
     const Eigen::Matrix3d predicted =
         estimator::PredictedRateErrorCovariance(tuned, after.omega_rad_s);
     const estimator::VerificationHold m = AsVerification(after);
+    means.push_back({after.omega_rad_s, m.bias_rad_s, m.bias_std_rad_s});
     Eigen::Matrix3d total = predicted;
     total(0, 0) += m.bias_std_rad_s * m.bias_std_rad_s;
     total(1, 1) += m.cos_std_rad_s * m.cos_std_rad_s;
@@ -256,6 +251,7 @@ TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
     result.chi2_dof += 3;
     result.verified.push_back(v);
   }
+  result.scale_factor = analysis::FitScaleFactor(means);
   result.chi2_limit = analysis::ChiSquaredQuantile(plan.consistency_probability, result.chi2_dof);
   result.consistent = result.chi2 <= result.chi2_limit;
   if (!missed.empty()) {

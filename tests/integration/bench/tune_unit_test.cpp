@@ -167,13 +167,13 @@ TEST(TuneUnit, AStopRequestEndsItWithTheTableCommandedToZeroAndTheBlockNamed) {
   ASSERT_TRUE(OpenUntunedStation(station, &earth));
   const bench::BenchHardware& hardware = station->hardware();
   estimator::CompensationSet p = estimator::IdentityCompensation(0.29, -1e-3);
-  std::atomic<bool> stop{false};
+  std::atomic<int> stop{0};
   int logged = 0;
   // Stopped once p is written: during the first refinement hold.
   const bench::TuneResult result = bench::TuneUnit(
       hardware, hardware.units[0], p, ShortPlan(), earth, &stop, [&](std::string_view line) {
         ++logged;
-        if (line.find("written") != std::string_view::npos) stop = true;
+        if (line.find("written") != std::string_view::npos) stop = 1;
       });
   EXPECT_FALSE(result.ok);
   EXPECT_NE(result.why.find("stopped"), std::string::npos) << result.why;

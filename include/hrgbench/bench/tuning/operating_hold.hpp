@@ -67,9 +67,10 @@ struct OperatingHold {
 
 // Runs one hold on unit `unit` of `hardware` (its gyro and its `operating` interface must be set).
 // `earth_rate_rad_s`: the Earth-rate component on the table's axis (the site's). `stop`: when it
-// turns true the hold ends at once with ok = false ("stopped").
+// turns non-zero (the program's interrupt count, as RunnerOptions::interrupts) the hold ends at
+// once with ok = false ("stopped").
 OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware& unit,
                                const OperatingHoldPlan& plan, double earth_rate_rad_s,
-                               const std::atomic<bool>* stop = nullptr);
+                               const std::atomic<int>* stop = nullptr);
 
 }  // namespace hrgbench::bench

@@ -37,9 +37,9 @@
 
 namespace hrgbench::bench {
 
-// p as the electronics' block holds it, and back (estimator/compensation.hpp's vector order).
+// p as the electronics' block holds it (estimator/compensation.hpp's vector order; back:
+// estimator::CompensationFromVector).
 hw::CompensationValues ToCompensationValues(const estimator::CompensationSet& p);
-estimator::CompensationSet FromCompensationValues(const hw::CompensationValues& values);
 
 struct TunePlan {
   // The verification's rates in the unit's frame (without the Earth rate): at least two distinct
@@ -75,6 +75,10 @@ struct ZeroRateStability {
   // hold allows, and B is only bounded by the value above.
   bool bias_instability_reached = false;
 };
+
+// Why a plan cannot be run (nothing is commanded then), or nullopt: the rates must have both
+// signs.
+std::optional<std::string> TunePlanProblem(const TunePlan& plan);
 
 // One "after" hold beside its prediction.
 struct VerifiedRate {
@@ -118,7 +122,7 @@ struct TuneResult {
 // line per step (may be empty). `stop`: a stop request ends the tuning at its next check.
 TuneResult TuneUnit(const BenchHardware& hardware, const UnitHardware& unit,
                     const estimator::CompensationSet& from_estimate, const TunePlan& plan,
-                    double earth_rate_rad_s, const std::atomic<bool>* stop = nullptr,
+                    double earth_rate_rad_s, const std::atomic<int>* stop = nullptr,
                     const std::function<void(std::string_view)>& on_log = {});
 
 // The result as the record keeps it (tune.json): the blocks, p and its covariance, every hold's
