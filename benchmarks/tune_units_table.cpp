@@ -7,13 +7,18 @@
 // and predicted residuals agree when it is within the χ² distribution's spread) and the smallest
 // improvement.
 //
-//   tune_units_table [--units N] [--seed S]
+//   tune_units_table [--units N] [--seed S] [--physics slow|carrier]
 //
 // The truth, per unit i (std::mt19937_64 seeded S + i): δ1 ∈ [−1.4e-3, −0.7e-3] 1/s, δ2 ∈
 // [0.29, 0.31], δ3, δ4 ∈ ±3e-5 1/s, δ5, δ6 ∈ ±3e-4 rad/s, ξ1 ∈ ±0.015, ξ2 … ξ4 ∈ ±5e-3, pick-off
 // noise 1e-4, the forcers' β1 … β4 ∈ ±3e-3 and frame b ∈ ±2e-3 (which free runs cannot see), the
-// simulator's seed S + i. "With p" is the refine hold at +0.3 rad/s: what p from the free runs
-// leaves, the forcers' drift.
+// simulator's seed S + i. With --physics carrier (station-sim-carrier.toml: the resonator at its
+// 5 kHz carrier, the pick-off channels and the demodulating electronics, the forcers driven at the
+// carrier) the unit is drawn in physical units instead: τ ∈ [700, 1400] s, k ∈ [0.29, 0.31],
+// Δ(1/τ) ∈ [0, 6e-5] 1/s and Δf ∈ [0, 2e-4] Hz at axes ∈ ±π/2, gain ratio ∈ [0.97, 1.03], phase
+// mismatch, electrode angle ∈ ±3e-3 rad, cross-talk ∈ ±2e-3, the same forcer errors (in the
+// electrode frame). "With p" is the refine hold at +0.3 rad/s: what p from the free runs leaves,
+// the forcers' drift.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -52,10 +57,12 @@ constexpr double kDegPerHour = 180.0 / 3.14159265358979323846 * 3600.0;
 int main(int argc, char** argv) {
   int units = 20;
   std::uint64_t seed = 2800;
+  bool carrier = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--units") units = std::clamp(std::atoi(argv[i + 1]), 1, 1000);
     if (flag == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (flag == "--physics") carrier = std::string(argv[i + 1]) == "carrier";
   }
   const std::filesystem::path configs_dir =
       std::filesystem::path(HRGBENCH_SOURCE_DIR) / "bench_configs";
@@ -73,19 +80,34 @@ int main(int argc, char** argv) {
     const auto uniform = [&rng](double a, double b) {
       return std::uniform_real_distribution<double>(a, b)(rng);
     };
-    auto configs = bench::LoadBenchConfigs(configs_dir / "station-sim.toml",
-                                           configs_dir / "sequence-production.toml",
-                                           configs_dir / "limits-example.toml");
+    auto configs = bench::LoadBenchConfigs(
+        configs_dir / (carrier ? "station-sim-carrier.toml" : "station-sim.toml"),
+        configs_dir / "sequence-production.toml", configs_dir / "limits-example.toml");
     if (!configs) {
       std::fprintf(stderr, "%s\n", configs.error().ToString().c_str());
       return 2;
     }
     configs->station.results_url.clear();
     bench::SimulatedStationConfig& sim = configs->station.simulated;
-    sim.delta << uniform(-1.4e-3, -0.7e-3), uniform(0.29, 0.31), uniform(-3e-5, 3e-5),
-        uniform(-3e-5, 3e-5), uniform(-3e-4, 3e-4), uniform(-3e-4, 3e-4);
-    sim.xi << uniform(-0.015, 0.015), uniform(-5e-3, 5e-3), uniform(-5e-3, 5e-3),
-        uniform(-5e-3, 5e-3);
+    if (carrier) {
+      estimator::ResonatorParameters& r = sim.carrier.resonator;
+      r.decay_time_s = uniform(700.0, 1400.0);
+      r.angular_gain = uniform(0.29, 0.31);
+      r.damping_anisotropy_per_s = uniform(0.0, 6e-5);
+      r.damping_axis_rad = uniform(-1.57, 1.57);
+      r.frequency_split_hz = uniform(0.0, 2e-4);
+      r.frequency_axis_rad = uniform(-1.57, 1.57);
+      estimator::PickoffParameters& e = sim.carrier.pickoff;
+      e.gain_ratio = uniform(0.97, 1.03);
+      e.phase_mismatch_rad = uniform(-3e-3, 3e-3);
+      e.cross_talk = uniform(-2e-3, 2e-3);
+      e.electrode_angle_error_rad = uniform(-3e-3, 3e-3);
+    } else {
+      sim.delta << uniform(-1.4e-3, -0.7e-3), uniform(0.29, 0.31), uniform(-3e-5, 3e-5),
+          uniform(-3e-5, 3e-5), uniform(-3e-4, 3e-4), uniform(-3e-4, 3e-4);
+      sim.xi << uniform(-0.015, 0.015), uniform(-5e-3, 5e-3), uniform(-5e-3, 5e-3),
+          uniform(-5e-3, 5e-3);
+    }
     sim.forcer_errors = {uniform(-3e-3, 3e-3), uniform(-3e-3, 3e-3), uniform(-3e-3, 3e-3),
                          uniform(-3e-3, 3e-3), uniform(-2e-3, 2e-3)};
     sim.seed = seed + static_cast<std::uint64_t>(i);

@@ -86,9 +86,12 @@ class CarrierPickoff {
   const Eigen::Matrix2cd& carrier_gain() const noexcept { return gain_; }
   const estimator::Xi& xi() const noexcept { return model_frame_.xi; }
   std::complex<double> frame_angle() const noexcept { return model_frame_.frame_angle; }
+  std::complex<double> common() const noexcept { return model_frame_.common; }  // c
   // The slow model's state of a wave whose slow variables in the electrode frame are `x`:
   // c·V(a)·u, so that the channels read (I + C(ξ))·ModelState(x).
   estimator::State ModelState(const estimator::State& x) const noexcept;
+  // c·V(a) itself: the complex 2×2 from the electrode frame's slow variables to the model's.
+  const Eigen::Matrix2cd& model_from_electrode() const noexcept { return model_from_electrode_; }
 
  private:
   CarrierPickoffOptions options_;

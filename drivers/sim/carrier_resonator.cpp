@@ -29,7 +29,22 @@ void CarrierResonator::Rebuild() noexcept {
   system_.topRightCorner<2, 2>() = velocity_scale_ * Eigen::Matrix2d::Identity();
   system_.bottomLeftCorner<2, 2>() = -o.stiffness / velocity_scale_;
   system_.bottomRightCorner<2, 2>() = -o.damping - gyroscopic;
-  transition_ = Transition(step_s_);
+  if (!driven_) {
+    transition_ = Transition(step_s_);
+    return;
+  }
+  Eigen::Matrix<double, 6, 6> augmented = Eigen::Matrix<double, 6, 6>::Zero();
+  augmented.topLeftCorner<4, 4>() = system_ * step_s_;
+  augmented.block<2, 2>(2, 4) = Eigen::Matrix2d::Identity() * step_s_;
+  const Eigen::Matrix<double, 6, 6> e = augmented.exp();
+  transition_ = e.topLeftCorner<4, 4>();
+  drive_ = e.topRightCorner<4, 2>();
+}
+
+void CarrierResonator::EnableDrive() noexcept {
+  if (driven_) return;
+  driven_ = true;
+  Rebuild();
 }
 
 Eigen::Matrix4d CarrierResonator::Transition(double t_s) const noexcept {

@@ -19,8 +19,15 @@
 // q = Re[u0], q̇ = Re[iω·u0] with ω the mean mode frequency at release (osculating variables: the
 // state a reference locked to the wave at ω, phase 0, demodulates to x0 exactly).
 //
+// Driven (the operating mode, carrier_simulation.hpp): a force per unit mass f = (f1, f2) on q,
+// held over a step, enters as w = f/ω0 on the velocity rows, X ← Φ·X + Γ·w with
+// Γ = ∫₀^dt exp(F·s) ds·[0; I], both from one exponential of the augmented 6×6 [[F, [0; I]], 0]·dt
+// (so the input column is dt, balanced like F·dt). Only after EnableDrive(): free runs keep the
+// 4×4.
+//
 // Threads: one thread. Real-time: Step() and state() are allocation-free and noexcept;
-// SetConditions() computes a 4×4 matrix exponential (a few µs) when something changed.
+// SetConditions() computes a 4×4 (driven: 6×6) matrix exponential (a few µs) when something
+// changed.
 
 #include "hrgbench/estimator/model.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
@@ -41,6 +48,10 @@ class CarrierResonator {
   void Release(const estimator::Orbit& orbit) noexcept;
 
   void Step() noexcept { state_ = transition_ * state_; }
+  // From now on Rebuild also computes Γ (above); recomputes it for the current conditions.
+  void EnableDrive() noexcept;
+  // One step with the force w = f/ω0 (per unit mass, over ω0) held over it. EnableDrive first.
+  void StepDriven(const Eigen::Vector2d& w) noexcept { state_ = transition_ * state_ + drive_ * w; }
   // One step with a given transition (CarrierSimulation interpolates it under a temperature ramp).
   void StepWith(const Eigen::Matrix4d& transition) noexcept { state_ = transition * state_; }
   const Eigen::Matrix4d& transition() const noexcept { return transition_; }  // exp(F·step_s)
@@ -66,6 +77,8 @@ class CarrierResonator {
   double frequency_scale_ = 1.0;
   Eigen::Matrix4d system_;
   Eigen::Matrix4d transition_;
+  bool driven_ = false;
+  Eigen::Matrix<double, 4, 2> drive_ = Eigen::Matrix<double, 4, 2>::Zero();  // Γ
   CarrierState state_ = CarrierState::Zero();
 };
 

@@ -80,6 +80,63 @@ estimator::Observation CarrierSimulation::Next(double omega_rad_s) noexcept {
   return y;
 }
 
+namespace {
+
+std::complex<double> Pair(const Eigen::Vector4d& u, int c) noexcept {
+  return {u[2 * c], u[2 * c + 1]};
+}
+
+}  // namespace
+
+void CarrierSimulation::SetControl(const Eigen::Matrix2cd& forcer_gain,
+                                   const Eigen::Matrix2cd& feed_through) {
+  forcer_gain_ = forcer_gain;
+  feed_through_ = feed_through;
+  resonator_->EnableDrive();
+}
+
+estimator::Observation CarrierSimulation::Observe(double omega_rad_s,
+                                                  const Eigen::Vector4d& u_held) noexcept {
+  const double t_mid = (static_cast<double>(k_) + 0.5) / release_.output_rate_hz;
+  if (resonator_->SetConditions(omega_rad_s, FrequencyScale(t_mid))) {
+    pickoff_.Configure(*resonator_);
+  }
+  const Eigen::Vector2cd fed = feed_through_ * Eigen::Vector2cd(Pair(u_held, 0), Pair(u_held, 1));
+  observed_phasor_ = electronics_->reference().current();
+  const std::complex<double> carrier = std::conj(observed_phasor_);  // e^{iψ}
+  Eigen::Vector2d s = pickoff_.Sample(resonator_->state());
+  s[0] += (fed[0] * carrier).real();
+  s[1] += (fed[1] * carrier).real();
+  estimator::Observation y = estimator::Observation::Zero();
+  electronics_->Push(s, &y);  // the period's first converter sample is the output sample
+  return y;
+}
+
+void CarrierSimulation::Advance(const Eigen::Vector4d& u) noexcept {
+  const Eigen::Vector2cd command(Pair(u, 0), Pair(u, 1));
+  const double w = resonator_->mean_frequency_rad_s();
+  // P/ω0 (the resonator's force input is f/ω0) and the feed-through, for this period.
+  const Eigen::Vector2cd drive =
+      (-2.0 * w / resonator_->velocity_scale_rad_s() * DriveTrim()) * (forcer_gain_ * command);
+  const Eigen::Vector2cd fed = feed_through_ * command;
+  const std::complex<double> half_step = std::polar(1.0, 0.5 * w * resonator_->step_s());
+  estimator::Observation unused = estimator::Observation::Zero();
+  std::complex<double> phasor = observed_phasor_;
+  for (int n = 0; n < decimation_; ++n) {
+    if (n > 0) {
+      phasor = electronics_->reference().current();
+      const std::complex<double> carrier = std::conj(phasor);
+      Eigen::Vector2d s = pickoff_.Sample(resonator_->state());
+      s[0] += (fed[0] * carrier).real();
+      s[1] += (fed[1] * carrier).real();
+      electronics_->Push(s, &unused);
+    }
+    const std::complex<double> mid = std::conj(phasor) * half_step;  // e^{iψ} at the step's middle
+    resonator_->StepDriven(Eigen::Vector2d((drive[0] * mid).real(), (drive[1] * mid).real()));
+  }
+  ++k_;
+}
+
 estimator::Delta CarrierSimulation::delta() const noexcept {
   // A temperature ramp moves the frequency, and the displacement's amplitude with it
   // (estimator/frequency_drift_decay.hpp): ω̇/ω = α·Ṫ/(1 + α·(T − T0)) at release.

@@ -192,10 +192,8 @@ void GyroSimNode::Execute(Command command, std::uint8_t token, const hw::CanFram
                  mode_ != GyroMode::kStopped) {
         ack.result = AckResult::kBadState;
       } else if (c.sample_rate_hz < 1 || c.sample_rate_hz > max_rate ||
-                 (c.format == FrameFormat::kFd && !fd_ok) ||
-                 (c.run_mode == gyro_can::RunMode::kWholeAngle &&
-                  options_.physics != GyroPhysics::kSlow)) {
-        ack.result = AckResult::kBadArgument;  // the operating mode: slow physics only, so far
+                 (c.format == FrameFormat::kFd && !fd_ok)) {
+        ack.result = AckResult::kBadArgument;
       } else {
         sample_rate_hz_ = c.sample_rate_hz;
         run_mode_ = c.run_mode;
@@ -479,19 +477,14 @@ bool GyroSimNode::StartOperating() noexcept {
   const estimator::CompensationSet p = estimator::CompensationFromVector(
       Eigen::Map<const estimator::CompensationVector>(values->data()));
   if (p.delta[estimator::kScaleFactor] == 0.0) return false;
-  ControlledResonatorTruth truth;
-  truth.delta = options_.delta;
-  truth.xi = options_.xi;
-  truth.forcer_gain = options_.forcer_gain;
-  truth.feed_through = options_.feed_through;
-  truth.sigma = options_.sigma;
-  truth.seed = options_.seed + statistics_.runs;
   const double h = 1.0 / std::max<std::uint16_t>(sample_rate_hz_, 1);
   operating_period_s_ = h;
-  plant_ = std::make_unique<ControlledResonator>(truth, omega_ ? omega_() : 0.0, h,
-                                                 estimator::OrbitToState(orbit_));
+  plant_ = MakeOperatingPlant(options_,
+                              {orbit_, omega_ ? omega_() : 0.0, h, options_.seed + statistics_.runs,
+                               TemperatureC(), options_.temperature_drift_c_per_s});
   estimator::WholeAngleLoopGains gains;
   gains.energy_setpoint = orbit_.a * orbit_.a + orbit_.b * orbit_.b;
+  gains.measurement_delay_s = plant_->measurement_delay_s();
   control_ = std::make_unique<estimator::WholeAngleControl>(p, gains, h);
   command_.setZero();
   angle_output_rad_ = 0.0;
@@ -500,8 +493,8 @@ bool GyroSimNode::StartOperating() noexcept {
 
 void GyroSimNode::EmitOperatingSample() noexcept {
   const double h = operating_period_s_;
-  plant_->SetOmega(omega_ ? omega_() : 0.0);
-  const estimator::WholeAngleSample s = control_->Step(plant_->Observe(command_));
+  const estimator::WholeAngleSample s =
+      control_->Step(plant_->Observe(omega_ ? omega_() : 0.0, command_));
   command_ = s.u;
   plant_->Advance(command_);
   if (std::isfinite(s.rate_rad_s)) angle_output_rad_ += s.rate_rad_s * h;

@@ -35,9 +35,9 @@
 #include "hrgbench/estimator/whole_angle_control.hpp"
 #include "hrgbench/hw/can_bus.hpp"
 #include "hrgbench/hw/clock.hpp"
-#include "sim/controlled_resonator.hpp"
 #include "sim/free_run_source.hpp"
 #include "sim/gyro_sim_options.hpp"
+#include "sim/operating_plant.hpp"
 #include "sim/simulation_clock.hpp"
 
 namespace hrgbench::drivers::sim {
@@ -120,9 +120,9 @@ class GyroSimNode final : public SimulationParticipant {
   std::int64_t excite_done_ns_ = 0;
 
   // Operating mode (Configure's run mode): the resonator with the control in it, run by the
-  // whole-angle loops with the active parameter block (slow physics only).
+  // whole-angle loops with the active parameter block (operating_plant.hpp: either physics).
   gyro_can::RunMode run_mode_ = gyro_can::RunMode::kFreeRun;
-  std::unique_ptr<ControlledResonator> plant_;
+  std::unique_ptr<OperatingPlant> plant_;
   std::unique_ptr<estimator::WholeAngleControl> control_;
   Eigen::Vector4d command_ = Eigen::Vector4d::Zero();
   double angle_output_rad_ = 0.0;

@@ -55,8 +55,9 @@ struct GyroSimOptions {
   estimator::Delta delta = (estimator::Delta() << -0.001, 0.3, 0.0, 0.0, 0.0, 0.0).finished();
   estimator::Xi xi = estimator::Xi::Zero();
   double sigma = 0.0;  // noise std per channel of y (amplitude units); the paper's 1e-4
-  // The operating mode's forcers (slow physics): their complex gain F = I + B(ε) and the command's
-  // feed-through D into the pick-off (sim/controlled_resonator.hpp). Free runs never see them.
+  // The operating mode's forcers (either physics; at carrier level in the electrode frame): their
+  // complex gain F = I + B(ε) and the command's feed-through D into the pick-off
+  // (sim/operating_plant.hpp). Free runs never see them.
   Eigen::Matrix2cd forcer_gain = Eigen::Matrix2cd::Identity();
   Eigen::Matrix2cd feed_through = Eigen::Matrix2cd::Zero();
   std::uint64_t seed = 1;  // run r (0-based, per release) uses NormalGenerator(seed + r)

@@ -46,6 +46,9 @@ class ReferenceOscillator {
     return now;
   }
 
+  // e^{−iψ} at the current sample, without advancing (what Next() will return).
+  std::complex<double> current() const noexcept { return phasor_; }
+
   // kTracking: the wave's phase relative to the reference (rad), once per output period.
   void Correct(double phase_error_rad, double period_s) noexcept;
 

@@ -403,10 +403,7 @@ std::expected<SimulatedStationConfig, ConfigError> ReadSimulated(TableReader& re
         Forbid(reader, "carrier", "[simulated.carrier] applies only to physics = \"carrier\""));
   }
   HRG_CHECK(ReadSimulatedUnit(reader, sim, 1));
-  if (carrier) {
-    HRG_CHECK(Forbid(reader, "forcer_errors",
-                     "applies only to physics = \"slow\" (the operating mode's slow model)"));
-  } else if (reader.table().get("forcer_errors") != nullptr) {
+  if (reader.table().get("forcer_errors") != nullptr) {
     // 0.1 is a forcer 10 % off or turned 6°: far beyond any trimmed electronics.
     HRG_TRY(forcer,
             RequiredVector<5>(reader, "forcer_errors", {-0.1, 0.1, true, "in [-0.1, 0.1]"}));

@@ -34,7 +34,8 @@ WholeAngleSample WholeAngleControl::Step(const Observation& y) noexcept {
     const double mid_angle = 0.25 * (previous + two_theta_);
     // The energy loop's force, held over the period along the wave as it was at its start, drags
     // the turning wave back by g·h/2 of its turn (operating-mode.md "The sampled loop's drag").
-    const double turn_rate = 0.5 * (two_theta_ - previous) / h_ / (1.0 - 0.5 * held_effort_ * h_);
+    const double turn_rate = 0.5 * (two_theta_ - previous) / h_ /
+                             (1.0 - held_effort_ * (0.5 * h_ + gains_.measurement_delay_s));
     out.rate_rad_s =
         -(turn_rate - CompensatedDrift(p_, mid_angle)) / (2.0 * p_.delta[kScaleFactor]) -
         p_.rate_bias_rad_s;

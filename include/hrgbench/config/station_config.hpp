@@ -137,9 +137,10 @@ struct SimulatedStationConfig {
   double temperature_drift_c_per_s = 0.0;  // linear drift (tests the warm-up and drift checks)
   double excite_time_s = 0.2;              // time from Excite to "ready"
   // The forcers' errors the operating mode acts through (docs/estimator/operating-mode.md "The
-  // model with the control", terms 4 and 5; slow physics, every unit of the station): β1, β2, β3,
-  // β4 (gain and angle, F = I + β1·σz + β4·σx − i·(β2·σz + β3·σx)) and b (the frame turned from
-  // the pick-off's, F += b·J). Free runs cannot see them; the tuning's refinement does.
+  // model with the control", terms 4 and 5; every unit of the station, either physics: at carrier
+  // level in the electrode frame): β1, β2, β3, β4 (gain and angle, F = I + β1·σz + β4·σx −
+  // i·(β2·σz + β3·σx)) and b (the frame turned from the pick-off's, F += b·J). Free runs cannot see
+  // them; the tuning's refinement does.
   std::array<double, 5> forcer_errors{};
   SimulatedPhysics physics = SimulatedPhysics::kSlow;
   SimulatedCarrierConfig carrier;  // physics = kCarrier only

@@ -22,7 +22,9 @@
 // with p's δ̂2, δ̂3, δ̂4 and bias b̂; θ̂ is the electrical angle (the pattern on the shell turns at half
 // of it, n = 2). The turn is first divided by (1 − g·h/2): the energy loop's force, held over a
 // period along the wave as it was at the period's start, drags the turning wave back by that much
-// (0.5 ppm of the rate at g = 1e-3 1/s, h = 1 ms; operating-mode.md "The sampled loop's drag").
+// (0.5 ppm of the rate at g = 1e-3 1/s, h = 1 ms; operating-mode.md "The sampled loop's drag"),
+// and by 1 − g·τm more when the samples show the wave τm late (a demodulator's low-pass: the force
+// is along the wave as it was τm ago; 2.1 ppm for a 4th-order 200 Hz Butterworth).
 //
 // Real-time: no allocation, no exception; Step is O(1).
 
@@ -41,6 +43,9 @@ struct WholeAngleLoopGains {
   double amplitude_integral_per_s2 = 200.0;
   double quadrature_proportional_per_s = 20.0;
   double quadrature_integral_per_s2 = 200.0;
+  // τm, s: how late the samples show the wave (the electronics' demodulator group delay; 0 in the
+  // slow model, whose samples are the wave now). The readout removes the drag it causes (above).
+  double measurement_delay_s = 0.0;
 };
 
 // What one step read and commanded.
