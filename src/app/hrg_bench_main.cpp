@@ -687,14 +687,21 @@ int Run(const RunArgs& args, bool json, const EventsRequest& events, app::Report
     }
     dir = folder->string();
   }
-  const int exit_code =
-      RunOrResume(*configs, dir, serial, args.who, false, json, events, report_mode);
-  if (!args.tune || exit_code != kExitOk || g_interrupts.load() > 0) return exit_code;
+  // With --tune the report is made once, after the tuning (its section included).
+  const int exit_code = RunOrResume(*configs, dir, serial, args.who, false, json, events,
+                                    args.tune ? app::ReportMode::kNone : report_mode);
+  if (!args.tune) return exit_code;
+  if (exit_code != kExitOk || g_interrupts.load() > 0) {  // not tuned: the session's report
+    const std::string html = app::ReportTunedSession(dir, *configs, report_mode);
+    if (!json && !html.empty()) std::cout << "report: " << html << '\n';
+    return exit_code;
+  }
   // The unit passed: its compensation, written and verified, in one command (issue 28).
   app::TuneOptions tune;
   tune.dir = dir;
   tune.json = json;
   tune.interrupts = &g_interrupts;
+  tune.report = report_mode;
   return app::Tune(tune);
 }
 
@@ -782,7 +789,7 @@ void AddEventsOptions(CLI::App* command, EventsRequest& events) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
 }
 
-// --report on `run` and `resume`.
+// --report on `run`, `resume` and `tune`.
 void AddReportOption(CLI::App* command, std::string& mode) {
   command
       ->add_option("--report", mode,
@@ -864,7 +871,7 @@ CLI::App* AddReplayCommand(CLI::App& cli, ReplayArgs& args, bool& json) {
   return replay;
 }
 
-CLI::App* AddTuneCommand(CLI::App& cli, app::TuneOptions& tune) {
+CLI::App* AddTuneCommand(CLI::App& cli, app::TuneOptions& tune, std::string& report) {
   CLI::App* command = cli.add_subcommand(
       "tune",
       "a unit's PASS session made into its compensation, written to its electronics, refined "
@@ -888,6 +895,7 @@ CLI::App* AddTuneCommand(CLI::App& cli, app::TuneOptions& tune) {
                    "instability)")
       ->check(CLI::Range(0.0, 3600.0));
   command->add_flag("--json", tune.json, "print tune.json");
+  AddReportOption(command, report);  // the session's report, made again with the tuning
   return command;
 }
 
@@ -936,7 +944,7 @@ int main(int argc, char** argv) {
   CLI::App* serve = AddServeCommand(cli, panel);
   app::TuneOptions tune;
   tune.interrupts = &g_interrupts;
-  CLI::App* tune_command = AddTuneCommand(cli, tune);
+  CLI::App* tune_command = AddTuneCommand(cli, tune, report);
 
   try {
     cli.parse(argc, argv);
@@ -959,8 +967,11 @@ int main(int argc, char** argv) {
     if (*serve) return Serve(panel, argv[0]);
     if (*replay) return Replay(replay_args, json);
     if (*check) return Check(check_args);
-    if (*tune_command) return app::Tune(tune);
     const app::ReportMode report_mode = *app::ParseReportMode(report);  // CLI11 checked it
+    if (*tune_command) {
+      tune.report = report_mode;
+      return app::Tune(tune);
+    }
     if (*run) return Run(run_args, json, events, report_mode);
     if (*resume) return Resume(resume_dir, resume_who, json, events, report_mode);
     return kExitBadInput;  // require_subcommand(1): not reached

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "app/closed_session_report.hpp"
 #include "app/station_factory.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
@@ -160,7 +161,18 @@ int Tune(const TuneOptions& options) {
   } else {
     PrintText(result, verdict, std::cout);
   }
+  const std::string html = ReportTunedSession(dir, *configs, options.report);
+  if (!options.json && !html.empty()) std::cout << "report: " << html << '\n';
   return bench::ExitCode(verdict.outcome);
+}
+
+std::string ReportTunedSession(const std::filesystem::path& dir, const bench::BenchConfigs& configs,
+                               ReportMode mode) {
+  bench::SessionResult closed;
+  closed.dir = dir;
+  return MakeReports({closed}, configs.station.results_url, configs.station.report_paper, mode)
+      .front()
+      .path;
 }
 
 }  // namespace hrgbench::app

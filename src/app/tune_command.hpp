@@ -1,7 +1,8 @@
 #pragma once
 // `hrg-bench tune DIR`: a unit's closed PASS session made into its compensation, written to its
 // electronics, refined on the table and verified (bench/tuning/tune_unit.hpp); DIR/tune.json
-// records it. The station is the one the session ran on (its saved config).
+// records it. The station is the one the session ran on (its saved config). The session's report
+// is then made again with its tuning section (report/tune_data.hpp), as `report` says.
 //
 // Exit codes (session/exit_codes.hpp), the tuning's verdict (bench/tuning/tune_verdict.hpp):
 // 0 PASS; 1 FAIL (a rate error that did not fall to its bound, a [tune] limit not met); 2 ERROR
@@ -10,7 +11,11 @@
 
 #include <atomic>
 #include <filesystem>
+#include <string>
 #include <vector>
+
+#include "app/report_job.hpp"
+#include "hrgbench/config/bench_configs.hpp"
 
 namespace hrgbench::app {
 
@@ -24,8 +29,14 @@ struct TuneOptions {
   bool json = false;
   // Ctrl-C: the count of interrupts (non-zero: stop safely) — the program's handler's counter.
   const std::atomic<int>* interrupts = nullptr;
+  ReportMode report = ReportMode::kWait;  // the session's report, remade with the tuning
 };
 
 int Tune(const TuneOptions& options);
+
+// The closed session `dir`'s report (with its tuning section when it has tune.json), made as `mode`
+// says with the station's store and paper. Its report.html, or empty when none is made.
+std::string ReportTunedSession(const std::filesystem::path& dir, const bench::BenchConfigs& configs,
+                               ReportMode mode);
 
 }  // namespace hrgbench::app

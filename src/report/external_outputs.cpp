@@ -59,6 +59,7 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
          << "set grid\nunset logscale\nset size noratio\n"
          << "set xtics auto\nset ytics mirror\nunset y2tics\nunset y2label\n";
   if (f.value("y_log", false)) script << "set logscale y\n";
+  if (f.value("x_log", false)) script << "set logscale x\n";
   // Series on the right-hand axis (the orbit's θ in degrees beside a and b).
   const auto on_right = [](const json& s) { return s.value("axis", "") == "y2"; };
   if (std::any_of(series.begin(), series.end(), on_right))
@@ -103,8 +104,9 @@ bool FigureScript(const json& f, const std::string& tmp, std::ostream& script) {
       out << '\n';
     }
     script << (k ? ", " : "") << Quoted(file) << " using 1:2" << (on_right(s) ? " axes x1y2" : "")
-           << " with lines lw 1 dt " << (s.value("model", false) ? 2 : 1) << " title "
-           << Quoted(s.value("label", ""));
+           << (s.value("points", false) ? " with linespoints pt 7 lw 1 dt "
+                                        : " with lines lw 1 dt ")
+           << (s.value("model", false) ? 2 : 1) << " title " << Quoted(s.value("label", ""));
   }
   script << "\n";
   return true;

@@ -1,7 +1,8 @@
 #pragma once
 // The figure specs of the page's data block (report_data.hpp: figures [{name, caption, type,
-// x_label, y_label, y_log, equal_aspect, x, series [{label, y, x?, model, axis?}]}]), built the
-// same way by every part of the report that adds a figure. Internal to src/report.
+// x_label, y_label, y_log, x_log?, equal_aspect, x, series [{label, y, x?, model, axis?,
+// points?}]}]), built the same way by every part of the report that adds a figure. Internal to
+// src/report.
 
 #include <cmath>
 #include <nlohmann/json.hpp>

@@ -495,6 +495,7 @@ std::string Page::Render(const std::string& chart_js) {
   Figure("std-vs-bound", 960, 300);
   Engineering();
   Verdict();
+  Tuning();
   UnitHistory();
   RunList();
   for (const RunView& run : in_.runs) Run(run);

@@ -63,6 +63,12 @@ class Page {
   std::string Src(const std::string& pointer, double value, const std::string& text = {}) const {
     return Number("data-source", pointer, value, text);
   }
+  // A number of tune.json (the tuning's record, tune_data.hpp): its pointer into tune.json as
+  // data-tune-source, its value read there.
+  std::string TuneSrc(const std::string& pointer, const std::string& text = {}) const {
+    return in_.tune ? Number("data-tune-source", pointer, NumberAt(*in_.tune, pointer), text)
+                    : std::string(kNone);
+  }
   // A number the report derived: a pointer into the report-data block (its value is read there).
   std::string Der(const std::string& pointer, const std::string& text = {}) const {
     return Number("data-derived", pointer, NumberAt(data_, pointer), text);
@@ -108,6 +114,7 @@ class Page {
   void EngineeringBudgets(const session::EstimateRecord& estimate);
   void Verdict();
   void UnitHistory();
+  void Tuning();                       // page_tune_section.cpp
   void UnitTrends(std::size_t shown);  // the trend plots under the history table
   void Figure(const std::string& name, int width, int height);
   void Run(const RunView& run);

@@ -76,14 +76,15 @@ inline constexpr const char* kPageScript = R"JS(
           return {
             label: s.label, data: points, borderColor: colour(s.label),
             backgroundColor: colour(s.label), borderDash: s.model ? [6, 3] : [],
-            borderWidth: s.model ? 1.5 : 1, pointRadius: 0, pointStyle: "line",
+            borderWidth: s.model ? 1.5 : 1, pointRadius: s.points ? 3 : 0, pointStyle: "line",
             showLine: true, spanGaps: false, yAxisID: s.axis === "y2" ? "y2" : "y"
           };
         });
         var scales = {
-          x: { type: "linear", title: { display: true, text: f.x_label } },
+          x: { type: f.x_log ? "logarithmic" : "linear", title: { display: true, text: f.x_label } },
           y: yScale()
         };
+        if (f.x_log) scales.x.ticks = { callback: logTick };
         if (f.series.some(function (s) { return s.axis === "y2"; })) {
           scales.y2 = { type: "linear", position: "right", grid: { drawOnChartArea: false },
                         title: { display: true, text: f.y2_label } };

@@ -20,6 +20,7 @@
 #include "residual_figures.hpp"
 #include "run_conditions.hpp"
 #include "sample_timing.hpp"
+#include "tune_data.hpp"
 
 namespace hrgbench::report::internal {
 namespace {
@@ -554,6 +555,7 @@ json BuildReportData(const ReportInputs& inputs, std::vector<RunPart> run_parts)
   derived["crlb"] = CramerRao(inputs, &crlb_figures);
   for (json& f : crlb_figures) figures.push_back(std::move(f));
   derived["unit_history"] = UnitHistoryJson(inputs.unit_history);
+  derived["tune"] = TuneDerived(inputs.tune ? &*inputs.tune : nullptr, &figures);
   derived["runs"] = json::object();
   for (std::size_t r = 0; r < inputs.runs.size() && r < run_parts.size(); ++r) {
     if (!inputs.runs[r].loaded) continue;

@@ -3,11 +3,13 @@
 // generic spec that both the page's Chart.js code and the gnuplot figures draw, and every number
 // the report derives itself. Internal to src/report.
 //
-//   figures  [{name, caption, type: "line" | "bar", x_label, y_label, y_log, equal_aspect,
-//              x [number] (line) | labels [string] (bar),
-//              series [{label, y [number|null], x [number] (optional, own abscissa), model}]}]
+//   figures  [{name, caption, type: "line" | "bar", x_label, y_label, y_log, x_log (optional),
+//              equal_aspect, x [number] (line) | labels [string] (bar),
+//              series [{label, y [number|null], x [number] (optional, own abscissa), model,
+//                       points (optional: markers at the values)}]}]
 //   derived  {estimate (the re-run's EstimateReportJson), crlb {delta_std[6], xi_std[4], valid,
 //             message}, anisotropy {...}, runs {"<id>": {...capture quality...}},
+//             tune (tune_data.hpp; null when the unit was not tuned),
 //             unit_history {store, unavailable, count, sessions [...]} (null without a store)}
 //
 // Long runs are decimated min/max per bucket (decimate.hpp), values rounded to 6 digits; only the

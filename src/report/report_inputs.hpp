@@ -58,7 +58,9 @@ struct ReportInputs {
   // re-run's, the report's own.
   std::vector<std::string> warnings;
   std::optional<UnitHistory> unit_history;  // ReportOptions::unit_history
-  PaperSize paper = PaperSize::kA4;         // ReportOptions::paper
+  // <session>/tune.json as read (tune_data.hpp), when the unit was tuned.
+  std::optional<nlohmann::json> tune;
+  PaperSize paper = PaperSize::kA4;  // ReportOptions::paper
 };
 
 }  // namespace hrgbench::report::internal

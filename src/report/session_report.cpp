@@ -24,6 +24,7 @@
 #include "parallel_runs.hpp"
 #include "report_data.hpp"
 #include "report_inputs.hpp"
+#include "tune_data.hpp"
 
 namespace hrgbench::report {
 
@@ -338,6 +339,11 @@ std::expected<ReportResult, ReportError> WriteSessionReport(const fs::path& sess
   for (const std::string& w : record->warnings) {
     AddWarning(&in.warnings, &seen, w);
     reader_warnings.push_back(w);
+  }
+  {
+    internal::TuneRead tune = internal::ReadTuneRecord(session_dir);
+    in.tune = std::move(tune.record);
+    if (!tune.warning.empty()) AddWarning(&in.warnings, &seen, "tuning not shown: " + tune.warning);
   }
   const std::size_t min_samples = bench::MinimumSamples(bench::Method::kMl);
   // The recorded fit is drawn as recorded; the estimator runs only when asked or when the record

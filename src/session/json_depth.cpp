@@ -1,6 +1,6 @@
-#include "json_depth.hpp"
+#include "hrgbench/session/json_depth.hpp"
 
-namespace hrgbench::session::internal {
+namespace hrgbench::session {
 
 std::optional<JsonDepthExcess> FindJsonDepthExcess(std::string_view text, std::size_t max_depth) {
   std::size_t depth = 0;
@@ -29,4 +29,4 @@ std::optional<JsonDepthExcess> FindJsonDepthExcess(std::string_view text, std::s
   return std::nullopt;
 }
 
-}  // namespace hrgbench::session::internal
+}  // namespace hrgbench::session

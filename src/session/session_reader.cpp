@@ -11,8 +11,8 @@
 #include <system_error>
 #include <vector>
 
+#include "hrgbench/session/json_depth.hpp"
 #include "hrgbench/session/session.hpp"
-#include "json_depth.hpp"
 #include "json_lines.hpp"
 #include "name_field.hpp"
 #include "run_file_path.hpp"
@@ -146,7 +146,7 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
                                                      const fs::path& file) {
   Session session;
   // Before the parser: it recurses once per level (see json_depth.hpp).
-  if (const auto excess = internal::FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
+  if (const auto excess = FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
     return std::unexpected(
         SessionError{file, excess->line, "",
                      "nested deeper than " + std::to_string(kMaxSessionJsonDepth) +

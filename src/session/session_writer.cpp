@@ -4,8 +4,8 @@
 #include <set>
 #include <string>
 
+#include "hrgbench/session/json_depth.hpp"
 #include "hrgbench/session/session.hpp"
-#include "json_depth.hpp"
 #include "name_field.hpp"
 #include "run_file_path.hpp"
 
@@ -109,7 +109,7 @@ std::expected<void, SessionError> WriteSessionJson(const fs::path& dir, const Se
     return fail("", "session.json would be " + std::to_string(text.size()) + " bytes (at most " +
                         std::to_string(kMaxSessionJsonBytes) + ")");
   }
-  if (const auto excess = internal::FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
+  if (const auto excess = FindJsonDepthExcess(text, kMaxSessionJsonDepth)) {
     return fail("", "document nested deeper than " + std::to_string(kMaxSessionJsonDepth) +
                         " levels of arrays and objects");
   }

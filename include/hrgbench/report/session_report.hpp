@@ -23,7 +23,9 @@
 //    against 2σ̂²/fs; only where the run has a fitted model), `orbit-run-N`, `forms-run-N`
 //    (N = the run id; for every run when there are at most max_runs_with_figures, else for that
 //    many, and the page has a run list `<section id="run-list">` with one row per run),
-//    `anisotropy`, `std-vs-bound`.
+//    `anisotropy`, `std-vs-bound`; for a tuned unit (a tune.json beside session.json, written by
+//    `hrg-bench tune`), in `<section id="tuning">`: `tune-rate-error-before`,
+//    `tune-rate-error-after`, `tune-scale-factor` and, after a zero-rate hold, `tune-allan`.
 //  - When every chart has been drawn the page sets
 //    `document.documentElement.dataset.reportReady = "true"`.
 //  - Every number shown in a table is an element with `data-source="<JSON pointer into
@@ -31,12 +33,16 @@
 //    shortest round-trip>"`, its text being that value formatted for reading; a std is its own
 //    element with its own data-source (e.g. `/outcome/estimate/delta_std/1`).
 //    Numbers the report computes itself (not in session.json) carry `data-derived="<JSON pointer
-//    into the report-data block>"` instead of data-source, and data-value likewise.
+//    into the report-data block>"` instead of data-source, and data-value likewise; numbers of
+//    the tuning's record carry `data-tune-source="<JSON pointer into tune.json>"`.
 //  - Every warning is `<li class="warning" data-run="N">` inside run N's section
 //    (`<section class="run" id="run-N" data-run="N">`), or at the top with data-run="0" for
 //    warnings of the whole session (and for a run id that session.json does not list).
 //  - The outcome is `<div id="outcome" data-kind="KIND">`, KIND = outcome.kind as recorded
-//    ("PASS", "FAIL", "ERROR", ...) or "NOT RECORDED" when session.json has no outcome.
+//    ("PASS", "FAIL", "ERROR", ...) or "NOT RECORDED" when session.json has no outcome; a tuned
+//    unit's tuning verdict is `<div id="tune-outcome" data-kind="KIND">` (tune.json's
+//    verdict.outcome). A tune.json that cannot be read (bounds: 4 MiB, 16 levels; format
+//    "hrgbench-tune", version 1) is a warning and no section, never a failure.
 //  - The page's data is one `<script type="application/json" id="report-data">` block.
 //
 // Files: <output> (default SESSION_DIR/report/report.html); beside it, unless disabled,

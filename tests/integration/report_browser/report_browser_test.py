@@ -15,7 +15,9 @@ bench        hrg-bench runs a short sequence (SEQUENCE below, 3 runs of 4 s at 1
              uploaded to a SQLite store of the test's own; hrg-report writes the third's report
              with the store (--results), so it draws the unit's trend (3 points each); the checker
              asserts the whole contract against the session.json it reads itself; the PDF, when
-             hrg-report wrote one, has pages and says the outcome (pdftotext).
+             hrg-report wrote one, has pages and says the outcome (pdftotext). The unit passes and
+             is tuned first (hrg-bench tune, short holds): the page's tuning section against
+             tune.json, and its figures.
 missing-run  the same session with runs/run-002.csv deleted: the report still renders, without
              console errors, and names the missing file.
 no-outcome   the same session without "outcome" (an older bench's record, or a session that never
@@ -261,6 +263,12 @@ def MakeBenchSession(args: argparse.Namespace, tmp: Path, station: Path,
     return session
 
 
+def ResolvePassed(session: Path) -> bool:
+    """The session closed as PASS (only a passing unit is tuned)."""
+    recorded = json.loads((session / "session.json").read_text())
+    return (recorded.get("outcome") or {}).get("kind") == "PASS"
+
+
 def WriteReport(args: argparse.Namespace, session: Path, tmp: Path,
                 results_url: str = "") -> tuple[int, Path]:
     report_dir = session / "report"
@@ -318,6 +326,18 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
         for k in range(earlier):
             MakeBenchSession(args, tmp, station, f"earlier-{k + 1}")
         session_dir = MakeBenchSession(args, tmp, station)
+        # bench: the unit tuned when it passed (hrg-bench tune writes tune.json and makes the
+        # report again with its tuning section).
+        tune_path = session_dir / "tune.json"
+        if case == "bench" and not ResolvePassed(session_dir):
+            failures.append("the bench session did not pass: no tuning to report")
+        elif case == "bench":
+            code = Run([str(args.bin_dir / "hrg-bench"), "tune", str(session_dir),
+                        "--verify-turns", "2", "--refine-turns", "2", "--zero-rate-hold", "10"],
+                       tmp / "hrg-bench-tune.log")
+            if code not in (0, 1) or not tune_path.is_file():
+                print((tmp / "hrg-bench-tune.log").read_text())
+                failures.append(f"hrg-bench tune exited {code} and wrote no {tune_path}")
         # hrg-bench writes the report itself when the session closes and prints its path.
         bench_html = session_dir / "report" / "report.html"
         if case == "bench":
@@ -350,9 +370,10 @@ def CaseSession(args: argparse.Namespace, case: str) -> int:
         with rpc.ReportPageChecker(ready_timeout_s=60.0) as checker:
             # Issue 26's figures: what each run's fit left and its conditions over the run (the
             # bench's runs record temperature and frequency at their start and end).
+            tune = json.loads(tune_path.read_text()) if tune_path.is_file() else None
             result = checker.Check(html, session, run_ids, artifacts_dir=out, mentions=mentions,
                                    run_figures=["residual-histogram", "residual-spectrum",
-                                                "conditions"])
+                                                "conditions"], tune=tune)
         Report(result, case)
         failures += [str(p) for p in result.problems]
         if earlier:

@@ -9,7 +9,8 @@ The contract (issue 9; hrg-report's header in src/report states it, this checker
     session.json>" and data-value="<the value, shortest round-trip>", its text the value formatted
     for reading (a std in its own element with its own data-source);
     Numbers the report computes itself carry data-derived="<JSON pointer into the report-data
-    block>" instead, with data-value likewise;
+    block>" instead, with data-value likewise; numbers of the tuning's record (the section
+    <section id="tuning"> of a tuned unit) carry data-tune-source="<pointer into tune.json>";
   - every warning is <li class="warning" data-run="N"> (N = 0 for the session) inside run N's
     section, <section class="run" id="run-N" data-run="N">, or outside every run's section for
     N = 0; (this checker also wants each run's figures inside that run's section);
@@ -36,7 +37,9 @@ own test can tell which check caught a page broken on purpose):
              or "null"); the displayed text (the element's own text, without nested data-source
              elements) is a number that agrees with the value to the precision shown (half a unit
              of its last digit), or, for null, is not a number. The same for every [data-derived]
-             element against the report-data block
+             element against the report-data block, and every [data-tune-source] against
+             tune.json (there must be one, and the page must show some of it, when the unit was
+             tuned; the tuning's figures are then required too)
   data       one script#report-data block, type application/json, that parses
   outcome    #outcome exists and its data-kind equals session.json's outcome.kind
   warnings   every outcome.estimate.warnings string appears in an li.warning; one starting
@@ -178,25 +181,26 @@ def ParseDisplayedNumber(text: str) -> tuple[float, float] | None:
 
 
 def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
-                result: PageResult, attribute: str = "data-source") -> None:
+                result: PageResult, attribute: str = "data-source",
+                document: str = "session.json") -> None:
     where = f"{attribute}={source!r}"
     if data_value is None:
         result.add("numbers", f"{where}: no data-value attribute")
         return
     if expected is None:
         if data_value not in ("", "null"):
-            result.add("numbers", f"{where}: session.json holds null, data-value is {data_value!r}")
+            result.add("numbers", f"{where}: {document} holds null, data-value is {data_value!r}")
         if ParseDisplayedNumber(text) is not None:
-            result.add("numbers", f"{where}: session.json holds null, the page shows {text!r}")
+            result.add("numbers", f"{where}: {document} holds null, the page shows {text!r}")
         return
     if isinstance(expected, bool):
         if data_value != ("true" if expected else "false"):
-            result.add("numbers", f"{where}: session.json holds {expected}, data-value "
+            result.add("numbers", f"{where}: {document} holds {expected}, data-value "
                                   f"{data_value!r}")
         return
     if isinstance(expected, str):
         if data_value != expected:
-            result.add("numbers", f"{where}: session.json holds {expected!r}, data-value "
+            result.add("numbers", f"{where}: {document} holds {expected!r}, data-value "
                                   f"{data_value!r}")
         return
     if not isinstance(expected, (int, float)):
@@ -208,7 +212,7 @@ def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
         result.add("numbers", f"{where}: data-value {data_value!r} is not a number")
         return
     if attribute != float(expected):
-        result.add("numbers", f"{where}: data-value {data_value!r} is not session.json's "
+        result.add("numbers", f"{where}: data-value {data_value!r} is not {document}'s "
                               f"{expected!r}")
     shown = ParseDisplayedNumber(text)
     if shown is None:
@@ -218,19 +222,24 @@ def CheckNumber(source: str, data_value: str | None, text: str, expected: Any,
     # Half a unit of the last digit shown, and a little for the binary representation of both.
     tolerance = 0.5 * resolution * (1 + 1e-9) + 1e-12 * abs(float(expected))
     if not abs(value - float(expected)) <= tolerance:
-        result.add("numbers", f"{where}: the text {text!r} reads {value!r}, session.json holds "
+        result.add("numbers", f"{where}: the text {text!r} reads {value!r}, {document} holds "
                               f"{expected!r} (allowed ±{tolerance:.3g} at the precision shown)")
 
 
-def RequiredFigures(run_ids: Iterable[int], run_figures: Iterable[str] = ()) -> list[str]:
+TUNE_FIGURES = ["tune-rate-error-before", "tune-rate-error-after", "tune-scale-factor"]
+
+
+def RequiredFigures(run_ids: Iterable[int], run_figures: Iterable[str] = (),
+                    tuned: bool = False) -> list[str]:
     """The contract's figures; `run_figures` adds kinds every run must have on this page too
-    (e.g. residual-histogram, residual-spectrum, conditions: issue 26's)."""
+    (e.g. residual-histogram, residual-spectrum, conditions: issue 26's); a tuned unit's page has
+    the tuning's (and tune-allan when the tuning held zero rate)."""
     names = []
     for run_id in run_ids:
         names += [f"channels-run-{run_id}", f"residuals-run-{run_id}", f"orbit-run-{run_id}",
                   f"forms-run-{run_id}"]
         names += [f"{kind}-run-{run_id}" for kind in run_figures]
-    return names + ["anisotropy", "std-vs-bound"]
+    return names + ["anisotropy", "std-vs-bound"] + (TUNE_FIGURES if tuned else [])
 
 
 # Runs in the page, returns what the checks need in one round trip.
@@ -242,7 +251,8 @@ const sectionRun = (el) => {
 };
 const ownText = (el) => {
   const copy = el.cloneNode(true);
-  for (const inner of copy.querySelectorAll('[data-source],[data-derived]')) inner.remove();
+  for (const inner of copy.querySelectorAll('[data-source],[data-derived],[data-tune-source]'))
+    inner.remove();
   return copy.textContent.replace(/\s+/g, ' ').trim();
 };
 const figures = [];
@@ -296,6 +306,9 @@ for (const c of document.querySelectorAll('canvas[data-figure]')) {
 const numbers = [...document.querySelectorAll('[data-source]')].map((el) => ({
   source: el.getAttribute('data-source'), value: el.getAttribute('data-value'), text: ownText(el),
   tag: el.tagName }));
+const tuneNumbers = [...document.querySelectorAll('[data-tune-source]')].map((el) => ({
+  source: el.getAttribute('data-tune-source'), value: el.getAttribute('data-value'),
+  text: ownText(el), tag: el.tagName }));
 const derived = [...document.querySelectorAll('[data-derived]')].map((el) => ({
   source: el.getAttribute('data-derived'), value: el.getAttribute('data-value'), text: ownText(el),
   tag: el.tagName }));
@@ -324,7 +337,7 @@ const trends = [...document.querySelectorAll('svg.trend')].map((el) => {
   return { quantity: el.getAttribute('data-quantity'), points: Number(el.getAttribute('data-points')),
            drawn: drawn.length, width: box.width, height: box.height };
 });
-return { figures, numbers, derived, dataBlocks, warnings, outcomes, entries, linked, trends,
+return { figures, numbers, tuneNumbers, derived, dataBlocks, warnings, outcomes, entries, linked, trends,
          text: document.body ? document.body.innerText : '' };
 """
 
@@ -356,7 +369,9 @@ class ReportPageChecker:
 
     def Check(self, html: Path, session: Any, run_ids: Iterable[int],
               artifacts_dir: Path | None = None, mentions: Iterable[str] = (),
-              run_figures: Iterable[str] = ()) -> PageResult:
+              run_figures: Iterable[str] = (), tune: Any = None) -> PageResult:
+        """`tune`: the session's tune.json when the unit was tuned (the page's tuning section
+        reads it: data-tune-source pointers)."""
         result = PageResult()
         driver = self.driver
         driver.get_log("browser")  # drop what an earlier page logged
@@ -383,7 +398,7 @@ class ReportPageChecker:
         for link in page["linked"]:
             result.add("network", f"an element links to the network: {link}")
 
-        self._CheckFigures(page["figures"], RequiredFigures(run_ids, run_figures), result)
+        self._CheckFigures(page["figures"], RequiredFigures(run_ids, run_figures, tune is not None), result)
         for t in page["trends"]:
             if t["width"] <= 0 or t["height"] <= 0 or t["drawn"] < 1 or t["drawn"] != t["points"]:
                 result.add("figures", f"trend of {t['quantity']}: {t['drawn']} of "
@@ -406,6 +421,22 @@ class ReportPageChecker:
                                       f"{number['text']!r}) is not in session.json")
                 continue
             CheckNumber(number["source"], number["value"], number["text"], expected, result)
+
+        for number in page["tuneNumbers"]:
+            result.numbers_checked += 1
+            if tune is None:
+                result.add("numbers", f"data-tune-source={number['source']!r} on the page of a "
+                                      "session without tune.json")
+                continue
+            found, expected = ResolvePointer(tune, number["source"] or "")
+            if not found:
+                result.add("numbers", f"data-tune-source={number['source']!r} (shown as "
+                                      f"{number['text']!r}) is not in tune.json")
+                continue
+            CheckNumber(number["source"], number["value"], number["text"], expected, result,
+                        attribute="data-tune-source", document="tune.json")
+        if tune is not None and not page["tuneNumbers"]:
+            result.add("numbers", "the session has tune.json and the page shows none of it")
 
         report_data = None
         if len(page["dataBlocks"]) != 1 or page["dataBlocks"][0]["type"] != "application/json":
