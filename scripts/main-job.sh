@@ -14,7 +14,7 @@ build="${BUILD_DIR:-$root/build}"
 bin="$build/bin"
 configs="$root/bench_configs"
 
-for tool in hrg-bench hrg-sim hrg-compare; do
+for tool in hrg-bench hrg-report hrg-sim hrg-compare; do
   if [ ! -x "$bin/$tool" ]; then
     echo "main-job: $bin/$tool not found; build first (cmake --build $build)" >&2
     exit 2
@@ -26,13 +26,16 @@ cd "$root"  # station-sim.toml's [results] url is its folder's ../build/out/resu
 session="$build/out/session-SIM-0001-$(date -u +%Y%m%dT%H%M%SZ)"
 echo "== bench session on the simulated station =="
 status=0
+# The report is made once: by tune, with its tuning section, when the unit passes; else here.
 "$bin/hrg-bench" run --station "$configs/station-sim.toml" \
   --sequence "$configs/sequence-production.toml" --limits "$configs/limits-example.toml" \
-  --serial SIM-0001 -o "$session" --prompts confirm || status=$?
+  --serial SIM-0001 -o "$session" --prompts confirm --report none || status=$?
 if [ "$status" -eq 0 ]; then
   echo
   echo "== the unit tuned: its compensation written, refined and verified on the table =="
   "$bin/hrg-bench" tune "$session" --zero-rate-hold 30 || status=$?
+elif [ -f "$session/session.json" ]; then
+  "$bin/hrg-report" "$session" || true
 fi
 if [ -x "$bin/hrg-results" ]; then
   echo

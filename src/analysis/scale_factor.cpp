@@ -1,5 +1,6 @@
 #include "hrgbench/analysis/scale_factor.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 
@@ -43,6 +44,39 @@ ScaleFactorFit FitScaleFactor(std::span<const RateHoldMean> holds) {
   fit.bias_std_rad_s = birge * std::sqrt(sxx / det);
   fit.nonlinearity_known = fit.dof > 0;
   fit.nonlinearity = fit.nonlinearity_known ? max_residual / max_omega : 0.0;
+  // The asymmetry: e = b + ε·Ω + α·|Ω|, weighted least squares by its normal equations.
+  bool positive = false, negative = false;
+  double min_abs = INFINITY, max_abs = 0.0;
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d right = Eigen::Vector3d::Zero();
+  for (const RateHoldMean& h : holds) {
+    const Eigen::Vector3d a(1.0, h.omega_rad_s, std::abs(h.omega_rad_s));
+    const double w = 1.0 / (h.std_rad_s * h.std_rad_s);
+    normal += w * a * a.transpose();
+    right += w * h.error_rad_s * a;
+    positive = positive || h.omega_rad_s > 0.0;
+    negative = negative || h.omega_rad_s < 0.0;
+    min_abs = std::min(min_abs, std::abs(h.omega_rad_s));
+    max_abs = std::max(max_abs, std::abs(h.omega_rad_s));
+  }
+  if (positive && negative && holds.size() >= 3 && max_abs - min_abs > 1e-3 * max_abs) {
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(normal);
+    if (lu.isInvertible() && lu.rcond() > 1e-12) {
+      const Eigen::Vector3d x = lu.solve(right);
+      const Eigen::Matrix3d covariance = lu.inverse();
+      double chi2 = 0.0;
+      for (const RateHoldMean& h : holds) {
+        const double r =
+            h.error_rad_s - x[0] - x[1] * h.omega_rad_s - x[2] * std::abs(h.omega_rad_s);
+        chi2 += r * r / (h.std_rad_s * h.std_rad_s);
+      }
+      const int dof = static_cast<int>(holds.size()) - 3;
+      const double scale = dof > 0 ? std::max(1.0, std::sqrt(chi2 / dof)) : 1.0;
+      fit.asymmetry_known = true;
+      fit.asymmetry = 2.0 * x[2];
+      fit.asymmetry_std = 2.0 * scale * std::sqrt(covariance(2, 2));
+    }
+  }
   fit.ok = true;
   return fit;
 }

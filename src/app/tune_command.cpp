@@ -64,6 +64,8 @@ void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, st
     out << "  over the rates: bias " << sf.bias_rad_s * kDegPerHour << " ± "
         << sf.bias_std_rad_s * kDegPerHour << " °/h, scale-factor error "
         << sf.scale_factor_error * 1e6 << " ± " << sf.scale_factor_error_std * 1e6 << " ppm";
+    if (sf.asymmetry_known)
+      out << ", asymmetry " << sf.asymmetry * 1e6 << " ± " << sf.asymmetry_std * 1e6 << " ppm";
     if (sf.nonlinearity_known) out << ", nonlinearity " << sf.nonlinearity * 1e6 << " ppm";
     out << '\n';
   }

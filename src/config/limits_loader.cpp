@@ -135,6 +135,7 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
     HRG_CHECK(optional("rate_error_deg_h", limits.tune.rate_error_deg_h));
     HRG_CHECK(optional("bias_deg_h", limits.tune.bias_deg_h));
     HRG_CHECK(optional("scale_factor_ppm", limits.tune.scale_factor_ppm));
+    HRG_CHECK(optional("scale_factor_asymmetry_ppm", limits.tune.scale_factor_asymmetry_ppm));
     HRG_CHECK(optional("arw_deg_per_sqrt_h", limits.tune.arw_deg_per_sqrt_h));
     HRG_CHECK(optional("bias_instability_deg_h", limits.tune.bias_instability_deg_h));
     static constexpr Range kImprovement{1.0, 1e9, true, "in [1, 1e9]"};
@@ -142,8 +143,9 @@ std::expected<LimitsConfig, ConfigError> ReadLimits(const TomlDocument& document
             OptionalNumber(tune, "min_improvement", kImprovement, limits.tune.min_improvement));
     limits.tune.min_improvement = *improvement;
     HRG_CHECK(
-        tune.Unknown("rate_error_deg_h, bias_deg_h, scale_factor_ppm, arw_deg_per_sqrt_h, "
-                     "bias_instability_deg_h, min_improvement"));
+        tune.Unknown("rate_error_deg_h, bias_deg_h, scale_factor_ppm, "
+                     "scale_factor_asymmetry_ppm, arw_deg_per_sqrt_h, bias_instability_deg_h, "
+                     "min_improvement"));
   }
   HRG_CHECK(root.Unknown("[limits], [fit], [decision], [tune]"));
   return limits;

@@ -48,7 +48,9 @@ void Page::Tuning() {
                                          NumberAt(tune, "/scale_factor/error_std_ppm"));
     out_ += "<p id=\"tune-scale-factor\">Over the rates: bias " + bias + " ± " + bias_std +
             " °/h, scale-factor error " + TuneSrc("/scale_factor/error_ppm", sf.value) + " ± " +
-            TuneSrc("/scale_factor/error_std_ppm", sf.std) + " ppm, nonlinearity " +
+            TuneSrc("/scale_factor/error_std_ppm", sf.std) + " ppm, asymmetry " +
+            TuneSrc("/scale_factor/asymmetry_ppm") + " ± " +
+            TuneSrc("/scale_factor/asymmetry_std_ppm") + " ppm, nonlinearity " +
             TuneSrc("/scale_factor/nonlinearity_ppm") + " ppm (χ² " +
             TuneSrc("/scale_factor/chi2") + " on " + TuneSrc("/scale_factor/dof") + ").</p>\n";
     Figure("tune-scale-factor", 960, 300);

@@ -10,6 +10,12 @@
 // with a rate more than the line's two (with two it is zero by construction and not reported).
 // The stds are the weighted fit's, scaled up by √(χ²/dof) when the residuals say the holds' stds
 // are too small (the Birge ratio; never scaled down).
+//
+// The asymmetry (IEEE 1431's scale-factor asymmetry: the scale factor with positive inputs less the
+// one with negative inputs, relative to the scale factor) from the fit e(Ω) = b + ε·Ω + α·|Ω|, so
+// that ε± = ε ± α and the asymmetry is ε+ − ε− = 2α; it needs rates of both signs and two distinct
+// magnitudes (at ±Ω only, α is the bias's twin and not reported), its std the fit's with its own
+// Birge ratio.
 // Pure; no allocation beyond the result.
 
 #include <span>
@@ -29,7 +35,9 @@ struct ScaleFactorFit {
   double bias_rad_s = 0.0, bias_std_rad_s = 0.0;
   double scale_factor_error = 0.0, scale_factor_error_std = 0.0;  // dimensionless (×1e6: ppm)
   bool nonlinearity_known = false;                                // three distinct rates or more
-  double nonlinearity = 0.0;  // max |residual| / max |Ω|, dimensionless
+  double nonlinearity = 0.0;                    // max |residual| / max |Ω|, dimensionless
+  bool asymmetry_known = false;                 // both signs and two distinct |Ω|
+  double asymmetry = 0.0, asymmetry_std = 0.0;  // ε+ − ε−, dimensionless (×1e6: ppm)
   double chi2 = 0.0;
   int dof = 0;
 };

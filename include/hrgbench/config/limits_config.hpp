@@ -86,10 +86,13 @@ struct ParameterLimit {
 // judged. The rate error and the stability figures are magnitudes (their low side is the physical
 // bound, not guarded); the bias and the scale-factor error are signed and judged in [−max, max].
 struct TuneLimits {
-  std::optional<double> rate_error_deg_h;    // the angle-dependent rate error after, at every rate
-  std::optional<double> bias_deg_h;          // the rate output's bias over the verification's rates
-  std::optional<double> scale_factor_ppm;    // its scale-factor error
-  std::optional<double> arw_deg_per_sqrt_h;  // angle random walk (the zero-rate hold's)
+  std::optional<double> rate_error_deg_h;  // the angle-dependent rate error after, at every rate
+  std::optional<double> bias_deg_h;        // the rate output's bias over the verification's rates
+  std::optional<double> scale_factor_ppm;  // its scale-factor error
+  // Its asymmetry, ε+ − ε− (analysis/scale_factor.hpp): needs rates of both signs and two
+  // magnitudes (hrg-bench tune --rates 0.3 -0.3 1 -1), else not judgeable (ERROR).
+  std::optional<double> scale_factor_asymmetry_ppm;
+  std::optional<double> arw_deg_per_sqrt_h;      // angle random walk (the zero-rate hold's)
   std::optional<double> bias_instability_deg_h;  // bias instability (the zero-rate hold's)
   // At every rate the angle-dependent rate error falls by this factor, or to within what the
   // estimate's uncertainty predicts, whichever is larger (issue 28's bound; always judged).

@@ -364,16 +364,22 @@ nlohmann::json TuneResultJson(const TuneResult& r) {
   }
   const analysis::ScaleFactorFit& sf = r.scale_factor;
   j["scale_factor"] =
-      sf.ok ? nlohmann::json{{"bias_rad_s", sf.bias_rad_s},
-                             {"bias_std_rad_s", sf.bias_std_rad_s},
-                             {"error_ppm", sf.scale_factor_error * 1e6},
-                             {"error_std_ppm", sf.scale_factor_error_std * 1e6},
-                             {"nonlinearity_ppm", sf.nonlinearity_known
-                                                      ? nlohmann::json(sf.nonlinearity * 1e6)
-                                                      : nlohmann::json(nullptr)},
-                             {"chi2", sf.chi2},
-                             {"dof", sf.dof}}
-            : nlohmann::json(nullptr);
+      sf.ok
+          ? nlohmann::json{{"bias_rad_s", sf.bias_rad_s},
+                           {"bias_std_rad_s", sf.bias_std_rad_s},
+                           {"error_ppm", sf.scale_factor_error * 1e6},
+                           {"error_std_ppm", sf.scale_factor_error_std * 1e6},
+                           {"nonlinearity_ppm", sf.nonlinearity_known
+                                                    ? nlohmann::json(sf.nonlinearity * 1e6)
+                                                    : nlohmann::json(nullptr)},
+                           {"asymmetry_ppm", sf.asymmetry_known ? nlohmann::json(sf.asymmetry * 1e6)
+                                                                : nlohmann::json(nullptr)},
+                           {"asymmetry_std_ppm", sf.asymmetry_known
+                                                     ? nlohmann::json(sf.asymmetry_std * 1e6)
+                                                     : nlohmann::json(nullptr)},
+                           {"chi2", sf.chi2},
+                           {"dof", sf.dof}}
+          : nlohmann::json(nullptr);
   if (r.stability) {
     const ZeroRateStability& z = *r.stability;
     nlohmann::json points = nlohmann::json::array();

@@ -98,6 +98,17 @@ TuneVerdict JudgeTune(const TuneResult& result, const LimitsConfig& limits, bool
                       sf.scale_factor_error_std * 1e6, *tune.scale_factor_ppm, true, rule, "ppm")
               : NotEvaluated("scale_factor_ppm", *tune.scale_factor_ppm, sf.why));
   }
+  if (tune.scale_factor_asymmetry_ppm) {
+    const double max = *tune.scale_factor_asymmetry_ppm;
+    verdict.checks.push_back(
+        !sf.ok ? NotEvaluated("scale_factor_asymmetry_ppm", max, sf.why)
+        : !sf.asymmetry_known
+            ? NotEvaluated("scale_factor_asymmetry_ppm", max,
+                           "the asymmetry needs rates of both signs and two magnitudes "
+                           "(hrg-bench tune --rates 0.3 -0.3 1 -1)")
+            : Check("scale_factor_asymmetry_ppm", sf.asymmetry * 1e6, sf.asymmetry_std * 1e6, max,
+                    true, rule, "ppm"));
+  }
   const std::string no_hold = "there was no zero-rate hold (hrg-bench tune --zero-rate-hold S)";
   if (tune.arw_deg_per_sqrt_h) {
     const auto& z = result.stability;

@@ -84,5 +84,42 @@ TEST(ScaleFactor, OneRateOrABadStdIsRefused) {
   EXPECT_FALSE(FitScaleFactor(std::vector<RateHoldMean>{{0.3, NAN, 1e-7}, {-0.3, 0.0, 1e-7}}).ok);
 }
 
+// The asymmetry against a response made with different slopes for each sign: Ω̂ − Ω = b + ε+·Ω for
+// Ω > 0 and b + ε−·Ω for Ω < 0 (IEEE 1431's definition, ε+ − ε−, made directly, not through the
+// |Ω| parametrisation the fit uses).
+TEST(ScaleFactor, SlopesThatDifferBySignShowTheirAsymmetry) {
+  const double bias = 2e-6, plus = 30e-6, minus = -15e-6;
+  std::vector<RateHoldMean> holds;
+  for (const double omega : {-1.0, -0.3, 0.3, 1.0})
+    holds.push_back({omega, bias + (omega > 0 ? plus : minus) * omega, 1e-7});
+  const ScaleFactorFit fit = FitScaleFactor(holds);
+  ASSERT_TRUE(fit.ok) << fit.why;
+  ASSERT_TRUE(fit.asymmetry_known);
+  EXPECT_NEAR(fit.asymmetry * 1e6, 45.0, 1e-6);
+  // Four holds of equal σ at ±0.3, ±1: α's information is Σw·|Ω|² less what b and ε share with
+  // it; by hand, with w = 1/σ², the normal matrix for (b, ε, α) is w·[[4, 0, 2.6], [0, 2.18, 0],
+  // [2.6, 0, 2.18]], so var(α) = σ²·4/(4·2.18 − 2.6²) and std(2α) = 2σ·√(4/1.96).
+  EXPECT_NEAR(fit.asymmetry_std, 2.0 * 1e-7 * std::sqrt(4.0 / 1.96), 1e-12);
+  // A symmetric response has none, within its std.
+  std::vector<RateHoldMean> symmetric;
+  for (const double omega : {-1.0, -0.3, 0.3, 1.0})
+    symmetric.push_back({omega, bias + plus * omega, 1e-7});
+  const ScaleFactorFit line = FitScaleFactor(symmetric);
+  ASSERT_TRUE(line.asymmetry_known);
+  EXPECT_NEAR(line.asymmetry, 0.0, 1e-12);
+}
+
+TEST(ScaleFactor, TheAsymmetryNeedsBothSignsAndTwoMagnitudes) {
+  const auto known = [](std::vector<double> rates) {
+    std::vector<RateHoldMean> holds;
+    for (const double omega : rates) holds.push_back({omega, 1e-6 * omega, 1e-7});
+    return FitScaleFactor(holds).asymmetry_known;
+  };
+  EXPECT_FALSE(known({0.3, -0.3}));             // α and the bias are the same column
+  EXPECT_FALSE(known({0.3, -0.3, 0.3, -0.3}));  // still one magnitude
+  EXPECT_FALSE(known({0.3, 1.0, 2.0}));         // one sign
+  EXPECT_TRUE(known({0.3, -0.3, 1.0}));
+}
+
 }  // namespace
 }  // namespace hrgbench::analysis

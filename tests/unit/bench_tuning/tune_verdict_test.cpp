@@ -159,5 +159,29 @@ TEST(TuneVerdict, StoppedIsAbortedAndUnfinishedIsAnError) {
   EXPECT_EQ(v.reason, unfinished.why);
 }
 
+// The asymmetry is judged only where the rates can show it; a declared limit the plan cannot judge
+// is an ERROR that says which rates it needs.
+TEST(TuneVerdict, TheAsymmetryIsJudgedWhenTheRatesShowItAndIsAnErrorWhenTheyCannot) {
+  TuneLimits tune;
+  tune.scale_factor_asymmetry_ppm = 5.0;
+  TuneResult two_rates = Tuned();  // ±Ω only: not known
+  const TuneVerdict unknown = JudgeTune(two_rates, WithTune(tune), false);
+  EXPECT_EQ(unknown.outcome, OutcomeKind::kError) << unknown.reason;
+  ASSERT_EQ(unknown.checks.size(), 1u);
+  EXPECT_NE(unknown.checks[0].decision.message.find("both signs and two magnitudes"),
+            std::string::npos)
+      << unknown.checks[0].decision.message;
+  TuneResult four_rates = Tuned();
+  four_rates.scale_factor.asymmetry_known = true;
+  four_rates.scale_factor.asymmetry = 3e-6;  // 3 ± 2·0.5 = [2, 4] inside [−5, 5]
+  four_rates.scale_factor.asymmetry_std = 0.5e-6;
+  const TuneVerdict known = JudgeTune(four_rates, WithTune(tune), false);
+  EXPECT_EQ(known.outcome, OutcomeKind::kPass) << known.reason;
+  ASSERT_EQ(known.checks.size(), 1u);
+  EXPECT_NEAR(known.checks[0].value, 3.0, 1e-9);
+  four_rates.scale_factor.asymmetry = 6e-6;  // wholly outside
+  EXPECT_EQ(JudgeTune(four_rates, WithTune(tune), false).outcome, OutcomeKind::kFail);
+}
+
 }  // namespace
 }  // namespace hrgbench::bench

@@ -112,6 +112,7 @@ const std::string kLimitsTuneText = kLimitsText + R"(
 [tune]
 rate_error_deg_h = 1.0
 scale_factor_ppm = 10.0
+scale_factor_asymmetry_ppm = 5.0
 min_improvement = 100
 )";
 
@@ -170,6 +171,7 @@ TEST(MalformedConfigs, BasesAreValid) {
   ASSERT_TRUE(tune.has_value()) << tune.error().ToString();
   EXPECT_EQ(tune->tune.rate_error_deg_h, 1.0);
   EXPECT_EQ(tune->tune.scale_factor_ppm, 10.0);
+  EXPECT_EQ(tune->tune.scale_factor_asymmetry_ppm, 5.0);
   EXPECT_FALSE(tune->tune.bias_deg_h.has_value());
   EXPECT_EQ(tune->tune.min_improvement, 100.0);
   EXPECT_EQ(tune->tune.line, 7u);
