@@ -180,6 +180,33 @@ TEST(OperatingStreamTest, TheLoopsStateStreamsAtItsRateAndShowsTheLoopsLocked) {
       << "θ̂ = " << theta;
 }
 
+// A report half without its partner is counted, not paired with another report's; a corrupted
+// one is a bad frame; the reports around them are still all there.
+TEST(OperatingStreamTest, ALoneOrCorruptedLoopsFrameIsCountedAndTheReportsGoOn) {
+  GyroRigOptions options;
+  GyroRig rig(options);
+  ASSERT_TRUE(rig.device->Configure({static_cast<std::uint32_t>(kRateHz), true}).has_value());
+  ASSERT_TRUE(rig.device->Excite({1.0, 0.0, 0.3}).has_value());
+  ASSERT_TRUE(rig.device->WaitReady(2'000'000'000).has_value());
+  ASSERT_TRUE(rig.device->Release().has_value());
+  std::vector<hw::OperatingSample> samples(200);
+  ASSERT_EQ(rig.device->ReadOperatingSamples(std::span(samples).first(100), 1'000'000'000), 100u);
+  const hw::CanFrame lone_b =
+      EncodeOperatingLoopsHalf(0, {.half = 1, .seq = 0x55, .value_raw = {}});
+  hw::CanFrame corrupted_a = EncodeOperatingLoopsHalf(0, {.half = 0, .seq = 0x56, .value_raw = {}});
+  corrupted_a.data[2] ^= 0x10;
+  ASSERT_EQ(rig.sim_endpoint->Send(lone_b, 0), hw::CanStatus::kOk);
+  ASSERT_EQ(rig.sim_endpoint->Send(corrupted_a, 0), hw::CanStatus::kOk);
+  ASSERT_EQ(rig.device->ReadOperatingSamples(std::span(samples).subspan(100), 1'000'000'000), 100u);
+  const hw::OperatingLoopsRecord record = rig.device->OperatingLoopsSinceRelease();
+  EXPECT_EQ(record.incomplete, 1u);
+  EXPECT_EQ(rig.device->Counters().bad_frames, 1u);
+  ASSERT_TRUE(record.last.has_value());
+  EXPECT_EQ(record.reports, record.last->index / kOperatingLoopsInterval + 1);
+  EXPECT_GE(record.last->index + kOperatingLoopsInterval, samples.back().index);
+  EXPECT_TRUE(rig.device->Stop().has_value());
+}
+
 // The same behind the protocol at carrier level (the resonator at its 5 kHz carrier driven through
 // its forcers, read through the pick-off and the demodulator): a damping split drifts the wave as
 // derived, δ3 = −(Δ(1/τ)/2)·cos2θ_τ, δ4 = −(Δ(1/τ)/2)·sin2θ_τ (physical_parameters.hpp, written
