@@ -105,10 +105,13 @@ std::expected<std::unique_ptr<GyroCanDevice>, GyroError> GyroCanDevice::Create(
   // The node's Ack and Status (0x08n, 0x09n), samples and reference phase (0x10n … 0x13n).
   static_assert(can_id::kStatus == (can_id::kAck | 0x010) &&
                 can_id::kReferencePhase == (can_id::kSampleA | 0x030));
+  // The operating stream and its loops' reports: 0x14n … 0x17n (0x17n is no message: unexpected).
+  static_assert(can_id::kOperatingLoopsA == (can_id::kOperatingSample | 0x010) &&
+                can_id::kOperatingLoopsB == (can_id::kOperatingSample | 0x020));
   const std::array<hw::CanFilter, 3> filters = {
       hw::CanFilter{NodeMessageId(can_id::kAck, config.node), 0x7EF, false},
       hw::CanFilter{NodeMessageId(can_id::kSampleA, config.node), 0x7CF, false},
-      hw::CanFilter{NodeMessageId(can_id::kOperatingSample, config.node), 0x7FF, false}};
+      hw::CanFilter{NodeMessageId(can_id::kOperatingSample, config.node), 0x7CF, false}};
   if (const CanStatus status = bus.SetFilters(filters); status != CanStatus::kOk) {
     return Fail(GyroErrorCode::kTransport,
                 hw::ErrorText("setting CAN filters failed: ", hw::ToString(status)));
@@ -207,6 +210,17 @@ void GyroCanDevice::ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInf
         return;
       }
       OnOperatingSample(sample);
+      return;
+    }
+  } else if (message == can_id::kOperatingLoopsA || message == can_id::kOperatingLoopsB) {
+    OperatingLoopsHalf half;
+    status = DecodeOperatingLoopsHalf(frame, node, &half);
+    if (status == DecodeStatus::kOk) {
+      if (!streaming_ || !whole_angle_) {
+        counters_.unexpected_frames.fetch_add(1, std::memory_order_relaxed);
+        return;
+      }
+      OnOperatingLoops(half);
       return;
     }
   } else if (message == can_id::kAck) {
@@ -472,6 +486,8 @@ std::expected<std::int64_t, GyroError> GyroCanDevice::Release() {
   operating_count_ = 0;
   operating_head_ = 0;
   operating_started_ = false;
+  loops_half_pending_ = false;
+  loops_ = {};
   streaming_ = true;
   auto ack = Transact(Command::kRelease, [this](std::uint8_t token) {
     return EncodeSimpleCommand(config_.node, {Command::kRelease, token});
@@ -540,6 +556,45 @@ void GyroCanDevice::OnOperatingSample(const OperatingSampleFrame& frame) noexcep
   out.angle_output_rad = frame.angle_output_raw * kAngleOutputLsbRad;
   out.wave_angle_rad = frame.wave_angle_raw * kWaveAngleLsbRad;
   ++operating_count_;
+}
+
+void GyroCanDevice::OnOperatingLoops(const OperatingLoopsHalf& half) noexcept {
+  if (half.half == 0) {
+    if (loops_half_pending_) ++loops_.incomplete;  // the earlier A's B was lost
+    loops_pending_ = half;
+    loops_half_pending_ = true;
+    return;
+  }
+  if (!loops_half_pending_ || loops_pending_.seq != half.seq) {
+    if (loops_half_pending_) ++loops_.incomplete;  // that A's B, and this B's A, were lost
+    ++loops_.incomplete;
+    loops_half_pending_ = false;
+    return;
+  }
+  loops_half_pending_ = false;
+  // The report follows its sample's OperatingSample: its number is the operating sample's nearest
+  // to its seq (a signed 8-bit difference; before any operating sample, the seq itself).
+  std::uint64_t index = half.seq;
+  if (operating_started_) {
+    const int back = static_cast<std::int8_t>(operating_last_seq_ - half.seq);
+    if (back < 0) {
+      index = operating_last_index_ + static_cast<std::uint64_t>(-back);  // its sample was lost
+    } else if (static_cast<std::uint64_t>(back) <= operating_last_index_) {
+      index = operating_last_index_ - static_cast<std::uint64_t>(back);
+    }
+  }
+  hw::OperatingLoops report;
+  report.index = index;
+  report.energy_error = loops_pending_.value_raw[0] * kEnergyErrorLsb;
+  report.quadrature_ratio = loops_pending_.value_raw[1] * kQuadratureRatioLsb;
+  report.amplitude_effort_per_s = half.value_raw[0] * kLoopEffortLsb;
+  report.quadrature_effort_rad_s = half.value_raw[1] * kLoopEffortLsb;
+  ++loops_.reports;
+  loops_.last = report;
+  loops_.max_abs_energy_error =
+      std::max(loops_.max_abs_energy_error, std::abs(report.energy_error));
+  loops_.max_abs_quadrature_ratio =
+      std::max(loops_.max_abs_quadrature_ratio, std::abs(report.quadrature_ratio));
 }
 
 std::size_t GyroCanDevice::ReadOperatingSamples(std::span<hw::OperatingSample> out,

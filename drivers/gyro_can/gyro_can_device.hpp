@@ -108,6 +108,10 @@ class GyroCanDevice final : public hw::GyroElectronics, public hw::OperatingGyro
   // overrun (the oldest sample is dropped). Same thread as the commands.
   std::size_t ReadOperatingSamples(std::span<hw::OperatingSample> out,
                                    std::int64_t timeout_ns) noexcept override;
+  // The loops' reports (OperatingLoopsA then B of one sample) since Release: each pair completed
+  // in receive order, numbered from its 8-bit seq against the operating samples' numbers (within
+  // ±127 samples of the last one received); a half without its partner is counted incomplete.
+  hw::OperatingLoopsRecord OperatingLoopsSinceRelease() const noexcept override { return loops_; }
 
   FrameFormat frame_format() const noexcept { return format_; }
   std::uint32_t sample_rate_hz() const noexcept { return sample_rate_hz_; }
@@ -126,6 +130,7 @@ class GyroCanDevice final : public hw::GyroElectronics, public hw::OperatingGyro
                                                                 std::uint16_t value);
   std::expected<ParameterBlockWords, hw::GyroError> ReadParameterWords(ParameterOp op);
   void OnOperatingSample(const OperatingSampleFrame& frame) noexcept;
+  void OnOperatingLoops(const OperatingLoopsHalf& half) noexcept;
   void ProcessFrame(const hw::CanFrame& frame, const hw::ReceiveInfo& info) noexcept;
   void OnBusOff() noexcept;
   void SetState(hw::GyroMode mode) noexcept { state_.store(mode, std::memory_order_release); }
@@ -150,6 +155,10 @@ class GyroCanDevice final : public hw::GyroElectronics, public hw::OperatingGyro
   bool operating_started_ = false;
   std::uint8_t operating_last_seq_ = 0;
   std::uint64_t operating_last_index_ = 0;
+  // The loops' reports: the first half waiting for its second, and what completed ones said.
+  bool loops_half_pending_ = false;
+  OperatingLoopsHalf loops_pending_{};
+  hw::OperatingLoopsRecord loops_{};
 
   // The command being waited for, and what ProcessFrame found.
   bool awaiting_ack_ = false;

@@ -1,5 +1,6 @@
 #include "gyro_can/gyro_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hrgbench::drivers::gyro_can {
@@ -134,6 +135,24 @@ CanFrame EncodeOperatingSample(NodeId node, const OperatingSampleFrame& sample) 
   return Seal(frame);
 }
 
+std::int32_t QuantiseLoopValue(double value, double lsb) noexcept {
+  if (std::isnan(value)) return 0;
+  const double raw = std::nearbyint(value / lsb);
+  if (raw >= kLoopsRawMax) return kLoopsRawMax;
+  if (raw <= kLoopsRawMin) return kLoopsRawMin;
+  return static_cast<std::int32_t>(raw);
+}
+
+CanFrame EncodeOperatingLoopsHalf(NodeId node, const OperatingLoopsHalf& half) noexcept {
+  CanFrame frame = Begin(
+      NodeMessageId(half.half == 0 ? can_id::kOperatingLoopsA : can_id::kOperatingLoopsB, node),
+      length::kOperatingLoops);
+  frame.data[0] = half.seq;
+  PutSigned(frame, 1, 3, std::clamp(half.value_raw[0], kLoopsRawMin, kLoopsRawMax));
+  PutSigned(frame, 4, 3, std::clamp(half.value_raw[1], kLoopsRawMin, kLoopsRawMax));
+  return Seal(frame);
+}
+
 CanFrame EncodeAck(NodeId node, const Ack& ack) noexcept {
   CanFrame frame = Begin(NodeMessageId(can_id::kAck, node), length::kAck);
   frame.data[0] = static_cast<std::uint8_t>(ack.command);
@@ -249,6 +268,22 @@ DecodeStatus DecodeOperatingSample(const CanFrame& frame, NodeId node,
   out->seq = frame.data[0];
   out->angle_output_raw = static_cast<std::int32_t>(GetUnsigned(frame, 1, 4));
   out->wave_angle_raw = static_cast<std::uint16_t>(GetUnsigned(frame, 5, 2));
+  return DecodeStatus::kOk;
+}
+
+DecodeStatus DecodeOperatingLoopsHalf(const CanFrame& frame, NodeId node,
+                                      OperatingLoopsHalf* out) noexcept {
+  const std::uint32_t message = MessageOf(frame.id);
+  if (message != can_id::kOperatingLoopsA && message != can_id::kOperatingLoopsB) {
+    return DecodeStatus::kWrongId;
+  }
+  const DecodeStatus status =
+      Check(frame, NodeMessageId(message, node), length::kOperatingLoops, false);
+  if (status != DecodeStatus::kOk) return status;
+  out->half = message == can_id::kOperatingLoopsA ? 0 : 1;
+  out->seq = frame.data[0];
+  out->value_raw[0] = GetSigned(frame, 1, 3);
+  out->value_raw[1] = GetSigned(frame, 4, 3);
   return DecodeStatus::kOk;
 }
 

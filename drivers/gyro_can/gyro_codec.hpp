@@ -121,6 +121,18 @@ struct OperatingSampleFrame {
   std::uint16_t wave_angle_raw = 0;   // θ̂ mod π in kWaveAngleLsbRad
 };
 
+// One half of the operating loops' report (OperatingLoopsA/B) of the sample numbered `seq`: half 0
+// (A) carries the energy error and the quadrature ratio, half 1 (B) the efforts g and q; each
+// value an int24 in its LSB (gyro_protocol.hpp), both halves the same seq.
+struct OperatingLoopsHalf {
+  std::uint8_t half = 0;
+  std::uint8_t seq = 0;                     // sample number modulo 256 (OperatingSample's)
+  std::array<std::int32_t, 2> value_raw{};  // A: energy error, K̂/Ŝ; B: g, q
+};
+
+// A loops value (its unit) ↔ int24 raw in `lsb`, rounding to nearest and saturating (NaN: 0).
+std::int32_t QuantiseLoopValue(double value, double lsb) noexcept;
+
 // χ (rad, any value) ↔ the phase word: χ mod 2π rounded to the nearest LSB (wraps at 2π).
 std::uint32_t QuantiseReferencePhase(double chi_rad) noexcept;
 constexpr double DequantiseReferencePhase(std::uint32_t raw) noexcept {
@@ -145,6 +157,7 @@ hw::CanFrame EncodeSampleFd(NodeId node, const SampleFdBlock& block) noexcept;  
 hw::CanFrame EncodeReferencePhase(NodeId node,
                                   const ReferencePhaseReport& report) noexcept;  // classic
 hw::CanFrame EncodeOperatingSample(NodeId node, const OperatingSampleFrame& sample) noexcept;
+hw::CanFrame EncodeOperatingLoopsHalf(NodeId node, const OperatingLoopsHalf& half) noexcept;
 
 DecodeStatus DecodeConfigure(const hw::CanFrame& frame, NodeId node,
                              ConfigureCommand* out) noexcept;
@@ -162,6 +175,9 @@ DecodeStatus DecodeReferencePhase(const hw::CanFrame& frame, NodeId node,
                                   ReferencePhaseReport* out) noexcept;
 DecodeStatus DecodeOperatingSample(const hw::CanFrame& frame, NodeId node,
                                    OperatingSampleFrame* out) noexcept;
+// Either half (the identifier says which).
+DecodeStatus DecodeOperatingLoopsHalf(const hw::CanFrame& frame, NodeId node,
+                                      OperatingLoopsHalf* out) noexcept;
 
 // True for the identifiers this protocol defines in the given direction, of any node.
 constexpr bool IsCommandId(std::uint32_t id) noexcept {
@@ -172,7 +188,7 @@ constexpr bool IsCommandId(std::uint32_t id) noexcept {
 constexpr bool IsElectronicsId(std::uint32_t id) noexcept {
   const std::uint32_t message = MessageOf(id);
   return message == can_id::kAck || message == can_id::kStatus ||
-         (message >= can_id::kSampleA && message <= can_id::kOperatingSample);
+         (message >= can_id::kSampleA && message <= can_id::kOperatingLoopsB);
 }
 
 }  // namespace hrgbench::drivers::gyro_can

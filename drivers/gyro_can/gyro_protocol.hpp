@@ -49,6 +49,10 @@ inline constexpr std::uint32_t kSampleFd = 0x120;  // electronics → host (CAN 
 inline constexpr std::uint32_t kReferencePhase = 0x130;
 // electronics → host, in the operating mode: the gyro's angle output and the wave's angle
 inline constexpr std::uint32_t kOperatingSample = 0x140;
+// electronics → host, in the operating mode, every kOperatingLoopsInterval-th sample after that
+// sample's OperatingSample: the loops' state in two frames (README "Operating mode")
+inline constexpr std::uint32_t kOperatingLoopsA = 0x150;  // seq, energy error, K̂/Ŝ
+inline constexpr std::uint32_t kOperatingLoopsB = 0x160;  // seq, efforts g and q
 }  // namespace can_id
 
 // Node `node`'s identifier of `message` (a can_id constant), and the reverse.
@@ -74,6 +78,7 @@ inline constexpr std::uint8_t kSample = 8;
 inline constexpr std::uint8_t kSampleFd = 64;
 inline constexpr std::uint8_t kReferencePhase = 8;
 inline constexpr std::uint8_t kOperatingSample = 8;
+inline constexpr std::uint8_t kOperatingLoops = 8;  // both halves
 }  // namespace length
 
 // The command a frame carries (its message: CommandMessage), echoed in the Ack's byte 0. The codes
@@ -134,6 +139,23 @@ enum class RunMode : std::uint8_t {
 // and the wave's electrical angle θ̂ modulo π as uint16 with LSB π/2^16 (the forms repeat every π).
 inline constexpr double kAngleOutputLsbRad = 1.0 / 2097152.0;
 inline constexpr double kWaveAngleLsbRad = 3.14159265358979323846 / 65536.0;
+
+// OperatingLoopsA/B: what the whole-angle loops held at one sample (estimator::WholeAngleSample),
+// for every sample whose number is a multiple of this (1 kHz: 100 reports/s, 200 frames/s, 2.2 …
+// 2.7 % of a 1 Mbit/s bus). Often enough to watch the loops settle (their poles at −20 rad/s: 8
+// reports per time constant at 1 kHz); rarely enough to cost a tenth of the angle output's load.
+inline constexpr int kOperatingLoopsInterval = 10;
+// Four int24 fields, saturating, each LSB chosen so that what a locked loop holds is resolved and
+// what a noisy one holds (σ = 1e-4 on y: ≈ 1e-4 on K̂/Ŝ and Ŝ, ≈ 3e-3 on g and q per sample) fits:
+// the energy error (Ŝ − S*)/S*: LSB 2^-28 (3.7e-9), ±1/32;
+// the quadrature ratio K̂/Ŝ: LSB 2^-34 (5.8e-11: 1e-9 to 3 %), ±4.9e-4;
+// the amplitude loop's effort g (1/s) and the quadrature loop's q (rad/s): LSB 2^-26 (1.5e-8: 1e-4
+// to 1.5e-4), ±0.125 (an HRG's decay 1/τ and frequency split Δω are ≪ 0.1 1/s).
+inline constexpr double kEnergyErrorLsb = 1.0 / 268435456.0;
+inline constexpr double kQuadratureRatioLsb = 1.0 / 17179869184.0;
+inline constexpr double kLoopEffortLsb = 1.0 / 67108864.0;
+inline constexpr std::int32_t kLoopsRawMax = (1 << 23) - 1;
+inline constexpr std::int32_t kLoopsRawMin = -(1 << 23);
 
 enum class FrameFormat : std::uint8_t {
   kClassic = 0,  // two 8-byte frames per sample (SampleA, SampleB)

@@ -484,6 +484,7 @@ bool GyroSimNode::StartOperating() noexcept {
                                TemperatureC(), options_.temperature_drift_c_per_s});
   estimator::WholeAngleLoopGains gains;
   gains.energy_setpoint = orbit_.a * orbit_.a + orbit_.b * orbit_.b;
+  energy_setpoint_ = gains.energy_setpoint;
   gains.measurement_delay_s = plant_->measurement_delay_s();
   control_ = std::make_unique<estimator::WholeAngleControl>(p, gains, h);
   command_.setZero();
@@ -512,6 +513,25 @@ void GyroSimNode::EmitOperatingSample() noexcept {
       {static_cast<std::uint8_t>(k & 0xFFu),
        static_cast<std::int32_t>(std::clamp<std::int64_t>(output_raw, INT32_MIN, INT32_MAX)),
        static_cast<std::uint16_t>(wave_raw & 0xFFFFu)}));
+  // The loops' state of every 10th sample, after that sample's angle (not sample frames: the
+  // sample-frame fault injections leave them alone, as they do the reference phase).
+  if (k % gyro_can::kOperatingLoopsInterval == 0) {
+    const auto seq = static_cast<std::uint8_t>(k & 0xFFu);
+    const double setpoint = energy_setpoint_;
+    const double energy_error = setpoint > 0.0 ? (s.energy - setpoint) / setpoint : 0.0;
+    const double ratio = s.energy > 0.0 ? s.quadrature / s.energy : 0.0;
+    Send(gyro_can::EncodeOperatingLoopsHalf(
+        options_.node, {0,
+                        seq,
+                        {gyro_can::QuantiseLoopValue(energy_error, gyro_can::kEnergyErrorLsb),
+                         gyro_can::QuantiseLoopValue(ratio, gyro_can::kQuadratureRatioLsb)}}));
+    Send(gyro_can::EncodeOperatingLoopsHalf(
+        options_.node,
+        {1,
+         seq,
+         {gyro_can::QuantiseLoopValue(s.amplitude_effort_per_s, gyro_can::kLoopEffortLsb),
+          gyro_can::QuantiseLoopValue(s.quadrature_effort_rad_s, gyro_can::kLoopEffortLsb)}}));
+  }
 }
 
 void GyroSimNode::SendSampleFrame(hw::CanFrame frame) noexcept {

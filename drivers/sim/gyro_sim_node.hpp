@@ -127,6 +127,7 @@ class GyroSimNode final : public SimulationParticipant {
   Eigen::Vector4d command_ = Eigen::Vector4d::Zero();
   double angle_output_rad_ = 0.0;
   double operating_period_s_ = 1e-3;  // the loops' step, the sample period set at the release
+  double energy_setpoint_ = 0.0;      // S*, the loops' reports give Ŝ relative to it
 
   // Free run.
   std::int64_t release_ns_ = 0;

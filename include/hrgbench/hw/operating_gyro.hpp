@@ -10,7 +10,7 @@
 // -, rad/s).
 //
 // Threads: the same one thread as the GyroElectronics it belongs to. Not real-time except
-// ReadOperatingSamples (no allocation, bounded wait, noexcept).
+// ReadOperatingSamples and OperatingLoopsSinceRelease (no allocation, bounded wait, noexcept).
 // Failure modes are values (GyroError); the block calls are refused (kInvalidState) while a wave
 // is driven, free or operating.
 
@@ -43,6 +43,25 @@ struct OperatingSample {
   double wave_angle_rad = 0.0;  // [0, π)
 };
 
+// What the electronics' whole-angle loops held at one sample (estimator::WholeAngleSample), as
+// they report it every few samples (GyroCanDevice: OperatingLoopsA/B, every 10th sample).
+struct OperatingLoops {
+  std::uint64_t index = 0;               // the sample it belongs to (OperatingSample::index)
+  double energy_error = 0.0;             // (Ŝ − S*)/S*: the amplitude loop's error, relative
+  double quadrature_ratio = 0.0;         // K̂/Ŝ: the quadrature loop's error
+  double amplitude_effort_per_s = 0.0;   // g, 1/s (−δ1 of the unit when locked)
+  double quadrature_effort_rad_s = 0.0;  // q, rad/s
+};
+
+// The loops' reports since the last release: the latest, how many, and the worst errors.
+struct OperatingLoopsRecord {
+  std::uint64_t reports = 0;     // complete reports received
+  std::uint64_t incomplete = 0;  // reports of which only one frame arrived (dropped)
+  std::optional<OperatingLoops> last;
+  double max_abs_energy_error = 0.0;
+  double max_abs_quadrature_ratio = 0.0;
+};
+
 class OperatingGyro {
  public:
   virtual ~OperatingGyro() = default;
@@ -63,6 +82,9 @@ class OperatingGyro {
   // GyroCounters (sequence gaps), never filled in.
   virtual std::size_t ReadOperatingSamples(std::span<OperatingSample> out,
                                            std::int64_t timeout_ns) noexcept = 0;
+  // The loops' reports received so far in this run (since Release; empty before the first):
+  // taken in by the same receive path, so as current as the last ReadOperatingSamples.
+  virtual OperatingLoopsRecord OperatingLoopsSinceRelease() const noexcept = 0;
 };
 
 }  // namespace hrgbench::hw

@@ -90,6 +90,123 @@ TEST(OperatingStreamTest, TheAngleOutputShowsTheDerivedErrorAndTheUnitsOwnBlockR
   EXPECT_LT(std::abs(after.bias_rad_s), 1e-7);
 }
 
+// The loops' own state on the bus (OperatingLoopsA/B, every kOperatingLoopsInterval-th sample):
+// `seconds` of the operating mode read as a gyro, then what the host kept of the reports.
+struct LoopsRun {
+  std::vector<hw::OperatingSample> samples;
+  hw::OperatingLoopsRecord record;
+};
+
+LoopsRun RunLoops(GyroRig& rig, double seconds) {
+  LoopsRun run;
+  EXPECT_TRUE(rig.device->Configure({static_cast<std::uint32_t>(kRateHz), true}).has_value());
+  EXPECT_TRUE(rig.device->Excite({1.0, 0.0, 0.3}).has_value());
+  EXPECT_TRUE(rig.device->WaitReady(2'000'000'000).has_value());
+  EXPECT_TRUE(rig.device->Release().has_value());
+  EXPECT_EQ(rig.device->OperatingLoopsSinceRelease().reports, 0u);
+  run.samples.resize(static_cast<std::size_t>(seconds * kRateHz));
+  std::size_t got = 0;
+  while (got < run.samples.size()) {
+    const std::size_t read =
+        rig.device->ReadOperatingSamples(std::span(run.samples).subspan(got), 1'000'000'000);
+    if (read == 0) break;
+    got += read;
+  }
+  EXPECT_EQ(got, run.samples.size());
+  run.record = rig.device->OperatingLoopsSinceRelease();
+  EXPECT_TRUE(rig.device->Stop().has_value());
+  return run;
+}
+
+// The loops locked, as the host reads them: the energy at its set point, no quadrature, and the
+// amplitude loop's effort g making up the unit's own decay −δ1 (the truth's, 1/s: the integral
+// finds it whatever the block's δ̂1 says). One report per kOperatingLoopsInterval samples, each
+// numbered as the sample it was taken at.
+void ExpectLoopsLocked(const LoopsRun& run, double decay_per_s) {
+  ASSERT_FALSE(run.samples.empty());
+  const std::uint64_t last_sample = run.samples.back().index;
+  ASSERT_TRUE(run.record.last.has_value());
+  const hw::OperatingLoops& last = *run.record.last;
+  EXPECT_EQ(last.index % kOperatingLoopsInterval, 0u);
+  EXPECT_LE(last.index, last_sample);
+  // Every report up to the last read sample (its own may still be queued behind it): none lost.
+  EXPECT_GE(last.index + kOperatingLoopsInterval, last_sample);
+  EXPECT_EQ(run.record.reports, last.index / kOperatingLoopsInterval + 1);
+  EXPECT_EQ(run.record.incomplete, 0u);
+  // 100 reports/s at 1 kHz, within one report over the run.
+  const double seconds = static_cast<double>(run.samples.size()) / kRateHz;
+  EXPECT_NEAR(static_cast<double>(run.record.reports) / seconds, kRateHz / kOperatingLoopsInterval,
+              1.0 / seconds);
+  // Locked from the release on: the wave is excited at the set point with no quadrature.
+  EXPECT_LT(run.record.max_abs_quadrature_ratio, 1e-4);
+  EXPECT_LT(run.record.max_abs_energy_error, 1e-3);
+  EXPECT_LT(std::abs(last.quadrature_ratio), 1e-6);
+  EXPECT_LT(std::abs(last.energy_error), 1e-6);
+  EXPECT_NEAR(last.amplitude_effort_per_s, decay_per_s, 0.03 * decay_per_s);
+  ::testing::Test::RecordProperty("amplitude_effort_per_s",
+                                  std::to_string(last.amplitude_effort_per_s));
+  ::testing::Test::RecordProperty("quadrature_effort_rad_s",
+                                  std::to_string(last.quadrature_effort_rad_s));
+}
+
+TEST(OperatingStreamTest, TheLoopsStateStreamsAtItsRateAndShowsTheLoopsLocked) {
+  // The default unit: its decay δ1 = −1e-3 1/s, the factory block's too.
+  GyroRigOptions options;
+  options.omega_rad_s = kOmega;
+  GyroRig rig(options);
+  const LoopsRun run = RunLoops(rig, 2.0);
+  ExpectLoopsLocked(run, 1e-3);
+  EXPECT_EQ(rig.device->Counters().unexpected_frames, 0u);
+  EXPECT_EQ(rig.device->Counters().bad_frames, 0u);
+
+  // A unit that decays 1.5 times faster than its block says, with a frequency split (δ5, δ6) the
+  // block does not hold: g finds the truth's decay, and q supplies the split's stiffness at the
+  // wave's angle that the block would have fed forward, −(δ6·cos2θ − δ5·sin2θ) (the loop's law,
+  // whole_angle_control.hpp), up to what a PI loop with both poles at −20 rad/s misses of a
+  // disturbance turning at 2θ' = 4δ2Ω = 0.36 rad/s: of order (0.36/20)² ≈ 3e-4 of it; 1 % allowed.
+  const double delta5 = 2e-4, delta6 = -1e-4;
+  GyroRigOptions off;
+  off.omega_rad_s = kOmega;
+  off.sim.delta << -1.5e-3, 0.3, 0.0, 0.0, delta5, delta6;
+  GyroRig unit(off);
+  const LoopsRun second = RunLoops(unit, 2.0);
+  ExpectLoopsLocked(second, 1.5e-3);
+  ASSERT_TRUE(second.record.last.has_value());
+  const hw::OperatingLoops& last = *second.record.last;
+  ASSERT_EQ(second.samples.front().index, 0u);
+  const double theta = second.samples[last.index].wave_angle_rad;
+  const double q = -(delta6 * std::cos(2 * theta) - delta5 * std::sin(2 * theta));
+  EXPECT_NEAR(last.quadrature_effort_rad_s, q, 0.01 * std::hypot(delta5, delta6))
+      << "θ̂ = " << theta;
+}
+
+// A report half without its partner is counted, not paired with another report's; a corrupted
+// one is a bad frame; the reports around them are still all there.
+TEST(OperatingStreamTest, ALoneOrCorruptedLoopsFrameIsCountedAndTheReportsGoOn) {
+  GyroRigOptions options;
+  GyroRig rig(options);
+  ASSERT_TRUE(rig.device->Configure({static_cast<std::uint32_t>(kRateHz), true}).has_value());
+  ASSERT_TRUE(rig.device->Excite({1.0, 0.0, 0.3}).has_value());
+  ASSERT_TRUE(rig.device->WaitReady(2'000'000'000).has_value());
+  ASSERT_TRUE(rig.device->Release().has_value());
+  std::vector<hw::OperatingSample> samples(200);
+  ASSERT_EQ(rig.device->ReadOperatingSamples(std::span(samples).first(100), 1'000'000'000), 100u);
+  const hw::CanFrame lone_b =
+      EncodeOperatingLoopsHalf(0, {.half = 1, .seq = 0x55, .value_raw = {}});
+  hw::CanFrame corrupted_a = EncodeOperatingLoopsHalf(0, {.half = 0, .seq = 0x56, .value_raw = {}});
+  corrupted_a.data[2] ^= 0x10;
+  ASSERT_EQ(rig.sim_endpoint->Send(lone_b, 0), hw::CanStatus::kOk);
+  ASSERT_EQ(rig.sim_endpoint->Send(corrupted_a, 0), hw::CanStatus::kOk);
+  ASSERT_EQ(rig.device->ReadOperatingSamples(std::span(samples).subspan(100), 1'000'000'000), 100u);
+  const hw::OperatingLoopsRecord record = rig.device->OperatingLoopsSinceRelease();
+  EXPECT_EQ(record.incomplete, 1u);
+  EXPECT_EQ(rig.device->Counters().bad_frames, 1u);
+  ASSERT_TRUE(record.last.has_value());
+  EXPECT_EQ(record.reports, record.last->index / kOperatingLoopsInterval + 1);
+  EXPECT_GE(record.last->index + kOperatingLoopsInterval, samples.back().index);
+  EXPECT_TRUE(rig.device->Stop().has_value());
+}
+
 // The same behind the protocol at carrier level (the resonator at its 5 kHz carrier driven through
 // its forcers, read through the pick-off and the demodulator): a damping split drifts the wave as
 // derived, δ3 = −(Δ(1/τ)/2)·cos2θ_τ, δ4 = −(Δ(1/τ)/2)·sin2θ_τ (physical_parameters.hpp, written

@@ -59,6 +59,12 @@ expect = {
     "ack_cfg0": ("Ack", {"Command": 0x40, "Arg": 1000}),
     "cfg0wa": ("CmdConfigure", {"RunMode": 1, "SampleRate": 1000, "Reserved": 0}),
     "op4": ("OperatingSample", {"Seq": 0x2A, "AngleOutput": -3 * 2**21, "WaveAngle": 32768}),
+    "loopsA3": ("OperatingLoopsA", {"Seq": 0x2A, "EnergyError": round(2e-4 * 2**28),
+                                    "QuadratureRatio": round(-3e-7 * 2**34)}),
+    "loopsB3": ("OperatingLoopsB", {"Seq": 0x2A, "AmplitudeEffort": round(1e-3 * 2**26),
+                                    "QuadratureEffort": round(-1.5e-4 * 2**26)}),
+    "loopsA0sat": ("OperatingLoopsA", {"Seq": 0xFF, "EnergyError": (1 << 23) - 1,
+                                       "QuadratureRatio": -(1 << 23)}),
 }
 for name, (message, fields) in expect.items():
     if name not in decoded:

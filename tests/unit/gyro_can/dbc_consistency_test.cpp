@@ -149,7 +149,9 @@ TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
       {can_id::kSampleB, length::kSample},
       {can_id::kSampleFd, length::kSampleFd},
       {can_id::kReferencePhase, length::kReferencePhase},
-      {can_id::kOperatingSample, length::kOperatingSample}};
+      {can_id::kOperatingSample, length::kOperatingSample},
+      {can_id::kOperatingLoopsA, length::kOperatingLoops},
+      {can_id::kOperatingLoopsB, length::kOperatingLoops}};
   ASSERT_EQ(TheDbc().messages.size(), expected.size());
   for (const auto& [id, len] : expected) {
     const auto it = TheDbc().messages.find(id);
@@ -174,6 +176,12 @@ TEST(DbcConsistencyTest, MessagesMatchTheProtocolConstants) {
     }
   }
   EXPECT_EQ(TheDbc().message_attributes.at({can_id::kSampleFd, "VFrameFormat"}), "14");
+  // The loops' report: every kOperatingLoopsInterval-th sample (ms at 1 kHz, as the samples' 1).
+  EXPECT_EQ(TheDbc().message_attributes.at({can_id::kOperatingSample, "GenMsgCycleTime"}), "1");
+  for (const std::uint32_t id : {can_id::kOperatingLoopsA, can_id::kOperatingLoopsB}) {
+    EXPECT_EQ(TheDbc().message_attributes.at({id, "GenMsgCycleTime"}),
+              std::to_string(kOperatingLoopsInterval));
+  }
 }
 
 TEST(DbcConsistencyTest, VersionAndEnumerations) {
@@ -233,6 +241,26 @@ TEST(DbcConsistencyTest, SignalsDecodeToWhatTheCodecEncoded) {
   EXPECT_DOUBLE_EQ(Signal(can_id::kOperatingSample, "AngleOutput", operating), -3.0);
   EXPECT_NEAR(Signal(can_id::kOperatingSample, "WaveAngle", operating), std::numbers::pi / 2,
               1e-12);
+  const hw::CanFrame loops_a = EncodeOperatingLoopsHalf(
+      kNode, {.half = 0,
+              .seq = 7,
+              .value_raw = {QuantiseLoopValue(-4e-4, kEnergyErrorLsb),
+                            QuantiseLoopValue(2.5e-8, kQuadratureRatioLsb)}});
+  EXPECT_EQ(Signal(can_id::kOperatingLoopsA, "Seq", loops_a), 7);
+  EXPECT_NEAR(Signal(can_id::kOperatingLoopsA, "EnergyError", loops_a), -4e-4, kEnergyErrorLsb / 2);
+  EXPECT_NEAR(Signal(can_id::kOperatingLoopsA, "QuadratureRatio", loops_a), 2.5e-8,
+              kQuadratureRatioLsb / 2);
+  const hw::CanFrame loops_b =
+      EncodeOperatingLoopsHalf(kNode, {.half = 1,
+                                       .seq = 7,
+                                       .value_raw = {QuantiseLoopValue(1.2e-3, kLoopEffortLsb),
+                                                     QuantiseLoopValue(-3e-4, kLoopEffortLsb)}});
+  EXPECT_EQ(Signal(can_id::kOperatingLoopsB, "Seq", loops_b), 7);
+  EXPECT_NEAR(Signal(can_id::kOperatingLoopsB, "AmplitudeEffort", loops_b), 1.2e-3,
+              kLoopEffortLsb / 2);
+  EXPECT_NEAR(Signal(can_id::kOperatingLoopsB, "QuadratureEffort", loops_b), -3e-4,
+              kLoopEffortLsb / 2);
+  EXPECT_EQ(Signal(can_id::kOperatingLoopsB, "Crc", loops_b), loops_b.data[7]);
   const hw::CanFrame whole_angle = EncodeConfigure(
       kNode, {.token = 1, .sample_rate_hz = 1000, .run_mode = RunMode::kWholeAngle});
   EXPECT_EQ(Signal(can_id::kConfigure, "RunMode", whole_angle), 1);

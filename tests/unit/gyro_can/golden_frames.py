@@ -52,6 +52,12 @@ print("fd_part9", frame(0x129, pattern(0xFFFF,2), fd=True))
 # int32 of 2^-21 rad (-3 rad), the wave angle uint16 of pi/2^16 (pi/2).
 print("cfg0wa", frame(0x040, [0x10] + le(1000,2) + [0, 10, 1, 0]))
 print("op4", frame(0x144, [0x2A] + le(-3 * 2**21, 4) + le(32768, 2)))
+# The operating loops' report of sample 0x2A, node 3, in two frames of seq + two int24: A (0x15n)
+# the energy error (S - S*)/S* = 2e-4 in 2^-28 and K/S = -3e-7 in 2^-34; B (0x16n) the efforts
+# g = 1e-3 1/s and q = -1.5e-4 rad/s in 2^-26. And an A whose values saturate at the int24 bounds.
+print("loopsA3", frame(0x153, [0x2A] + le(round(2e-4 * 2**28), 3) + le(round(-3e-7 * 2**34), 3)))
+print("loopsB3", frame(0x163, [0x2A] + le(round(1e-3 * 2**26), 3) + le(round(-1.5e-4 * 2**26), 3)))
+print("loopsA0sat", frame(0x150, [0xFF] + le((1 << 23) - 1, 3) + le(-(1 << 23), 3)))
 # Parameter (0x03n): token, op, word index, value u16, two reserved zero bytes.
 print("par_begin0", frame(0x030, [0x0C, 1, 0] + le(48,2) + [0, 0]))
 print("par_write6", frame(0x036, [0x0D, 2, 17] + le(0xBEEF,2) + [0, 0]))

@@ -71,6 +71,107 @@ TEST(GyroCodecTest, OperatingModeGolden) {
   EXPECT_TRUE(IsElectronicsId(0x144));
 }
 
+TEST(GyroCodecTest, OperatingLoopsGolden) {
+  // Sample 0x2A's report, node 3: the energy error 2e-4 and K̂/Ŝ = −3e-7 (A), g = 1e-3 1/s and
+  // q = −1.5e-4 rad/s (B); golden_frames.py's loopsA3, loopsB3 and loopsA0sat.
+  const OperatingLoopsHalf a{.half = 0,
+                             .seq = 0x2A,
+                             .value_raw = {QuantiseLoopValue(2e-4, kEnergyErrorLsb),
+                                           QuantiseLoopValue(-3e-7, kQuadratureRatioLsb)}};
+  const OperatingLoopsHalf b{.half = 1,
+                             .seq = 0x2A,
+                             .value_raw = {QuantiseLoopValue(1e-3, kLoopEffortLsb),
+                                           QuantiseLoopValue(-1.5e-4, kLoopEffortLsb)}};
+  EXPECT_EQ(hw::CanFrameToString(EncodeOperatingLoopsHalf(3, a)), "153#2AB7D100DEEBFF2B");
+  EXPECT_EQ(hw::CanFrameToString(EncodeOperatingLoopsHalf(3, b)), "163#2A250601AED8FFA8");
+  // Values beyond the fields' ranges saturate at the int24 bounds (K̂/Ŝ of a wave out of lock).
+  const OperatingLoopsHalf saturated{.half = 0,
+                                     .seq = 0xFF,
+                                     .value_raw = {QuantiseLoopValue(1.0, kEnergyErrorLsb),
+                                                   QuantiseLoopValue(-1.0, kQuadratureRatioLsb)}};
+  EXPECT_EQ(hw::CanFrameToString(EncodeOperatingLoopsHalf(0, saturated)), "150#FFFFFF7F000080E3");
+
+  OperatingLoopsHalf read;
+  ASSERT_EQ(DecodeOperatingLoopsHalf(Frame("153#2AB7D100DEEBFF2B"), 3, &read), DecodeStatus::kOk);
+  EXPECT_EQ(read.half, 0);
+  EXPECT_EQ(read.seq, 0x2A);
+  EXPECT_NEAR(read.value_raw[0] * kEnergyErrorLsb, 2e-4, kEnergyErrorLsb / 2);
+  EXPECT_NEAR(read.value_raw[1] * kQuadratureRatioLsb, -3e-7, kQuadratureRatioLsb / 2);
+  ASSERT_EQ(DecodeOperatingLoopsHalf(Frame("163#2A250601AED8FFA8"), 3, &read), DecodeStatus::kOk);
+  EXPECT_EQ(read.half, 1);
+  EXPECT_NEAR(read.value_raw[0] * kLoopEffortLsb, 1e-3, kLoopEffortLsb / 2);
+  EXPECT_NEAR(read.value_raw[1] * kLoopEffortLsb, -1.5e-4, kLoopEffortLsb / 2);
+  EXPECT_TRUE(IsElectronicsId(0x153));
+  EXPECT_TRUE(IsElectronicsId(0x16F));
+  EXPECT_FALSE(IsCommandId(0x163));
+}
+
+TEST(GyroCodecTest, OperatingLoopsRoundTripWithinHalfAnLsbAndSaturate) {
+  // What the loops hold, locked and noisy: K̂/Ŝ 1e-9 … 1e-4, g ≈ 1e-3 1/s, q ≈ 1e-4 rad/s.
+  for (const double ratio : {1e-9, -3.3e-8, 7e-6, -1e-4, 4.8e-4}) {
+    for (const double effort : {1e-3, -2.7e-4, 1.1e-4, 0.1}) {
+      const OperatingLoopsHalf a{.half = 0,
+                                 .seq = 200,
+                                 .value_raw = {QuantiseLoopValue(-effort / 8, kEnergyErrorLsb),
+                                               QuantiseLoopValue(ratio, kQuadratureRatioLsb)}};
+      const OperatingLoopsHalf b{.half = 1,
+                                 .seq = 200,
+                                 .value_raw = {QuantiseLoopValue(effort, kLoopEffortLsb),
+                                               QuantiseLoopValue(-effort, kLoopEffortLsb)}};
+      OperatingLoopsHalf a2, b2;
+      ASSERT_EQ(DecodeOperatingLoopsHalf(EncodeOperatingLoopsHalf(11, a), 11, &a2),
+                DecodeStatus::kOk);
+      ASSERT_EQ(DecodeOperatingLoopsHalf(EncodeOperatingLoopsHalf(11, b), 11, &b2),
+                DecodeStatus::kOk);
+      EXPECT_EQ(a2.half, 0);
+      EXPECT_EQ(b2.half, 1);
+      EXPECT_EQ(a2.seq, 200);
+      EXPECT_LE(std::abs(a2.value_raw[0] * kEnergyErrorLsb + effort / 8), kEnergyErrorLsb / 2);
+      EXPECT_LE(std::abs(a2.value_raw[1] * kQuadratureRatioLsb - ratio), kQuadratureRatioLsb / 2);
+      EXPECT_LE(std::abs(b2.value_raw[0] * kLoopEffortLsb - effort), kLoopEffortLsb / 2);
+      EXPECT_LE(std::abs(b2.value_raw[1] * kLoopEffortLsb + effort), kLoopEffortLsb / 2);
+    }
+  }
+  // The fields' bounds: ±2^23 LSB, saturating beyond; NaN is 0; an out-of-range raw value given
+  // to the encoder is clamped, never wrapped into the other sign.
+  EXPECT_EQ(QuantiseLoopValue(1e-3, kQuadratureRatioLsb), kLoopsRawMax);
+  EXPECT_EQ(QuantiseLoopValue(-1e-3, kQuadratureRatioLsb), kLoopsRawMin);
+  EXPECT_EQ(QuantiseLoopValue(std::nan(""), kLoopEffortLsb), 0);
+  EXPECT_EQ(QuantiseLoopValue(0.125 - kLoopEffortLsb, kLoopEffortLsb), kLoopsRawMax);
+  EXPECT_EQ(QuantiseLoopValue(-0.125, kLoopEffortLsb), kLoopsRawMin);
+  OperatingLoopsHalf clamped;
+  ASSERT_EQ(
+      DecodeOperatingLoopsHalf(
+          EncodeOperatingLoopsHalf(0, {.half = 1, .seq = 0, .value_raw = {1 << 24, -(1 << 24)}}), 0,
+          &clamped),
+      DecodeStatus::kOk);
+  EXPECT_EQ(clamped.value_raw[0], kLoopsRawMax);
+  EXPECT_EQ(clamped.value_raw[1], kLoopsRawMin);
+}
+
+TEST(GyroCodecTest, OperatingLoopsRefusesACorruptedOrForeignFrame) {
+  OperatingLoopsHalf read;
+  const hw::CanFrame good = Frame("163#2A250601AED8FFA8");
+  // Every single-bit flip of the payload or the CRC is caught.
+  for (int bit = 0; bit < 64; ++bit) {
+    hw::CanFrame bad = good;
+    bad.data[static_cast<std::size_t>(bit / 8)] ^= static_cast<std::uint8_t>(1u << (bit % 8));
+    EXPECT_EQ(DecodeOperatingLoopsHalf(bad, 3, &read), DecodeStatus::kBadChecksum) << "bit " << bit;
+  }
+  // The CRC covers the identifier: the same payload as the other half's is refused.
+  hw::CanFrame other_half = good;
+  other_half.id = 0x153;
+  EXPECT_EQ(DecodeOperatingLoopsHalf(other_half, 3, &read), DecodeStatus::kBadChecksum);
+  EXPECT_EQ(DecodeOperatingLoopsHalf(good, 4, &read), DecodeStatus::kWrongId);
+  EXPECT_EQ(DecodeOperatingLoopsHalf(Frame("143#2A250601AED8FFA8"), 3, &read),
+            DecodeStatus::kWrongId);
+  EXPECT_EQ(DecodeOperatingLoopsHalf(Frame("163#2A250601AED8FF"), 3, &read),
+            DecodeStatus::kWrongLength);
+  EXPECT_EQ(DecodeOperatingLoopsHalf(Frame("163##02A250601AED8FFA8"), 3, &read),
+            DecodeStatus::kWrongKind);
+  EXPECT_EQ(DecodeOperatingLoopsHalf(Frame("163#R"), 3, &read), DecodeStatus::kWrongKind);
+}
+
 TEST(GyroCodecTest, ExciteGolden) {
   // a = 1, b = -0.4, θ = π/7 (the paper's run 2 design) in 1e-4 units.
   ExciteCommand command{.token = 0x08, .a_raw = 10000, .b_raw = -4000, .theta_raw = 4488};
@@ -271,11 +372,24 @@ TEST(GyroCodecTest, NodeIdsNeverChangeWhichMessageWinsArbitration) {
   EXPECT_LT(highest(can_id::kStatusRequest), lowest(can_id::kAck));
   EXPECT_LT(highest(can_id::kStatus), lowest(can_id::kSampleA));
   EXPECT_LE(highest(can_id::kReferencePhase), 0x7FFu);
-  // Distinct identifiers for every (message, node): 11 messages × 16 nodes.
-  const std::uint32_t messages[] = {can_id::kStop,     can_id::kConfigure,     can_id::kExcite,
-                                    can_id::kRelease,  can_id::kStatusRequest, can_id::kAck,
-                                    can_id::kStatus,   can_id::kSampleA,       can_id::kSampleB,
-                                    can_id::kSampleFd, can_id::kReferencePhase};
+  // The angle output beats its loops' reports.
+  EXPECT_LT(highest(can_id::kOperatingSample), lowest(can_id::kOperatingLoopsA));
+  EXPECT_LE(highest(can_id::kOperatingLoopsB), 0x7FFu);
+  // Distinct identifiers for every (message, node): 14 messages × 16 nodes.
+  const std::uint32_t messages[] = {can_id::kStop,
+                                    can_id::kConfigure,
+                                    can_id::kExcite,
+                                    can_id::kRelease,
+                                    can_id::kStatusRequest,
+                                    can_id::kAck,
+                                    can_id::kStatus,
+                                    can_id::kSampleA,
+                                    can_id::kSampleB,
+                                    can_id::kSampleFd,
+                                    can_id::kReferencePhase,
+                                    can_id::kOperatingSample,
+                                    can_id::kOperatingLoopsA,
+                                    can_id::kOperatingLoopsB};
   std::set<std::uint32_t> ids;
   for (const std::uint32_t message : messages) {
     for (int node = 0; node <= kMaxNodeId; ++node) {
