@@ -595,6 +595,12 @@ void GyroCanDevice::OnOperatingLoops(const OperatingLoopsHalf& half) noexcept {
       std::max(loops_.max_abs_energy_error, std::abs(report.energy_error));
   loops_.max_abs_quadrature_ratio =
       std::max(loops_.max_abs_quadrature_ratio, std::abs(report.quadrature_ratio));
+  const double fields[4] = {report.energy_error, report.quadrature_ratio,
+                            report.amplitude_effort_per_s, report.quadrature_effort_rad_s};
+  for (std::size_t i = 0; i < 4; ++i) {
+    loops_.sum[i] += fields[i];
+    loops_.sum_of_squares[i] += fields[i] * fields[i];
+  }
 }
 
 std::size_t GyroCanDevice::ReadOperatingSamples(std::span<hw::OperatingSample> out,

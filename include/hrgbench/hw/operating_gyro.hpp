@@ -15,6 +15,7 @@
 // is driven, free or operating.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <expected>
@@ -53,13 +54,27 @@ struct OperatingLoops {
   double quadrature_effort_rad_s = 0.0;  // q, rad/s
 };
 
-// The loops' reports since the last release: the latest, how many, and the worst errors.
+// The loops' reports since the last release: the latest, how many, the worst errors and the sums
+// their means and RMS come from. Each report is one sample's: on a noisy unit the worst |K̂/Ŝ| is
+// the pick-off noise's extreme and g moves with it (the loops' proportional part), so a lock is
+// judged on the means (the mean g is the unit's decay rate, −δ1, measured with the loops closed).
 struct OperatingLoopsRecord {
   std::uint64_t reports = 0;     // complete reports received
   std::uint64_t incomplete = 0;  // reports of which only one frame arrived (dropped)
   std::optional<OperatingLoops> last;
   double max_abs_energy_error = 0.0;
   double max_abs_quadrature_ratio = 0.0;
+  // Σ over the reports of each field (energy error, K̂/Ŝ, g, q) and of its square.
+  std::array<double, 4> sum{}, sum_of_squares{};
+
+  // Mean and RMS of field i (0 energy error, 1 K̂/Ŝ, 2 g, 3 q); NaN without reports.
+  double Mean(std::size_t i) const noexcept {
+    return reports == 0 ? std::nan("") : sum[i] / static_cast<double>(reports);
+  }
+  double Rms(std::size_t i) const noexcept {
+    return reports == 0 ? std::nan("")
+                        : std::sqrt(sum_of_squares[i] / static_cast<double>(reports));
+  }
 };
 
 class OperatingGyro {

@@ -150,6 +150,7 @@ OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware
     if (auto read = omega.ReadAngle(table, 0); !read.ok()) table_problem = read.reason;
   }
   hold.sequence_gaps = gyro.Counters().sequence_gaps - gaps_before;
+  hold.loops = operating.OperatingLoopsSinceRelease();  // before Stop: reset at the next release
   if (auto stopped = gyro.Stop(); !stopped && table_problem.empty())
     table_problem = "gyro stop: " + stopped.error().ToString();
   hold.samples = got;

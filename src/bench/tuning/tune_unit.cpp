@@ -298,6 +298,8 @@ nlohmann::json SetJson(const estimator::CompensationSet& p) {
   return j;
 }
 
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
 nlohmann::json HoldJson(const OperatingHold& h) {
   const analysis::RateErrorHarmonics& f = h.fit;
   return {{"omega_set_rad_s", h.omega_set_rad_s},
@@ -314,7 +316,18 @@ nlohmann::json HoldJson(const OperatingHold& h) {
           {"sin_rad_s", f.sin_rad_s},
           {"sin_std_rad_s", f.sin_std_rad_s},
           {"angle_dependent_rms_rad_s", f.angle_dependent_rms_rad_s},
-          {"angle_span_rad", f.angle_span_rad}};
+          {"angle_span_rad", f.angle_span_rad},
+          {"loops",
+           {{"reports", h.loops.reports},
+            {"incomplete", h.loops.incomplete},
+            {"max_abs_energy_error", h.loops.max_abs_energy_error},
+            {"max_abs_quadrature_ratio", h.loops.max_abs_quadrature_ratio},
+            {"energy_error_mean", Finite(h.loops.Mean(0))},
+            {"energy_error_rms", Finite(h.loops.Rms(0))},
+            {"quadrature_ratio_mean", Finite(h.loops.Mean(1))},
+            {"quadrature_ratio_rms", Finite(h.loops.Rms(1))},
+            {"amplitude_effort_mean_per_s", Finite(h.loops.Mean(2))},
+            {"quadrature_effort_rms_rad_s", Finite(h.loops.Rms(3))}}}};
 }
 
 nlohmann::json HoldsJson(const std::vector<OperatingHold>& holds) {

@@ -194,7 +194,22 @@ TEST(TuneUnit, ACarrierUnitWithForcerErrorsIsTunedAtTheBench) {
   EXPECT_TRUE(tuned.consistent) << "chi2 " << tuned.chi2 << " on " << tuned.chi2_dof;
   RecordProperty("chi2", std::to_string(tuned.chi2));
   EXPECT_EQ(tuned.block_at_end, "refined");
-  for (const bench::OperatingHold& hold : tuned.after) EXPECT_EQ(hold.sequence_gaps, 0u);
+  for (const bench::OperatingHold& hold : tuned.after) {
+    EXPECT_EQ(hold.sequence_gaps, 0u);
+    // The electronics' loops held the wave through the hold (their reports over CAN, every 10th
+    // sample): on average the quadrature nulled and the energy at its set point (each report is one
+    // noisy sample: their RMS is the pick-off noise's, ~2e-4 relative; 10 RMS/√reports allows for
+    // the loops' correlation over ~5 reports), and the amplitude loop's mean effort is the unit's
+    // decay rate, 1/τ = 1e-3 1/s: its proportional part moves g by kp·e ≈ 4e-3 1/s per sample on
+    // this noise, so over ~3500 reports the mean is 1e-3 within ±1.5e-4 (1σ).
+    EXPECT_GT(hold.loops.reports, hold.samples / 10 - 2);
+    EXPECT_EQ(hold.loops.incomplete, 0u);
+    const double reports = static_cast<double>(hold.loops.reports);
+    EXPECT_LT(std::abs(hold.loops.Mean(1)), 10.0 * hold.loops.Rms(1) / std::sqrt(reports));
+    EXPECT_LT(hold.loops.Rms(1), 1e-3);
+    EXPECT_LT(std::abs(hold.loops.Mean(0)), 10.0 * hold.loops.Rms(0) / std::sqrt(reports));
+    EXPECT_NEAR(hold.loops.Mean(2), 1e-3, 4e-4);
+  }
   auto status = hardware.table->ReadStatus();
   ASSERT_TRUE(status.has_value());
   EXPECT_EQ(status->commanded_rate_rad_s, 0.0);

@@ -24,6 +24,7 @@
 #include "hrgbench/analysis/rate_error_harmonics.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/hw/gyro_electronics.hpp"
+#include "hrgbench/hw/operating_gyro.hpp"
 #include "hrgbench/hw/rate_table.hpp"
 
 namespace hrgbench::bench {
@@ -59,6 +60,10 @@ struct OperatingHold {
   std::size_t samples = 0;
   std::uint64_t sequence_gaps = 0;   // the stream's breaks during the hold (none expected)
   analysis::RateErrorHarmonics fit;  // Ω̂ − Ω against the wave angle
+  // What the electronics reported of their loops over the hold (their worst energy error and
+  // quadrature ratio: a verification is only as good as its loops' lock; none from electronics
+  // that do not report them).
+  hw::OperatingLoopsRecord loops;
   // The samples' rate error and unwrapped electrical wave angle (for the report's figure and the
   // Allan deviation of a zero-rate hold); the rate of sample k is over the period ending at it.
   std::vector<double> rate_error_rad_s;
