@@ -5,9 +5,7 @@
 
 namespace hrgbench::drivers::modbus_rate_table {
 
-namespace {
-std::int64_t SecondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
-}  // namespace
+using hw::SecondsToNs;
 
 bool StableDetector::ConditionsHold(const hw::RateTableStatus& status,
                                     double target_rate_rad_s) const noexcept {

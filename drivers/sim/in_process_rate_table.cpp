@@ -21,7 +21,7 @@ std::unexpected<RateTableError> Fail(RateTableErrorCode code, std::string messag
 
 std::int64_t AtNs(std::int64_t start_ns, double after_s) {
   if (!(after_s >= 0.0) || !std::isfinite(after_s)) return kNever;
-  return start_ns + static_cast<std::int64_t>(std::llround(after_s * 1e9));
+  return start_ns + hw::SecondsToNs(after_s);
 }
 
 }  // namespace

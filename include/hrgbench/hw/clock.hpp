@@ -7,10 +7,16 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <thread>
 
 namespace hrgbench::hw {
+
+// Seconds (a config's, a plan's) as this base's nanoseconds, rounded to the nearest.
+inline std::int64_t SecondsToNs(double seconds) noexcept {
+  return static_cast<std::int64_t>(std::llround(seconds * 1e9));
+}
 
 class Clock {
  public:

@@ -11,15 +11,13 @@
 
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/run_omega_readings.hpp"
+#include "bench/sequencer/table_settle.hpp"
 #include "hrgbench/analysis/run_acceptance.hpp"
 
 namespace hrgbench::bench::internal {
 namespace {
 
 constexpr std::int64_t kNsPerS = 1'000'000'000;
-// Driver waits are cut into slices this long so an interrupt is seen within one slice; on a table
-// the dwell restarts with each slice, so a slice is the dwell plus this.
-constexpr double kWaitSliceS = 0.5;
 // How often the run loop drains the ring, reads the table and reports progress (hardware clock).
 constexpr std::int64_t kLoopPeriodNs = 20'000'000;
 constexpr std::int64_t kTableReadPeriodNs = 20'000'000;
@@ -27,7 +25,7 @@ constexpr std::int64_t kTableReadPeriodNs = 20'000'000;
 // well inside any heartbeat period the station allows.
 constexpr std::int64_t kReadySliceNs = 50'000'000;
 
-std::int64_t Ns(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
+using hw::SecondsToNs;
 
 std::string Format(const char* format, double value) {
   char buffer[64];
@@ -41,26 +39,25 @@ StepOutcome SettleTable(SessionContext& ctx, double omega_rad_s) {
   if (auto set = ctx.hw->table->SetRate(omega_rad_s); !set)
     return StepOutcome::Error("rate table: cannot command " + Format("%g", omega_rad_s) +
                               " rad/s: " + set.error().ToString());
-  const std::int64_t deadline = ctx.hw->clock->NowNs() + Ns(seq.timeouts.settle_s);
   hw::StableCriteria criteria;
   criteria.tolerance_rad_s = seq.settle.rate_tolerance_rad_s;
   criteria.dwell_s = seq.settle.dwell_s;
   criteria.poll_period_s = seq.settle.poll_period_s;
-  for (;;) {
-    if (ctx.Interrupted())
+  const TableSettleResult settled = WaitTableSettled(
+      *ctx.hw->table, *ctx.hw->clock, criteria, seq.timeouts.settle_s,
+      [&ctx] { return ctx.Interrupted(); }, [&ctx] { ctx.PumpCanLogs(); });
+  switch (settled.end) {
+    case TableSettle::kStable:
+      return StepOutcome::Ok();
+    case TableSettle::kStopped:
       return StepOutcome::Aborted(ctx.InterruptCause() + " while the table settled");
-    const double left_s = static_cast<double>(deadline - ctx.hw->clock->NowNs()) * 1e-9;
-    if (left_s <= 0.0)
+    case TableSettle::kTimedOut:
       return StepOutcome::Error("rate table not stable at " + Format("%g", omega_rad_s) +
                                 " rad/s within " + Format("%g", seq.timeouts.settle_s) + " s");
-    criteria.timeout_s = std::min(left_s, criteria.dwell_s + kWaitSliceS);
-    criteria.timeout_s = std::max(criteria.timeout_s, criteria.dwell_s);
-    auto stable = ctx.hw->table->WaitUntilStable(criteria);
-    if (stable) return StepOutcome::Ok();
-    if (stable.error().code != hw::RateTableErrorCode::kNotStable)
-      return StepOutcome::Error("rate table: " + stable.error().ToString());
-    ctx.PumpCanLogs();
+    case TableSettle::kTableError:
+      break;
   }
+  return StepOutcome::Error("rate table: " + settled.table_error);
 }
 
 // Gyro configured and excited (the wait for "ready" comes after every unit is excited).
@@ -270,7 +267,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     units.push_back({});
     units.back().lane = &lane;
   }
-  const std::int64_t ready_deadline = hw.clock->NowNs() + Ns(seq.timeouts.excite_s);
+  const std::int64_t ready_deadline = hw.clock->NowNs() + SecondsToNs(seq.timeouts.excite_s);
   for (UnitRun& unit : units) {
     if (unit.lane->ended) continue;
     auto ready = WaitUntilReady(ctx, *unit.lane, ready_deadline);
@@ -336,7 +333,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     unit.capture = std::make_unique<CaptureThread>();
     CaptureRun capture_run;
     capture_run.sample_count = run.Samples();
-    capture_run.deadline_ns = unit.released_at_ns + Ns(run.free_run_s + seq.timeouts.run_margin_s);
+    capture_run.deadline_ns =
+        unit.released_at_ns + SecondsToNs(run.free_run_s + seq.timeouts.run_margin_s);
     capture_run.clock = hw.clock;
     capture_run.max_silence_ns = ctx.configs->station.gyro.sample_timeout_ms * 1'000'000;
     capture_run.external_stop = &ctx.stop_capture;

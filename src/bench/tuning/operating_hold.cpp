@@ -8,6 +8,7 @@
 #include <span>
 
 #include "bench/sequencer/run_omega_readings.hpp"
+#include "bench/sequencer/table_settle.hpp"
 #include "hrgbench/hw/operating_gyro.hpp"
 
 namespace hrgbench::bench {
@@ -26,7 +27,7 @@ bool Stopped(const std::atomic<int>* stop) {
   return stop != nullptr && stop->load(std::memory_order_acquire) != 0;
 }
 
-std::int64_t Ns(double seconds) { return static_cast<std::int64_t>(std::llround(seconds * 1e9)); }
+using hw::SecondsToNs;
 
 }  // namespace
 
@@ -68,19 +69,18 @@ OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware
   if (auto set = table.SetRate(table_rate_rad_s); !set)
     return Failed(
         hold, "table to " + std::to_string(table_rate_rad_s) + " rad/s: " + set.error().ToString());
-  // Waited for in slices of one dwell (and a little), so a stop request is seen within one.
-  const std::int64_t settle_deadline_ns = clock.NowNs() + Ns(plan.settle_timeout_s);
-  for (hw::StableCriteria criteria = plan.stable;;) {
-    if (Stopped(stop)) return Failed(hold, "stopped while the table settled");
-    const double left_s = static_cast<double>(settle_deadline_ns - clock.NowNs()) * 1e-9;
-    if (left_s <= 0.0)
+  const internal::TableSettleResult settled = internal::WaitTableSettled(
+      table, clock, plan.stable, plan.settle_timeout_s, [stop] { return Stopped(stop); });
+  switch (settled.end) {
+    case internal::TableSettle::kStable:
+      break;
+    case internal::TableSettle::kStopped:
+      return Failed(hold, "stopped while the table settled");
+    case internal::TableSettle::kTimedOut:
       return Failed(hold, "table not stable at " + std::to_string(table_rate_rad_s) +
                               " rad/s within " + std::to_string(plan.settle_timeout_s) + " s");
-    criteria.timeout_s = std::max(std::min(left_s, criteria.dwell_s + 0.5), criteria.dwell_s);
-    auto at_rate = table.WaitUntilStable(criteria);
-    if (at_rate) break;
-    if (at_rate.error().code != hw::RateTableErrorCode::kNotStable)
-      return Failed(hold, "table at rate: " + at_rate.error().ToString());
+    case internal::TableSettle::kTableError:
+      return Failed(hold, "table at rate: " + settled.table_error);
   }
 
   const auto gyro_failed = [&](const char* step, const hw::GyroError& error) {
@@ -91,7 +91,7 @@ OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware
     return gyro_failed("configure (operating mode)", configured.error());
   if (auto excited = gyro.Excite(plan.wave); !excited)
     return gyro_failed("excite", excited.error());
-  if (auto ready = gyro.WaitReady(Ns(plan.ready_timeout_s)); !ready)
+  if (auto ready = gyro.WaitReady(SecondsToNs(plan.ready_timeout_s)); !ready)
     return gyro_failed("ready", ready.error());
   const std::uint64_t gaps_before = gyro.Counters().sequence_gaps;
   if (auto released = gyro.Release(); !released) return gyro_failed("release", released.error());
@@ -114,7 +114,7 @@ OperatingHold RunOperatingHold(const BenchHardware& hardware, const UnitHardware
       return Failed(hold, "stopped");
     }
     if (clock.NowNs() >= next_poll_ns) {
-      next_poll_ns += Ns(plan.poll_period_s);
+      next_poll_ns += SecondsToNs(plan.poll_period_s);
       auto status = table.ReadStatus();  // also keeps the table's watchdog fed
       if (!status) {
         table_problem = "table status: " + status.error().ToString();
