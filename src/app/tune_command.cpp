@@ -7,6 +7,7 @@
 
 #include "app/closed_session_report.hpp"
 #include "app/station_factory.hpp"
+#include "hrgbench/analysis/gyro_units.hpp"
 #include "hrgbench/analysis/recorded_estimate.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/bench/tuning/tune_unit.hpp"
@@ -39,7 +40,7 @@ std::expected<estimator::CompensationSet, std::string> CompensationFromRecord(
   return p;
 }
 
-constexpr double kDegPerHour = 180.0 / 3.141592653589793 * 3600.0;
+constexpr double kDegPerHour = analysis::kDegPerHourPerRadPerS;
 
 void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, std::ostream& out) {
   out << "tune " << bench::ToString(verdict.outcome)
@@ -71,8 +72,8 @@ void PrintText(const bench::TuneResult& r, const bench::TuneVerdict& verdict, st
   }
   if (r.stability) {
     const bench::ZeroRateStability& z = *r.stability;
-    // IEEE 952: N in °/√h (rad/√s × 180/π × 60), B in °/h.
-    constexpr double kDegPerSqrtHour = 180.0 / 3.141592653589793 * 60.0;
+    // IEEE 952: N in °/√h, B in °/h.
+    constexpr double kDegPerSqrtHour = analysis::kDegPerSqrtHourPerRadPerSqrtS;
     if (z.arw_known)
       out << "  zero rate: angle random walk " << z.arw_rad_per_sqrt_s * kDegPerSqrtHour
           << " °/√h [" << z.arw_lower * kDegPerSqrtHour << ", " << z.arw_upper * kDegPerSqrtHour

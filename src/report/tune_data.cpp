@@ -19,6 +19,8 @@ namespace fs = std::filesystem;
 
 double DegH(double rad_s) { return rad_s * kDegPerHourPerRadPerS; }
 
+json Finite(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
 // The fitted rate error of a hold at wave angle θ (rad): bias + Σ c_n·cos 2nθ + s_n·sin 2nθ.
 double FittedError(const json& hold, double theta) {
   double e = NumberAt(hold, "/bias_rad_s");
@@ -60,7 +62,7 @@ json RateErrorFigure(const std::string& name, const std::string& caption, const 
     for (std::size_t h = 0; h < holds->size() && h < 16; ++h) {
       std::vector<double> y(kPoints);
       for (int i = 0; i < kPoints; ++i)
-        y[static_cast<std::size_t>(i)] = DegH(FittedError((*holds)[h], i * 3.14159265358979 / 180));
+        y[static_cast<std::size_t>(i)] = DegH(FittedError((*holds)[h], i / analysis::kDegPerRad));
       figure["series"].push_back(Series(RateLabel(label, (*holds)[h]), y, dashed));
     }
   }
@@ -118,7 +120,7 @@ json TuneDerived(const json* tune, json* figures) {
           if (std::signbit(NumberAt(h, "/omega_set_rad_s")) == std::signbit(omega) &&
               std::abs(NumberAt(h, "/omega_rad_s") - omega) < 1e-3 * std::abs(omega) + 1e-6)
             with_p = NumberAt(h, "/angle_dependent_rms_rad_s");
-      const auto value = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+      const auto& value = Finite;
       rates.push_back(
           {{"omega_rad_s", value(omega)},
            {"before_deg_h", value(DegH(NumberAt(v, "/before_rms_rad_s")))},
@@ -129,12 +131,11 @@ json TuneDerived(const json* tune, json* figures) {
     }
   }
   derived["rates"] = rates;
-  const auto value = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+  const auto& value = Finite;
   derived["scale_factor"] = {
       {"bias_deg_h", value(DegH(NumberAt(*tune, "/scale_factor/bias_rad_s")))},
       {"bias_std_deg_h", value(DegH(NumberAt(*tune, "/scale_factor/bias_std_rad_s")))}};
-  // °/√h per rad/√s: (180/π)·√3600.
-  const double arw = 180.0 / 3.14159265358979323846 * 60.0;
+  const double arw = analysis::kDegPerSqrtHourPerRadPerSqrtS;
   derived["zero_rate"] = {
       {"arw_deg_per_sqrt_h", value(arw * NumberAt(*tune, "/zero_rate/arw_rad_per_sqrt_s"))},
       {"arw_lower_deg_per_sqrt_h", value(arw * NumberAt(*tune, "/zero_rate/arw_interval/0"))},
@@ -161,7 +162,7 @@ json TuneDerived(const json* tune, json* figures) {
     const double ppm = NumberAt(*tune, "/scale_factor/error_ppm");
     for (std::size_t i = 0; i < after->size() && i < 64; ++i) {
       const double w = NumberAt((*after)[i], "/omega_rad_s");
-      omega.push_back(w * 180.0 / 3.14159265358979323846);
+      omega.push_back(w * analysis::kDegPerRad);
       error.push_back(DegH(NumberAt((*after)[i], "/bias_rad_s")));
       line.push_back(DegH(bias + ppm * 1e-6 * w));
     }

@@ -14,6 +14,8 @@
 #include <optional>
 #include <string>
 
+#include "hrgbench/analysis/gyro_units.hpp"
+
 namespace hrgbench::report::internal {
 
 // tune.json's bounds: a record of a few holds is ~20 kB; the depth of its deepest value is 4.
@@ -30,7 +32,6 @@ TuneRead ReadTuneRecord(const std::filesystem::path& session_dir);
 // derived.tune (null without a record) and the figures, appended to `figures`.
 nlohmann::json TuneDerived(const nlohmann::json* tune, nlohmann::json* figures);
 
-// °/h per rad/s: what a gyro's rate error is read in (IEEE 952).
-inline constexpr double kDegPerHourPerRadPerS = 180.0 / 3.14159265358979323846 * 3600.0;
+using analysis::kDegPerHourPerRadPerS;
 
 }  // namespace hrgbench::report::internal

@@ -3,12 +3,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "hrgbench/analysis/gyro_units.hpp"
+
 namespace hrgbench::bench {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
-constexpr double kDegPerHourPerRadPerS = kDegPerRad * 3600.0;
-constexpr double kDegPerSqrtHourPerRadPerSqrtS = kDegPerRad * 60.0;
+using analysis::kDegPerHourPerRadPerS;
+using analysis::kDegPerSqrtHourPerRadPerSqrtS;
 
 std::string Number(double v) {
   char text[32];
