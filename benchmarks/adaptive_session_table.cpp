@@ -10,6 +10,7 @@
 //
 //   adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] [--carrier-every C]
 //                          [--excite-s S] [--settle-time-constant-s S] [--keep]
+//                          [--look-interval-s S] [--next-run plan|most_informative]
 //   adaptive_session_table --summary FILE...
 //
 // The first form measures the units whose index i (0 … N−1) has i % M == K and writes one CSV row
@@ -44,6 +45,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -55,6 +57,7 @@
 #include "hrgbench/config/bench_configs.hpp"
 #include "hrgbench/estimator/physical_parameters.hpp"
 #include "hrgbench/estimator/pickoff_frame.hpp"
+#include "hrgbench/session/session_record.hpp"
 
 namespace {
 
@@ -186,6 +189,10 @@ struct StationTimes {
   double excite_s = 5.0;
   double settle_time_constant_s = 1.0;
   bool keep = false;  // --keep: the session folders stay (their paths on the log)
+  // The adaptive sequence's [adaptive] as shipped unless set: --look-interval-s (0: after runs
+  // only), --next-run most_informative.
+  std::optional<double> look_interval_s;
+  bool most_informative_next = false;
 };
 
 Measured Measure(const Unit& unit, const StationTimes& times, const std::string& sequence,
@@ -200,6 +207,10 @@ Measured Measure(const Unit& unit, const StationTimes& times, const std::string&
     std::exit(2);
   }
   configs->station.results_url.clear();
+  if (configs->sequence.adaptive.stop_when_decided) {
+    if (times.look_interval_s) configs->sequence.adaptive.look_interval_s = *times.look_interval_s;
+    if (times.most_informative_next) configs->sequence.adaptive.most_informative_next = true;
+  }
   bench::SimulatedStationConfig& sim = configs->station.simulated;
   sim.seed = unit.seed;
   sim.excite_time_s = times.excite_s;
@@ -241,9 +252,14 @@ Measured Measure(const Unit& unit, const StationTimes& times, const std::string&
   m.outcome = std::string(bench::ToString(result.outcome));
   m.runs = result.complete_runs;
   m.reason = result.reason;
-  const std::vector<bench::SequenceRun>& runs = configs->sequence.runs;
-  for (int i = 0; i < m.runs && i < static_cast<int>(runs.size()); ++i)
-    m.free_run_s += runs[static_cast<std::size_t>(i)].free_run_s;
+  // The free run the record holds: a run decided within stopped short, and the runs made need
+  // not be the plan's first ones (next_run = "most_informative").
+  if (auto record = session::ReadSessionRecord(dir); record) {
+    for (const session::RunRecord& run : record->runs) {
+      if (run.status == bench::kRunComplete && run.plan && run.end && run.end->samples)
+        m.free_run_s += static_cast<double>(*run.end->samples) / run.plan->sample_rate_hz;
+    }
+  }
   if (result.verdict) {
     m.retest = result.verdict->retest;
     for (const bench::LimitResult& limit : result.verdict->results) m.zones += ZoneLetter(limit);
@@ -490,6 +506,15 @@ int main(int argc, char** argv) {
       times.settle_time_constant_s = std::stod(next());
     } else if (arg == "--keep") {
       times.keep = true;
+    } else if (arg == "--look-interval-s") {
+      times.look_interval_s = std::stod(next());
+    } else if (arg == "--next-run") {
+      const std::string value = next();
+      if (value != "plan" && value != "most_informative") {
+        std::fprintf(stderr, "--next-run plan|most_informative, not %s\n", value.c_str());
+        return 2;
+      }
+      times.most_informative_next = value == "most_informative";
     } else if (arg == "--carrier-every") {
       carrier_every = std::stoi(next());
     } else if (arg == "--shard") {
@@ -507,8 +532,8 @@ int main(int argc, char** argv) {
       std::fprintf(
           stderr,
           "usage: adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] "
-          "[--carrier-every C] [--excite-s S] [--settle-time-constant-s S] [--keep] | --summary "
-          "FILE...\n");
+          "[--carrier-every C] [--excite-s S] [--settle-time-constant-s S] [--keep] "
+          "[--look-interval-s S] [--next-run plan|most_informative] | --summary FILE...\n");
       return 2;
     }
   }

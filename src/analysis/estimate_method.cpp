@@ -89,6 +89,7 @@ MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const Method
       options.omega_uncertainty = request.omega_uncertainty;
       options.covariance = request.covariance;
       options.fit_quality = request.fit_quality;
+      options.num_threads = request.threads;
       options.noise_shape = request.noise_shape;
       if (request.xi) {
         options.xi_estimated = *request.xi;

@@ -11,10 +11,12 @@ namespace hrgbench::bench {
 
 RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
                                          const session::SessionRecord& record,
-                                         const estimator::FitQualityLimits& fit_quality) {
+                                         const estimator::FitQualityLimits& fit_quality,
+                                         int threads) {
   RecordedEstimate out;
   MethodRequest request;
   request.fit_quality = fit_quality;  // the estimator warns as the verdict judges
+  request.threads = threads;
   auto noise_shape = RecordedNoiseShape(record.electronics, recorded.sample_rate_hz);
   out.warnings = recorded.warnings;
   // The runs as every fit of a record takes them (recorded_runs.hpp).

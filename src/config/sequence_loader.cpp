@@ -409,7 +409,19 @@ std::expected<SequenceConfig, ConfigError> ReadSequence(const TomlDocument& docu
     HRG_TRY(interim, MaybeNumber(reader, "interim_coverage_factor",
                                  {kMinCoverageFactor, kMaxCoverageFactor, true, "in [1, 6]"}));
     sequence.adaptive.interim_coverage_factor = *interim;
-    HRG_CHECK(reader.Unknown("stop_when_decided, min_runs, interim_coverage_factor"));
+    HRG_TRY(every, MaybeNumber(reader, "look_interval_s", {1.0, 3600.0, true, "in [1, 3600] s"}));
+    sequence.adaptive.look_interval_s = every->value_or(0.0);
+    if (const std::size_t looks = sequence.InterimLookFractions().size(); looks > kMaxInterimLooks)
+      return std::unexpected(reader.Error(
+          *reader.Find("look_interval_s"), "look_interval_s",
+          "out of range: " + Shortest(sequence.adaptive.look_interval_s) + " s plans " +
+              std::to_string(looks) + " interim looks over the runs; at most " +
+              std::to_string(kMaxInterimLooks) + " (each is an estimate): look less often"));
+    HRG_TRY(next, Choice(reader, "next_run", {"plan", "most_informative"}, 0));
+    sequence.adaptive.most_informative_next = *next == 1;
+    HRG_CHECK(
+        reader.Unknown("stop_when_decided, min_runs, interim_coverage_factor, "
+                       "look_interval_s, next_run"));
   }
 
   if (auto prompts = ReadPrompts(root, sequence, source, file); !prompts)
@@ -471,6 +483,24 @@ double SequenceConfig::TotalFreeRunS() const {
   double total = 0.0;
   for (const SequenceRun& run : runs) total += run.free_run_s;
   return total;
+}
+
+std::vector<double> SequenceConfig::InterimLookFractions() const {
+  std::vector<double> looks;
+  const double total = TotalFreeRunS();
+  if (!adaptive.stop_when_decided || !(total > 0.0)) return looks;
+  const double every = adaptive.look_interval_s;
+  double before = 0.0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const double length = runs[r].free_run_s;
+    const bool may_decide = static_cast<int>(r) + 1 >= adaptive.min_runs;
+    // Not within half an interval of the run's end, where the look after it comes anyway.
+    for (int n = 1; may_decide && every > 0.0 && n * every <= length - 0.5 * every; ++n)
+      looks.push_back((before + n * every) / total);
+    before += length;
+    if (may_decide && r + 1 < runs.size()) looks.push_back(before / total);
+  }
+  return looks;
 }
 
 std::expected<SequenceConfig, ConfigError> ParseSequenceConfig(std::string_view toml_text,

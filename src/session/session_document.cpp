@@ -78,6 +78,12 @@ json ToJson(const RunEnd& end, std::uint64_t samples) {
            {"reference_phase_undone_samples", end.reference_phase_undone_samples},
            {"reference_phases_missing", end.reference_phases_missing},
            {"samples", samples}};
+  if (std::isfinite(end.decided_at_s)) {
+    out[session::keys::kDecided] =
+        json{{session::keys::kAtS, end.decided_at_s},
+             {session::keys::kWhy, end.decided_why},
+             {session::keys::kInterimCoverageFactor, Number(end.decided_coverage_factor)}};
+  }
   out.update(TimeStampNow());
   return out;
 }
@@ -105,6 +111,9 @@ json ToJson(const SessionOutcome& outcome) {
       out[session::keys::kEndedEarly][session::keys::kInterimCoverageFactor] =
           outcome.ended_early->interim_coverage_factor;
     }
+    if (std::isfinite(outcome.ended_early->within_run_s))
+      out[session::keys::kEndedEarly][session::keys::kWithinRunS] =
+          outcome.ended_early->within_run_s;
   }
   return out;
 }

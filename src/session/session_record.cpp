@@ -263,6 +263,12 @@ std::optional<RunEndRecord> ReadEnd(Fields& f, const json& parent, const std::st
   v.reference_phase_undone_samples = f.Count(*end, at, "reference_phase_undone_samples");
   v.reference_phases_missing = f.Count(*end, at, "reference_phases_missing");
   if (f.Find(*end, keys::kSamples) != nullptr) out.samples = f.Count(*end, at, keys::kSamples);
+  if (const json* decided = f.Object(*end, at, keys::kDecided)) {
+    const std::string d = Join(at, keys::kDecided);
+    v.decided_at_s = f.Number(*decided, d, keys::kAtS);
+    v.decided_why = f.String(*decided, d, keys::kWhy);
+    v.decided_coverage_factor = f.Number(*decided, d, keys::kInterimCoverageFactor);
+  }
   out.at = {f.String(*end, at, keys::kUtc), f.Int64(*end, at, keys::kMonotonicNs)};
   return out;
 }
@@ -558,6 +564,7 @@ std::optional<OutcomeRecord> ReadOutcome(Fields& f, const json& doc) {
     end.planned_runs = f.Int(*early, e, keys::kPlannedRuns).value_or(0);
     end.why = f.String(*early, e, keys::kWhy);
     end.interim_coverage_factor = f.Number(*early, e, keys::kInterimCoverageFactor);
+    end.within_run_s = f.Number(*early, e, keys::kWithinRunS);
     out.ended_early = std::move(end);
   }
   return out;

@@ -45,6 +45,9 @@ struct MethodRequest {
   // ML only: the pick-off noise's shape the session's record declares (RecordedNoiseShape in
   // output_filter.hpp); white by default.
   estimator::NoiseShape noise_shape;
+  // ML only: the estimator's threads (MlOptions::num_threads; 0: the hardware's). The answer is
+  // the same for any count.
+  int threads = 0;
 };
 
 // "auto", "white", "sandwich".

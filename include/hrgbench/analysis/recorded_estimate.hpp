@@ -30,9 +30,12 @@ struct RecordedEstimate {
 // (they are moved into the fit, never copied: docs/estimator/methods.md "Memory");
 // `record` is the same session.json typed (session::ReadSessionRecord(recorded.document, file)):
 // the electronics' declaration, the runs' plans and f0, the simulator's truth.
+// `threads`: the estimator's (0: the hardware's; an interim look running beside the capture takes
+// one).
 RecordedEstimate EstimateRecordedSession(session::Session&& recorded,
                                          const session::SessionRecord& record,
-                                         const estimator::FitQualityLimits& fit_quality);
+                                         const estimator::FitQualityLimits& fit_quality,
+                                         int threads = 0);
 // The same on a copy of the samples, for a caller that keeps them (tests): twice the memory.
 RecordedEstimate EstimateRecordedSession(const session::Session& recorded,
                                          const session::SessionRecord& record,

@@ -90,22 +90,35 @@ struct CaptureCriteria {
 };
 
 // [adaptive]: a session as short as its verdict allows (issue 27 §1). After each complete run from
-// min_runs on, every unit still measuring is estimated and judged as at the end; a unit whose
+// min_runs on (and, with look_interval_s, during each run as it is captured), every unit still
+// measuring is estimated and judged as at the end; a unit whose
 // verdict can no longer change (the fit acceptable on its runs so far, and every limit proven
 // conforming, or one proven non-conforming) takes no further run, and the session ends when no
 // unit needs the next one. A misfit, an undecided or a not-yet-evaluable limit never ends a
 // session early. Off unless stop_when_decided.
 //
 // Each look before the last planned run is an interim decision: it is taken with a larger coverage
-// factor than the limits file's k, so that looking after every run does not multiply the chance
-// of a wrong decision (bench/sequencer/interim_looks.hpp). The verdict a decided unit closes with
+// factor than the limits file's k, so that looking again and again does not multiply the chance
+// of a wrong decision (analysis/interim_looks.hpp). The verdict a decided unit closes with
 // is judged with the file's k, as any other.
+// At most this many interim looks in a plan (the loader refuses a look_interval_s that makes
+// more): each is an estimate at the bench, and their coverage factor's integration grows as n^1.5.
+inline constexpr std::size_t kMaxInterimLooks = 400;
+
 struct AdaptiveStop {
   bool stop_when_decided = false;
   int min_runs = 1;  // complete runs before the first decision, 1 … the sequence's runs
   // k of the interim looks, in [the limits' k, 6]; absent: derived from the limits' k and the
   // number of interim looks (InterimCoverageFactor).
   std::optional<double> interim_coverage_factor;
+  // Looks within a run, every this many seconds of its free run (from the min_runs-th run on):
+  // a unit decided during a run stops capturing then, and the run ends once no unit on the table
+  // still needs it. 0: looks after runs only. In [1, 3600] when set (each look is an estimate).
+  double look_interval_s = 0.0;
+  // next_run = "most_informative": after each run, the next is the remaining one that adds most
+  // to what the units' verdicts still lack per second of table time (analysis/next_run.hpp);
+  // "plan" (default): the file's order.
+  bool most_informative_next = false;
 };
 
 // [[prompts]]: what the operator must do at a point of the sequence (mount the unit, close the
@@ -154,6 +167,11 @@ struct SequenceConfig {
   // plan that should match a real session).
   std::vector<estimator::RunPlan> ToRunPlans(double omega_offset_rad_s = 0.0) const;
   double TotalFreeRunS() const;
+  // The interim looks [adaptive] plans, as information fractions (free-run seconds before the
+  // look over TotalFreeRunS), in order: within each run from the min_runs-th on, at every
+  // look_interval_s of its free run up to half an interval before its end; after each run from
+  // the min_runs-th to the last but one. Empty unless stop_when_decided. At most kMaxInterimLooks.
+  std::vector<double> InterimLookFractions() const;
 };
 
 std::expected<SequenceConfig, config_file::ConfigError> LoadSequenceConfig(

@@ -79,6 +79,9 @@ struct EarlyEnd {
   int planned_runs = 0;  // the sequence's runs
   std::string why;       // "every limit decided", "delta2 proven non-conforming"
   double interim_coverage_factor = std::numeric_limits<double>::quiet_NaN();  // NaN: not recorded
+  // Decided at a look this many seconds into run after_run's free run (its capture stopped then);
+  // NaN: decided after the run had gone its planned length.
+  double within_run_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SessionOutcome {

@@ -93,13 +93,18 @@ inline constexpr const char* kExitCode = "exit_code";
 inline constexpr const char* kFailedParameters = "failed_parameters";
 inline constexpr const char* kEstimate = "estimate";
 inline constexpr const char* kVerdict = "verdict";
-// outcome.ended_early: {after_run, planned_runs, why, interim_coverage_factor}
+// outcome.ended_early: {after_run, planned_runs, why, interim_coverage_factor, within_run_s}
 // (session_outcome.hpp EarlyEnd).
 inline constexpr const char* kEndedEarly = "ended_early";
 inline constexpr const char* kAfterRun = "after_run";
 inline constexpr const char* kPlannedRuns = "planned_runs";
 inline constexpr const char* kWhy = "why";
 inline constexpr const char* kInterimCoverageFactor = "interim_coverage_factor";
+inline constexpr const char* kWithinRunS = "within_run_s";
+// runs[i].end.decided: {at_s, why, interim_coverage_factor}: the run's capture stopped at the
+// look that decided the unit (session_record_types.hpp RunEnd::decided_at_s).
+inline constexpr const char* kDecided = "decided";
+inline constexpr const char* kAtS = "at_s";
 // The estimate of record's nuisance per run (what the report needs to draw the recorded fit).
 inline constexpr const char* kFittedRuns = "fitted_runs";
 

@@ -150,6 +150,12 @@ struct RunEnd {
   // back by it (0: not reported, y as demodulated), and samples its report was lost for.
   std::uint64_t reference_phase_undone_samples = 0;
   std::uint64_t reference_phases_missing = 0;
+  // The sequence's [adaptive] decided the unit at a look during this run: its capture stopped
+  // there, short of the planned length, and the run is complete with what it holds. NaN / empty:
+  // the run went its planned length (or ended for the reason above).
+  double decided_at_s = std::numeric_limits<double>::quiet_NaN();  // free-run s at the look
+  std::string decided_why;  // "every limit decided", "delta2 proven non-conforming"
+  double decided_coverage_factor = std::numeric_limits<double>::quiet_NaN();  // the look's k_i
 };
 
 // An operator prompt of the sequence (config/sequence_config.hpp SequencePrompt) as it was shown

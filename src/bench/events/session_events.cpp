@@ -147,6 +147,8 @@ void SessionEventPublisher::Attach(RunnerOptions& options) {
     event["planned_runs"] = end.planned_runs;
     event["why"] = end.why;
     event["interim_coverage_factor"] = Number(end.interim_coverage_factor);
+    // null: decided after run after_run; a number: that far into its free run (its capture stops).
+    event["within_run_s"] = Number(end.within_run_s);
     stream_.Publish(std::move(event));
   };
 }

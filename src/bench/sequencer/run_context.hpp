@@ -3,21 +3,25 @@
 // lane per unit on it.
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
+#include <expected>
 #include <filesystem>
+#include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "bench/sequencer/interim_look.hpp"
 #include "hrgbench/bench/capture/capture.hpp"
 #include "hrgbench/bench/sequencer/sequencer.hpp"
 #include "hrgbench/session/session_recorder.hpp"
 
 namespace hrgbench::bench::internal {
-
-struct LaneJudgement;  // sequencer.cpp: a unit's recorded runs estimated and judged
 
 // Why a step stopped. kNone: go on. A step returns the table's (every unit's) stop; a unit's own
 // stop ends only its lane (SessionContext::EndUnit).
@@ -49,6 +53,12 @@ struct UnitLane {
   std::vector<LoggedCanFrame> logged_scratch;
 
   bool Takes(int run_id) const { return !ended && remaining.contains(run_id); }
+  // Its runs the record holds as complete.
+  int CompleteRuns() const {
+    int complete = 0;
+    for (const RecordedRun& run : recorder->Runs()) complete += run.status == kRunComplete ? 1 : 0;
+    return complete;
+  }
 };
 
 struct SessionContext {
@@ -64,6 +74,16 @@ struct SessionContext {
   int run_index = 0;                      // 1-based, this invocation
   int run_count = 0;
   double remaining_free_run_s = 0.0;  // of the runs not yet captured
+  // The sequence's [adaptive]: the limits with the interim looks' coverage factor, and the thread
+  // the looks run on (interim_look.hpp).
+  LimitsConfig interim_limits;
+  std::unique_ptr<LookWorker> looks;
+  // next_run = "most_informative": the units' rankings of the runs left after the last look, by
+  // run id (summed over the units still measuring); the table's time from a run's start to its
+  // release, summed over the runs made (what another run costs beyond its free run).
+  std::map<int, double> next_run_scores;
+  double run_overhead_s = 0.0;
+  int runs_made = 0;
 
   bool Interrupted() const;
   // Who stopped the session, for the record: "aborted by operator" (SIGINT: Ctrl-C, the panel's
@@ -87,6 +107,21 @@ struct SessionContext {
 };
 
 StepOutcome WaitForWarmup(SessionContext& ctx);
+
+// The look started on ctx.looks, waited for while the table is kept (its heartbeat, the CAN logs,
+// every `poll_ns`); an interrupt or a table error ends the wait (the look finishes on its own).
+std::expected<std::pair<std::size_t, LaneJudgement>, StepOutcome> AwaitLook(SessionContext& ctx,
+                                                                            std::int64_t poll_ns);
+// A look's answer for `lane` during or after run `run_id`: if its verdict can no longer change
+// (DecidedWhy), the lane is decided (ended_early, announced, logged) and takes no further run;
+// true then. `within_run_s`: how far into the run's free run the look saw (kAfterTheRun: the whole
+// run). `whole_record`: the look estimated exactly what the record holds, so the session may close
+// with it.
+inline constexpr double kAfterTheRun = std::numeric_limits<double>::quiet_NaN();
+bool ApplyLook(SessionContext& ctx, UnitLane& lane, int run_id, LaneJudgement now,
+               double within_run_s, bool whole_record);
+// "decided after run 2 of 12", "decided 15 s into run 8 of 12".
+std::string DecidedWhen(const EarlyEnd& end);
 // The sequence's operator prompts at `at` (before run `run_id` for kBeforeRun), in file order
 // (prompt_step.cpp).
 StepOutcome AskOperator(SessionContext& ctx, PromptPoint at, int run_id = 0);

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/sequencer/interim_look.hpp"
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/run_omega_readings.hpp"
 #include "bench/sequencer/table_settle.hpp"
@@ -121,6 +122,15 @@ struct UnitRun {
   // sample its electronics did not stamp is recorded with, so the run's columns stay complete.
   double temperature_c = std::numeric_limits<double>::quiet_NaN();
   double resonant_frequency_hz = std::numeric_limits<double>::quiet_NaN();
+  // The sequence's [adaptive] looks within the run (when this unit may be decided in it): the run
+  // so far as recorded, when the next look is due and what the one in progress saw (free-run s),
+  // and the look that decided the unit (its capture then stopped).
+  bool looks = false;
+  PartialRun partial;
+  double next_look_s = 0.0;
+  double look_at_s = 0.0;
+  double decided_at_s = std::numeric_limits<double>::quiet_NaN();
+  std::string decided_why;
 };
 
 // Moves what the unit's capture pushed to its record; a record that cannot be written is the
@@ -141,6 +151,12 @@ void DrainUnit(SessionContext& ctx, UnitRun& unit, int run_id, std::vector<hw::G
     record.resonant_frequency_hz = unit.resonant_frequency_hz;
   }
   unit.samples += records.size();
+  if (unit.looks) {
+    for (const GyroSampleRecord& record : records) {
+      unit.partial.t_s.push_back(record.t_s);
+      unit.partial.y.insert(unit.partial.y.end(), std::begin(record.y), std::end(record.y));
+    }
+  }
   if (ctx.options->on_samples && ctx.lanes.size() == 1) ctx.options->on_samples(run_id, records);
   if (auto appended = unit.lane->recorder->AppendSamples(records); !appended) {
     unit.outcome = StepOutcome::Error("record: " + appended.error().ToString());
@@ -180,7 +196,11 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
       !measured.ok() && outcome.ok()) {
     outcome = measured;
   }
-  if (outcome.ok() && result.termination != CaptureTermination::kCountReached) {
+  // A unit decided at a look within the run stopped its capture there: the run is complete with
+  // what it holds (an interrupt's stop is the table's outcome, above, and wins).
+  const bool decided = std::isfinite(unit.decided_at_s);
+  if (outcome.ok() && result.termination != CaptureTermination::kCountReached &&
+      !(decided && result.termination == CaptureTermination::kStopRequested)) {
     outcome =
         result.termination == CaptureTermination::kStopRequested
             ? StepOutcome::Aborted(ctx.InterruptCause() + " during run " + std::to_string(run_id))
@@ -201,6 +221,11 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
     end.status = kRunAborted;
     end.reason = outcome.reason;
   } else {
+    if (decided) {
+      end.decided_at_s = unit.decided_at_s;
+      end.decided_why = unit.decided_why;
+      end.decided_coverage_factor = ctx.interim_limits.decision.coverage_factor;
+    }
     const RunDriftJudgement drift =
         JudgeRunDrift(end.temperature_start_c, end.temperature_end_c, end.frequency_start_hz,
                       end.frequency_end_hz, seq.drift);
@@ -235,9 +260,70 @@ void EndUnitRun(SessionContext& ctx, UnitRun& unit, const SequenceRun& run, int 
                       (end.omega_source == "rate" &&
                                ctx.configs->station.table.omega_source != OmegaSourceSetting::kRate
                            ? " readings (" + omega.NoAngleReason() + ")"
-                           : ""));
+                           : "") +
+                      (decided ? Format("; ended when decided, %.3g s", unit.decided_at_s) +
+                                     Format(" into %.3g s", run.free_run_s)
+                               : ""));
   }
   if (table.ok()) unit.outcome = outcome;
+}
+
+// A look's answer for one unit of the run. Decided while its capture runs: the capture stops (the
+// run is complete with what it holds). Decided after its capture had gone the run's length: the
+// unit is decided after the run.
+void TakeLook(SessionContext& ctx, UnitRun& unit, int run_id, LaneJudgement now) {
+  const bool capturing = unit.capture && unit.capture->Running();
+  const double at_s = capturing ? unit.look_at_s : kAfterTheRun;
+  if (!ApplyLook(ctx, *unit.lane, run_id, std::move(now), at_s, /*whole_record=*/false)) return;
+  unit.looks = false;
+  if (!capturing) return;
+  unit.decided_at_s = at_s;
+  unit.decided_why = unit.lane->ended_early->why;
+  unit.capture->RequestStop();
+}
+
+// The sequence's [adaptive] within a run: the answer of a finished look taken, then, if the look
+// thread is free, the next due look started: the unit whose run so far has reached its next look
+// time (every look_interval_s of free run, up to half an interval before the run's end, where the
+// look after the run comes anyway; SequenceConfig::InterimLookFractions plans the same looks).
+void LookWithinRun(SessionContext& ctx, std::vector<UnitRun>& units, const SequenceRun& run,
+                   int run_id, const RunOmegaReadings& omega) {
+  if (auto done = ctx.looks->TakeIfDone())
+    TakeLook(ctx, units[done->first], run_id, std::move(done->second));
+  if (ctx.looks->Busy()) return;
+  const double every = ctx.configs->sequence.adaptive.look_interval_s;
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    UnitRun& unit = units[i];
+    if (!unit.looks || !unit.capture || !unit.capture->Running() || unit.partial.t_s.empty())
+      continue;
+    const double so_far = unit.partial.t_s.back();
+    if (so_far < unit.next_look_s) continue;
+    if (unit.next_look_s > run.free_run_s - 0.5 * every) {
+      unit.looks = false;
+      continue;
+    }
+    while (unit.next_look_s <= so_far) unit.next_look_s += every;
+    // Ω so far, as the run's end will measure it over the whole run.
+    RunEnd so_far_end;
+    if (!omega
+             .Finish(unit.lane->hw->axis_sign, unit.start.earth_rate_rad_s,
+                     unit.start.measured_omega_rad_s, so_far_end)
+             .ok() ||
+        !std::isfinite(so_far_end.omega_rad_s))
+      continue;
+    PartialRun partial;
+    partial.run_id = run_id;
+    partial.omega_rad_s = so_far_end.omega_rad_s;
+    partial.omega_std_rad_s = so_far_end.omega_std_error_rad_s;
+    partial.t_s = unit.partial.t_s;
+    partial.y = unit.partial.y;
+    unit.look_at_s = so_far;
+    ctx.looks->Start(
+        i, [dir = unit.lane->dir, limits = &ctx.interim_limits, partial = std::move(partial)] {
+          return JudgeLane(dir, /*plan_cut_short=*/true, *limits, &partial, /*threads=*/1);
+        });
+    return;
+  }
 }
 
 }  // namespace
@@ -252,6 +338,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   progress.omega_rad_s = run.omega_rad_s;
   progress.phase = "table";
   ctx.ReportProgress(progress, true);
+  const std::int64_t run_started_ns = hw.clock->NowNs();
   if (StepOutcome settled = SettleTable(ctx, run.omega_rad_s); !settled.ok()) return settled;
 
   // Every unit excited first, then each waited for: their excitations overlap in time.
@@ -314,6 +401,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     unit.release_stamp_ns = *release;
     unit.start.release_t_ns = *release;
   }
+  ctx.run_overhead_s += static_cast<double>(hw.clock->NowNs() - run_started_ns) * 1e-9;
+  ++ctx.runs_made;
   // One table read per loop period for the run and its margin, the release and the end.
   const auto table_reads = static_cast<std::size_t>((run.free_run_s + seq.timeouts.run_margin_s) *
                                                     1e9 / static_cast<double>(kTableReadPeriodNs));
@@ -322,6 +411,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
 
   // Capture on one thread per unit; this thread streams to the records and keeps the table alive.
   const RealtimeConfig& rt = ctx.configs->station.realtime;
+  const AdaptiveStop& adaptive = seq.adaptive;
+  const bool looks_within = adaptive.stop_when_decided && adaptive.look_interval_s > 0.0;
   for (UnitRun& unit : units) {
     if (!unit.outcome.ok()) continue;
     if (auto begun = unit.lane->recorder->BeginRun(run_id, unit.start); !begun) {
@@ -341,6 +432,13 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     capture_run.realtime = {rt.priority, rt.cpu, rt.lock_memory};
     if (auto started = unit.capture->Start(*unit.lane->hw->gyro, *unit.ring, capture_run); !started)
       unit.outcome = StepOutcome::Error("capture: " + started.error().message);
+    unit.looks = looks_within && unit.outcome.ok() && !unit.lane->ended_early &&
+                 unit.lane->CompleteRuns() + 1 >= adaptive.min_runs;
+    if (unit.looks) {
+      unit.partial.t_s.reserve(run.Samples());
+      unit.partial.y.reserve(4 * run.Samples());
+      unit.next_look_s = adaptive.look_interval_s;
+    }
   }
 
   progress.phase = "capture";
@@ -402,6 +500,7 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     progress.remaining_s = ctx.remaining_free_run_s -
                            std::min(run.free_run_s, static_cast<double>(now - released_at) * 1e-9);
     ctx.ReportProgress(progress);
+    if (looks_within) LookWithinRun(ctx, units, run, run_id, omega);
     hw.clock->SleepForNs(kLoopPeriodNs);
   }
   if (!outcome.ok()) {
@@ -419,6 +518,15 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
   // The angle once more, now that the captures are over: the fit spans the whole run.
   if (outcome.ok()) {
     if (StepOutcome read = omega.ReadAngle(*hw.table, run_id); !read.ok()) outcome = read;
+  }
+  // A look still running is waited for (the table kept meanwhile): its unit may be decided.
+  if (outcome.ok() && looks_within && ctx.looks->Busy()) {
+    auto done = AwaitLook(ctx, kLoopPeriodNs);
+    if (!done) {
+      outcome = done.error();
+    } else {
+      TakeLook(ctx, units[done->first], run_id, std::move(done->second));
+    }
   }
 
   progress.phase = "stop";

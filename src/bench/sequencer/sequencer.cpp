@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "bench/sequencer/interim_look.hpp"
 #include "bench/sequencer/run_context.hpp"
 #include "bench/sequencer/saved_configs.hpp"
 #include "hrgbench/analysis/interim_looks.hpp"
@@ -175,6 +176,65 @@ void WatchTableStop(SessionContext& ctx) {
   }
 }
 
+std::expected<std::pair<std::size_t, LaneJudgement>, StepOutcome> AwaitLook(SessionContext& ctx,
+                                                                            std::int64_t poll_ns) {
+  for (;;) {
+    if (auto done = ctx.looks->TakeIfDone()) return std::move(*done);
+    // The look is left to finish on its own (its thread is joined when the session ends).
+    if (ctx.Interrupted())
+      return std::unexpected(
+          StepOutcome::Aborted(ctx.InterruptCause() + " while a unit's runs were judged"));
+    if (auto fed = ctx.hw->table->Heartbeat(); !fed)
+      return std::unexpected(StepOutcome::Error("rate table: " + fed.error().ToString()));
+    ctx.PumpCanLogs();
+    ctx.hw->clock->SleepForNs(poll_ns);
+  }
+}
+
+std::string DecidedWhen(const EarlyEnd& end) {
+  std::string when = "decided ";
+  if (std::isfinite(end.within_run_s)) {
+    char at[32];
+    std::snprintf(at, sizeof at, "%.3g", end.within_run_s);
+    when += std::string(at) + " s into run " + std::to_string(end.after_run);
+  } else {
+    when += "after run " + std::to_string(end.after_run);
+  }
+  return when + " of " + std::to_string(end.planned_runs);
+}
+
+bool ApplyLook(SessionContext& ctx, UnitLane& lane, int run_id, LaneJudgement now,
+               double within_run_s, bool whole_record) {
+  const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
+  if (lane.ended || lane.ended_early) return false;
+  if (now.error || now.complete_runs < adaptive.min_runs || !now.judgement) return false;
+  const std::optional<std::string> why =
+      DecidedWhy(now.estimate.method.summary, now.judgement->verdict);
+  char k_text[48];
+  std::snprintf(k_text, sizeof k_text, "interim k = %.3g",
+                ctx.interim_limits.decision.coverage_factor);
+  if (!why) {
+    // Within a run the looks come every few seconds: only the look after a run is logged.
+    if (!std::isfinite(within_run_s))
+      ctx.Log(lane, "after run " + std::to_string(run_id) + ": not decided yet at " + k_text +
+                        " (" + now.judgement->reason + ")");
+    return false;
+  }
+  const int planned = static_cast<int>(ctx.configs->sequence.runs.size());
+  lane.ended_early =
+      EarlyEnd{run_id, planned, *why, ctx.interim_limits.decision.coverage_factor, within_run_s};
+  if (ctx.options->on_decided)
+    ctx.options->on_decided(static_cast<std::size_t>(&lane - ctx.lanes.data()), *lane.ended_early);
+  const std::size_t not_needed = lane.remaining.size() - (lane.remaining.contains(run_id) ? 1 : 0);
+  ctx.Log(lane, DecidedWhen(*lane.ended_early) + " (" + *why + ", " + k_text +
+                    "): " + std::to_string(not_needed) + " planned run(s) not needed");
+  lane.remaining.clear();
+  // Only an estimate of exactly what the record holds may close the session; one made within a
+  // run saw the run so far, and the run's capture went on a moment longer.
+  if (whole_record) lane.decided = std::make_shared<LaneJudgement>(std::move(now));
+  return true;
+}
+
 }  // namespace internal
 
 namespace {
@@ -184,112 +244,94 @@ using internal::StepOutcome;
 using internal::StopKind;
 using internal::UnitLane;
 
+using internal::LaneJudgement;
+
 SessionResult Finish(SessionResult result) {
   result.exit_code = ExitCode(result.outcome);
   return result;
 }
 
-}  // namespace
+// How often the wait for a look between runs feeds the table's heartbeat and reads the CAN logs.
+constexpr std::int64_t kLookPollNs = 20'000'000;
 
-// A unit's complete runs as recorded on disk, estimated and judged against the limits: what its
-// session closes with, and (the sequence's [adaptive]) what it would close with now.
-struct internal::LaneJudgement {
-  std::optional<std::string> error;  // the record cannot be read back, or has no complete run
-  int complete_runs = 0;
-  RecordedEstimate estimate;
-  std::optional<session::SessionRecord> record;  // what the estimate was judged with
-  std::optional<SessionJudgement> judgement;
-};
-
-namespace {
-
-using internal::LaneJudgement;
-
-// `plan_cut_short`: runs still planned are not a defect of the record (the unit ended early, or
-// the session is still going). Judged against `limits` (the file's, or an interim look's).
-LaneJudgement JudgeLane(const UnitLane& lane, bool plan_cut_short, const LimitsConfig& limits) {
-  LaneJudgement out;
-  session::ReadOptions read;
-  read.min_samples_per_run = MinimumSamples(Method::kMl);
-  read.extra_columns = false;  // the estimate reads t_s and y only
-  read.plan_cut_short = plan_cut_short;
-  auto recorded = session::ReadSession(lane.dir, read);
-  // The same document typed by the record's one reader (no second read of the file).
-  std::expected<session::SessionRecord, session::SessionError> record =
-      recorded ? session::ReadSessionRecord(recorded->document, lane.dir / "session.json")
-               : std::unexpected(recorded.error());
-  if (!record) {
-    out.error = "the record cannot be read back: " + record.error().ToString();
-    return out;
+// The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
+// longer change takes no further run (RunPlanned then skips the runs nobody needs). The looks run
+// on the session's look thread while this one keeps the table (interim_look.hpp).
+// The lane's runs still to make, as the next-run ranking sees them: in its own frame, each
+// costing its free run and the table's time to reach it, as the runs made so far took it.
+std::vector<NextRunCandidate> NextRunCandidates(const SessionContext& ctx, const UnitLane& lane) {
+  std::vector<NextRunCandidate> out;
+  const SequenceConfig& seq = ctx.configs->sequence;
+  const double overhead_s = ctx.runs_made > 0 ? ctx.run_overhead_s / ctx.runs_made : 0.0;
+  for (const int id : lane.remaining) {
+    const SequenceRun& run = seq.runs[static_cast<std::size_t>(id - 1)];
+    NextRunCandidate candidate;
+    candidate.id = id;
+    const double sign = lane.hw->axis_sign;
+    candidate.plan.omega_rad_s = sign * (run.omega_rad_s + ctx.earth_rate_rad_s);
+    candidate.plan.a = run.a;
+    candidate.plan.b = run.b;
+    candidate.plan.theta_rad = run.theta_rad;
+    candidate.plan.sample_rate_hz = run.sample_rate_hz;
+    candidate.plan.duration_s = run.free_run_s;
+    candidate.table_s = run.free_run_s + overhead_s;
+    out.push_back(candidate);
   }
-  out.complete_runs = static_cast<int>(recorded->loaded_samples.size());
-  if (recorded->loaded_samples.empty()) {
-    out.error = "no complete run to estimate from";
-    return out;
-  }
-  out.estimate = EstimateRecordedSession(std::move(*recorded), *record, limits.fit);
-  out.judgement = JudgeRecordedSession(out.estimate.method.summary, *record, limits);
-  out.record = std::move(*record);
   return out;
 }
 
-// Why a verdict can no longer change with more runs, or nothing: every δ and ξ estimated (none
-// held: an estimate conditional on a held value has a std that leaves out the held value's error,
-// and after one run of the production sequence it "proved" δ4 of a good unit out of its limits),
-// the fit acceptable on the runs so far, and a limit proven non-conforming (the unit fails
-// whatever else), or every limit proven conforming or not. An undecided limit (inside a guard
-// band), a limit not yet evaluable, a misfit or no limits at all: more runs may change it.
-std::optional<std::string> DecidedWhy(const estimator::EstimateSummary& estimate,
-                                      const std::optional<Verdict>& verdict) {
-  if (!verdict || !verdict->fit_acceptable || verdict->results.empty()) return std::nullopt;
-  for (const bool estimated : estimate.delta_estimated)
-    if (!estimated) return std::nullopt;
-  for (const bool estimated : estimate.xi_estimated)
-    if (!estimated) return std::nullopt;
-  for (const LimitResult& r : verdict->results) {
-    if (r.zone == DecisionZone::kNonConforming)
-      return std::string(ToString(r.quantity)) + " proven non-conforming";
+StepOutcome DecideEarly(SessionContext& ctx, int run_id) {
+  const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
+  ctx.next_run_scores.clear();
+  if (!adaptive.stop_when_decided) return StepOutcome::Ok();
+  for (UnitLane& lane : ctx.lanes) {
+    if (lane.ended || lane.remaining.empty() || lane.CompleteRuns() < adaptive.min_runs) continue;
+    std::vector<NextRunCandidate> candidates;
+    if (adaptive.most_informative_next) candidates = NextRunCandidates(ctx, lane);
+    ctx.looks->Start(static_cast<std::size_t>(&lane - ctx.lanes.data()),
+                     [dir = lane.dir, limits = &ctx.interim_limits, candidates] {
+                       LaneJudgement judged = internal::JudgeLane(dir, /*plan_cut_short=*/true,
+                                                                  *limits, nullptr, /*threads=*/1);
+                       if (!candidates.empty()) internal::RankNextRuns(judged, candidates);
+                       return judged;
+                     });
+    auto now = internal::AwaitLook(ctx, kLookPollNs);
+    if (!now) return now.error();
+    const std::vector<double> scores = now->second.next_run_scores;
+    if (internal::ApplyLook(ctx, lane, run_id, std::move(now->second), internal::kAfterTheRun,
+                            /*whole_record=*/true))
+      continue;
+    // A unit still measuring: what it needs weighs in the table's next run.
+    for (std::size_t c = 0; c < scores.size() && c < candidates.size(); ++c)
+      ctx.next_run_scores[candidates[c].id] += scores[c];
   }
-  for (const LimitResult& r : verdict->results) {
-    if (r.status == LimitStatus::kNotEvaluated || r.zone == DecisionZone::kUndecided)
-      return std::nullopt;
-  }
-  return std::string("every limit decided");
+  return StepOutcome::Ok();
 }
 
-// The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
-// longer change takes no further run (RunPlanned then skips the runs nobody needs). An interim
-// look decides with the interim coverage factor (analysis/interim_looks.hpp), never the file's k.
-void DecideEarly(SessionContext& ctx, int run_id) {
-  const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
-  if (!adaptive.stop_when_decided) return;
-  const int planned = static_cast<int>(ctx.configs->sequence.runs.size());
-  LimitsConfig interim = ctx.configs->limits;
-  interim.decision.coverage_factor = adaptive.interim_coverage_factor.value_or(
-      InterimCoverageFactor(interim.decision.coverage_factor, planned - adaptive.min_runs));
-  char k_text[48];
-  std::snprintf(k_text, sizeof k_text, "interim k = %.3g", interim.decision.coverage_factor);
-  for (UnitLane& lane : ctx.lanes) {
-    if (lane.ended || lane.remaining.empty()) continue;
-    LaneJudgement now = JudgeLane(lane, /*plan_cut_short=*/true, interim);
-    if (now.error || now.complete_runs < adaptive.min_runs || !now.judgement) continue;
-    const std::optional<std::string> why =
-        DecidedWhy(now.estimate.method.summary, now.judgement->verdict);
-    if (!why) {
-      ctx.Log(lane, "after run " + std::to_string(run_id) + ": not decided yet at " + k_text +
-                        " (" + now.judgement->reason + ")");
-      continue;
+// The next run to make of `pending`: the plan's next, unless the looks ranked them (the sequence's
+// next_run = "most_informative"), then the highest-ranked one some unit still takes.
+std::size_t NextRun(SessionContext& ctx, const std::vector<int>& pending) {
+  std::size_t best = 0;
+  double best_score = 0.0;
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    const auto it = ctx.next_run_scores.find(pending[i]);
+    if (it != ctx.next_run_scores.end() && it->second > best_score) {
+      best = i;
+      best_score = it->second;
     }
-    lane.ended_early = EarlyEnd{run_id, planned, *why, interim.decision.coverage_factor};
-    if (ctx.options->on_decided)
-      ctx.options->on_decided(static_cast<std::size_t>(&lane - ctx.lanes.data()),
-                              *lane.ended_early);
-    ctx.Log(lane, "decided after run " + std::to_string(run_id) + " of " + std::to_string(planned) +
-                      " (" + *why + ", " + k_text + "): " + std::to_string(lane.remaining.size()) +
-                      " planned run(s) not needed");
-    lane.remaining.clear();
-    lane.decided = std::make_shared<LaneJudgement>(std::move(now));
   }
+  if (best != 0) {
+    const SequenceRun& run =
+        ctx.configs->sequence.runs[static_cast<std::size_t>(pending[best] - 1)];
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "next: run %d (%.4g rad/s, %.4g s) before run %d: the most information for "
+                  "the limits still undecided per second of table time",
+                  pending[best], run.omega_rad_s, run.free_run_s, pending.front());
+    ctx.Log(line);
+  }
+  ctx.next_run_scores.clear();
+  return best;
 }
 
 // Estimates every complete run of the lane as recorded on disk (so the verdict is about exactly
@@ -299,9 +341,10 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
   result.dir = lane.dir;
   SessionOutcome outcome;
   const bool decided_at_interim_look = lane.decided != nullptr;
-  LaneJudgement judged = decided_at_interim_look
-                             ? std::move(*lane.decided)
-                             : JudgeLane(lane, lane.ended_early.has_value(), ctx.configs->limits);
+  LaneJudgement judged =
+      decided_at_interim_look
+          ? std::move(*lane.decided)
+          : internal::JudgeLane(lane.dir, lane.ended_early.has_value(), ctx.configs->limits);
   lane.decided.reset();
   // A unit decided at an interim look closes with the verdict of the file's k on that estimate
   // (the interim k is larger: what it proved, the file's k proves too); any other judgement was
@@ -327,9 +370,8 @@ void EstimateAndClose(SessionContext& ctx, UnitLane& lane) {
     result.estimate = std::move(estimated.summary);
     if (lane.ended_early) {
       outcome.ended_early = lane.ended_early;
-      const std::string early = "decided after run " + std::to_string(lane.ended_early->after_run) +
-                                " of " + std::to_string(lane.ended_early->planned_runs) + " (" +
-                                lane.ended_early->why + ")";
+      const std::string early =
+          internal::DecidedWhen(*lane.ended_early) + " (" + lane.ended_early->why + ")";
       outcome.reason = outcome.reason.empty() ? early : outcome.reason + "; " + early;
     }
   }
@@ -355,15 +397,19 @@ std::vector<SessionResult> RunPlanned(SessionContext& ctx, const std::vector<int
   // The start's prompts come first: "mount the unit" is before the unit can warm up.
   StepOutcome step = internal::AskOperator(ctx, PromptPoint::kStart);
   if (step.ok() && warm_up) step = internal::WaitForWarmup(ctx);
-  for (std::size_t i = 0; i < ids.size() && step.ok() && ctx.LiveUnits() > 0; ++i) {
-    ctx.run_index = static_cast<int>(i) + 1;
-    const SequenceRun& run = seq.runs[static_cast<std::size_t>(ids[i] - 1)];
+  std::vector<int> pending = ids;
+  for (int index = 1; !pending.empty() && step.ok() && ctx.LiveUnits() > 0; ++index) {
+    const std::size_t next = NextRun(ctx, pending);
+    const int id = pending[next];
+    pending.erase(pending.begin() + static_cast<std::ptrdiff_t>(next));
+    ctx.run_index = index;
+    const SequenceRun& run = seq.runs[static_cast<std::size_t>(id - 1)];
     bool needed = false;
-    for (const UnitLane& lane : ctx.lanes) needed = needed || lane.Takes(ids[i]);
+    for (const UnitLane& lane : ctx.lanes) needed = needed || lane.Takes(id);
     if (needed) {
-      step = internal::AskOperator(ctx, PromptPoint::kBeforeRun, ids[i]);
-      if (step.ok()) step = internal::RunOne(ctx, run, ids[i]);
-      if (step.ok() && i + 1 < ids.size()) DecideEarly(ctx, ids[i]);
+      step = internal::AskOperator(ctx, PromptPoint::kBeforeRun, id);
+      if (step.ok()) step = internal::RunOne(ctx, run, id);
+      if (step.ok() && !pending.empty()) step = DecideEarly(ctx, id);
     } else {
       ctx.remaining_free_run_s = std::max(0.0, ctx.remaining_free_run_s - run.free_run_s);
     }
@@ -404,6 +450,16 @@ void Begin(SessionContext& ctx, const BenchConfigs& configs, const BenchHardware
                                     std::chrono::system_clock::now().time_since_epoch())
                                     .count();
   ctx.unix_offset_ns = unix_now - ctx.start_ns;
+  // The interim looks' k, once for the session: an integration over every look the plan has
+  // (analysis/interim_looks.hpp), or the sequence's own.
+  const AdaptiveStop& adaptive = configs.sequence.adaptive;
+  ctx.interim_limits = configs.limits;
+  if (adaptive.stop_when_decided) {
+    ctx.interim_limits.decision.coverage_factor =
+        adaptive.interim_coverage_factor.value_or(InterimCoverageFactor(
+            configs.limits.decision.coverage_factor, configs.sequence.InterimLookFractions()));
+  }
+  ctx.looks = std::make_unique<internal::LookWorker>(*hw.clock);
 }
 
 // The lanes' labels: none for a session of one unit (its log reads as before), "A SN-1: " else.

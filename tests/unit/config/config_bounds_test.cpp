@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "hrgbench/config/bench_configs.hpp"
 
@@ -97,6 +98,65 @@ TEST(ConfigBounds, AdaptiveStopIsReadAndItsMinimumRunsBounded) {
   EXPECT_EQ(too_large.error().key, "adaptive.interim_coverage_factor")
       << too_large.error().ToString();
   EXPECT_EQ(too_large.error().value, "7") << too_large.error().ToString();
+}
+
+// [adaptive] look_interval_s: looks within runs, planned as the sequencer takes them.
+TEST(ConfigBounds, LooksWithinRunsArePlannedAndBounded) {
+  const std::string two_runs = kSequenceHead + kRun + kRun;  // 10 s each
+  auto after_runs = ParseSequenceConfig(
+      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\n", kFile);
+  ASSERT_TRUE(after_runs) << after_runs.error().ToString();
+  EXPECT_EQ(after_runs->adaptive.look_interval_s, 0.0);
+  EXPECT_EQ(after_runs->InterimLookFractions(), std::vector<double>{0.5});  // after run 1
+  auto within = ParseSequenceConfig(
+      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\nlook_interval_s = 3\n",
+      kFile);
+  ASSERT_TRUE(within) << within.error().ToString();
+  EXPECT_EQ(within->adaptive.look_interval_s, 3.0);
+  // At 3 and 6 s of each run; not at 9 s (within half an interval of the run's end at 10 s),
+  // and after run 1 (not after the last).
+  const std::vector<double> looks = within->InterimLookFractions();
+  const std::vector<double> expected = {0.15, 0.3, 0.5, 0.65, 0.8};
+  ASSERT_EQ(looks.size(), expected.size());
+  for (std::size_t i = 0; i < looks.size(); ++i) EXPECT_NEAR(looks[i], expected[i], 1e-12) << i;
+  // From min_runs on only.
+  auto from_second = ParseSequenceConfig(
+      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 2\nlook_interval_s = 3\n",
+      kFile);
+  ASSERT_TRUE(from_second) << from_second.error().ToString();
+  EXPECT_EQ(from_second->InterimLookFractions().size(), 2u);
+  // Off: no looks at all.
+  auto off = ParseSequenceConfig(two_runs + "\n[adaptive]\nlook_interval_s = 3\n", kFile);
+  ASSERT_TRUE(off) << off.error().ToString();
+  EXPECT_TRUE(off->InterimLookFractions().empty());
+  auto too_often = ParseSequenceConfig(two_runs + "\n[adaptive]\nlook_interval_s = 0.5\n", kFile);
+  ASSERT_FALSE(too_often);
+  EXPECT_EQ(too_often.error().key, "adaptive.look_interval_s") << too_often.error().ToString();
+  EXPECT_EQ(too_often.error().value, "0.5") << too_often.error().ToString();
+  // More looks than an estimate each can be afforded: 450 runs of 10 s looked at every 5 s.
+  std::string many = kSequenceHead;
+  for (int i = 0; i < 450; ++i) many += kRun;
+  auto too_many = ParseSequenceConfig(
+      many + "\n[adaptive]\nstop_when_decided = true\nlook_interval_s = 5\n", kFile);
+  ASSERT_FALSE(too_many);
+  EXPECT_EQ(too_many.error().key, "adaptive.look_interval_s") << too_many.error().ToString();
+  EXPECT_NE(too_many.error().message.find("899 interim looks"), std::string::npos)
+      << too_many.error().ToString();
+}
+
+// [adaptive] next_run: the plan's order unless the most informative run is asked for.
+TEST(ConfigBounds, TheNextRunIsThePlansUnlessAsked) {
+  const std::string two_runs = kSequenceHead + kRun + kRun;
+  auto plain = ParseSequenceConfig(two_runs + "\n[adaptive]\nstop_when_decided = true\n", kFile);
+  ASSERT_TRUE(plain) << plain.error().ToString();
+  EXPECT_FALSE(plain->adaptive.most_informative_next);
+  auto informative =
+      ParseSequenceConfig(two_runs + "\n[adaptive]\nnext_run = \"most_informative\"\n", kFile);
+  ASSERT_TRUE(informative) << informative.error().ToString();
+  EXPECT_TRUE(informative->adaptive.most_informative_next);
+  auto unknown = ParseSequenceConfig(two_runs + "\n[adaptive]\nnext_run = \"shortest\"\n", kFile);
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.error().key, "adaptive.next_run") << unknown.error().ToString();
 }
 
 TEST(ConfigBounds, NulInANameIsRefused) {

@@ -284,8 +284,12 @@ const Station = (() => {
         break;
       case "decided": {
         // The sequence's [adaptive]: this unit's verdict can no longer change; it takes no
-        // further run. The runs after it are not needed once no unit on the table needs them.
-        const note = "decided after run " + e.after_run + " of " + e.planned_runs + ": " + e.why;
+        // further run (decided within a run: its capture stops there). The runs after it are not
+        // needed once no unit on the table needs them.
+        const when = typeof e.within_run_s === "number"
+          ? general(e.within_run_s) + " s into run " + e.after_run
+          : "after run " + e.after_run;
+        const note = "decided " + when + " of " + e.planned_runs + ": " + e.why;
         if (session && session.fixture) {
           const row = unitRow(e.position);
           if (row) {
