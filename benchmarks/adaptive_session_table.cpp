@@ -10,7 +10,7 @@
 //
 //   adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] [--carrier-every C]
 //                          [--excite-s S] [--settle-time-constant-s S] [--keep]
-//                          [--look-interval-s S] [--next-run plan|most_informative]
+//                          [--look-interval-s S] [--next-run plan|most_informative] [--only CLASS]
 //   adaptive_session_table --summary FILE...
 //
 // The first form measures the units whose index i (0 … N−1) has i % M == K and writes one CSV row
@@ -487,6 +487,7 @@ int main(int argc, char** argv) {
   std::string rows_file;
   StationTimes times;
   std::vector<std::string> summary;
+  std::string only;  // --only good|marginal|bad: the units of one class (the same draws)
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto next = [&]() -> std::string {
@@ -506,6 +507,8 @@ int main(int argc, char** argv) {
       times.settle_time_constant_s = std::stod(next());
     } else if (arg == "--keep") {
       times.keep = true;
+    } else if (arg == "--only") {
+      only = next();
     } else if (arg == "--look-interval-s") {
       times.look_interval_s = std::stod(next());
     } else if (arg == "--next-run") {
@@ -533,7 +536,8 @@ int main(int argc, char** argv) {
           stderr,
           "usage: adaptive_session_table --rows FILE [--units N] [--seed S] [--shard K/M] "
           "[--carrier-every C] [--excite-s S] [--settle-time-constant-s S] [--keep] "
-          "[--look-interval-s S] [--next-run plan|most_informative] | --summary FILE...\n");
+          "[--look-interval-s S] [--next-run plan|most_informative] [--only CLASS] | --summary "
+          "FILE...\n");
       return 2;
     }
   }
@@ -549,6 +553,7 @@ int main(int argc, char** argv) {
       std::filesystem::temp_directory_path() / ("hrgbench-adaptive-table-" + std::to_string(rd()));
   for (int i = shard; i < units; i += shards) {
     const Unit unit = Draw(i, carrier_every, seed);
+    if (!only.empty() && only != kClassNames[unit.unit_class]) continue;
     const std::string name = "unit-" + std::to_string(i);
     const Measured full = Measure(unit, times, "sequence-production.toml", work / name / "full");
     const Measured adaptive =

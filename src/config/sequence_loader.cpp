@@ -485,18 +485,28 @@ double SequenceConfig::TotalFreeRunS() const {
   return total;
 }
 
+double FirstLookWithinRunS(double look_interval_s, double shortest_run_before_s) {
+  if (!(look_interval_s > 0.0)) return 0.0;
+  const double intervals = std::max(1.0, std::ceil(shortest_run_before_s / look_interval_s - 1e-9));
+  return intervals * look_interval_s;
+}
+
 std::vector<double> SequenceConfig::InterimLookFractions() const {
   std::vector<double> looks;
   const double total = TotalFreeRunS();
   if (!adaptive.stop_when_decided || !(total > 0.0)) return looks;
   const double every = adaptive.look_interval_s;
   double before = 0.0;
+  double shortest = 0.0;  // of the runs before
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const double length = runs[r].free_run_s;
     const bool may_decide = static_cast<int>(r) + 1 >= adaptive.min_runs;
-    // Not within half an interval of the run's end, where the look after it comes anyway.
-    for (int n = 1; may_decide && every > 0.0 && n * every <= length - 0.5 * every; ++n)
-      looks.push_back((before + n * every) / total);
+    // From FirstLookWithinRunS on; not within half an interval of the run's end, where the look
+    // after it comes anyway.
+    for (double at = FirstLookWithinRunS(every, shortest);
+         may_decide && every > 0.0 && at <= length - 0.5 * every; at += every)
+      looks.push_back((before + at) / total);
+    shortest = r == 0 ? length : std::min(shortest, length);
     before += length;
     if (may_decide && r + 1 < runs.size()) looks.push_back(before / total);
   }

@@ -17,9 +17,9 @@
 // of the plan's free-run seconds). That probability is computed exactly for the planned looks by
 // recursive numerical integration of W's density between them (Armitage, McPherson & Rowe 1969):
 // for equally spaced looks k_i is Pocock's boundary. Bonferroni (looks · (1 − Φ(k_i)) = 1 − Φ(k))
-// ignores the sharing and would ask 3.5 instead of 2.6 for the 120 looks of a sequence that looks
-// every 5 s. A decaying wave gives more information early than late, so the true correlation of
-// the looks is higher than assumed: the real risk is below the stated one.
+// ignores the sharing and would ask 3.55 instead of 2.93 for 120 equally spaced looks. A decaying
+// wave gives more information early than late, so the true correlation of the looks is higher than
+// assumed: the real risk is below the stated one.
 
 #include <span>
 

@@ -105,6 +105,13 @@ struct CaptureCriteria {
 // more): each is an estimate at the bench, and their coverage factor's integration grows as n^1.5.
 inline constexpr std::size_t kMaxInterimLooks = 400;
 
+// The first look within a run: the first multiple of look_interval_s that is at least as long as
+// the shortest run already made (and at least one interval). A run much shorter than the others
+// cannot show that one of them is off (its Ω, most of all): at 5 s of a second 20 s run the fit
+// absorbed a first run's Ω error of 10 of its std into δ2 (8 std) and flagged none of 10 sessions;
+// from 15 s on it flagged all (docs/measurements/2026-12-02-adaptive-looks.md). 0 for no looks.
+double FirstLookWithinRunS(double look_interval_s, double shortest_run_before_s);
+
 struct AdaptiveStop {
   bool stop_when_decided = false;
   int min_runs = 1;  // complete runs before the first decision, 1 … the sequence's runs
@@ -169,8 +176,10 @@ struct SequenceConfig {
   double TotalFreeRunS() const;
   // The interim looks [adaptive] plans, as information fractions (free-run seconds before the
   // look over TotalFreeRunS), in order: within each run from the min_runs-th on, at every
-  // look_interval_s of its free run up to half an interval before its end; after each run from
-  // the min_runs-th to the last but one. Empty unless stop_when_decided. At most kMaxInterimLooks.
+  // look_interval_s of its free run from FirstLookWithinRunS up to half an interval before its
+  // end; after each run from the min_runs-th to the last but one. Empty unless stop_when_decided.
+  // At most kMaxInterimLooks. (With next_run = "most_informative" the runs may come in another
+  // order; the plan's order is what k_i is computed for.)
   std::vector<double> InterimLookFractions() const;
 };
 

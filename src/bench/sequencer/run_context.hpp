@@ -2,6 +2,7 @@
 // State shared by the steps of one session (internal to the sequencer): the table's part, and one
 // lane per unit on it.
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -58,6 +59,17 @@ struct UnitLane {
     int complete = 0;
     for (const RecordedRun& run : recorder->Runs()) complete += run.status == kRunComplete ? 1 : 0;
     return complete;
+  }
+  // The planned free run of the shortest of them (0 when none).
+  double ShortestCompleteRunS() const {
+    double shortest = 0.0;
+    bool any = false;
+    for (const RecordedRun& run : recorder->Runs()) {
+      if (run.status != kRunComplete) continue;
+      shortest = any ? std::min(shortest, run.plan.free_run_s) : run.plan.free_run_s;
+      any = true;
+    }
+    return shortest;
   }
 };
 

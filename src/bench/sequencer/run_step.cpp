@@ -437,7 +437,8 @@ StepOutcome RunOne(SessionContext& ctx, const SequenceRun& run, int run_id) {
     if (unit.looks) {
       unit.partial.t_s.reserve(run.Samples());
       unit.partial.y.reserve(4 * run.Samples());
-      unit.next_look_s = adaptive.look_interval_s;
+      unit.next_look_s =
+          FirstLookWithinRunS(adaptive.look_interval_s, unit.lane->ShortestCompleteRunS());
     }
   }
 

@@ -126,39 +126,48 @@ TEST(BenchAdaptive, TheDecisionIsAnnouncedAsItIsTaken) {
   const bool within = std::isfinite(decided[0].second.within_run_s);
   EXPECT_EQ(runs_when_decided, result.complete_runs - (within ? 1 : 0));
   EXPECT_EQ(runs_ended, result.complete_runs);
-  // The shipped adaptive sequence's 115 interim looks at the example limits' k = 2: from run 2 on,
-  // at 5, 10 and 15 s of each 20 s run and every 5 s to 75 s of each 80 s run, and after runs
-  // 2 … 11 (information as the share of the 600 s of free run).
+  // The shipped adaptive sequence's 82 interim looks at the example limits' k = 2: every 5 s from
+  // 20 s to 75 s of each 80 s run (a look within a run waits until it is as long as the shortest
+  // run made, 20 s), and after runs 2 … 11 (information as the share of the 600 s of free run).
   std::vector<double> looks;
   double before = 0.0;
   for (int run = 1; run <= 12; ++run) {
     const double length = run <= 6 ? 20.0 : 80.0;
-    for (double at = 5.0; run >= 2 && at < length; at += 5.0) looks.push_back((before + at) / 600);
+    for (double at = 20.0; run >= 7 && at < length; at += 5.0) looks.push_back((before + at) / 600);
     before += length;
     if (run >= 2 && run < 12) looks.push_back(before / 600);
   }
-  ASSERT_EQ(looks.size(), 115u);
+  ASSERT_EQ(looks.size(), 82u);
   EXPECT_NEAR(decided[0].second.interim_coverage_factor, bench::InterimCoverageFactor(2.0, looks),
               1e-9);
 }
 
+// The production sequence with its first run cut to 20 s and looks every 5 s from the second run
+// on: the second run's first look is at 20 s (as long as the first run), where a good unit is
+// decided.
+void LooksWithinRuns(bench::BenchConfigs& c) {
+  Adaptive(c, 2);
+  c.sequence.adaptive.look_interval_s = 5.0;
+  c.sequence.runs.front().free_run_s = 20.0;
+}
+
 TEST(BenchAdaptive, AUnitDecidedWithinARunStopsCapturingThereAndTheRecordSaysWhy) {
   const BenchRun run =
-      RunOnSimulatedStation("sequence-production-adaptive.toml", "limits-example.toml");
+      RunOnSimulatedStation("sequence-production.toml", "limits-example.toml", LooksWithinRuns);
   ASSERT_EQ(run.result.outcome, bench::OutcomeKind::kPass) << run.result.reason;
   const session::OutcomeRecord outcome = RecordedOutcome(run.dir);
   ASSERT_TRUE(outcome.ended_early.has_value()) << run.result.reason;
   const bench::EarlyEnd& early = *outcome.ended_early;
-  // A good unit far inside its limits: decided at a look within its second run (5, 10 or 15 s).
+  // A good unit far inside its limits: decided at the first look within its second run.
   ASSERT_TRUE(std::isfinite(early.within_run_s)) << run.result.reason;
   EXPECT_EQ(early.after_run, 2);
-  EXPECT_GE(early.within_run_s, 5.0);
-  EXPECT_LT(early.within_run_s, 20.0);
+  EXPECT_GE(early.within_run_s, 20.0);
+  EXPECT_LT(early.within_run_s, 21.0);
   EXPECT_EQ(early.why, "every limit decided");
-  EXPECT_NE(run.result.reason.find("s into run 2 of 12"), std::string::npos) << run.result.reason;
+  EXPECT_NE(run.result.reason.find("s into run 2 of 6"), std::string::npos) << run.result.reason;
   auto record = session::ReadSessionRecord(run.dir);
   ASSERT_TRUE(record) << record.error().ToString();
-  ASSERT_EQ(record->runs.size(), 12u);
+  ASSERT_EQ(record->runs.size(), 6u);
   // Run 2 is complete with what its capture held when it stopped: the samples to the look, and
   // those the capture took before its stop was seen (the look's answer comes at the sequencer's
   // next 20 ms loop, the stop within the capture's 10 ms read timeout; more on a loaded machine,
@@ -172,12 +181,12 @@ TEST(BenchAdaptive, AUnitDecidedWithinARunStopsCapturingThereAndTheRecordSaysWhy
   ASSERT_TRUE(second.end->samples.has_value());
   const auto at_look = static_cast<std::uint64_t>(std::llround(early.within_run_s * 1000.0)) + 1;
   EXPECT_GE(*second.end->samples, at_look);
-  EXPECT_LT(*second.end->samples, 20000u);
-  // Run 1 went its planned length, and says nothing of a decision; runs 3 … 12 never began.
+  EXPECT_LT(*second.end->samples, 100000u);
+  // Run 1 went its planned length, and says nothing of a decision; runs 3 … 6 never began.
   ASSERT_TRUE(record->runs[0].end.has_value());
   EXPECT_EQ(record->runs[0].end->samples, 20000u);
   EXPECT_FALSE(std::isfinite(record->runs[0].end->values.decided_at_s));
-  for (std::size_t r = 2; r < 12; ++r) EXPECT_EQ(record->runs[r].status, bench::kRunPlanned) << r;
+  for (std::size_t r = 2; r < 6; ++r) EXPECT_EQ(record->runs[r].status, bench::kRunPlanned) << r;
   // The session closed with the record's whole runs estimated at the file's k, and it agrees
   // with the simulated truth.
   ASSERT_EQ(run.result.complete_runs, 2);
@@ -194,8 +203,8 @@ TEST(BenchAdaptive, AUnitDecidedWithinARunStopsCapturingThereAndTheRecordSaysWhy
 }
 
 TEST(BenchAdaptive, AFixtureRunEndsOnceNoUnitOnTheTableNeedsMoreOfIt) {
-  const FixtureRun run =
-      RunFixtureOnSimulatedStation("sequence-production-adaptive.toml", "limits-example.toml");
+  const FixtureRun run = RunFixtureOnSimulatedStation("sequence-production.toml",
+                                                      "limits-example.toml", LooksWithinRuns);
   ASSERT_EQ(run.results.size(), 4u);
   for (const bench::SessionResult& result : run.results) {
     SCOPED_TRACE(result.dir.filename().string());
@@ -208,12 +217,11 @@ TEST(BenchAdaptive, AFixtureRunEndsOnceNoUnitOnTheTableNeedsMoreOfIt) {
         record->runs[static_cast<std::size_t>(outcome.ended_early->after_run - 1)];
     ASSERT_TRUE(last.end.has_value());
     ASSERT_TRUE(last.end->samples.has_value());
-    if (std::isfinite(outcome.ended_early->within_run_s)) {
-      // Each unit stopped capturing at its own decision, short of the run's 20 000 samples.
-      EXPECT_EQ(last.end->values.decided_at_s, outcome.ended_early->within_run_s);
-      EXPECT_LT(*last.end->samples, 20000u);
-    }
-    for (std::size_t r = static_cast<std::size_t>(outcome.ended_early->after_run); r < 12; ++r)
+    // Each unit stopped capturing at its own decision, short of the run's 100 000 samples.
+    ASSERT_TRUE(std::isfinite(outcome.ended_early->within_run_s)) << result.reason;
+    EXPECT_EQ(last.end->values.decided_at_s, outcome.ended_early->within_run_s);
+    EXPECT_LT(*last.end->samples, 100000u);
+    for (std::size_t r = static_cast<std::size_t>(outcome.ended_early->after_run); r < 6; ++r)
       EXPECT_EQ(record->runs[r].status, bench::kRunPlanned) << "run " << r + 1;
   }
 }

@@ -58,7 +58,7 @@ TEST(InterimLooks, TwoLooksCrossAsTheBivariateNormalSays) {
 }
 
 TEST(InterimLooks, ManyLooksOfAnAdaptiveSequenceRiskWhatOneLookRisks) {
-  // 115 looks as a sequence with looks every 5 s plans them (uneven: 20 s runs, then 80 s).
+  // 115 uneven looks: every 5 s within and after each run of 20 s, then of 80 s, from the second.
   std::vector<double> t;
   double before = 0.0;
   for (const double length :

@@ -102,45 +102,50 @@ TEST(ConfigBounds, AdaptiveStopIsReadAndItsMinimumRunsBounded) {
 
 // [adaptive] look_interval_s: looks within runs, planned as the sequencer takes them.
 TEST(ConfigBounds, LooksWithinRunsArePlannedAndBounded) {
-  const std::string two_runs = kSequenceHead + kRun + kRun;  // 10 s each
-  auto after_runs = ParseSequenceConfig(
-      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\n", kFile);
+  // A 10 s run, then a 30 s one.
+  const std::string runs = kSequenceHead + kRun + kRun + "free_run_s = 30.0\n";
+  auto after_runs =
+      ParseSequenceConfig(runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\n", kFile);
   ASSERT_TRUE(after_runs) << after_runs.error().ToString();
   EXPECT_EQ(after_runs->adaptive.look_interval_s, 0.0);
-  EXPECT_EQ(after_runs->InterimLookFractions(), std::vector<double>{0.5});  // after run 1
+  EXPECT_EQ(after_runs->InterimLookFractions(), std::vector<double>{0.25});  // after run 1
   auto within = ParseSequenceConfig(
-      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\nlook_interval_s = 3\n",
-      kFile);
+      runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 1\nlook_interval_s = 3\n", kFile);
   ASSERT_TRUE(within) << within.error().ToString();
   EXPECT_EQ(within->adaptive.look_interval_s, 3.0);
-  // At 3 and 6 s of each run; not at 9 s (within half an interval of the run's end at 10 s),
-  // and after run 1 (not after the last).
+  // Run 1 at 3 and 6 s (not at 9 s: within half an interval of its end); after run 1; run 2 from
+  // 12 s (the first multiple of 3 s as long as run 1) to 27 s, of 40 s in all.
   const std::vector<double> looks = within->InterimLookFractions();
-  const std::vector<double> expected = {0.15, 0.3, 0.5, 0.65, 0.8};
+  const std::vector<double> expected = {3, 6, 10, 22, 25, 28, 31, 34, 37};
   ASSERT_EQ(looks.size(), expected.size());
-  for (std::size_t i = 0; i < looks.size(); ++i) EXPECT_NEAR(looks[i], expected[i], 1e-12) << i;
-  // From min_runs on only.
+  for (std::size_t i = 0; i < looks.size(); ++i)
+    EXPECT_NEAR(looks[i], expected[i] / 40.0, 1e-12) << i;
+  EXPECT_EQ(FirstLookWithinRunS(3.0, 0.0), 3.0);
+  EXPECT_EQ(FirstLookWithinRunS(3.0, 10.0), 12.0);
+  EXPECT_EQ(FirstLookWithinRunS(5.0, 20.0), 20.0);
+  EXPECT_EQ(FirstLookWithinRunS(0.0, 20.0), 0.0);
+  // From min_runs on only: run 2's six.
   auto from_second = ParseSequenceConfig(
-      two_runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 2\nlook_interval_s = 3\n",
-      kFile);
+      runs + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 2\nlook_interval_s = 3\n", kFile);
   ASSERT_TRUE(from_second) << from_second.error().ToString();
-  EXPECT_EQ(from_second->InterimLookFractions().size(), 2u);
+  EXPECT_EQ(from_second->InterimLookFractions().size(), 6u);
   // Off: no looks at all.
-  auto off = ParseSequenceConfig(two_runs + "\n[adaptive]\nlook_interval_s = 3\n", kFile);
+  auto off = ParseSequenceConfig(runs + "\n[adaptive]\nlook_interval_s = 3\n", kFile);
   ASSERT_TRUE(off) << off.error().ToString();
   EXPECT_TRUE(off->InterimLookFractions().empty());
-  auto too_often = ParseSequenceConfig(two_runs + "\n[adaptive]\nlook_interval_s = 0.5\n", kFile);
+  auto too_often = ParseSequenceConfig(runs + "\n[adaptive]\nlook_interval_s = 0.5\n", kFile);
   ASSERT_FALSE(too_often);
   EXPECT_EQ(too_often.error().key, "adaptive.look_interval_s") << too_often.error().ToString();
   EXPECT_EQ(too_often.error().value, "0.5") << too_often.error().ToString();
-  // More looks than an estimate each can be afforded: 450 runs of 10 s looked at every 5 s.
-  std::string many = kSequenceHead;
-  for (int i = 0; i < 450; ++i) many += kRun;
+  // More looks than an estimate each can be afforded: a 10 s run, then 100 runs of 30 s looked at
+  // every 2 s from 10 s on (10 looks each) and after each but the last.
+  std::string many = kSequenceHead + kRun;
+  for (int i = 0; i < 100; ++i) many += kRun + "free_run_s = 30.0\n";
   auto too_many = ParseSequenceConfig(
-      many + "\n[adaptive]\nstop_when_decided = true\nlook_interval_s = 5\n", kFile);
+      many + "\n[adaptive]\nstop_when_decided = true\nmin_runs = 2\nlook_interval_s = 2\n", kFile);
   ASSERT_FALSE(too_many);
   EXPECT_EQ(too_many.error().key, "adaptive.look_interval_s") << too_many.error().ToString();
-  EXPECT_NE(too_many.error().message.find("899 interim looks"), std::string::npos)
+  EXPECT_NE(too_many.error().message.find("1099 interim looks"), std::string::npos)
       << too_many.error().ToString();
 }
 

@@ -167,9 +167,9 @@ TEST(ShippedConfigs, AdaptiveProductionSequenceIsTheProductionDesignInTwoPasses)
   EXPECT_TRUE(adaptive->adaptive.stop_when_decided);
   EXPECT_EQ(adaptive->adaptive.min_runs, 2);
   EXPECT_EQ(adaptive->adaptive.look_interval_s, 5.0);
-  // 3 looks within each 20 s run and 15 within each 80 s one from run 2 on, one after each of runs
-  // 2 … 11.
-  EXPECT_EQ(adaptive->InterimLookFractions().size(), 5u * 3u + 6u * 15u + 10u);
+  // None within the 20 s runs (a look within a run waits until it is as long as the shortest run
+  // made), 12 within each 80 s one (20 … 75 s), one after each of runs 2 … 11.
+  EXPECT_EQ(adaptive->InterimLookFractions().size(), 6u * 12u + 10u);
   // Everything else as production's: settling, warm-up, drift and capture criteria.
   EXPECT_EQ(adaptive->warmup.min_s, production->warmup.min_s);
   EXPECT_EQ(adaptive->settle.rate_tolerance_rad_s, production->settle.rate_tolerance_rad_s);
