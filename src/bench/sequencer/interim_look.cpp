@@ -131,8 +131,11 @@ void LookWorker::Start(std::size_t tag, std::function<LaneJudgement()> look) {
       answer_ = LaneJudgement{};
       answer_.error = "the look ran out of memory";
     }
-    clock_.DetachCurrentThread();
+    // Done before the clock is let go: once it is, simulated time runs on, and a caller that polled
+    // between the two would see no answer until this thread was scheduled again (on a loaded
+    // machine, seconds of simulated time later).
     done_.store(true, std::memory_order_release);
+    clock_.DetachCurrentThread();
   });
   attached_.acquire();
 }
