@@ -254,9 +254,6 @@ SessionResult Finish(SessionResult result) {
 // How often the wait for a look between runs feeds the table's heartbeat and reads the CAN logs.
 constexpr std::int64_t kLookPollNs = 20'000'000;
 
-// The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
-// longer change takes no further run (RunPlanned then skips the runs nobody needs). The looks run
-// on the session's look thread while this one keeps the table (interim_look.hpp).
 // The lane's runs still to make, as the next-run ranking sees them: in its own frame, each
 // costing its free run and the table's time to reach it, as the runs made so far took it.
 std::vector<NextRunCandidate> NextRunCandidates(const SessionContext& ctx, const UnitLane& lane) {
@@ -280,6 +277,10 @@ std::vector<NextRunCandidate> NextRunCandidates(const SessionContext& ctx, const
   return out;
 }
 
+// The sequence's [adaptive], after run `run_id`: each unit still measuring whose verdict can no
+// longer change takes no further run (RunPlanned then skips the runs nobody needs); with next_run =
+// "most_informative" the others rank the runs left. The looks run on the session's look thread
+// while this one keeps the table (interim_look.hpp).
 StepOutcome DecideEarly(SessionContext& ctx, int run_id) {
   const AdaptiveStop& adaptive = ctx.configs->sequence.adaptive;
   ctx.next_run_scores.clear();
