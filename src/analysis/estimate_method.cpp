@@ -73,15 +73,28 @@ std::string CheckRequest(const MethodRequest& request) {
   return {};
 }
 
-MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const MethodRequest& request) {
+namespace {
+
+// The paper's methods take every run at once: a set read run by run is copied into memory for them.
+std::vector<estimator::RunData> CopyAll(const estimator::RunSet& runs) {
+  std::vector<estimator::RunData> out;
+  out.reserve(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) out.push_back(*runs.Load(r));
+  return out;
+}
+
+// `all_runs()`: every run in memory, for the paper's methods; `run_set`: the same runs for ml.
+template <typename AllRuns>
+MethodResult Run(const AllRuns& all_runs, const estimator::RunSet& run_set,
+                 const MethodRequest& request) {
   MethodResult result;
   const auto start = std::chrono::steady_clock::now();
   switch (request.method) {
     case Method::kPaper:
-      result.summary = estimator::EstimatePaper(runs);
+      result.summary = estimator::EstimatePaper(all_runs());
       break;
     case Method::kPaperXiGrid:
-      result.summary = estimator::EstimatePaperXiGrid(runs);
+      result.summary = estimator::EstimatePaperXiGrid(all_runs());
       break;
     case Method::kMl: {
       estimator::MlOptions options;
@@ -95,8 +108,9 @@ MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const Method
         options.xi_estimated = *request.xi;
       } else {
         std::vector<double> omegas;
-        omegas.reserve(runs.size());
-        for (const auto& run : runs) omegas.push_back(run.omega_rad_s);
+        omegas.reserve(run_set.size());
+        for (std::size_t r = 0; r < run_set.size(); ++r)
+          omegas.push_back(run_set.Info(r).omega_rad_s);
         const estimator::IdentifiabilityReport plan =
             estimator::CheckRatePlan(omegas, estimator::kAllXi, options.identifiability);
         options.xi_estimated = plan.IdentifiableXi(estimator::kAllXi);
@@ -110,12 +124,23 @@ MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const Method
           result.selection_warnings.push_back(warning);
         }
       }
-      result.summary = estimator::EstimateMaximumLikelihood(runs, options);
+      result.summary = estimator::EstimateMaximumLikelihood(run_set, options);
       break;
     }
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const MethodRequest& request) {
+  return Run([&runs]() -> const std::vector<estimator::RunData>& { return runs; },
+             estimator::RunsInMemory(runs), request);
+}
+
+MethodResult RunMethod(const estimator::RunSet& runs, const MethodRequest& request) {
+  return Run([&runs] { return CopyAll(runs); }, runs, request);
 }
 
 }  // namespace hrgbench::bench

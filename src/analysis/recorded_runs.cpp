@@ -26,45 +26,53 @@ nlohmann::json PreparedRuns::Json() const {
           {"notes", notes_json}};
 }
 
+ReleaseSkip SkipReleaseSettling(double settle_s, estimator::RunData* run_to_cut) {
+  estimator::RunData& run = *run_to_cut;
+  ReleaseSkip skip;
+  skip.run_id = run.id;
+  const auto first = std::lower_bound(run.t_s.begin(), run.t_s.end(), settle_s);
+  std::size_t count = static_cast<std::size_t>(first - run.t_s.begin());
+  // A run too short to lose them keeps what the fit needs (its transient is then fitted).
+  const auto size = static_cast<std::size_t>(run.size());
+  const auto needed = static_cast<std::size_t>(estimator::kMlMinimumSamples);
+  if (size < needed + count) count = size > needed ? size - needed : 0;
+  if (count > 0) {
+    // In place (a copy of the kept columns would be a second copy of the run): the columns move
+    // down, then the storage shrinks (conservativeResize keeping the leading columns).
+    const auto kept = static_cast<Eigen::Index>(size - count);
+    const auto first_kept = static_cast<Eigen::Index>(count);
+    for (Eigen::Index k = 0; k < kept; ++k) run.y.col(k) = run.y.col(k + first_kept);
+    run.y.conservativeResize(Eigen::NoChange, kept);
+    run.t_s.erase(run.t_s.begin(), run.t_s.begin() + static_cast<std::ptrdiff_t>(count));
+  }
+  skip.samples = count;
+  skip.first_fitted_t_s = run.t_s.empty() ? 0.0 : run.t_s.front();
+  return skip;
+}
+
 std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
                                              std::vector<estimator::RunData>* runs) {
   std::vector<ReleaseSkip> skipped;
-  for (estimator::RunData& run : *runs) {
-    ReleaseSkip skip;
-    skip.run_id = run.id;
-    const auto first = std::lower_bound(run.t_s.begin(), run.t_s.end(), settle_s);
-    std::size_t count = static_cast<std::size_t>(first - run.t_s.begin());
-    // A run too short to lose them keeps what the fit needs (its transient is then fitted).
-    const auto size = static_cast<std::size_t>(run.size());
-    const auto needed = static_cast<std::size_t>(estimator::kMlMinimumSamples);
-    if (size < needed + count) count = size > needed ? size - needed : 0;
-    if (count > 0) {
-      // In place (a copy of the kept columns would be a second copy of the run): the columns move
-      // down, then the storage shrinks (conservativeResize keeping the leading columns).
-      const auto kept = static_cast<Eigen::Index>(size - count);
-      const auto first_kept = static_cast<Eigen::Index>(count);
-      for (Eigen::Index k = 0; k < kept; ++k) run.y.col(k) = run.y.col(k + first_kept);
-      run.y.conservativeResize(Eigen::NoChange, kept);
-      run.t_s.erase(run.t_s.begin(), run.t_s.begin() + static_cast<std::ptrdiff_t>(count));
-    }
-    skip.samples = count;
-    skip.first_fitted_t_s = run.t_s.empty() ? 0.0 : run.t_s.front();
-    skipped.push_back(skip);
-  }
+  for (estimator::RunData& run : *runs) skipped.push_back(SkipReleaseSettling(settle_s, &run));
   return skipped;
 }
 
 namespace {
 
-PreparedRuns Prepare(const session::Session& recorded, std::vector<estimator::RunData> runs,
-                     const session::ElectronicsRecord& electronics) {
+// Everything but the runs and their skips.
+PreparedRuns PreparationOf(const session::Session& recorded,
+                           const session::ElectronicsRecord& electronics) {
   PreparedRuns out;
   out.output_filter = RecordedOutputFilter(electronics);
   out.iq_convention = recorded.iq_convention;
-  out.runs = std::move(runs);
   out.notes = recorded.notes;
   out.settle_s = ReleaseSettlingS(out.output_filter);
-  out.skipped = SkipReleaseSettling(out.settle_s, &out.runs);
+  return out;
+}
+
+// The note on the settling skip, once the runs are skipped.
+void NoteSettlingSkip(PreparedRuns* prepared) {
+  PreparedRuns& out = *prepared;
   if (out.settle_s > 0.0) {
     std::size_t total = 0;
     for (const ReleaseSkip& skip : out.skipped) total += skip.samples;
@@ -76,10 +84,36 @@ PreparedRuns Prepare(const session::Session& recorded, std::vector<estimator::Ru
                   OutputFilterName(out.output_filter).c_str(), kReleaseSettlingFraction);
     out.notes.emplace_back(line);
   }
+}
+
+PreparedRuns Prepare(const session::Session& recorded, std::vector<estimator::RunData> runs,
+                     const session::ElectronicsRecord& electronics) {
+  PreparedRuns out = PreparationOf(recorded, electronics);
+  out.runs = std::move(runs);
+  out.skipped = SkipReleaseSettling(out.settle_s, &out.runs);
+  NoteSettlingSkip(&out);
   return out;
 }
 
 }  // namespace
+
+std::expected<PreparedRuns, session::SessionError> SpoolRecordedRuns(
+    const std::filesystem::path& dir, const session::Session& recorded,
+    const session::ElectronicsRecord& electronics, const session::ReadOptions& options,
+    session::RunSpool* spool) {
+  PreparedRuns out = PreparationOf(recorded, electronics);
+  const auto take =
+      [&](const session::RunEntry& entry,
+          session::RunSamples&& samples) -> std::expected<void, session::SessionError> {
+    estimator::RunData run = session::ToRunData(entry, std::move(samples), recorded.iq_convention);
+    out.skipped.push_back(SkipReleaseSettling(out.settle_s, &run));
+    return spool->Add(std::move(run));
+  };
+  if (auto read = session::ReadEachRun(dir, recorded, options, take); !read)
+    return std::unexpected(read.error());
+  NoteSettlingSkip(&out);
+  return out;
+}
 
 PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
                                  const session::ElectronicsRecord& electronics) {

@@ -8,18 +8,26 @@
 
 #include "app/cli_exit.hpp"
 #include "app/logging.hpp"
+#include "app/memory_policy.hpp"
 #include "hrgbench/analysis/engineering_of_record.hpp"
 #include "hrgbench/analysis/estimate_method.hpp"
 #include "hrgbench/analysis/estimate_report_json.hpp"
 #include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/analysis/recorded_frequency.hpp"
 #include "hrgbench/analysis/recorded_runs.hpp"
+#include "hrgbench/session/run_spool.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
 
 namespace {
 
 using namespace hrgbench;
+
+// The runs' samples kept in memory between the fit's passes: a production session (6 × 100 s at
+// 1 kHz, 24 MB) and one of 6 × 1000 s (240 MB) fit whole; longer ones are spooled beyond it
+// (session/run_spool.hpp).
+constexpr std::size_t kDefaultMemoryMib = 1024;
+constexpr std::size_t kMaxMemoryMib = std::size_t{1} << 20;
 
 struct Arguments {
   std::string dir;
@@ -29,6 +37,7 @@ struct Arguments {
   int phase_degree = estimator::MlOptions{}.phase_degree;
   bool omega_exact = false;
   std::string covariance = "auto";
+  std::size_t memory_mib = kDefaultMemoryMib;
 };
 
 int Run(const Arguments& args) {
@@ -46,6 +55,7 @@ int Run(const Arguments& args) {
   session::ReadOptions read_options;
   read_options.min_samples_per_run = bench::MinimumSamples(request.method);
   read_options.extra_columns = false;  // the estimate reads t_s and y only
+  read_options.load_samples = false;   // the runs are read one by one into the spool below
   auto session = session::ReadSession(args.dir, read_options);
   if (!session) {
     // The message alone on stderr, unadorned, so scripts can match it (it names the file).
@@ -60,12 +70,20 @@ int Run(const Arguments& args) {
     std::cerr << record.error().ToString() << '\n';
     return kExitBadInput;
   }
-  // In the model's I/Q convention, less the output filter's settling after release.
-  // The samples move into the runs: one copy of the session's samples, not two.
-  const bench::PreparedRuns prepared =
-      bench::PrepareRecordedRuns(std::move(*session), record->electronics);
-  const std::vector<estimator::RunData>& runs = prepared.runs;
-  if (runs.empty()) {
+  // In the model's I/Q convention, less the output filter's settling after release; read run by
+  // run into the spool, which keeps --memory-mib of them in memory and the rest in a scratch file.
+  session::RunSpool runs(args.memory_mib << 20);
+  const auto spooled =
+      bench::SpoolRecordedRuns(args.dir, *session, record->electronics, read_options, &runs);
+  if (!spooled) {
+    std::cerr << spooled.error().ToString() << '\n';
+    // A run's file is bad input; the scratch file failing (disk full) is this program's error.
+    const auto file = spooled.error().file.lexically_normal().string();
+    const auto dir = std::filesystem::path(args.dir).lexically_normal().string();
+    return file.starts_with(dir) ? kExitBadInput : kExitError;
+  }
+  const bench::PreparedRuns& prepared = *spooled;
+  if (runs.size() == 0) {
     std::cerr << args.dir << ": no complete run to estimate from\n";
     return kExitBadInput;
   }
@@ -77,7 +95,10 @@ int Run(const Arguments& args) {
     return kExitBadInput;
   }
   request.noise_shape = std::move(*noise_shape);
-  spdlog::debug("{}: {} runs loaded, method {}", args.dir, runs.size(), args.method);
+  const session::RunSpool::Counts spool = runs.counts();
+  spdlog::debug("{}: {} runs loaded ({} kept in memory, {} spooled: {} MB), method {}", args.dir,
+                runs.size(), spool.kept_runs, spool.spooled_runs, spool.bytes_written >> 20,
+                args.method);
 
   bench::MethodResult result = bench::RunMethod(runs, request);
   bench::NameIqConventionContradiction(*record, &result.summary);
@@ -117,6 +138,7 @@ int Run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hrgbench::app::KeepFreedMemoryForReuse();  // first: before any thread
   CLI::App cli{
       "hrg-estimate: estimate the HRG parameters delta (6) and xi (4) from a session directory.\n"
       "Methods: ml (output-error maximum likelihood, the default), paper (the paper's OLS on "
@@ -145,6 +167,12 @@ int main(int argc, char** argv) {
                  "ml: auto (white-noise covariance, the sandwich when residuals are not white) | "
                  "white | sandwich")
       ->check(CLI::IsMember({"auto", "white", "sandwich"}));
+  cli.add_option("--memory-mib", args.memory_mib,
+                 "the runs' samples kept in memory, MiB (default " +
+                     std::to_string(kDefaultMemoryMib) +
+                     "); runs beyond it are written to a scratch file in TMPDIR and read back on "
+                     "each pass of the fit (0: only the runs in use, one per thread)")
+      ->check(CLI::Range(std::size_t{0}, kMaxMemoryMib));
   hrgbench::app::AddCommonFlags(cli, &quiet);
   return hrgbench::app::ParseAndRun(cli, argc, argv, "hrg-estimate", quiet,
                                     [&] { return Run(args); });

@@ -165,14 +165,14 @@ bool StartCommonPhase(const RunData& run, double omega_offset_rad_s, const FullP
   return true;
 }
 
-std::vector<RunNuisance> StartNuisance(const std::vector<RunData>& runs, const FullParameters& p,
+std::vector<RunNuisance> StartNuisance(const RunSet& runs, const FullParameters& p,
                                        const NuisanceModel& model, int threads) {
   std::vector<RunNuisance> nuisance(runs.size());
   ParallelFor(runs.size(), threads, [&](std::size_t r) {
     nuisance[r] = RunNuisance::Zero(model.Size(r));
     if (model.phase_degree < 1) return;
     double q[kMaxPhaseDegree] = {};
-    StartCommonPhase(runs[r], 0.0, p, model.phase_degree, q);
+    StartCommonPhase(*runs.Load(r), 0.0, p, model.phase_degree, q);
     for (int j = 1; j <= model.phase_degree; ++j)
       nuisance[r][NuisanceModel::PhaseIndex(j)] = q[j - 1];
   });

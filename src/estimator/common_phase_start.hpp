@@ -44,7 +44,7 @@ bool StartCommonPhase(const RunData& run, double omega_offset_rad_s, const FullP
 
 // Each run's nuisance vector as `model` lays it out: w0 zero (SolveInitialStates solves it), the
 // common phase from StartCommonPhase, ΔΩ zero. Runs are spread over `threads`.
-std::vector<RunNuisance> StartNuisance(const std::vector<RunData>& runs, const FullParameters& p,
+std::vector<RunNuisance> StartNuisance(const RunSet& runs, const FullParameters& p,
                                        const NuisanceModel& model, int threads);
 
 }  // namespace hrgbench::estimator::internal

@@ -74,7 +74,8 @@ CrlbResult CramerRaoBound(const DesignSpec& design, const IdentifiabilityOptions
       if (delta_free[j]) indices.push_back(j);
     for (int k = 0; k < 4; ++k)
       if (xi_free[k]) indices.push_back(internal::kXiOffset + k);
-    internal::OutputErrorProblem problem(runs, indices, 1, 0, model);
+    const RunsInMemory run_set(runs);
+    internal::OutputErrorProblem problem(run_set, indices, 1, 0, model);
     internal::NormalEquations ne;
     problem.Linearize(p, x0, &ne);
     if (indices.empty() || !internal::ReducedInformation(ne, &information)) break;

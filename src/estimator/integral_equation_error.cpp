@@ -186,7 +186,7 @@ bool FinishSolution(const std::vector<int>& columns, const Eigen::VectorXd& solu
   return true;
 }
 
-bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
+bool IntegralEquationError(const RunSet& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
                            IntegralEquationResult* out, int threads, IntegralEquationSums* sums,
                            const Xi* xi_free_around) {
@@ -241,14 +241,14 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     s.leftCols<6>().setIdentity();
     for (int k = 0; k < 4; ++k)
       s(kXiColumn[static_cast<std::size_t>(k)], 6 + k) =
-          4.0 * runs[r].omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
+          4.0 * runs.Info(r).omega_rad_s * kXiSign[static_cast<std::size_t>(k)];
     return s;
   };
   const auto accumulate = [&](std::size_t r) {
     Eigen::Matrix<double, 6, 6> mm = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> ml = Eigen::Matrix<double, 6, 1>::Zero();
     // lazyProduct: products this small are faster unrolled than through Eigen's blocked GEMM.
-    ForEachEquation(runs[r], xi_removed, [&](const Forms& lhs, const Matrix46& m) {
+    ForEachEquation(*runs.Load(r), xi_removed, [&](const Forms& lhs, const Matrix46& m) {
       mm.noalias() += m.transpose().lazyProduct(m);
       ml.noalias() += m.transpose().lazyProduct(lhs);
     });
@@ -260,13 +260,13 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     if (cache.monomials.size() != runs.size()) {
       cache.monomials.assign(runs.size(), IntegralEquationSums::Monomial());
       ParallelFor(runs.size(), threads,
-                  [&](std::size_t r) { cache.monomials[r] = StartMonomialSums(runs[r]); });
+                  [&](std::size_t r) { cache.monomials[r] = StartMonomialSums(*runs.Load(r)); });
     }
     const Eigen::Matrix<double, 4, 10> l = FormsOfMonomials(xi_removed);
     for (std::size_t r = 0; r < runs.size(); ++r) {
       Eigen::Matrix<double, 6, 6> mm;
       Eigen::Matrix<double, 6, 1> ml;
-      StartNormalEquations(cache.monomials[r], runs[r].omega_rad_s, l, &mm, &ml);
+      StartNormalEquations(cache.monomials[r], runs.Info(r).omega_rad_s, l, &mm, &ml);
       const Eigen::Matrix<double, 6, 10> sel = select(r);
       normals[r] = sel.transpose() * mm * sel;
       rhss[r] = sel.transpose() * ml;
@@ -279,7 +279,7 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
   for (std::size_t r = 0; r < runs.size(); ++r) {
     full_normal += normals[r];
     full_rhs += rhss[r];
-    out->equations += static_cast<std::size_t>(std::max<Eigen::Index>(0, runs[r].size() - 1));
+    out->equations += static_cast<std::size_t>(std::max<Eigen::Index>(0, runs.Info(r).samples - 1));
   }
   Eigen::MatrixXd normal(n, n);
   Eigen::VectorXd rhs(n);
@@ -299,20 +299,20 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
     return FinishSolution(columns, solution, delta_fixed, xi_removed, normal, out);
   out->sse = 0.0;
   Eigen::Matrix<double, 4, Eigen::Dynamic> row_block(4, n);
-  for (const RunData& run : runs) {
-    ForEachEquation(run, xi_removed, [&](Forms lhs, const Matrix46& m) {
-      fill(run.omega_rad_s, m, &lhs, &row_block);
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const double omega = runs.Info(r).omega_rad_s;
+    ForEachEquation(*runs.Load(r), xi_removed, [&](Forms lhs, const Matrix46& m) {
+      fill(omega, m, &lhs, &row_block);
       out->sse += (lhs - row_block.lazyProduct(solution)).squaredNorm();
     });
   }
   return FinishSolution(columns, solution, delta_fixed, xi_removed, normal, out);
 }
 
-bool RefinedIntegralEquationError(const std::vector<RunData>& runs,
-                                  const std::array<bool, 6>& delta_free, const Delta& delta_fixed,
-                                  const XiMask& xi_free, const IntegralEquationResult& first,
-                                  IntegralEquationResult* out, int threads,
-                                  IntegralEquationSums* sums) {
+bool RefinedIntegralEquationError(const RunSet& runs, const std::array<bool, 6>& delta_free,
+                                  const Delta& delta_fixed, const XiMask& xi_free,
+                                  const IntegralEquationResult& first, IntegralEquationResult* out,
+                                  int threads, IntegralEquationSums* sums) {
   // Beyond this the first solve is not near the physical regime (|ξ| ≪ 1) and removing its ξ would
   // only move a stray candidate elsewhere; the output-error cost judges it as it is.
   constexpr double kLargestXiRefined = 0.05;

@@ -7,6 +7,7 @@
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/run_set.hpp"
 
 namespace hrgbench::estimator::internal {
 
@@ -53,7 +54,7 @@ struct IntegralEquationSums {
 // until Gauss–Newton started outside its quadratic region. `xi_free_around`: when given, the free ξ
 // are removed exactly at these values too and the regression's ξ columns are their corrections
 // (out->xi = around + correction); see RefinedIntegralEquationError.
-bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bool, 6>& delta_free,
+bool IntegralEquationError(const RunSet& runs, const std::array<bool, 6>& delta_free,
                            const Delta& delta_fixed, const XiMask& xi_free, const Xi& xi_fixed,
                            IntegralEquationResult* out, int threads = 1,
                            IntegralEquationSums* sums = nullptr,
@@ -68,10 +69,9 @@ bool IntegralEquationError(const std::vector<RunData>& runs, const std::array<bo
 // 3e-5 after 100 s. With the correction at |Δξ| ~ 1e-4 those terms are ~1e-4 times smaller.
 // False (and `out` untouched) when `first` has no free ξ, a ξ too large for the first order to mean
 // anything (the weak designs' stray candidates), or a singular regression.
-bool RefinedIntegralEquationError(const std::vector<RunData>& runs,
-                                  const std::array<bool, 6>& delta_free, const Delta& delta_fixed,
-                                  const XiMask& xi_free, const IntegralEquationResult& first,
-                                  IntegralEquationResult* out, int threads = 1,
-                                  IntegralEquationSums* sums = nullptr);
+bool RefinedIntegralEquationError(const RunSet& runs, const std::array<bool, 6>& delta_free,
+                                  const Delta& delta_fixed, const XiMask& xi_free,
+                                  const IntegralEquationResult& first, IntegralEquationResult* out,
+                                  int threads = 1, IntegralEquationSums* sums = nullptr);
 
 }  // namespace hrgbench::estimator::internal

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/run_set.hpp"
 
 namespace hrgbench::estimator::internal {
 
@@ -56,51 +57,67 @@ inline std::size_t CountSamples(const std::vector<RunData>& runs) {
   return n;
 }
 
-// Checks what every estimator needs: at least one run; per run matching sizes, at least
-// `min_samples`, strictly increasing finite time, finite y (not all zero) and Ω.
+// Checks what every estimator needs of a run: matching sizes, at least `min_samples`, strictly
+// increasing finite time, finite y (not all zero) and Ω. `r`: its place (0-based), which names it
+// when it has no id.
+inline bool ValidateRun(const RunData& run, std::size_t r, std::size_t min_samples,
+                        std::string* why) {
+  const std::string name = "run " + std::to_string(run.id != 0 ? run.id : static_cast<int>(r + 1));
+  if (static_cast<Eigen::Index>(run.t_s.size()) != run.y.cols()) {
+    *why = name + ": " + std::to_string(run.t_s.size()) + " time stamps but " +
+           std::to_string(run.y.cols()) + " samples";
+    return false;
+  }
+  if (run.t_s.size() < min_samples) {
+    *why = name + ": " + std::to_string(run.t_s.size()) + " samples, the method needs at least " +
+           std::to_string(min_samples);
+    return false;
+  }
+  if (!std::isfinite(run.omega_rad_s)) {
+    *why = name + ": omega_rad_s is not finite";
+    return false;
+  }
+  if (!run.y.allFinite()) {
+    *why = name + ": y holds a non-finite value";
+    return false;
+  }
+  // All zero carries neither a wave nor noise: every ratio of the fit would be 0/0 and its
+  // messages "-nan"; say what the data are instead.
+  if (run.y.size() > 0 && (run.y.array() == 0.0).all()) {
+    *why = name +
+           ": y is all zero (no wave and no noise on any channel): nothing to fit; is "
+           "the pick-off or its electronics connected?";
+    return false;
+  }
+  for (std::size_t k = 0; k < run.t_s.size(); ++k) {
+    if (!std::isfinite(run.t_s[k]) || (k > 0 && !(run.t_s[k] > run.t_s[k - 1]))) {
+      *why = name + ": t_s is not finite and strictly increasing at sample " + std::to_string(k);
+      return false;
+    }
+  }
+  return true;
+}
+
+// ... and that there is at least one run.
 inline bool ValidateRunData(const std::vector<RunData>& runs, std::size_t min_samples,
                             std::string* why) {
   if (runs.empty()) {
     *why = "no runs to estimate from";
     return false;
   }
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    const RunData& run = runs[r];
-    const std::string name =
-        "run " + std::to_string(run.id != 0 ? run.id : static_cast<int>(r + 1));
-    if (static_cast<Eigen::Index>(run.t_s.size()) != run.y.cols()) {
-      *why = name + ": " + std::to_string(run.t_s.size()) + " time stamps but " +
-             std::to_string(run.y.cols()) + " samples";
-      return false;
-    }
-    if (run.t_s.size() < min_samples) {
-      *why = name + ": " + std::to_string(run.t_s.size()) + " samples, the method needs at least " +
-             std::to_string(min_samples);
-      return false;
-    }
-    if (!std::isfinite(run.omega_rad_s)) {
-      *why = name + ": omega_rad_s is not finite";
-      return false;
-    }
-    if (!run.y.allFinite()) {
-      *why = name + ": y holds a non-finite value";
-      return false;
-    }
-    // All zero carries neither a wave nor noise: every ratio of the fit would be 0/0 and its
-    // messages "-nan"; say what the data are instead.
-    if (run.y.size() > 0 && (run.y.array() == 0.0).all()) {
-      *why = name +
-             ": y is all zero (no wave and no noise on any channel): nothing to fit; is "
-             "the pick-off or its electronics connected?";
-      return false;
-    }
-    for (std::size_t k = 0; k < run.t_s.size(); ++k) {
-      if (!std::isfinite(run.t_s[k]) || (k > 0 && !(run.t_s[k] > run.t_s[k - 1]))) {
-        *why = name + ": t_s is not finite and strictly increasing at sample " + std::to_string(k);
-        return false;
-      }
-    }
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    if (!ValidateRun(runs[r], r, min_samples, why)) return false;
+  return true;
+}
+
+// The same over a set read run by run: one pass over its samples.
+inline bool ValidateRunData(const RunSet& runs, std::size_t min_samples, std::string* why) {
+  if (runs.size() == 0) {
+    *why = "no runs to estimate from";
+    return false;
   }
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    if (!ValidateRun(*runs.Load(r), r, min_samples, why)) return false;
   return true;
 }
 

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 
+#include "cleaned_runs.hpp"
 #include "common_phase.hpp"
 #include "common_phase_start.hpp"
 #include "hrgbench/estimator/iq_convention.hpp"
@@ -37,8 +39,7 @@ struct FreeSet {
 
 // Validates, applies the rate-plan rules. Returns false (summary filled) when the estimate must
 // not go ahead.
-bool Prepare(const std::vector<RunData>& runs, const MlOptions& options, EstimateSummary* s,
-             FreeSet* free) {
+bool Prepare(const RunSet& runs, const MlOptions& options, EstimateSummary* s, FreeSet* free) {
   std::string why;
   if (!options.IsValid(&why) ||
       !internal::ValidateRunData(runs, static_cast<std::size_t>(kMlMinimumSamples), &why)) {
@@ -47,7 +48,7 @@ bool Prepare(const std::vector<RunData>& runs, const MlOptions& options, Estimat
     return false;
   }
   std::vector<double> omegas;
-  for (const RunData& r : runs) omegas.push_back(r.omega_rad_s);
+  for (std::size_t r = 0; r < runs.size(); ++r) omegas.push_back(runs.Info(r).omega_rad_s);
   const IdentifiabilityReport rules =
       CheckRatePlan(omegas, options.xi_estimated, options.identifiability);
   free->delta_fixed = options.delta_fixed;
@@ -138,8 +139,9 @@ bool MlOptions::IsValid(std::string* why) const {
   return identifiability.IsValid(why);
 }
 
-EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
+EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs_in_memory,
                                               const MlOptions& options) {
+  const RunsInMemory runs(runs_in_memory);
   EstimateSummary s;
   s.method = "integral-equation-error";
   s.message.clear();
@@ -155,7 +157,7 @@ EstimateSummary EstimateIntegralEquationError(const std::vector<RunData>& runs,
   }
   FillParameters(internal::Pack(iee.delta, iee.xi), free, &s);
   s.iterations = 1;
-  s.samples_used = internal::CountSamples(runs);
+  s.samples_used = runs.TotalSamples();
   s.residual_rms =
       std::sqrt(iee.sse / static_cast<double>(4 * std::max<std::size_t>(1, iee.equations)));
   s.termination = Termination::kConverged;
@@ -193,10 +195,9 @@ double StepInStd(const Eigen::VectorXd& step, const Eigen::MatrixXd& h_reduced, 
 // false when no estimate could be made.
 // `start`, `start_nuisance_seed`: where a previous fit of the same runs (before outliers were
 // removed) ended; its common phases and Ω offsets seed this one (w0 is solved again).
-bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
-         const internal::NuisanceModel& model, const FullParameters* start,
-         const std::vector<internal::RunNuisance>* start_nuisance_seed, FreeSet* free,
-         FitState* state, EstimateSummary* s) {
+bool Fit(const RunSet& runs, const MlOptions& options, const internal::NuisanceModel& model,
+         const FullParameters* start, const std::vector<internal::RunNuisance>* start_nuisance_seed,
+         FreeSet* free, FitState* state, EstimateSummary* s) {
   // 1. Starting point.
   FullParameters& p = state->p;
   // The initial states solved for the chosen starting point, when the start was chosen by cost:
@@ -367,7 +368,7 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
                                  static_cast<double>(problem.NumNuisanceDegreesOfFreedom()));
   const double dof = state->dof;
   double y_scale2 = 0.0;
-  for (const RunData& r : runs) y_scale2 += r.y.squaredNorm();
+  for (std::size_t r = 0; r < runs.size(); ++r) y_scale2 += runs.Load(r)->y.squaredNorm();
   // Below this cost the residual is rounding noise of the model evaluation: nothing left to fit.
   const double cost_floor = 1e-28 * y_scale2;
 
@@ -505,28 +506,6 @@ bool Fit(const std::vector<RunData>& runs, const MlOptions& options,
   return true;
 }
 
-// The samples of `run` without those listed (ascending).
-RunData WithoutSamples(const RunData& run, const std::vector<Eigen::Index>& removed) {
-  RunData kept;
-  kept.id = run.id;
-  kept.omega_rad_s = run.omega_rad_s;
-  kept.omega_std_rad_s = run.omega_std_rad_s;
-  const Eigen::Index n = run.size() - static_cast<Eigen::Index>(removed.size());
-  kept.t_s.reserve(static_cast<std::size_t>(n));
-  kept.y.resize(4, n);
-  std::size_t next = 0;
-  Eigen::Index out = 0;
-  for (Eigen::Index k = 0; k < run.size(); ++k) {
-    if (next < removed.size() && removed[next] == k) {
-      ++next;
-      continue;
-    }
-    kept.t_s.push_back(run.t_s[static_cast<std::size_t>(k)]);
-    kept.y.col(out++) = run.y.col(k);
-  }
-  return kept;
-}
-
 std::string Format(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
   char buffer[320];
   std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
@@ -541,15 +520,15 @@ struct DataNoise {
   double pooled = kNaN;
 };
 
-DataNoise MeasureDataNoise(const std::vector<RunData>& runs,
-                           const DifferenceNoiseModel& difference_noise, std::size_t samples) {
+DataNoise MeasureDataNoise(const RunSet& runs, const DifferenceNoiseModel& difference_noise,
+                           std::size_t samples) {
   DataNoise noise;
   noise.sigma.resize(runs.size());
   double noise_sum2 = 0.0;
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    noise.sigma[r] = DifferenceNoiseSigma(runs[r].y, difference_noise);
+    noise.sigma[r] = DifferenceNoiseSigma(runs.Load(r)->y, difference_noise);
     if (std::isfinite(noise.sigma[r]))
-      noise_sum2 += noise.sigma[r] * noise.sigma[r] * static_cast<double>(runs[r].size());
+      noise_sum2 += noise.sigma[r] * noise.sigma[r] * static_cast<double>(runs.Info(r).samples);
   }
   noise.pooled = std::sqrt(noise_sum2 / static_cast<double>(samples));
   return noise;
@@ -557,14 +536,14 @@ DataNoise MeasureDataNoise(const std::vector<RunData>& runs,
 
 // The runs' nuisance: the common phase's degree, and each run's Ω offset with its prior weight
 // (σ̂² / σ_Ω²) when the run records a standard error of Ω and its use is on.
-internal::NuisanceModel NuisanceModelFor(const std::vector<RunData>& runs, const MlOptions& options,
+internal::NuisanceModel NuisanceModelFor(const RunSet& runs, const MlOptions& options,
                                          double noise_pooled, FitDiagnostics* diagnostics) {
   internal::NuisanceModel model;
   model.phase_degree = options.phase_degree;
   model.omega_prior_weight.assign(runs.size(), 0.0);
   if (options.omega_uncertainty && noise_pooled > 0.0) {
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      const double sd = runs[r].omega_std_rad_s;
+      const double sd = runs.Info(r).omega_std_rad_s;
       if (std::isfinite(sd) && sd > 0.0) {
         model.omega_prior_weight[r] = noise_pooled * noise_pooled / (sd * sd);
         diagnostics->omega_nuisance = true;
@@ -579,7 +558,7 @@ internal::NuisanceModel NuisanceModelFor(const std::vector<RunData>& runs, const
 struct CleanedFit {
   FitState state;
   bool samples_removed = false;  // `cleaned` holds the runs in use (else the caller's runs)
-  std::vector<RunData> cleaned;
+  std::unique_ptr<internal::CleanedRuns> cleaned;
   std::vector<std::size_t> removed;     // per run: samples removed as outliers
   std::vector<double> largest_removed;  // per run: the largest in robust sigma (NaN: none)
   // The latest fit's residual statistics, one per run. The residuals themselves are not kept: a
@@ -589,8 +568,8 @@ struct CleanedFit {
   std::vector<ResidualStatistics> residual_stats;
   bool residuals_current = false;
 
-  const std::vector<RunData>& Used(const std::vector<RunData>& runs) const {
-    return samples_removed ? cleaned : runs;
+  const RunSet& Used(const RunSet& runs) const {
+    return samples_removed ? static_cast<const RunSet&>(*cleaned) : runs;
   }
 };
 
@@ -626,7 +605,7 @@ std::vector<Eigen::Index> RunOutliers(const RunData& run, const Eigen::Matrix4Xd
 // dropped in turn: every run's statistics for the diagnostics (AnalyseResiduals), its outliers
 // when `outliers` is given, and the fit's cost at its final point when no linearisation evaluated
 // it (FitState::ne_one_step_behind). The same arithmetic as on kept residuals, so the same bits.
-void ExamineResiduals(const std::vector<RunData>& runs_now, const MlOptions& options,
+void ExamineResiduals(const RunSet& runs_now, const MlOptions& options,
                       const internal::NuisanceModel& model, const WhitenessNull& whiteness_null,
                       const std::vector<double>& noise_sigma,
                       std::vector<std::vector<Eigen::Index>>* outliers, CleanedFit* fit) {
@@ -637,13 +616,13 @@ void ExamineResiduals(const std::vector<RunData>& runs_now, const MlOptions& opt
   std::vector<double> run_cost(runs_now.size(), 0.0);
   if (outliers != nullptr) outliers->assign(runs_now.size(), {});
   internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
+    const RunPtr run = runs_now.Load(r);  // held: the problem's Load of it shares this one
     Eigen::Matrix4Xd e;
     problem.RunResiduals(r, state.p, state.nuisance[r], &e);
     run_cost[r] = e.squaredNorm();
     fit->residual_stats[r] = AnalyseResiduals(e, whiteness_null);
     if (outliers != nullptr)
-      (*outliers)[r] =
-          RunOutliers(runs_now[r], e, options, noise_sigma[r], &fit->largest_removed[r]);
+      (*outliers)[r] = RunOutliers(*run, e, options, noise_sigma[r], &fit->largest_removed[r]);
   });
   fit->residuals_current = true;
   if (state.ne_one_step_behind) {
@@ -665,7 +644,7 @@ void ExamineResiduals(const std::vector<RunData>& runs_now, const MlOptions& opt
 // Steps 1–3 of the header, then outliers removed and the fit repeated from where it ended, until
 // none is found or max_outlier_passes. False (`s` says why) when no estimate could be made.
 // `noise_sigma`: a run's entry becomes NaN when its samples change.
-bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& options,
+bool FitWithoutOutliers(const RunSet& runs, const MlOptions& options,
                         const internal::NuisanceModel& model, const WhitenessNull& whiteness_null,
                         std::vector<double>* noise_sigma, FreeSet* free, CleanedFit* fit,
                         EstimateSummary* s) {
@@ -674,7 +653,7 @@ bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& optio
   FitState& state = fit->state;
   const std::vector<std::string> prepared_warnings = s->warnings;
   for (int pass = 0;; ++pass) {
-    const std::vector<RunData>& in_use = fit->Used(runs);
+    const RunSet& in_use = fit->Used(runs);
     s->warnings = prepared_warnings;
     FreeSet free_pass = *free;
     const FullParameters previous = state.p;
@@ -691,35 +670,27 @@ bool FitWithoutOutliers(const std::vector<RunData>& runs, const MlOptions& optio
     bool any = false;
     for (const auto& o : out) any = any || !o.empty();
     if (!any) break;
-    std::vector<RunData> next;
+    if (!fit->cleaned) fit->cleaned = std::make_unique<internal::CleanedRuns>(runs);
     for (std::size_t r = 0; r < in_use.size(); ++r) {
-      if (out[r].empty()) {
-        // A run already copied by an earlier pass moves on; the caller's runs are copied once.
-        if (fit->samples_removed)
-          next.push_back(std::move(fit->cleaned[r]));
-        else
-          next.push_back(in_use[r]);
-        continue;
-      }
+      if (out[r].empty()) continue;
       fit->removed[r] += out[r].size();
       (*noise_sigma)[r] = kNaN;  // the data changed: computed again for the diagnostics
-      next.push_back(WithoutSamples(in_use[r], out[r]));
+      fit->cleaned->Remove(r, out[r]);
     }
-    fit->cleaned = std::move(next);
     fit->samples_removed = true;
   }
   return true;
 }
 
 // Step 4's per-run results: each run's initial state and nuisance, and its residual RMS.
-void FillRunResults(const std::vector<RunData>& used, const internal::NuisanceModel& model,
-                    const FitState& state, EstimateSummary* s) {
+void FillRunResults(const RunSet& used, const internal::NuisanceModel& model, const FitState& state,
+                    EstimateSummary* s) {
   const FullParameters& p = state.p;
   for (std::size_t r = 0; r < used.size(); ++r) {
     const internal::RunNuisance& n = state.nuisance[r];
     s->initial_states.push_back(internal::TrueInitialState(p, n.head<4>()));
     RunNuisanceEstimate estimate;
-    estimate.run_id = used[r].id;
+    estimate.run_id = used.Info(r).id;
     estimate.initial_state = s->initial_states.back();
     for (int j = 1; j <= model.phase_degree; ++j)
       estimate.phase_coefficients.push_back(n[internal::NuisanceModel::PhaseIndex(j)]);
@@ -729,7 +700,7 @@ void FillRunResults(const std::vector<RunData>& used, const internal::NuisanceMo
   s->residual_rms_per_run.resize(used.size());
   for (std::size_t r = 0; r < used.size(); ++r)
     s->residual_rms_per_run[r] =
-        std::sqrt(state.ne.cost_per_run[r] / (4.0 * static_cast<double>(used[r].size())));
+        std::sqrt(state.ne.cost_per_run[r] / (4.0 * static_cast<double>(used.Info(r).samples)));
 }
 
 // The information about δ and ξ at the fit, with the runs' nuisance eliminated.
@@ -881,8 +852,7 @@ bool JudgeRunFit(const RunFitDiagnostics& d, const MlOptions& options, bool decl
 // The sandwich covariance H⁻¹·S·H⁻¹: S from batch sums of the reduced score, batches long against
 // the residuals' correlation so that they are nearly independent. Empty when it cannot be made.
 // A pass over the data.
-Eigen::MatrixXd SandwichCovariance(const std::vector<RunData>& used,
-                                   const internal::OutputErrorProblem& problem,
+Eigen::MatrixXd SandwichCovariance(const RunSet& used, const internal::OutputErrorProblem& problem,
                                    const FitState& state, const FitInformation& info,
                                    const std::vector<double>& integrated_correlation,
                                    const EstimateSummary& s, FitDiagnostics* diagnostics) {
@@ -896,7 +866,7 @@ Eigen::MatrixXd SandwichCovariance(const std::vector<RunData>& used,
   std::vector<Eigen::MatrixXd> reduced(used.size());
   std::vector<std::size_t> batch(used.size());
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
-    const auto n = static_cast<std::size_t>(used[r].size());
+    const auto n = static_cast<std::size_t>(used.Info(r).samples);
     const double wanted = 20.0 * integrated_correlation[r];
     batch[r] = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), 16,
                                        std::max<std::size_t>(16, n / 16));
@@ -924,7 +894,7 @@ Eigen::MatrixXd SandwichCovariance(const std::vector<RunData>& used,
 // b = h_pΩ − H_px'·H_x'x'⁻¹·h_x'Ω (x' the run's other nuisance). The prior weight only enters the
 // (Ω, Ω) entry, which this does not use: any positive weight gives the same b. One more pass over
 // the data.
-void OmegaExactSensitivity(const std::vector<RunData>& used, const internal::NuisanceModel& model,
+void OmegaExactSensitivity(const RunSet& used, const internal::NuisanceModel& model,
                            const FitState& state, const MlOptions& options,
                            const FitInformation& info, EstimateSummary* s) {
   const std::vector<int>& indices = state.indices;
@@ -960,7 +930,7 @@ void OmegaExactSensitivity(const std::vector<RunData>& used, const internal::Nui
     const Eigen::VectorXd b = h_px.col(o) - h_p_other * solved;
     const Eigen::VectorXd change = -kOmegaSensitivityStepRadS * (info.h_reduced_inverse * b);
     OmegaSensitivity sensitivity;
-    sensitivity.run_id = used[r].id;
+    sensitivity.run_id = used.Info(r).id;
     for (std::size_t c = 0; c < indices.size(); ++c) {
       const int full = indices[c];
       const auto ci = static_cast<Eigen::Index>(c);
@@ -973,7 +943,7 @@ void OmegaExactSensitivity(const std::vector<RunData>& used, const internal::Nui
       if (sd > 0.0) largest_in_std = std::max(largest_in_std, std::abs(change[ci]) / sd);
     }
     s->omega_sensitivity.push_back(sensitivity);
-    run_list += (run_list.empty() ? "" : ", ") + std::to_string(used[r].id);
+    run_list += (run_list.empty() ? "" : ", ") + std::to_string(used.Info(r).id);
   }
   if (!s->omega_sensitivity.empty())
     s->warnings.push_back(
@@ -1001,12 +971,16 @@ void CheckAngularGainSign(const EstimateSummary& s, FitDiagnostics* diagnostics)
 
 EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
                                           const MlOptions& options) {
+  return EstimateMaximumLikelihood(RunsInMemory(runs), options);
+}
+
+EstimateSummary EstimateMaximumLikelihood(const RunSet& runs, const MlOptions& options) {
   EstimateSummary s;
   s.method = "ml";
   s.message.clear();
   FreeSet free;
   if (!Prepare(runs, options, &s, &free)) return s;
-  s.samples_used = internal::CountSamples(runs);
+  s.samples_used = runs.TotalSamples();
   FitDiagnostics& diagnostics = s.diagnostics;
   diagnostics.limits = options.fit_quality;
   diagnostics.phase_degree = options.phase_degree;
@@ -1028,7 +1002,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   CleanedFit fit;
   if (!FitWithoutOutliers(runs, options, model, whiteness_null, &noise_sigma, &free, &fit, &s))
     return s;
-  const std::vector<RunData>& used = fit.Used(runs);
+  const RunSet& used = fit.Used(runs);
   if (!fit.residuals_current)
     ExamineResiduals(used, options, model, whiteness_null, noise_sigma, nullptr, &fit);
   const FitState& state = fit.state;
@@ -1038,7 +1012,7 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   const internal::OutputErrorProblem problem(used, indices, options.num_threads,
                                              options.min_samples_for_threads, model);
   s.threads_used = state.threads;
-  s.samples_used = internal::CountSamples(used);
+  s.samples_used = used.TotalSamples();
 
   // 4. Results.
   FillParameters(p, free, &s);
@@ -1068,13 +1042,13 @@ EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
   const std::vector<ResidualStatistics>& run_stats = fit.residual_stats;
   internal::ParallelFor(used.size(), problem.Threads(), [&](std::size_t r) {
     if (!std::isfinite(noise_sigma[r]))
-      noise_sigma[r] = DifferenceNoiseSigma(used[r].y, difference_noise);
+      noise_sigma[r] = DifferenceNoiseSigma(used.Load(r)->y, difference_noise);
   });
   for (std::size_t r = 0; r < used.size(); ++r) {
     const RunEvidence evidence{&run_stats[r], noise_sigma[r], fit.removed[r],
                                fit.largest_removed[r]};
     const RunFitDiagnostics d =
-        DiagnoseRun(r, used[r], evidence, state, model, options, difference_noise, info);
+        DiagnoseRun(r, *used.Load(r), evidence, state, model, options, difference_noise, info);
     integrated_correlation[r] = run_stats[r].integrated_correlation_samples;
     if (JudgeRunFit(d, options, declared_colour, whiteness_null, &diagnostics, &s.warnings))
       coloured = true;

@@ -179,11 +179,10 @@ FullParameters Pack(const Delta& delta, const Xi& xi) {
   return p;
 }
 
-OutputErrorProblem::OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free,
-                                       int threads, std::size_t min_samples_for_threads,
-                                       NuisanceModel nuisance)
+OutputErrorProblem::OutputErrorProblem(const RunSet& runs, std::vector<int> free, int threads,
+                                       std::size_t min_samples_for_threads, NuisanceModel nuisance)
     : runs_(runs), free_(std::move(free)), nuisance_(std::move(nuisance)) {
-  for (const RunData& r : runs_) samples_ += static_cast<std::size_t>(r.size());
+  samples_ = runs_.TotalSamples();
   threads_ = samples_ < min_samples_for_threads ? 1 : ResolveThreads(threads, runs_.size());
 }
 
@@ -196,11 +195,12 @@ double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<RunNu
                                 std::vector<double>* per_run) const {
   std::vector<double> sums(runs_.size(), 0.0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
-    const RunModel m(runs_[r], p, nuisance[r], nuisance_, r);
+    const RunPtr run = runs_.Load(r);
+    const RunModel m(*run, p, nuisance[r], nuisance_, r);
     double sum = 0.0;
     DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
       ForEachResidual<decltype(basis)::value>(
-          runs_[r], m, [&](std::size_t, const Complex*, Complex, const CVector2& e) {
+          *run, m, [&](std::size_t, const Complex*, Complex, const CVector2& e) {
             sum += std::norm(e[0]) + std::norm(e[1]);
           });
     });
@@ -237,7 +237,8 @@ template <int kBasis>
 void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParameters& p,
                                                const RunNuisance& nuisance, Eigen::MatrixXd* h,
                                                Eigen::VectorXd* g, double* cost) const {
-  const RunModel m(runs_[r], p, nuisance, nuisance_, r);
+  const RunPtr run = runs_.Load(r);
+  const RunModel m(*run, p, nuisance, nuisance_, r);
   // Every basis function is t^k times one of three: c_a = t^{k_a}·b_{u_a} with b = (c0, c1, c4)
   // (Basis). So the Gram sums are moments of three products, S_ab = Σ t^{k_a+k_b}·conj(b_u)·b_v,
   // and the projections moments of three, E_a = Σ t^{k_a}·conj(b_u)·e: per sample six products
@@ -255,9 +256,9 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
   CVector2 q2 = CVector2::Zero();
   double sum = 0.0;
   // The moments need c0, c1 and c4 only: the basis of five.
-  ForEachResidual<5>(runs_[r], m, [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
+  ForEachResidual<5>(*run, m, [&](std::size_t k, const Complex* c, Complex, const CVector2& e) {
     sum += std::norm(e[0]) + std::norm(e[1]);
-    const double t = runs_[r].t_s[k];
+    const double t = run->t_s[k];
     const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
     const Complex b2 = std::conj(c[4]);
     double x00 = std::norm(c[0]), x11 = std::norm(c[1]);
@@ -386,7 +387,8 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
     RunNuisance& n = (*nuisance)[r];
     if (n.size() != nuisance_.Size(r)) n = RunNuisance::Zero(nuisance_.Size(r));
-    const RunData& run = runs_[r];
+    const RunPtr loaded = runs_.Load(r);
+    const RunData& run = *loaded;
     n.head<4>().setZero();
     const RunModel m(run, p, n, nuisance_, r);
     // The model is complex-linear in u0, so the normal equations are complex 2×2 (and the common
@@ -435,7 +437,8 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
 void OutputErrorProblem::RunResiduals(std::size_t r, const FullParameters& p,
                                       const RunNuisance& nuisance,
                                       Eigen::Matrix4Xd* residuals) const {
-  const RunData& run = runs_[r];
+  const RunPtr loaded = runs_.Load(r);
+  const RunData& run = *loaded;
   residuals->resize(4, run.size());
   const RunModel m(run, p, nuisance, nuisance_, r);
   DispatchBasis(0, [&](auto basis) {
@@ -449,7 +452,8 @@ void OutputErrorProblem::RunResiduals(std::size_t r, const FullParameters& p,
 void OutputErrorProblem::RunBlockScores(std::size_t r, const FullParameters& p,
                                         const RunNuisance& nuisance, std::size_t block_length,
                                         Eigen::MatrixXd* block_scores) const {
-  const RunData& run = runs_[r];
+  const RunPtr loaded = runs_.Load(r);
+  const RunData& run = *loaded;
   const RunModel m(run, p, nuisance, nuisance_, r);
   std::vector<Coefficients> v;
   ColumnCoefficients(m, free_, nuisance_, r, p, &v);

@@ -32,6 +32,7 @@
 
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/run_set.hpp"
 
 namespace hrgbench::estimator::internal {
 
@@ -81,7 +82,7 @@ class OutputErrorProblem {
   // `free` lists the estimated entries of FullParameters, ascending. `runs` must outlive this.
   // `threads`: 0 = all hardware threads, 1 = none created; runs are spread over them, and only
   // when the runs hold at least `min_samples_for_threads` samples (MlOptions says why).
-  OutputErrorProblem(const std::vector<RunData>& runs, std::vector<int> free, int threads = 1,
+  OutputErrorProblem(const RunSet& runs, std::vector<int> free, int threads = 1,
                      std::size_t min_samples_for_threads = 0, NuisanceModel nuisance = {});
 
   int NumFree() const { return static_cast<int>(free_.size()); }
@@ -125,7 +126,7 @@ class OutputErrorProblem {
   void LinearizeRunWithBasis(std::size_t r, const FullParameters& p, const RunNuisance& nuisance,
                              Eigen::MatrixXd* h, Eigen::VectorXd* g, double* cost) const;
 
-  const std::vector<RunData>& runs_;
+  const RunSet& runs_;
   std::vector<int> free_;
   std::size_t samples_ = 0;
   int threads_ = 1;

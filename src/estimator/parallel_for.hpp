@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -28,14 +30,25 @@ void ParallelFor(std::size_t n, int threads, Fn fn) {
     return;
   }
   std::atomic<std::size_t> next{0};
+  // The first exception a task throws (a run set's read error, std::bad_alloc) ends the loop and
+  // is rethrown to the caller once every thread has stopped, as the inline loop would throw it.
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
   const auto worker = [&] {
-    for (std::size_t i = next.fetch_add(1); i < n; i = next.fetch_add(1)) fn(i);
+    try {
+      for (std::size_t i = next.fetch_add(1); i < n; i = next.fetch_add(1)) fn(i);
+    } catch (...) {
+      next.store(n);
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+    }
   };
   std::vector<std::thread> pool;
   pool.reserve(static_cast<std::size_t>(threads - 1));
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
   for (std::thread& th : pool) th.join();
+  if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace hrgbench::estimator::internal

@@ -346,6 +346,18 @@ std::expected<Session, SessionError> ReadSessionJson(const std::string& text,
 
 }  // namespace internal
 
+std::expected<void, SessionError> ReadEachRun(const fs::path& dir, const Session& session,
+                                              const ReadOptions& options,
+                                              const RunSamplesSink& on_run) {
+  for (const RunEntry& entry : session.runs) {
+    if (entry.status != "complete") continue;  // warned by ReadSessionJson
+    auto samples = ReadRunCsv(dir / entry.file, options.min_samples_per_run, options.extra_columns);
+    if (!samples) return std::unexpected(samples.error());
+    if (auto taken = on_run(entry, std::move(*samples)); !taken) return taken;
+  }
+  return {};
+}
+
 std::expected<Session, SessionError> ReadSession(const fs::path& dir, const ReadOptions& options) {
   const fs::path json_file = dir / "session.json";
   try {
@@ -362,15 +374,16 @@ std::expected<Session, SessionError> ReadSession(const fs::path& dir, const Read
     if (options.plan_cut_short)
       session->warnings = internal::RunStatusWarnings(session->runs, true);
 
-    for (const RunEntry& entry : session->runs) {
-      if (entry.status != "complete") continue;  // warned by ReadSessionJson
-      if (!options.load_samples) continue;
-      auto samples =
-          ReadRunCsv(dir / entry.file, options.min_samples_per_run, options.extra_columns);
-      if (!samples) return std::unexpected(samples.error());
-      session->loaded_run_ids.push_back(entry.id);
-      session->loaded_samples.push_back(std::move(*samples));
-    }
+    if (!options.load_samples) return session;
+    Session& loaded = *session;
+    const auto keep = [&loaded](const RunEntry& entry,
+                                RunSamples&& samples) -> std::expected<void, SessionError> {
+      loaded.loaded_run_ids.push_back(entry.id);
+      loaded.loaded_samples.push_back(std::move(samples));
+      return {};
+    };
+    if (auto read = ReadEachRun(dir, loaded, options, keep); !read)
+      return std::unexpected(read.error());
     return session;
   } catch (const json::exception& e) {
     // Not expected after the checks above; kept so that no exception crosses the API.

@@ -43,6 +43,19 @@ std::vector<estimator::RunData> Convert(SessionRef& session) {
 
 std::vector<estimator::RunData> ToRunData(const Session& session) { return Convert(session); }
 
+estimator::RunData ToRunData(const RunEntry& entry, RunSamples&& samples,
+                             estimator::IqConvention convention) {
+  estimator::RunData run;
+  run.id = entry.id;
+  run.omega_rad_s = entry.omega_rad_s;
+  run.omega_std_rad_s = entry.omega_std_rad_s;
+  run.t_s = std::move(samples.t_s);
+  run.y = std::move(samples.y);
+  samples = RunSamples();
+  estimator::ToModelConvention(convention, run.y);
+  return run;
+}
+
 std::vector<estimator::RunData> ToRunData(Session&& session) {
   std::vector<estimator::RunData> out = Convert(session);
   session.loaded_samples.clear();

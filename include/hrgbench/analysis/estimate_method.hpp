@@ -16,6 +16,7 @@
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/parameters.hpp"
 #include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/run_set.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::bench {
@@ -65,5 +66,8 @@ struct MethodResult {
 
 // Runs the requested method on `runs` (CheckRequest must have passed).
 MethodResult RunMethod(const std::vector<estimator::RunData>& runs, const MethodRequest& request);
+// The same on runs read run by run (estimator/run_set.hpp): ml keeps to the set's memory; the
+// paper's methods copy every run into memory first.
+MethodResult RunMethod(const estimator::RunSet& runs, const MethodRequest& request);
 
 }  // namespace hrgbench::bench

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <expected>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -21,6 +22,7 @@
 #include "hrgbench/analysis/output_filter.hpp"
 #include "hrgbench/estimator/run_data.hpp"
 #include "hrgbench/estimator/summary.hpp"
+#include "hrgbench/session/run_spool.hpp"
 #include "hrgbench/session/session.hpp"
 #include "hrgbench/session/session_record.hpp"
 
@@ -52,6 +54,7 @@ struct PreparedRuns {
 // in place.
 std::vector<ReleaseSkip> SkipReleaseSettling(double settle_s,
                                              std::vector<estimator::RunData>* runs);
+ReleaseSkip SkipReleaseSettling(double settle_s, estimator::RunData* run);
 
 // The loaded runs of `recorded` prepared as above, with the output filter its record declares
 // (`electronics`: the same session.json as typed by session::ReadSessionRecord).
@@ -61,6 +64,16 @@ PreparedRuns PrepareRecordedRuns(const session::Session& recorded,
 // field stays): the runs exist once, not twice (docs/estimator/methods.md "Memory").
 PreparedRuns PrepareRecordedRuns(session::Session&& recorded,
                                  const session::ElectronicsRecord& electronics);
+
+// The same preparation, each run read, prepared and added to `spool` in turn (one run's samples
+// in memory at a time, besides what the spool keeps): for a session of any length. `recorded` is
+// the session as ReadSession returned it without samples (options.load_samples false); `options`
+// as the read's. The result's `runs` stay empty (they are in the spool); an error names the file
+// (a run CSV, the spool's scratch file).
+std::expected<PreparedRuns, session::SessionError> SpoolRecordedRuns(
+    const std::filesystem::path& dir, const session::Session& recorded,
+    const session::ElectronicsRecord& electronics, const session::ReadOptions& options,
+    session::RunSpool* spool);
 
 // The declared I/Q convention against the data. Conjugated channels fit the model perfectly
 // (estimator/iq_convention.hpp), so the check needs a sign fixed outside the free run: the

@@ -38,6 +38,7 @@
 #include "hrgbench/estimator/identifiability.hpp"
 #include "hrgbench/estimator/noise_shape.hpp"
 #include "hrgbench/estimator/run_data.hpp"
+#include "hrgbench/estimator/run_set.hpp"
 #include "hrgbench/estimator/summary.hpp"
 
 namespace hrgbench::estimator {
@@ -119,6 +120,10 @@ inline constexpr int kMlMinimumSamples = 2;
 
 EstimateSummary EstimateMaximumLikelihood(const std::vector<RunData>& runs,
                                           const MlOptions& options = {});
+// The same on runs read run by run (run_set.hpp): each pass over the data loads a run for its
+// turn, so a set that keeps nothing between loads bounds the fit's memory by the runs in use
+// (one per thread) instead of the session.
+EstimateSummary EstimateMaximumLikelihood(const RunSet& runs, const MlOptions& options = {});
 
 // The starting-point method on its own (no ML refinement): equation error in integral form, no
 // numerical differentiation. Estimates δ and, when the plan allows, the ξ in `xi_estimated` through

@@ -33,6 +33,7 @@
 #include <cstddef>
 #include <expected>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -140,6 +141,16 @@ struct ReadOptions {
 std::expected<Session, SessionError> ReadSession(const std::filesystem::path& dir,
                                                  const ReadOptions& options = {});
 
+// Reads the CSV of every complete run of `session` (as ReadSession returned it with
+// options.load_samples false) in record order, handing each to `on_run` as soon as it is read: one
+// run's samples in memory at a time, whatever the session's size (run_spool.hpp keeps them). Stops
+// at the first error, the reader's or the one `on_run` returns. ReadSession loads its runs so.
+using RunSamplesSink =
+    std::function<std::expected<void, SessionError>(const RunEntry& entry, RunSamples&& samples)>;
+std::expected<void, SessionError> ReadEachRun(const std::filesystem::path& dir,
+                                              const Session& session, const ReadOptions& options,
+                                              const RunSamplesSink& on_run);
+
 // Reads one run CSV (format above), the whole file at once with std::from_chars: 14-20 ms for
 // 100 000 lines of six columns (9 MB) on the development machine. Fewer than `min_samples_per_run`
 // samples is an error (line 0, field "t_s"). `keep_extra_columns` as ReadOptions::extra_columns.
@@ -157,6 +168,10 @@ std::vector<estimator::RunData> ToRunData(const Session& session);
 // The same, moving the samples out of `session` (its loaded_samples are left empty): no second
 // copy of the session's samples, which is what an estimate of a long session cannot afford.
 std::vector<estimator::RunData> ToRunData(Session&& session);
+// One run as ToRunData converts it: Ω and its std from `entry`, the samples moved in, y in the
+// model's convention.
+estimator::RunData ToRunData(const RunEntry& entry, RunSamples&& samples,
+                             estimator::IqConvention convention);
 
 // Writes one run CSV atomically: header "t_s,y1,y2,y3,y4" followed by the extra columns in name
 // order, values in shortest round-trip form (see above). Creates the parent directories. Refuses

@@ -34,7 +34,8 @@ std::vector<RunData> Simulate(double duration_s) {
 
 // Allocations made by one call of each pass, single-threaded.
 long CountPass(const std::vector<RunData>& runs) {
-  const internal::OutputErrorProblem problem(runs, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, 1);
+  const RunsInMemory run_set(runs);
+  const internal::OutputErrorProblem problem(run_set, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, 1);
   internal::FullParameters p;
   p << -1e-3, 0.3, 1e-6, -2e-6, 3e-6, 1e-6, 0.01, -0.002, 0.003, 0.004;
   std::vector<internal::RunNuisance> w0;
