@@ -616,7 +616,8 @@ void ExamineResiduals(const RunSet& runs_now, const MlOptions& options,
   std::vector<double> run_cost(runs_now.size(), 0.0);
   if (outliers != nullptr) outliers->assign(runs_now.size(), {});
   internal::ParallelFor(runs_now.size(), problem.Threads(), [&](std::size_t r) {
-    const RunPtr run = runs_now.Load(r);  // held: the problem's Load of it shares this one
+    // Held while the problem makes its residuals: a spool then hands the problem this one.
+    const RunPtr run = runs_now.Load(r);
     Eigen::Matrix4Xd e;
     problem.RunResiduals(r, state.p, state.nuisance[r], &e);
     run_cost[r] = e.squaredNorm();

@@ -9,7 +9,7 @@ namespace hrgbench::session {
 namespace {
 
 // A non-const `session` has its samples taken out, each run's as it is converted (so at no time
-// do two copies of a run exist); a const one is copied.
+// do two copies of a run exist); a const one is copied. Each run as the one-run ToRunData makes it.
 template <typename SessionRef>
 std::vector<estimator::RunData> Convert(SessionRef& session) {
   std::map<int, const RunEntry*> entry_of_id;
@@ -18,23 +18,19 @@ std::vector<estimator::RunData> Convert(SessionRef& session) {
   out.reserve(session.loaded_run_ids.size());
   for (std::size_t i = 0; i < session.loaded_run_ids.size() && i < session.loaded_samples.size();
        ++i) {
-    estimator::RunData run;
-    run.id = session.loaded_run_ids[i];
-    if (const auto entry = entry_of_id.find(run.id); entry != entry_of_id.end()) {
-      run.omega_rad_s = entry->second->omega_rad_s;
-      run.omega_std_rad_s = entry->second->omega_std_rad_s;
-    }
+    RunEntry entry;  // a loaded id missing from `runs` (a hand-built Session): Ω = 0
+    entry.id = session.loaded_run_ids[i];
+    if (const auto found = entry_of_id.find(entry.id); found != entry_of_id.end())
+      entry = *found->second;
     auto& samples = session.loaded_samples[i];
     if constexpr (std::is_const_v<SessionRef>) {
-      run.t_s = samples.t_s;
-      run.y = samples.y;
+      RunSamples copy;
+      copy.t_s = samples.t_s;
+      copy.y = samples.y;
+      out.push_back(ToRunData(entry, std::move(copy), session.iq_convention));
     } else {
-      run.t_s = std::move(samples.t_s);
-      run.y = std::move(samples.y);
-      samples = RunSamples();  // its extra columns too
+      out.push_back(ToRunData(entry, std::move(samples), session.iq_convention));
     }
-    estimator::ToModelConvention(session.iq_convention, run.y);
-    out.push_back(std::move(run));
   }
   return out;
 }
