@@ -113,14 +113,7 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, const Whi
   const Eigen::Index n = residuals.cols();
   if (n < 8) return s;
   const double count = static_cast<double>(4 * n);
-  s.rms = std::sqrt(residuals.squaredNorm() / count);
-  const double largest = residuals.cwiseAbs().maxCoeff();
   s.robust_sigma = RobustSigma(residuals);
-  s.max_abs_in_sigma = s.robust_sigma > 0.0 ? largest / s.robust_sigma : kNaN;
-  const double m2 = s.rms * s.rms;
-  const double m4 =
-      Eigen::Map<const Eigen::ArrayXd>(residuals.data(), 4 * n).square().square().sum() / count;
-  s.excess_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) - 3.0 : kNaN;
 
   // Lags first_lag … first_lag + L − 1 are judged; every lag from 1 on enters the integrated
   // correlation (the sandwich's batch length), the declared noise's memory included.
@@ -132,16 +125,28 @@ ResidualStatistics AnalyseResiduals(const Eigen::Matrix4Xd& residuals, const Whi
   double q = 0.0;
   double rho1_sum = 0.0;
   Eigen::VectorXd rho_sum = Eigen::VectorXd::Zero(last);
-  // Every lag's products of all four channels in one pass over the columns (the residuals are
-  // stored column-major: one sample's four channels are adjacent), instead of a strided copy and
-  // a pass per channel and lag.
+  // Every moment and every lag's products of all four channels in one pass over the columns (the
+  // residuals are stored column-major: one sample's four channels are adjacent), instead of a pass
+  // per statistic, channel and lag.
   Eigen::Matrix4Xd lagged = Eigen::Matrix4Xd::Zero(4, last);
-  for (Eigen::Index k = 1; k < n; ++k) {
+  Eigen::Array4d c0 = Eigen::Array4d::Zero();  // per channel Σ r²
+  double sum4 = 0.0;                           // Σ r⁴
+  double largest = 0.0;                        // max |r|
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Array4d x = residuals.col(k).array();
+    const Eigen::Array4d x2 = x * x;
+    c0 += x2;
+    sum4 += (x2 * x2).sum();
+    largest = std::max(largest, x.abs().maxCoeff());
     const Eigen::Index top = std::min<Eigen::Index>(last, k);
     for (Eigen::Index l = 1; l <= top; ++l)
       lagged.col(l - 1) += residuals.col(k).cwiseProduct(residuals.col(k - l));
   }
-  const Eigen::Vector4d c0 = residuals.rowwise().squaredNorm();
+  s.rms = std::sqrt(c0.sum() / count);
+  s.max_abs_in_sigma = s.robust_sigma > 0.0 ? largest / s.robust_sigma : kNaN;
+  const double m2 = s.rms * s.rms;
+  const double m4 = sum4 / count;
+  s.excess_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) - 3.0 : kNaN;
   for (int c = 0; c < 4; ++c) {
     if (!(c0[c] > 0.0)) continue;
     for (Eigen::Index l = 1; l <= last; ++l) {

@@ -77,23 +77,35 @@ inline bool ValidateRun(const RunData& run, std::size_t r, std::size_t min_sampl
     *why = name + ": omega_rad_s is not finite";
     return false;
   }
-  if (!run.y.allFinite()) {
+  // One pass over the samples for all three checks below, which are reported in this order.
+  bool y_finite = true, y_nonzero = false;
+  std::size_t bad_time = run.t_s.size();  // the first sample where t_s is not finite or increasing
+  const double* y = run.y.data();
+  for (std::size_t k = 0; k < run.t_s.size(); ++k) {
+    const double a = y[4 * k], b = y[4 * k + 1], c = y[4 * k + 2], d = y[4 * k + 3];
+    y_finite =
+        y_finite && std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(d);
+    y_nonzero = y_nonzero || a != 0.0 || b != 0.0 || c != 0.0 || d != 0.0;
+    if (bad_time == run.t_s.size() &&
+        (!std::isfinite(run.t_s[k]) || (k > 0 && !(run.t_s[k] > run.t_s[k - 1]))))
+      bad_time = k;
+  }
+  if (!y_finite) {
     *why = name + ": y holds a non-finite value";
     return false;
   }
   // All zero carries neither a wave nor noise: every ratio of the fit would be 0/0 and its
   // messages "-nan"; say what the data are instead.
-  if (run.y.size() > 0 && (run.y.array() == 0.0).all()) {
+  if (run.y.size() > 0 && !y_nonzero) {
     *why = name +
            ": y is all zero (no wave and no noise on any channel): nothing to fit; is "
            "the pick-off or its electronics connected?";
     return false;
   }
-  for (std::size_t k = 0; k < run.t_s.size(); ++k) {
-    if (!std::isfinite(run.t_s[k]) || (k > 0 && !(run.t_s[k] > run.t_s[k - 1]))) {
-      *why = name + ": t_s is not finite and strictly increasing at sample " + std::to_string(k);
-      return false;
-    }
+  if (bad_time < run.t_s.size()) {
+    *why =
+        name + ": t_s is not finite and strictly increasing at sample " + std::to_string(bad_time);
+    return false;
   }
   return true;
 }

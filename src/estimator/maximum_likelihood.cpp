@@ -20,6 +20,11 @@ namespace {
 
 using internal::FullParameters;
 
+// Samples per run the starting points' initial states are solved from
+// (OutputErrorProblem::SolveInitialStates): enough to tell two starting points apart, and a w0 a
+// Gauss–Newton step finishes exactly; a production run's 100 000 samples are 12 times that.
+constexpr Eigen::Index kStartSamplesPerRun = 8192;
+
 // What is estimated after the identifiability rules, and the values of what is held.
 struct FreeSet {
   std::array<bool, 6> delta = {};
@@ -200,8 +205,8 @@ bool Fit(const RunSet& runs, const MlOptions& options, const internal::NuisanceM
          FreeSet* free, FitState* state, EstimateSummary* s) {
   // 1. Starting point.
   FullParameters& p = state->p;
-  // The initial states solved for the chosen starting point, when the start was chosen by cost:
-  // step 2 needs the same ones at the same point.
+  // The initial states solved for the chosen starting point (from kStartSamplesPerRun samples of
+  // each run), when the start was chosen by cost: step 2 linearises there.
   std::vector<internal::RunNuisance> start_nuisance;
   // The nuisance to start from when start_nuisance is not (w0 unsolved): the common phase of each
   // run from the data (common_phase_start.hpp), or a previous fit's.
@@ -258,15 +263,15 @@ bool Fit(const RunSet& runs, const MlOptions& options, const internal::NuisanceM
         // spoil the other's phase.
         if (options.common_phase_start_from_data)
           c.nuisance = internal::StartNuisance(runs, c.p, model, start_problem.Threads());
-        if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost))
+        if (start_problem.SolveInitialStates(c.p, &c.nuisance, &c.cost, kStartSamplesPerRun))
           candidates.push_back(std::move(c));
       }
       if (xi_in_start == kNoXi) break;
     }
-    // The cost at the solved initial states follows from their normal equations (Σ|y|² − b^H·u0),
-    // exact up to cancellation against Σ|y|²: when the two candidates' costs differ by far more
-    // than that, it decides without a cost pass over the data; otherwise (noise-free data, a tie)
-    // the cost passes do, as they always did.
+    // The cost at the solved initial states (over the samples they were solved from) follows from
+    // their normal equations (Σ|y|² − b^H·u0), exact up to cancellation against Σ|y|²: when the two
+    // candidates' costs differ by far more than that, it decides without a cost pass over the data;
+    // otherwise (noise-free data, a tie) the cost passes do, as they always did.
     std::size_t best = candidates.size();
     if (candidates.size() == 1 && std::isfinite(candidates[0].cost.cost)) {
       best = 0;  // nothing to choose between
@@ -574,9 +579,9 @@ struct CleanedFit {
 };
 
 // Run r's samples whose worst channel's residual `e` is beyond outlier_threshold_sigma robust
-// sigma (ascending); none in noise-free data, and none where removing them would thin the run below
-// what the fit needs. Updates `largest_removed` with the worst found.
-std::vector<Eigen::Index> RunOutliers(const RunData& run, const Eigen::Matrix4Xd& e,
+// sigma (`robust`, RobustSigma(e); ascending); none in noise-free data, and none where removing
+// them would thin the run below what the fit needs. Updates `largest_removed` with the worst found.
+std::vector<Eigen::Index> RunOutliers(const RunData& run, const Eigen::Matrix4Xd& e, double robust,
                                       const MlOptions& options, double noise_sigma,
                                       double* largest_removed) {
   std::vector<Eigen::Index> out;
@@ -584,7 +589,6 @@ std::vector<Eigen::Index> RunOutliers(const RunData& run, const Eigen::Matrix4Xd
   const double signal_rms =
       std::sqrt(run.y.squaredNorm() / (4.0 * static_cast<double>(run.size())));
   if (!(noise_sigma > 1e-10 * signal_rms)) return out;
-  const double robust = RobustSigma(e);
   const double limit = options.outlier_threshold_sigma * robust;
   for (Eigen::Index k = 0; k < e.cols(); ++k) {
     const double worst = e.col(k).cwiseAbs().maxCoeff();
@@ -623,7 +627,8 @@ void ExamineResiduals(const RunSet& runs_now, const MlOptions& options,
     run_cost[r] = e.squaredNorm();
     fit->residual_stats[r] = AnalyseResiduals(e, whiteness_null);
     if (outliers != nullptr)
-      (*outliers)[r] = RunOutliers(*run, e, options, noise_sigma[r], &fit->largest_removed[r]);
+      (*outliers)[r] = RunOutliers(*run, e, fit->residual_stats[r].robust_sigma, options,
+                                   noise_sigma[r], &fit->largest_removed[r]);
   });
   fit->residuals_current = true;
   if (state.ne_one_step_behind) {
@@ -893,8 +898,9 @@ Eigen::MatrixXd SandwichCovariance(const RunSet& used, const internal::OutputErr
 // r's Ω as one more nuisance (ΔΩ last, NuisanceModel), the Gauss–Newton answer to a fixed shift ε
 // of it, every other nuisance of the run re-fitted, is Δθ = −H_red⁻¹·b·ε with
 // b = h_pΩ − H_px'·H_x'x'⁻¹·h_x'Ω (x' the run's other nuisance). The prior weight only enters the
-// (Ω, Ω) entry, which this does not use: any positive weight gives the same b. One more pass over
-// the data.
+// (Ω, Ω) entry, which this does not use: any positive weight gives the same b. No pass over the
+// data: b comes from the Gram sums of the fit's last linearisation
+// (OutputErrorProblem::InformationAt), as its covariance does.
 void OmegaExactSensitivity(const RunSet& used, const internal::NuisanceModel& model,
                            const FitState& state, const MlOptions& options,
                            const FitInformation& info, EstimateSummary* s) {
@@ -904,7 +910,7 @@ void OmegaExactSensitivity(const RunSet& used, const internal::NuisanceModel& mo
     if (!model.OmegaFree(r)) exact.push_back(r);
   if (exact.empty() || !info.have_inverse) return;
   internal::NuisanceModel with_omega = model;
-  std::vector<internal::RunNuisance> nuisance = state.nuisance;
+  std::vector<internal::RunNuisance> nuisance = state.ne.nuisance;
   for (std::size_t r : exact) {
     with_omega.omega_prior_weight[r] = 1.0;
     nuisance[r].conservativeResize(nuisance[r].size() + 1);
@@ -913,7 +919,7 @@ void OmegaExactSensitivity(const RunSet& used, const internal::NuisanceModel& mo
   const internal::OutputErrorProblem omega_problem(used, indices, options.num_threads,
                                                    options.min_samples_for_threads, with_omega);
   internal::NormalEquations ne_omega;
-  omega_problem.Linearize(state.p, nuisance, &ne_omega);
+  if (!omega_problem.InformationAt(state.ne, nuisance, &ne_omega)) return;
   const int o = with_omega.OmegaIndex();
   double largest_in_std = 0.0;
   std::string run_list;

@@ -25,10 +25,9 @@ using Coefficients = std::array<CVector2, kMaxBasis>;
 
 // Everything about one run's model that is constant over its samples.
 struct RunModel {
-  RunModel(const RunData& run, const FullParameters& p, const RunNuisance& n,
+  RunModel(double omega_rad_s, const FullParameters& p, const RunNuisance& n,
            const NuisanceModel& model, std::size_t r)
-      : propagator(run.omega_rad_s + (model.OmegaFree(r) ? n[model.OmegaIndex()] : 0.0),
-                   DeltaOf(p)),
+      : propagator(omega_rad_s + (model.OmegaFree(r) ? n[model.OmegaIndex()] : 0.0), DeltaOf(p)),
         gain(PickoffGain(XiOf(p))),
         gain_inv(gain.inverse()),
         u0(gain_inv * ToComplex(n.head<4>())),
@@ -171,6 +170,34 @@ void DispatchBasis(int degree, Fn fn) {
   }
 }
 
+// JᵀJ (and Jᵀe when `projected` is given) of a run's columns from the Gram sums of its basis
+// functions and the columns' coefficient vectors over them (LinearizeRunWithBasis says why).
+template <int kBasis>
+void NormalBlock(const std::vector<Coefficients>& v,
+                 const Eigen::Matrix<Complex, kBasis, kBasis>& gram, const CVector2* projected,
+                 Eigen::MatrixXd* h, Eigen::VectorXd* g) {
+  const auto cols = static_cast<Eigen::Index>(v.size());
+  h->resize(cols, cols);
+  if (projected != nullptr) g->resize(cols);
+  for (Eigen::Index a = 0; a < cols; ++a) {
+    const Coefficients& va = v[static_cast<std::size_t>(a)];
+    if (projected != nullptr) {
+      Complex ga = 0.0;
+      for (int i = 0; i < kBasis; ++i) ga += va[static_cast<std::size_t>(i)].dot(projected[i]);
+      (*g)[a] = ga.real();
+    }
+    for (Eigen::Index bb = 0; bb <= a; ++bb) {
+      const Coefficients& vb = v[static_cast<std::size_t>(bb)];
+      Complex hab = 0.0;
+      for (int i = 0; i < kBasis; ++i)
+        for (int j = 0; j < kBasis; ++j)
+          hab += gram(i, j) * va[static_cast<std::size_t>(i)].dot(vb[static_cast<std::size_t>(j)]);
+      (*h)(a, bb) = hab.real();
+      (*h)(bb, a) = hab.real();
+    }
+  }
+}
+
 }  // namespace
 
 FullParameters Pack(const Delta& delta, const Xi& xi) {
@@ -196,7 +223,7 @@ double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<RunNu
   std::vector<double> sums(runs_.size(), 0.0);
   ParallelFor(runs_.size(), threads_, [&](std::size_t r) {
     const RunPtr run = runs_.Load(r);
-    const RunModel m(*run, p, nuisance[r], nuisance_, r);
+    const RunModel m(run->omega_rad_s, p, nuisance[r], nuisance_, r);
     double sum = 0.0;
     DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
       ForEachResidual<decltype(basis)::value>(
@@ -236,9 +263,10 @@ double OutputErrorProblem::Cost(const FullParameters& p, const std::vector<RunNu
 template <int kBasis>
 void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParameters& p,
                                                const RunNuisance& nuisance, Eigen::MatrixXd* h,
-                                               Eigen::VectorXd* g, double* cost) const {
+                                               Eigen::VectorXd* g, Eigen::MatrixXcd* gram_out,
+                                               double* cost) const {
   const RunPtr run = runs_.Load(r);
-  const RunModel m(*run, p, nuisance, nuisance_, r);
+  const RunModel m(run->omega_rad_s, p, nuisance, nuisance_, r);
   // Every basis function is t^k times one of three: c_a = t^{k_a}·b_{u_a} with b = (c0, c1, c4)
   // (Basis). So the Gram sums are moments of three products, S_ab = Σ t^{k_a+k_b}·conj(b_u)·b_v,
   // and the projections moments of three, E_a = Σ t^{k_a}·conj(b_u)·e: per sample six products
@@ -246,13 +274,13 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
   constexpr int kPower = (kBasis - 3) / 2;  // highest power of t on c0, c1: 1, 2, 3
   constexpr std::array<int, 9> kFamily = {0, 1, 0, 1, 2, 0, 1, 0, 1};
   constexpr std::array<int, 9> kTPower = {0, 0, 1, 1, 0, 2, 2, 3, 3};
-  std::array<double, 2 * kPower + 1> m00{}, m11{};
-  std::array<Complex, 2 * kPower + 1> m01{};
-  std::array<Complex, kPower + 1> m20{}, m21{};
+  // The moments as plain doubles, so the sample loop's additions and scalings by t are packed
+  // (two per instruction): per power j, `low` holds |c0|², |c1|², conj(c0)·c1 (j ≤ 2·kPower) and
+  // `high` conj(c4)·c0, conj(c4)·c1, conj(c0)·e, conj(c1)·e (j ≤ kPower).
+  constexpr int kLow = 4, kHigh = 12;
+  std::array<std::array<double, kLow>, 2 * kPower + 1> low{};
+  std::array<std::array<double, kHigh>, kPower + 1> high{};
   double m22 = 0.0;
-  std::array<CVector2, kPower + 1> q0, q1;
-  for (CVector2& e : q0) e.setZero();
-  for (CVector2& e : q1) e.setZero();
   CVector2 q2 = CVector2::Zero();
   double sum = 0.0;
   // The moments need c0, c1 and c4 only: the basis of five.
@@ -261,33 +289,48 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
     const double t = run->t_s[k];
     const Complex b0 = std::conj(c[0]), b1 = std::conj(c[1]);
     const Complex b2 = std::conj(c[4]);
-    double x00 = std::norm(c[0]), x11 = std::norm(c[1]);
-    Complex x01 = b0 * c[1];
-    CVector2 y0 = b0 * e, y1 = b1 * e;
+    const Complex x01 = b0 * c[1];
+    const Complex x20 = b2 * c[0], x21 = b2 * c[1];
+    const Complex y00 = b0 * e[0], y01 = b0 * e[1], y10 = b1 * e[0], y11 = b1 * e[1];
     m22 += std::norm(c[4]);
     q2 += b2 * e;
-    Complex x20 = b2 * c[0], x21 = b2 * c[1];
+    std::array<double, kLow> xl = {std::norm(c[0]), std::norm(c[1]), x01.real(), x01.imag()};
+    std::array<double, kHigh> xh = {x20.real(), x20.imag(), x21.real(), x21.imag(),
+                                    y00.real(), y00.imag(), y01.real(), y01.imag(),
+                                    y10.real(), y10.imag(), y11.real(), y11.imag()};
 #pragma GCC unroll 8
     for (int j = 0; j <= 2 * kPower; ++j) {
-      const auto i = static_cast<std::size_t>(j);
-      m00[i] += x00;
-      m11[i] += x11;
-      m01[i] += x01;
-      if (j <= kPower) {
-        m20[i] += x20;
-        m21[i] += x21;
-        q0[i] += y0;
-        q1[i] += y1;
-        x20 *= t;
-        x21 *= t;
-        y0 *= t;
-        y1 *= t;
+      auto& acc = low[static_cast<std::size_t>(j)];
+      for (int i = 0; i < kLow; ++i) {
+        acc[static_cast<std::size_t>(i)] += xl[static_cast<std::size_t>(i)];
+        xl[static_cast<std::size_t>(i)] *= t;
       }
-      x00 *= t;
-      x11 *= t;
-      x01 *= t;
+    }
+#pragma GCC unroll 8
+    for (int j = 0; j <= kPower; ++j) {
+      auto& acc = high[static_cast<std::size_t>(j)];
+      for (int i = 0; i < kHigh; ++i) {
+        acc[static_cast<std::size_t>(i)] += xh[static_cast<std::size_t>(i)];
+        xh[static_cast<std::size_t>(i)] *= t;
+      }
     }
   });
+  std::array<double, 2 * kPower + 1> m00{}, m11{};
+  std::array<Complex, 2 * kPower + 1> m01{};
+  for (std::size_t j = 0; j < low.size(); ++j) {
+    m00[j] = low[j][0];
+    m11[j] = low[j][1];
+    m01[j] = Complex(low[j][2], low[j][3]);
+  }
+  std::array<Complex, kPower + 1> m20{}, m21{};
+  std::array<CVector2, kPower + 1> q0, q1;
+  for (std::size_t j = 0; j < high.size(); ++j) {
+    const auto& x = high[j];
+    m20[j] = Complex(x[0], x[1]);
+    m21[j] = Complex(x[2], x[3]);
+    q0[j] = CVector2(Complex(x[4], x[5]), Complex(x[6], x[7]));
+    q1[j] = CVector2(Complex(x[8], x[9]), Complex(x[10], x[11]));
+  }
   // S_ab from the moments: conj(b_u)·b_v for u ≤ v in the family order (0, 1, 2 = c4).
   const auto moment = [&](int u, int v, int power) -> Complex {
     const auto i = static_cast<std::size_t>(power);
@@ -311,47 +354,42 @@ void OutputErrorProblem::LinearizeRunWithBasis(std::size_t r, const FullParamete
 
   std::vector<Coefficients> v;
   ColumnCoefficients(m, free_, nuisance_, r, p, &v);
-  const auto cols = static_cast<Eigen::Index>(v.size());
-  h->resize(cols, cols);
-  g->resize(cols);
-  for (Eigen::Index a = 0; a < cols; ++a) {
-    const Coefficients& va = v[static_cast<std::size_t>(a)];
-    Complex ga = 0.0;
-    for (int i = 0; i < kBasis; ++i)
-      ga += va[static_cast<std::size_t>(i)].dot(projected[static_cast<std::size_t>(i)]);
-    (*g)[a] = ga.real();
-    for (Eigen::Index bb = 0; bb <= a; ++bb) {
-      const Coefficients& vb = v[static_cast<std::size_t>(bb)];
-      Complex hab = 0.0;
-      for (int i = 0; i < kBasis; ++i)
-        for (int j = 0; j < kBasis; ++j)
-          hab += gram(i, j) * va[static_cast<std::size_t>(i)].dot(vb[static_cast<std::size_t>(j)]);
-      (*h)(a, bb) = hab.real();
-      (*h)(bb, a) = hab.real();
-    }
-  }
+  NormalBlock<kBasis>(v, gram, projected.data(), h, g);
+  *gram_out = gram;
   *cost = sum;
 }
 
 void OutputErrorProblem::LinearizeRun(std::size_t r, const FullParameters& p,
                                       const RunNuisance& nuisance, Eigen::MatrixXd* h,
-                                      Eigen::VectorXd* g, double* cost) const {
+                                      Eigen::VectorXd* g, Eigen::MatrixXcd* gram,
+                                      double* cost) const {
   DispatchBasis(nuisance_.phase_degree, [&](auto basis) {
-    LinearizeRunWithBasis<decltype(basis)::value>(r, p, nuisance, h, g, cost);
+    LinearizeRunWithBasis<decltype(basis)::value>(r, p, nuisance, h, g, gram, cost);
   });
 }
 
 void OutputErrorProblem::Linearize(const FullParameters& p,
                                    const std::vector<RunNuisance>& nuisance,
                                    NormalEquations* ne) const {
-  const int nf = NumFree();
   const std::size_t n_runs = runs_.size();
   std::vector<Eigen::MatrixXd> h(n_runs);
   std::vector<Eigen::VectorXd> g(n_runs);
   ne->cost_per_run.assign(n_runs, 0.0);
+  ne->gram.resize(n_runs);
   ParallelFor(n_runs, threads_, [&](std::size_t r) {
-    LinearizeRun(r, p, nuisance[r], &h[r], &g[r], &ne->cost_per_run[r]);
+    LinearizeRun(r, p, nuisance[r], &h[r], &g[r], &ne->gram[r], &ne->cost_per_run[r]);
   });
+  ne->p = p;
+  ne->nuisance = nuisance;
+  Assemble(h, g, nuisance, ne);
+}
+
+void OutputErrorProblem::Assemble(const std::vector<Eigen::MatrixXd>& h,
+                                  const std::vector<Eigen::VectorXd>& g,
+                                  const std::vector<RunNuisance>& nuisance,
+                                  NormalEquations* ne) const {
+  const int nf = NumFree();
+  const std::size_t n_runs = runs_.size();
   ne->h_pp = Eigen::MatrixXd::Zero(nf, nf);
   ne->g_p = Eigen::VectorXd::Zero(nf);
   ne->h_px.resize(n_runs);
@@ -378,9 +416,40 @@ void OutputErrorProblem::Linearize(const FullParameters& p,
   }
 }
 
+bool OutputErrorProblem::InformationAt(const NormalEquations& linearized,
+                                       const std::vector<RunNuisance>& nuisance,
+                                       NormalEquations* ne) const {
+  const std::size_t n_runs = runs_.size();
+  const int basis = BasisCount(nuisance_.phase_degree);
+  if (linearized.gram.size() != n_runs || nuisance.size() != n_runs) return false;
+  std::vector<Eigen::MatrixXd> h(n_runs);
+  std::vector<Eigen::VectorXd> g(n_runs);
+  for (std::size_t r = 0; r < n_runs; ++r) {
+    if (linearized.gram[r].rows() != basis || linearized.gram[r].cols() != basis ||
+        nuisance[r].size() != nuisance_.Size(r))
+      return false;
+    const RunModel m(runs_.Info(r).omega_rad_s, linearized.p, nuisance[r], nuisance_, r);
+    std::vector<Coefficients> v;
+    ColumnCoefficients(m, free_, nuisance_, r, linearized.p, &v);
+    DispatchBasis(nuisance_.phase_degree, [&](auto b) {
+      constexpr int kBasis = decltype(b)::value;
+      const Eigen::Matrix<Complex, kBasis, kBasis> gram = linearized.gram[r];
+      NormalBlock<kBasis>(v, gram, nullptr, &h[r], nullptr);
+    });
+    g[r] = Eigen::VectorXd::Zero(h[r].rows());
+  }
+  ne->cost_per_run = linearized.cost_per_run;
+  ne->gram = linearized.gram;
+  ne->p = linearized.p;
+  ne->nuisance = nuisance;
+  Assemble(h, g, nuisance, ne);
+  return true;
+}
+
 bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
                                             std::vector<RunNuisance>* nuisance,
-                                            InitialStatesCost* cost) const {
+                                            InitialStatesCost* cost,
+                                            Eigen::Index samples_per_run) const {
   nuisance->resize(runs_.size());
   std::vector<char> ok(runs_.size(), 0);
   std::vector<double> cost_per_run(runs_.size(), 0.0), norm2_per_run(runs_.size(), 0.0);
@@ -388,9 +457,23 @@ bool OutputErrorProblem::SolveInitialStates(const FullParameters& p,
     RunNuisance& n = (*nuisance)[r];
     if (n.size() != nuisance_.Size(r)) n = RunNuisance::Zero(nuisance_.Size(r));
     const RunPtr loaded = runs_.Load(r);
-    const RunData& run = *loaded;
+    const Eigen::Index stride =
+        samples_per_run > 0 ? std::max<Eigen::Index>(1, loaded->size() / samples_per_run) : 1;
+    RunData thinned;
+    if (stride > 1) {
+      thinned.omega_rad_s = loaded->omega_rad_s;
+      const Eigen::Index count = (loaded->size() + stride - 1) / stride;
+      thinned.t_s.resize(static_cast<std::size_t>(count));
+      thinned.y.resize(4, count);
+      for (Eigen::Index k = 0; k < count; ++k) {
+        thinned.t_s[static_cast<std::size_t>(k)] =
+            loaded->t_s[static_cast<std::size_t>(k * stride)];
+        thinned.y.col(k) = loaded->y.col(k * stride);
+      }
+    }
+    const RunData& run = stride > 1 ? thinned : *loaded;
     n.head<4>().setZero();
-    const RunModel m(run, p, n, nuisance_, r);
+    const RunModel m(run.omega_rad_s, p, n, nuisance_, r);
     // The model is complex-linear in u0, so the normal equations are complex 2×2 (and the common
     // phase, of modulus 1, only turns the data). With G·Φ(t) = c0·G + c1·G·B they follow from three
     // Gram sums of (c0, c1) and two projections of the turned data (u0 = 0 here, so
@@ -440,12 +523,24 @@ void OutputErrorProblem::RunResiduals(std::size_t r, const FullParameters& p,
   const RunPtr loaded = runs_.Load(r);
   const RunData& run = *loaded;
   residuals->resize(4, run.size());
-  const RunModel m(run, p, nuisance, nuisance_, r);
-  DispatchBasis(0, [&](auto basis) {
-    ForEachResidual<decltype(basis)::value>(
-        run, m, [&](std::size_t k, const Complex*, Complex rot, const CVector2& e_turned) {
-          residuals->col(static_cast<Eigen::Index>(k)) = ToReal(CVector2(rot * e_turned));
-        });
+  const RunModel m(run.omega_rad_s, p, nuisance, nuisance_, r);
+  // y − e^{iψ}·G·(c0·u0 + c1·B·u0) directly: not through ForEachResidual, whose residual is turned
+  // back by the common phase (and would be turned forward again here), and whose other basis
+  // functions this pass does not need.
+  CommonPhase phase = m.Phase();
+  const double* y = run.y.data();
+  double* e = residuals->data();
+  const NoAllocationScope no_allocation;
+  m.propagator.ForEachSample(run.t_s, [&](std::size_t k, const PropagatorScalars& s) {
+    const Complex c0 = s.decay * s.f0, c1 = s.decay * s.f1;
+    const Complex rot = phase.Next(run.t_s[k]);
+    const Complex model0 = rot * (c0 * m.g_u0[0] + c1 * m.g_bu0[0]);
+    const Complex model1 = rot * (c0 * m.g_u0[1] + c1 * m.g_bu0[1]);
+    const std::size_t i = 4 * k;
+    e[i] = y[i] - model0.real();
+    e[i + 1] = y[i + 1] - model0.imag();
+    e[i + 2] = y[i + 2] - model1.real();
+    e[i + 3] = y[i + 3] - model1.imag();
   });
 }
 
@@ -454,7 +549,7 @@ void OutputErrorProblem::RunBlockScores(std::size_t r, const FullParameters& p,
                                         Eigen::MatrixXd* block_scores) const {
   const RunPtr loaded = runs_.Load(r);
   const RunData& run = *loaded;
-  const RunModel m(run, p, nuisance, nuisance_, r);
+  const RunModel m(run.omega_rad_s, p, nuisance, nuisance_, r);
   std::vector<Coefficients> v;
   ColumnCoefficients(m, free_, nuisance_, r, p, &v);
   const auto cols = static_cast<Eigen::Index>(v.size());

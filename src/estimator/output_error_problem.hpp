@@ -66,6 +66,12 @@ struct NormalEquations {
   std::vector<Eigen::VectorXd> g_x;   // per run
   double cost = 0.0;                  // Σ residual² (+ the Ω priors)
   std::vector<double> cost_per_run;   // Σ residual² of each run's samples (no prior)
+  // Where it was linearised, and each run's Gram sums S_mn = Σ_k conj(c_m)·c_n of the basis
+  // functions there (output_error_problem.cpp): the information of any other choice of columns
+  // at that point follows from them without a pass over the data (InformationAt).
+  FullParameters p = FullParameters::Zero();
+  std::vector<RunNuisance> nuisance;
+  std::vector<Eigen::MatrixXcd> gram;
 };
 
 // The cost at the initial states SolveInitialStates found, from its normal equations:
@@ -101,12 +107,26 @@ class OutputErrorProblem {
   void Linearize(const FullParameters& p, const std::vector<RunNuisance>& nuisance,
                  NormalEquations* ne) const;
 
+  // The information JᵀJ of this problem's columns at the point `linearized` was taken at (its p;
+  // `nuisance`, that point's nuisance laid out as this problem's model says), from its Gram sums:
+  // no pass over the data. Why: a problem with other columns over the same basis — Ω as one more
+  // nuisance — needs its information where the fit ended, and a linearisation is a whole pass.
+  // The gradient is left zero and the cost is `linearized`'s (both need the residuals). False when
+  // `linearized` has no Gram sums for this problem's runs and common phase.
+  bool InformationAt(const NormalEquations& linearized, const std::vector<RunNuisance>& nuisance,
+                     NormalEquations* ne) const;
+
   // The w0 of every run minimising the cost for fixed p and the other nuisance parameters (a linear
   // least-squares problem); a nuisance vector of the wrong size is first reset to zeros. False when
   // a run's system is singular.
   // When `cost` is given, it receives the cost at the solution from the normal equations.
+  // `samples_per_run` > 0: each run's w0 from every s-th sample only, s = ⌊n/samples_per_run⌋
+  // (at least 1), and the cost over those samples. Why: the model is linear in w0, so a w0 that
+  // is only near its optimum costs a Gauss–Newton step nothing (the step solves w0 exactly), and
+  // telling two starting points apart needs far fewer samples than a fit.
   bool SolveInitialStates(const FullParameters& p, std::vector<RunNuisance>* nuisance,
-                          InitialStatesCost* cost = nullptr) const;
+                          InitialStatesCost* cost = nullptr,
+                          Eigen::Index samples_per_run = 0) const;
 
   // Residuals y − ŷ of run r, one column per sample.
   void RunResiduals(std::size_t r, const FullParameters& p, const RunNuisance& nuisance,
@@ -121,10 +141,15 @@ class OutputErrorProblem {
  private:
   // JᵀJ and Jᵀe of one run over (free parameters, nuisance), and Σ e².
   void LinearizeRun(std::size_t r, const FullParameters& p, const RunNuisance& nuisance,
-                    Eigen::MatrixXd* h, Eigen::VectorXd* g, double* cost) const;
+                    Eigen::MatrixXd* h, Eigen::VectorXd* g, Eigen::MatrixXcd* gram,
+                    double* cost) const;
   template <int kBasis>
   void LinearizeRunWithBasis(std::size_t r, const FullParameters& p, const RunNuisance& nuisance,
-                             Eigen::MatrixXd* h, Eigen::VectorXd* g, double* cost) const;
+                             Eigen::MatrixXd* h, Eigen::VectorXd* g, Eigen::MatrixXcd* gram,
+                             double* cost) const;
+  // Each run's JᵀJ, Jᵀe (free parameters, nuisance) into the blocks of `ne`, with the Ω priors.
+  void Assemble(const std::vector<Eigen::MatrixXd>& h, const std::vector<Eigen::VectorXd>& g,
+                const std::vector<RunNuisance>& nuisance, NormalEquations* ne) const;
 
   const RunSet& runs_;
   std::vector<int> free_;
