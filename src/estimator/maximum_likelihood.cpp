@@ -910,16 +910,23 @@ void OmegaExactSensitivity(const RunSet& used, const internal::NuisanceModel& mo
     if (!model.OmegaFree(r)) exact.push_back(r);
   if (exact.empty() || !info.have_inverse) return;
   internal::NuisanceModel with_omega = model;
-  std::vector<internal::RunNuisance> nuisance = state.ne.nuisance;
-  for (std::size_t r : exact) {
-    with_omega.omega_prior_weight[r] = 1.0;
-    nuisance[r].conservativeResize(nuisance[r].size() + 1);
-    nuisance[r][nuisance[r].size() - 1] = 0.0;
-  }
+  for (std::size_t r : exact) with_omega.omega_prior_weight[r] = 1.0;
+  // A point's nuisance with ΔΩ = 0 appended for the runs whose Ω is taken as exact.
+  const auto with_offset = [&](std::vector<internal::RunNuisance> nuisance) {
+    for (std::size_t r : exact) {
+      nuisance[r].conservativeResize(nuisance[r].size() + 1);
+      nuisance[r][nuisance[r].size() - 1] = 0.0;
+    }
+    return nuisance;
+  };
   const internal::OutputErrorProblem omega_problem(used, indices, options.num_threads,
                                                    options.min_samples_for_threads, with_omega);
   internal::NormalEquations ne_omega;
-  if (!omega_problem.InformationAt(state.ne, nuisance, &ne_omega)) return;
+  // The last linearisation always has its Gram sums; were they missing, a pass over the data
+  // gives the same information rather than no sensitivity (and no warning) at all.
+  if (state.ne.nuisance.size() != used.size() ||
+      !omega_problem.InformationAt(state.ne, with_offset(state.ne.nuisance), &ne_omega))
+    omega_problem.Linearize(state.p, with_offset(state.nuisance), &ne_omega);
   const int o = with_omega.OmegaIndex();
   double largest_in_std = 0.0;
   std::string run_list;
